@@ -1,0 +1,2 @@
+//! The `seam` command-line tool (being written).
+fn main() {}

@@ -1,0 +1,3 @@
+//! File formats for seam (being written).
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]

@@ -1,0 +1,26 @@
+//! # seam — mortar coupling between non-matching warped surface meshes
+//!
+//! For a slave surface Γs and a master surface Γm, seam assembles
+//!
+//! ```text
+//! D_pq = ∫Γs ψ_p λ^s_q ,   B_pq = ∫Γs ψ_p (λ^m_q ∘ Φ) ,   T = D⁻¹B
+//! ```
+//!
+//! following Dickopf & Krause, *Weak information transfer between non-matching
+//! warped interfaces* (steps A1–D5). The pipeline, one module per stage:
+//!
+//! | stage | module | paper |
+//! |---|---|---|
+//! | plain data: [`SurfaceMesh`], [`VolumeMesh`] | `mesh` | |
+//! | reference elements, inverse projection | `element` | D1–D2 |
+//! | triangle quadrature rules | `quadrature` | D3 |
+//!
+//! The crate does no I/O; `seam-io` reads and writes files.
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+
+mod mesh;
+mod quadrature;
+
+pub use mesh::{area_vector, Cell, Face, MeshError, Point3, SurfaceMesh, VolumeMesh, ZERO_AREA_RTOL};
+pub use quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};

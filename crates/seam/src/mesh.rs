@@ -1,0 +1,576 @@
+//! Plain mesh data: surface meshes of Tri3/Quad4 faces and volume meshes of
+//! Tet4/Hex8/Prism6/Pyramid5 cells, with extraction of outward boundary faces.
+//!
+//! # Storage
+//!
+//! A [`SurfaceMesh`] is a point array and a face array; faces refer to points by
+//! 0-based index. Points that no face uses are allowed and kept, so that matrix rows
+//! and columns can follow the numbering of the file a mesh came from.
+//!
+//! ```text
+//! points: [p0, p1, p2, p3, p4, p5]          faces: [Quad4([0, 1, 4, 3]),
+//!                                                    Tri3([1, 2, 4])]
+//!   3 ---- 4                                  corners listed counter-clockwise
+//!   |  q0  | \   t1                            seen from the side the normal
+//!   0 ---- 1 - 2                               points to (right-hand rule)
+//! ```
+//!
+//! Quads are bilinear surface patches and may be warped (non-planar); seam never
+//! splits or flattens them.
+
+use std::collections::HashMap;
+use std::fmt;
+
+/// A point or vector in 3D space.
+pub type Point3 = [f64; 3];
+
+/// A surface face: a linear triangle or a bilinear quadrilateral.
+///
+/// Corners are 0-based point indices in cyclic order; the face normal follows the
+/// right-hand rule.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Face {
+    /// Three-node linear triangle.
+    Tri3([usize; 3]),
+    /// Four-node bilinear quadrilateral, possibly warped.
+    Quad4([usize; 4]),
+}
+
+impl Face {
+    /// The corner point indices, in cyclic order.
+    pub fn nodes(&self) -> &[usize] {
+        match self {
+            Face::Tri3(n) => n,
+            Face::Quad4(n) => n,
+        }
+    }
+
+    /// Number of corners (3 or 4).
+    pub fn len(&self) -> usize {
+        self.nodes().len()
+    }
+
+    /// Always false: a face has at least three corners.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// The same face with reversed orientation (first corner kept).
+    #[must_use]
+    pub fn reversed(&self) -> Face {
+        match *self {
+            Face::Tri3([a, b, c]) => Face::Tri3([a, c, b]),
+            Face::Quad4([a, b, c, d]) => Face::Quad4([a, d, c, b]),
+        }
+    }
+
+    /// Builds a face from 3 or 4 corner indices.
+    ///
+    /// # Panics
+    /// If `nodes.len()` is not 3 or 4.
+    pub fn from_nodes(nodes: &[usize]) -> Face {
+        match *nodes {
+            [a, b, c] => Face::Tri3([a, b, c]),
+            [a, b, c, d] => Face::Quad4([a, b, c, d]),
+            _ => panic!("a face has 3 or 4 corners, got {}", nodes.len()),
+        }
+    }
+}
+
+/// What is wrong with a mesh; the payload locates it (0-based face, cell or node).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum MeshError {
+    /// A point coordinate is NaN or infinite.
+    #[error("node {node} has a non-finite coordinate")]
+    NonFiniteCoordinate {
+        /// The point index.
+        node: usize,
+    },
+    /// A face or cell refers to a point that does not exist.
+    #[error("{what} {element} corner {corner} refers to node {index}, but there are only {n_nodes} nodes")]
+    IndexOutOfRange {
+        /// "face" or "cell".
+        what: &'static str,
+        /// The face or cell index.
+        element: usize,
+        /// The corner position within the element.
+        corner: usize,
+        /// The offending point index.
+        index: usize,
+        /// The number of points.
+        n_nodes: usize,
+    },
+    /// A face or cell lists the same point twice.
+    #[error("{what} {element} is degenerate: node {node} appears twice")]
+    RepeatedNode {
+        /// "face" or "cell".
+        what: &'static str,
+        /// The face or cell index.
+        element: usize,
+        /// The repeated point index.
+        node: usize,
+    },
+    /// A face has (numerically) zero area.
+    #[error("face {face} is degenerate: its area is zero")]
+    ZeroArea {
+        /// The face index.
+        face: usize,
+    },
+    /// A mesh has no faces at all.
+    #[error("the mesh has no faces")]
+    Empty,
+}
+
+impl MeshError {
+    /// The face or cell index the error is about, if any.
+    pub fn element(&self) -> Option<usize> {
+        match *self {
+            MeshError::IndexOutOfRange { element, .. } => Some(element),
+            MeshError::RepeatedNode { element, .. } => Some(element),
+            MeshError::ZeroArea { face } => Some(face),
+            MeshError::NonFiniteCoordinate { .. } | MeshError::Empty => None,
+        }
+    }
+}
+
+/// A surface mesh of Tri3 and Quad4 faces, possibly mixed.
+///
+/// # Invariants (checked by [`SurfaceMesh::new`])
+/// - every coordinate is finite;
+/// - every corner index is `< points.len()`;
+/// - no face repeats a corner;
+/// - no face has zero area (relative to its size, see [`ZERO_AREA_RTOL`]);
+/// - at least one face.
+///
+/// Consistent orientation of neighbouring faces is *not* required.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SurfaceMesh {
+    points: Vec<Point3>,
+    faces: Vec<Face>,
+}
+
+/// A face counts as zero-area when `area < ZERO_AREA_RTOL · diameter²`.
+pub const ZERO_AREA_RTOL: f64 = 1e-12;
+
+impl SurfaceMesh {
+    /// Builds a mesh after checking the invariants listed on the type.
+    ///
+    /// # Errors
+    /// The first violated invariant, as a [`MeshError`] naming the node or face.
+    pub fn new(points: Vec<Point3>, faces: Vec<Face>) -> Result<Self, MeshError> {
+        let mesh = SurfaceMesh { points, faces };
+        mesh.check()?;
+        Ok(mesh)
+    }
+
+    /// Checks the invariants; returns the first violation.
+    ///
+    /// # Errors
+    /// See [`SurfaceMesh::new`].
+    pub fn check(&self) -> Result<(), MeshError> {
+        check_points(&self.points)?;
+        if self.faces.is_empty() {
+            return Err(MeshError::Empty);
+        }
+        for (f, face) in self.faces.iter().enumerate() {
+            check_element("face", f, face.nodes(), self.points.len())?;
+            let c = self.corners(f);
+            let area = face_area_estimate(&c[..face.len()]);
+            let diam = diameter(&c[..face.len()]);
+            if !(area > ZERO_AREA_RTOL * diam * diam) {
+                return Err(MeshError::ZeroArea { face: f });
+            }
+        }
+        Ok(())
+    }
+
+    /// All points, including those no face uses.
+    pub fn points(&self) -> &[Point3] {
+        &self.points
+    }
+
+    /// All faces.
+    pub fn faces(&self) -> &[Face] {
+        &self.faces
+    }
+
+    /// Number of points.
+    pub fn n_points(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Number of faces.
+    pub fn n_faces(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Corner coordinates of face `f`; a triangle leaves the fourth entry as its third.
+    pub fn corners(&self, f: usize) -> [Point3; 4] {
+        let n = self.faces[f].nodes();
+        let p = |i: usize| self.points[n[i.min(n.len() - 1)]];
+        [p(0), p(1), p(2), p(3)]
+    }
+
+    /// Which points some face uses (`true`) and which are off the surface.
+    pub fn used_points(&self) -> Vec<bool> {
+        let mut used = vec![false; self.points.len()];
+        for face in &self.faces {
+            for &n in face.nodes() {
+                used[n] = true;
+            }
+        }
+        used
+    }
+
+    /// Consumes the mesh, returning its points and faces.
+    pub fn into_parts(self) -> (Vec<Point3>, Vec<Face>) {
+        (self.points, self.faces)
+    }
+}
+
+/// A volume cell in Gmsh node order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cell {
+    /// Four-node tetrahedron.
+    Tet4([usize; 4]),
+    /// Eight-node hexahedron: bottom 0-1-2-3, top 4-5-6-7.
+    Hex8([usize; 8]),
+    /// Six-node prism: bottom triangle 0-1-2, top 3-4-5.
+    Prism6([usize; 6]),
+    /// Five-node pyramid: base 0-1-2-3, apex 4.
+    Pyramid5([usize; 5]),
+}
+
+const TET4_FACES: &[&[usize]] = &[&[0, 2, 1], &[0, 1, 3], &[0, 3, 2], &[1, 2, 3]];
+const HEX8_FACES: &[&[usize]] = &[
+    &[0, 3, 2, 1],
+    &[4, 5, 6, 7],
+    &[0, 1, 5, 4],
+    &[1, 2, 6, 5],
+    &[2, 3, 7, 6],
+    &[3, 0, 4, 7],
+];
+const PRISM6_FACES: &[&[usize]] = &[
+    &[0, 2, 1],
+    &[3, 4, 5],
+    &[0, 1, 4, 3],
+    &[1, 2, 5, 4],
+    &[2, 0, 3, 5],
+];
+const PYRAMID5_FACES: &[&[usize]] = &[&[0, 3, 2, 1], &[0, 1, 4], &[1, 2, 4], &[2, 3, 4], &[3, 0, 4]];
+
+impl Cell {
+    /// The corner point indices in Gmsh order.
+    pub fn nodes(&self) -> &[usize] {
+        match self {
+            Cell::Tet4(n) => n,
+            Cell::Hex8(n) => n,
+            Cell::Prism6(n) => n,
+            Cell::Pyramid5(n) => n,
+        }
+    }
+
+    /// The local corner lists of the cell's faces (outward for a positively oriented
+    /// cell; [`VolumeMesh::boundary`] orients geometrically and does not rely on it).
+    pub fn local_faces(&self) -> &'static [&'static [usize]] {
+        match self {
+            Cell::Tet4(_) => TET4_FACES,
+            Cell::Hex8(_) => HEX8_FACES,
+            Cell::Prism6(_) => PRISM6_FACES,
+            Cell::Pyramid5(_) => PYRAMID5_FACES,
+        }
+    }
+
+    /// The cell's faces as [`Face`]s of global point indices.
+    pub fn faces(&self) -> impl Iterator<Item = Face> + '_ {
+        let n = self.nodes();
+        self.local_faces().iter().map(move |lf| match **lf {
+            [a, b, c] => Face::Tri3([n[a], n[b], n[c]]),
+            [a, b, c, d] => Face::Quad4([n[a], n[b], n[c], n[d]]),
+            _ => unreachable!("cell faces have 3 or 4 corners"),
+        })
+    }
+}
+
+/// A volume mesh of Tet4, Hex8, Prism6 and Pyramid5 cells, possibly mixed.
+///
+/// # Invariants (checked by [`VolumeMesh::new`])
+/// finite coordinates, corner indices in range, no repeated corner in a cell.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VolumeMesh {
+    points: Vec<Point3>,
+    cells: Vec<Cell>,
+}
+
+impl VolumeMesh {
+    /// Builds a volume mesh after checking its invariants.
+    ///
+    /// # Errors
+    /// The first violated invariant, naming the node or cell.
+    pub fn new(points: Vec<Point3>, cells: Vec<Cell>) -> Result<Self, MeshError> {
+        check_points(&points)?;
+        for (c, cell) in cells.iter().enumerate() {
+            check_element("cell", c, cell.nodes(), points.len())?;
+        }
+        Ok(VolumeMesh { points, cells })
+    }
+
+    /// All points.
+    pub fn points(&self) -> &[Point3] {
+        &self.points
+    }
+
+    /// All cells.
+    pub fn cells(&self) -> &[Cell] {
+        &self.cells
+    }
+
+    /// The boundary: every cell face that belongs to exactly one cell, oriented
+    /// with its normal pointing out of that cell. Points keep their numbering.
+    ///
+    /// # Errors
+    /// [`MeshError`] if the boundary is empty or has a degenerate face.
+    pub fn boundary(&self) -> Result<SurfaceMesh, MeshError> {
+        let adjacency = self.face_adjacency();
+        let mut faces: Vec<(usize, usize, Face)> = adjacency
+            .into_values()
+            .filter(|a| a.count == 1)
+            .map(|a| (a.cell, a.local, a.face))
+            .collect();
+        faces.sort_unstable_by_key(|&(c, l, _)| (c, l));
+        let faces = faces
+            .into_iter()
+            .map(|(c, _, f)| self.outward(f, c))
+            .collect();
+        SurfaceMesh::new(self.points.clone(), faces)
+    }
+
+    /// Orients the given faces (for example a physical surface) outward with
+    /// respect to the one cell each belongs to. A face that belongs to no cell, or
+    /// to two cells (an interior face), keeps the orientation it was given.
+    ///
+    /// # Errors
+    /// [`MeshError`] if the faces are empty, out of range or degenerate.
+    pub fn orient_outward(&self, faces: &[Face]) -> Result<SurfaceMesh, MeshError> {
+        let adjacency = self.face_adjacency();
+        let oriented = faces
+            .iter()
+            .map(|f| match adjacency.get(&face_key(f.nodes())) {
+                Some(a) if a.count == 1 => self.outward(*f, a.cell),
+                _ => *f,
+            })
+            .collect();
+        SurfaceMesh::new(self.points.clone(), oriented)
+    }
+
+    fn face_adjacency(&self) -> HashMap<[usize; 4], Adjacent> {
+        let mut map: HashMap<[usize; 4], Adjacent> = HashMap::with_capacity(self.cells.len() * 4);
+        for (c, cell) in self.cells.iter().enumerate() {
+            for (l, face) in cell.faces().enumerate() {
+                map.entry(face_key(face.nodes()))
+                    .and_modify(|a| a.count += 1)
+                    .or_insert(Adjacent { cell: c, local: l, face, count: 1 });
+            }
+        }
+        map
+    }
+
+    /// `face` flipped if needed so that its normal points away from the centroid
+    /// of `cell` (a geometric test, independent of the cell's node order).
+    fn outward(&self, face: Face, cell: usize) -> Face {
+        let cn = self.cells[cell].nodes();
+        let centre = centroid(cn.iter().map(|&i| self.points[i]));
+        let fc: Vec<Point3> = face.nodes().iter().map(|&i| self.points[i]).collect();
+        let normal = area_vector(&fc);
+        let out = sub(centroid(fc.iter().copied()), centre);
+        if dot(normal, out) < 0.0 {
+            face.reversed()
+        } else {
+            face
+        }
+    }
+}
+
+struct Adjacent {
+    cell: usize,
+    local: usize,
+    face: Face,
+    count: u32,
+}
+
+/// Sorted corner list, padded with `usize::MAX`: equal for a face and its reverse.
+fn face_key(nodes: &[usize]) -> [usize; 4] {
+    let mut k = [usize::MAX; 4];
+    k[..nodes.len()].copy_from_slice(nodes);
+    k.sort_unstable();
+    k
+}
+
+fn check_points(points: &[Point3]) -> Result<(), MeshError> {
+    match points.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
+        Some(node) => Err(MeshError::NonFiniteCoordinate { node }),
+        None => Ok(()),
+    }
+}
+
+fn check_element(what: &'static str, e: usize, nodes: &[usize], n_nodes: usize) -> Result<(), MeshError> {
+    for (corner, &index) in nodes.iter().enumerate() {
+        if index >= n_nodes {
+            return Err(MeshError::IndexOutOfRange { what, element: e, corner, index, n_nodes });
+        }
+        if nodes[..corner].contains(&index) {
+            return Err(MeshError::RepeatedNode { what, element: e, node: index });
+        }
+    }
+    Ok(())
+}
+
+/// Vector area ½ Σ x_i × x_{i+1} of a closed polygon (exact for planar polygons;
+/// for a warped quad, the area vector of its bilinear surface).
+pub fn area_vector(c: &[Point3]) -> Point3 {
+    let mut a = [0.0; 3];
+    for i in 0..c.len() {
+        let x = cross(c[i], c[(i + 1) % c.len()]);
+        a = [a[0] + 0.5 * x[0], a[1] + 0.5 * x[1], a[2] + 0.5 * x[2]];
+    }
+    a
+}
+
+fn face_area_estimate(c: &[Point3]) -> f64 {
+    // The area of a bilinear quad is ≥ |area vector|; both vanish together only
+    // for degenerate faces, which is all this test needs.
+    norm(area_vector(c))
+}
+
+fn diameter(c: &[Point3]) -> f64 {
+    let mut d: f64 = 0.0;
+    for i in 0..c.len() {
+        for j in i + 1..c.len() {
+            d = d.max(norm(sub(c[i], c[j])));
+        }
+    }
+    d
+}
+
+fn centroid(points: impl Iterator<Item = Point3>) -> Point3 {
+    let (mut s, mut n) = ([0.0; 3], 0.0);
+    for p in points {
+        s = [s[0] + p[0], s[1] + p[1], s[2] + p[2]];
+        n += 1.0;
+    }
+    [s[0] / n, s[1] / n, s[2] / n]
+}
+
+fn sub(a: Point3, b: Point3) -> Point3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: Point3, b: Point3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: Point3, b: Point3) -> Point3 {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn norm(a: Point3) -> f64 {
+    dot(a, a).sqrt()
+}
+
+impl fmt::Display for Face {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Face::Tri3(n) => write!(f, "Tri3{n:?}"),
+            Face::Quad4(n) => write!(f, "Quad4{n:?}"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_cube() -> VolumeMesh {
+        let p = vec![
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 1., 0.],
+            [0., 0., 1.],
+            [1., 0., 1.],
+            [1., 1., 1.],
+            [0., 1., 1.],
+        ];
+        VolumeMesh::new(p, vec![Cell::Hex8([0, 1, 2, 3, 4, 5, 6, 7])]).unwrap()
+    }
+
+    fn outward_normals_point_away(surface: &SurfaceMesh, centre: Point3) {
+        for f in 0..surface.n_faces() {
+            let c = surface.corners(f);
+            let n = surface.faces()[f].len();
+            let a = area_vector(&c[..n]);
+            let out = sub(centroid(c[..n].iter().copied()), centre);
+            assert!(dot(a, out) > 0.0, "face {f} points inward");
+        }
+    }
+
+    #[test]
+    fn hex_boundary_is_six_outward_quads() {
+        let b = unit_cube().boundary().unwrap();
+        assert_eq!(b.n_faces(), 6);
+        outward_normals_point_away(&b, [0.5; 3]);
+    }
+
+    #[test]
+    fn inverted_cells_still_give_outward_faces() {
+        // A tet with negative orientation, a prism and a pyramid.
+        let p = vec![[0., 0., 0.], [0., 1., 0.], [1., 0., 0.], [0., 0., 1.]];
+        let tet = VolumeMesh::new(p, vec![Cell::Tet4([0, 1, 2, 3])]).unwrap();
+        outward_normals_point_away(&tet.boundary().unwrap(), [0.25; 3]);
+        let p = vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.], [1., 0., 1.], [0., 1., 1.]];
+        let prism = VolumeMesh::new(p, vec![Cell::Prism6([0, 1, 2, 3, 4, 5])]).unwrap();
+        let b = prism.boundary().unwrap();
+        assert_eq!(b.n_faces(), 5);
+        outward_normals_point_away(&b, [1. / 3., 1. / 3., 0.5]);
+        let p = vec![[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [0.5, 0.5, 1.]];
+        let pyr = VolumeMesh::new(p, vec![Cell::Pyramid5([0, 1, 2, 3, 4])]).unwrap();
+        let b = pyr.boundary().unwrap();
+        assert_eq!(b.n_faces(), 5);
+        outward_normals_point_away(&b, [0.5, 0.5, 0.25]);
+    }
+
+    #[test]
+    fn shared_faces_are_not_boundary() {
+        // Two hexes stacked: 10 boundary faces, the shared one is interior.
+        let mut p = unit_cube().points().to_vec();
+        p.extend([[0., 0., 2.], [1., 0., 2.], [1., 1., 2.], [0., 1., 2.]]);
+        let cells = vec![Cell::Hex8([0, 1, 2, 3, 4, 5, 6, 7]), Cell::Hex8([4, 5, 6, 7, 8, 9, 10, 11])];
+        let b = VolumeMesh::new(p, cells).unwrap().boundary().unwrap();
+        assert_eq!(b.n_faces(), 10);
+        outward_normals_point_away(&b, [0.5, 0.5, 1.0]);
+    }
+
+    #[test]
+    fn orient_outward_flips_an_inward_face() {
+        let cube = unit_cube();
+        let s = cube.orient_outward(&[Face::Quad4([4, 7, 6, 5])]).unwrap();
+        assert_eq!(s.faces()[0], Face::Quad4([4, 5, 6, 7]));
+    }
+
+    #[test]
+    fn invalid_meshes_name_the_culprit() {
+        let p = vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]];
+        let e = SurfaceMesh::new(p.clone(), vec![Face::Tri3([0, 1, 3])]).unwrap_err();
+        assert!(matches!(e, MeshError::IndexOutOfRange { element: 0, corner: 2, index: 3, .. }));
+        let e = SurfaceMesh::new(p.clone(), vec![Face::Tri3([0, 1, 1])]).unwrap_err();
+        assert_eq!(e, MeshError::RepeatedNode { what: "face", element: 0, node: 1 });
+        let collinear = vec![[0., 0., 0.], [1., 0., 0.], [2., 0., 0.]];
+        let e = SurfaceMesh::new(collinear, vec![Face::Tri3([0, 1, 2])]).unwrap_err();
+        assert_eq!(e, MeshError::ZeroArea { face: 0 });
+        let mut nan = p;
+        nan[2][1] = f64::NAN;
+        let e = SurfaceMesh::new(nan, vec![Face::Tri3([0, 1, 2])]).unwrap_err();
+        assert_eq!(e, MeshError::NonFiniteCoordinate { node: 2 });
+        assert_eq!(e.to_string(), "node 2 has a non-finite coordinate");
+    }
+}
