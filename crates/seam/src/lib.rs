@@ -14,13 +14,18 @@
 //! | plain data: [`SurfaceMesh`], [`VolumeMesh`] | `mesh` | |
 //! | reference elements, inverse projection | `element` | D1–D2 |
 //! | triangle quadrature rules | `quadrature` | D3 |
+//! | Householder frame, projection, polygon clipping | `clip` | C2–C4 |
 //!
 //! The crate does no I/O; `seam-io` reads and writes files.
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+mod clip;
+mod element;
 mod mesh;
 mod quadrature;
 
+pub use clip::{clip_polygon_polygon, convex_hull, fan_triangles, polygon_area, project_face, Frame, Point2, Polygon, MAX_POLYGON};
+pub use element::{shape, FaceElement, FaceKind, InverseMap, Xi, PLANAR_WARP};
 pub use mesh::{area_vector, Cell, Face, MeshError, Point3, SurfaceMesh, VolumeMesh, ZERO_AREA_RTOL};
 pub use quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};

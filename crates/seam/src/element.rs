@@ -1,0 +1,470 @@
+//! Reference elements: shape functions, face map x(ξ), surface Jacobian, and the
+//! inverse projection of a point along a direction onto a face (paper steps D1–D2).
+//!
+//! | element | reference cell | shape functions λ_i |
+//! |---|---|---|
+//! | Tri3 | {(0,0), (1,0), (0,1)} | 1−ξ−η, ξ, η |
+//! | Quad4 | [0,1]² | (1−ξ)(1−η), ξ(1−η), ξη, (1−ξ)η |
+//!
+//! Symbols: `xi` = (ξ, η) reference coordinates; `x` = the face map
+//! x(ξ) = Σ λ_i(ξ) x_i; `jac` = |∂x/∂ξ × ∂x/∂η|, the surface Jacobian.
+//! Quads are bilinear patches and stay so when warped: nothing here splits or
+//! flattens them.
+
+use crate::mesh::{Face, Point3, SurfaceMesh};
+
+/// Reference coordinates (ξ, η).
+pub type Xi = [f64; 2];
+
+/// The two element types of a surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FaceKind {
+    /// Linear triangle.
+    Tri3,
+    /// Bilinear quadrilateral.
+    Quad4,
+}
+
+/// A face with its corner coordinates: the element-level view of one mesh face.
+///
+/// For a triangle, `x[3]` repeats `x[2]` and is never used.
+#[derive(Clone, Copy, Debug)]
+pub struct FaceElement {
+    /// Element type.
+    pub kind: FaceKind,
+    /// Corner coordinates in cyclic order.
+    pub x: [Point3; 4],
+}
+
+/// Relative warp below which a quad counts as planar, `warp(q) < PLANAR_WARP`:
+/// the surface Jacobian of such a quad differs from an affine function by
+/// O(warp²) ≤ 1e-14 relative, so polynomial rules stay exact to round-off.
+pub const PLANAR_WARP: f64 = 1e-7;
+
+impl FaceElement {
+    /// The element of face `f` of `mesh`.
+    pub fn of(mesh: &SurfaceMesh, f: usize) -> Self {
+        let kind = match mesh.faces()[f] {
+            Face::Tri3(_) => FaceKind::Tri3,
+            Face::Quad4(_) => FaceKind::Quad4,
+        };
+        FaceElement { kind, x: mesh.corners(f) }
+    }
+
+    /// Number of corners (3 or 4).
+    pub fn n_nodes(&self) -> usize {
+        match self.kind {
+            FaceKind::Tri3 => 3,
+            FaceKind::Quad4 => 4,
+        }
+    }
+
+    /// The corners actually used.
+    pub fn corners(&self) -> &[Point3] {
+        &self.x[..self.n_nodes()]
+    }
+
+    /// Shape functions λ_i(ξ); entry 3 is 0 for a triangle.
+    #[inline]
+    pub fn shape(&self, xi: Xi) -> [f64; 4] {
+        shape(self.kind, xi)
+    }
+
+    /// The face map x(ξ) = Σ λ_i(ξ) x_i.
+    #[inline]
+    pub fn map(&self, xi: Xi) -> Point3 {
+        let l = self.shape(xi);
+        let mut p = [0.0; 3];
+        for i in 0..self.n_nodes() {
+            for k in 0..3 {
+                p[k] += l[i] * self.x[i][k];
+            }
+        }
+        p
+    }
+
+    /// Tangents (∂x/∂ξ, ∂x/∂η) at ξ.
+    #[inline]
+    pub fn tangents(&self, xi: Xi) -> (Point3, Point3) {
+        let x = &self.x;
+        match self.kind {
+            FaceKind::Tri3 => (sub(x[1], x[0]), sub(x[2], x[0])),
+            FaceKind::Quad4 => {
+                let [s, t] = xi;
+                let mut a = [0.0; 3];
+                let mut b = [0.0; 3];
+                for k in 0..3 {
+                    a[k] = (1.0 - t) * (x[1][k] - x[0][k]) + t * (x[2][k] - x[3][k]);
+                    b[k] = (1.0 - s) * (x[3][k] - x[0][k]) + s * (x[2][k] - x[1][k]);
+                }
+                (a, b)
+            }
+        }
+    }
+
+    /// Surface Jacobian |∂x/∂ξ × ∂x/∂η| at ξ (constant for triangles).
+    #[inline]
+    pub fn jacobian(&self, xi: Xi) -> f64 {
+        let (a, b) = self.tangents(xi);
+        norm(cross(a, b))
+    }
+
+    /// The face normal of DESIGN.md §2: Tri3, the unit normal of its plane;
+    /// Quad4, the unit normal at the centre, (x2−x0)×(x3−x1) normalised.
+    pub fn normal(&self) -> Point3 {
+        let x = &self.x;
+        let n = match self.kind {
+            FaceKind::Tri3 => cross(sub(x[1], x[0]), sub(x[2], x[0])),
+            FaceKind::Quad4 => cross(sub(x[2], x[0]), sub(x[3], x[1])),
+        };
+        scale(n, 1.0 / norm(n))
+    }
+
+    /// The centroid of the corners.
+    pub fn centre(&self) -> Point3 {
+        let n = self.n_nodes() as f64;
+        let mut c = [0.0; 3];
+        for p in self.corners() {
+            for k in 0..3 {
+                c[k] += p[k] / n;
+            }
+        }
+        c
+    }
+
+    /// The longest distance between two corners.
+    pub fn diameter(&self) -> f64 {
+        let c = self.corners();
+        let mut d: f64 = 0.0;
+        for i in 0..c.len() {
+            for j in i + 1..c.len() {
+                d = d.max(norm(sub(c[i], c[j])));
+            }
+        }
+        d
+    }
+
+    /// Relative warp of a quad: the distance of its corners from their mean plane
+    /// divided by its diameter, |(x0 − x1 + x2 − x3)·n| / (4 diam); 0 for a triangle.
+    pub fn warp(&self) -> f64 {
+        match self.kind {
+            FaceKind::Tri3 => 0.0,
+            FaceKind::Quad4 => {
+                let x = &self.x;
+                let d = [
+                    x[0][0] - x[1][0] + x[2][0] - x[3][0],
+                    x[0][1] - x[1][1] + x[2][1] - x[3][1],
+                    x[0][2] - x[1][2] + x[2][2] - x[3][2],
+                ];
+                dot(d, self.normal()).abs() / (4.0 * self.diameter())
+            }
+        }
+    }
+
+    /// True for triangles and quads whose warp is below [`PLANAR_WARP`].
+    pub fn is_planar(&self) -> bool {
+        self.warp() < PLANAR_WARP
+    }
+
+    /// The reference cell as triangles: one for Tri3, two for Quad4.
+    pub fn reference_triangles(&self) -> &'static [[Xi; 3]] {
+        match self.kind {
+            FaceKind::Tri3 => &[[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]],
+            FaceKind::Quad4 => &[[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]]],
+        }
+    }
+
+    /// Inverse projection (D1–D2): the reference coordinates ξ of the point of the
+    /// face whose projection is `target`, where `project` is a linear map to the
+    /// plane (the projection along the slave normal, see `clip::Frame`).
+    ///
+    /// Triangle: closed form. Quad: Newton on the 2×2 system
+    /// P(x(ξ)) = target from the parallelogram guess; if it does not converge in
+    /// `max_iter` steps, the exact root of the bilinear system's quadratic is used.
+    pub fn inverse_project(&self, project: impl Fn(Point3) -> [f64; 2], target: [f64; 2]) -> InverseMap {
+        let q = [project(self.x[0]), project(self.x[1]), project(self.x[2]), project(self.x[3])];
+        match self.kind {
+            FaceKind::Tri3 => {
+                let xi = solve2(sub2(q[1], q[0]), sub2(q[2], q[0]), sub2(target, q[0]));
+                InverseMap::classify(xi, FaceKind::Tri3)
+            }
+            FaceKind::Quad4 => inverse_bilinear(&q, target),
+        }
+    }
+}
+
+/// Result of an inverse projection, degenerate cases being values (not errors).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum InverseMap {
+    /// Converged, inside the reference cell (up to 1e-10).
+    Inside(Xi),
+    /// Converged, outside the reference cell.
+    Outside(Xi),
+    /// Neither Newton nor the closed-form safeguard gave a root; `xi` is the best
+    /// iterate.
+    NotConverged {
+        /// Best iterate.
+        xi: Xi,
+        /// Newton iterations used.
+        iters: usize,
+        /// Residual |P(x(ξ)) − target| relative to the face size.
+        residual: f64,
+    },
+}
+
+impl InverseMap {
+    /// The reference coordinates, whatever the status.
+    pub fn xi(&self) -> Xi {
+        match *self {
+            InverseMap::Inside(xi) | InverseMap::Outside(xi) => xi,
+            InverseMap::NotConverged { xi, .. } => xi,
+        }
+    }
+
+    fn classify(xi: Xi, kind: FaceKind) -> InverseMap {
+        const TOL: f64 = 1e-10;
+        let inside = match kind {
+            FaceKind::Tri3 => xi[0] >= -TOL && xi[1] >= -TOL && xi[0] + xi[1] <= 1.0 + TOL,
+            FaceKind::Quad4 => xi.iter().all(|&v| (-TOL..=1.0 + TOL).contains(&v)),
+        };
+        if inside {
+            InverseMap::Inside(xi)
+        } else {
+            InverseMap::Outside(xi)
+        }
+    }
+}
+
+/// Newton iterations allowed before the closed-form safeguard.
+const NEWTON_MAX_ITER: usize = 12;
+
+/// Inverts the 2D bilinear map q(ξ,η) = a + bξ + cη + dξη at `p`.
+fn inverse_bilinear(q: &[[f64; 2]; 4], p: [f64; 2]) -> InverseMap {
+    let a = q[0];
+    let b = sub2(q[1], q[0]);
+    let c = sub2(q[3], q[0]);
+    let d = [q[0][0] - q[1][0] + q[2][0] - q[3][0], q[0][1] - q[1][1] + q[2][1] - q[3][1]];
+    let e = sub2(p, a);
+    let scale = norm2(b).max(norm2(c)).max(f64::MIN_POSITIVE);
+    let residual = |xi: Xi| {
+        let r = [
+            b[0] * xi[0] + c[0] * xi[1] + d[0] * xi[0] * xi[1] - e[0],
+            b[1] * xi[0] + c[1] * xi[1] + d[1] * xi[0] * xi[1] - e[1],
+        ];
+        norm2(r) / scale
+    };
+    let mut xi = solve2(b, c, e);
+    for _ in 0..NEWTON_MAX_ITER {
+        let r = [
+            b[0] * xi[0] + c[0] * xi[1] + d[0] * xi[0] * xi[1] - e[0],
+            b[1] * xi[0] + c[1] * xi[1] + d[1] * xi[0] * xi[1] - e[1],
+        ];
+        let ja = [b[0] + d[0] * xi[1], b[1] + d[1] * xi[1]];
+        let jb = [c[0] + d[0] * xi[0], c[1] + d[1] * xi[0]];
+        let step = solve2(ja, jb, r);
+        if !(step[0].is_finite() && step[1].is_finite()) {
+            break;
+        }
+        xi = [xi[0] - step[0], xi[1] - step[1]];
+        if step[0].abs().max(step[1].abs()) < 1e-15 || residual(xi) < 1e-15 {
+            return InverseMap::classify(xi, FaceKind::Quad4);
+        }
+    }
+    match closed_form_bilinear(b, c, d, e) {
+        Some(root) if residual(root) < 1e-10 => InverseMap::classify(root, FaceKind::Quad4),
+        _ => InverseMap::NotConverged { xi, iters: NEWTON_MAX_ITER, residual: residual(xi) },
+    }
+}
+
+/// Exact inverse of e = bξ + cη + dξη: crossing with (c + dξ) eliminates η and
+/// leaves (b×d) ξ² + (b×c − e×d) ξ − e×c = 0; the root nearest [0,1] is taken.
+fn closed_form_bilinear(b: [f64; 2], c: [f64; 2], d: [f64; 2], e: [f64; 2]) -> Option<Xi> {
+    let qa = cross2(b, d);
+    let qb = cross2(b, c) - cross2(e, d);
+    let qc = -cross2(e, c);
+    let roots: [f64; 2] = if qa.abs() <= 1e-14 * qb.abs() {
+        [-qc / qb, f64::NAN]
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc < 0.0 {
+            return None;
+        }
+        let t = -0.5 * (qb + qb.signum() * disc.sqrt());
+        [t / qa, qc / t]
+    };
+    let distance = |s: f64| if s.is_finite() { (s - s.clamp(0.0, 1.0)).abs() } else { f64::INFINITY };
+    let s = if distance(roots[0]) <= distance(roots[1]) { roots[0] } else { roots[1] };
+    if !s.is_finite() {
+        return None;
+    }
+    let g = [c[0] + d[0] * s, c[1] + d[1] * s];
+    let t = ((e[0] - b[0] * s) * g[0] + (e[1] - b[1] * s) * g[1]) / (g[0] * g[0] + g[1] * g[1]);
+    t.is_finite().then_some([s, t])
+}
+
+/// Shape functions of `kind` at ξ; entry 3 is 0 for a triangle.
+#[inline]
+pub fn shape(kind: FaceKind, xi: Xi) -> [f64; 4] {
+    let [s, t] = xi;
+    match kind {
+        FaceKind::Tri3 => [1.0 - s - t, s, t, 0.0],
+        FaceKind::Quad4 => [(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t],
+    }
+}
+
+/// Solves [a b] x = r for x (2×2, columns a and b) by Cramer's rule.
+#[inline]
+fn solve2(a: [f64; 2], b: [f64; 2], r: [f64; 2]) -> [f64; 2] {
+    let det = a[0] * b[1] - a[1] * b[0];
+    [(r[0] * b[1] - r[1] * b[0]) / det, (a[0] * r[1] - a[1] * r[0]) / det]
+}
+
+#[inline]
+fn sub2(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+#[inline]
+fn cross2(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+#[inline]
+fn norm2(a: [f64; 2]) -> f64 {
+    a[0].hypot(a[1])
+}
+
+#[inline]
+pub(crate) fn sub(a: Point3, b: Point3) -> Point3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+#[inline]
+pub(crate) fn dot(a: Point3, b: Point3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline]
+pub(crate) fn cross(a: Point3, b: Point3) -> Point3 {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+#[inline]
+pub(crate) fn norm(a: Point3) -> f64 {
+    dot(a, a).sqrt()
+}
+
+#[inline]
+pub(crate) fn scale(a: Point3, s: f64) -> Point3 {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn quad(x: [Point3; 4]) -> FaceElement {
+        FaceElement { kind: FaceKind::Quad4, x }
+    }
+
+    /// Projection onto the xy-plane (along e3).
+    fn xy(p: Point3) -> [f64; 2] {
+        [p[0], p[1]]
+    }
+
+    fn warped_quad(h: [f64; 4], jitter: [f64; 8]) -> FaceElement {
+        quad([
+            [0.0 + jitter[0], 0.0 + jitter[1], h[0]],
+            [1.0 + jitter[2], 0.0 + jitter[3], h[1]],
+            [1.0 + jitter[4], 1.0 + jitter[5], h[2]],
+            [0.0 + jitter[6], 1.0 + jitter[7], h[3]],
+        ])
+    }
+
+    #[test]
+    fn shape_functions_are_a_partition_of_unity_and_nodal() {
+        for kind in [FaceKind::Tri3, FaceKind::Quad4] {
+            let corners: &[Xi] = match kind {
+                FaceKind::Tri3 => &[[0., 0.], [1., 0.], [0., 1.]],
+                FaceKind::Quad4 => &[[0., 0.], [1., 0.], [1., 1.], [0., 1.]],
+            };
+            for (i, &c) in corners.iter().enumerate() {
+                let l = shape(kind, c);
+                for (j, &v) in l.iter().enumerate().take(corners.len()) {
+                    assert_eq!(v, if i == j { 1.0 } else { 0.0 });
+                }
+            }
+            let l = shape(kind, [0.3, 0.2]);
+            assert!((l.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn jacobian_of_hyperbolic_paraboloid_quad_matches_closed_form() {
+        // x(ξ,η) = (ξ, η, cξη) on [0,1]²: |J| = sqrt(1 + c²(ξ² + η²)).
+        let c = 0.7;
+        let q = quad([[0., 0., 0.], [1., 0., 0.], [1., 1., c], [0., 1., 0.]]);
+        for xi in [[0.2, 0.9], [0.5, 0.5], [1.0, 0.0]] {
+            let exact = (1.0 + c * c * (xi[0] * xi[0] + xi[1] * xi[1])).sqrt();
+            assert!((q.jacobian(xi) - exact).abs() < 1e-15);
+            let x = q.map(xi);
+            assert!((x[2] - c * xi[0] * xi[1]).abs() < 1e-15);
+        }
+        // d = x0 − x1 + x2 − x3 = (0, 0, c), n ∝ (−c, −c, 2), diam = √(2 + c²).
+        assert!((q.warp() - c / (2.0 * 2f64.sqrt() * (2.0 + c * c))).abs() < 1e-15);
+        assert!(!q.is_planar());
+    }
+
+    #[test]
+    fn planar_quads_are_recognised() {
+        let q = quad([[0., 0., 0.], [2., 0., 0.], [1.5, 1., 0.], [0.2, 0.8, 0.]]);
+        assert!(q.is_planar());
+        assert_eq!(q.warp(), 0.0);
+    }
+
+    #[test]
+    fn newton_safeguard_recovers_from_a_bad_guess() {
+        // A strongly non-parallelogram quad, point near a corner.
+        let q = [[0., 0.], [1., 0.], [0.05, 0.06], [0., 1.]];
+        let target = [0.04, 0.05];
+        let xi = inverse_bilinear(&q, target).xi();
+        let l = shape(FaceKind::Quad4, xi);
+        let p = [
+            l[0] * q[0][0] + l[1] * q[1][0] + l[2] * q[2][0] + l[3] * q[3][0],
+            l[0] * q[0][1] + l[1] * q[1][1] + l[2] * q[2][1] + l[3] * q[3][1],
+        ];
+        assert!((p[0] - target[0]).abs() < 1e-13 && (p[1] - target[1]).abs() < 1e-13, "{xi:?} -> {p:?}");
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+
+        /// inverse_project(project(map(ξ))) = ξ on randomly warped quads.
+        #[test]
+        fn inverse_projection_inverts_the_quad_map(
+            h in prop::array::uniform4(-0.4f64..0.4),
+            jitter in prop::array::uniform8(-0.2f64..0.2),
+            s in 0.0f64..1.0, t in 0.0f64..1.0,
+        ) {
+            let q = warped_quad(h, jitter);
+            let inv = q.inverse_project(xy, xy(q.map([s, t])));
+            let xi = inv.xi();
+            prop_assert!(matches!(inv, InverseMap::Inside(_)), "{inv:?}");
+            prop_assert!((xi[0] - s).abs() < 1e-12 && (xi[1] - t).abs() < 1e-12, "{xi:?} vs {s},{t}");
+        }
+
+        #[test]
+        fn inverse_projection_inverts_the_triangle_map(
+            x in prop::array::uniform9(-1.0f64..1.0), s in 0.0f64..1.0, t in 0.0f64..1.0,
+        ) {
+            let tri = FaceElement {
+                kind: FaceKind::Tri3,
+                x: [[x[0], x[1], x[2]], [x[3] + 2.0, x[4], x[5]], [x[6], x[7] + 2.0, x[8]], [x[6], x[7] + 2.0, x[8]]],
+            };
+            let (s, t) = if s + t > 1.0 { (1.0 - s, 1.0 - t) } else { (s, t) };
+            let xi = tri.inverse_project(xy, xy(tri.map([s, t]))).xi();
+            prop_assert!((xi[0] - s).abs() < 1e-10 && (xi[1] - t).abs() < 1e-10);
+        }
+    }
+}
