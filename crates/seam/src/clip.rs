@@ -82,11 +82,13 @@ pub fn polygon_area(p: &[Point2]) -> f64 {
 pub fn convex_hull(points: &[Point2]) -> Polygon {
     let mut p: ArrayVec<Point2, MAX_POLYGON> = points.iter().copied().collect();
     p.sort_unstable_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    let turn = |o: Point2, a: Point2, b: Point2| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let turn =
+        |o: Point2, a: Point2, b: Point2| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
     let mut hull = Polygon::new();
     for pass in 0..2 {
         let start = hull.len();
-        let pts: &mut dyn Iterator<Item = &Point2> = if pass == 0 { &mut p.iter() } else { &mut p.iter().rev() };
+        let pts: &mut dyn Iterator<Item = &Point2> =
+            if pass == 0 { &mut p.iter() } else { &mut p.iter().rev() };
         for &q in pts {
             while hull.len() >= start + 2 && turn(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0.0 {
                 hull.pop();
@@ -98,19 +100,17 @@ pub fn convex_hull(points: &[Point2]) -> Polygon {
     hull
 }
 
-/// Projects 3 or 4 corners and returns their convex hull, counter-clockwise.
-pub fn project_face(frame: &Frame, corners: &[Point3]) -> Polygon {
-    let mut q = ArrayVec::<Point2, 4>::new();
-    for &c in corners {
-        q.push(frame.project(c));
+/// (C3) The convex polygon of a projected face: its corners counter-clockwise,
+/// or their convex hull when the projection is not convex.
+pub fn face_polygon(q: &[Point2]) -> Polygon {
+    let mut p: Polygon = q.iter().copied().collect();
+    if polygon_area(&p) < 0.0 {
+        p.reverse();
     }
-    if polygon_area(&q) < 0.0 {
-        q.reverse();
-    }
-    if is_convex(&q) {
-        q.into_iter().collect()
+    if is_convex(&p) {
+        p
     } else {
-        convex_hull(&q)
+        convex_hull(&p)
     }
 }
 

@@ -174,21 +174,53 @@ impl FaceElement {
         }
     }
 
+    /// The face projected onto a plane by the linear map `project` (for seam,
+    /// the projection along the slave normal, `clip::Frame::project`).
+    pub fn project(&self, project: impl Fn(Point3) -> [f64; 2]) -> PlaneFace {
+        PlaneFace {
+            kind: self.kind,
+            q: [project(self.x[0]), project(self.x[1]), project(self.x[2]), project(self.x[3])],
+        }
+    }
+
     /// Inverse projection (D1–D2): the reference coordinates ξ of the point of the
-    /// face whose projection is `target`, where `project` is a linear map to the
-    /// plane (the projection along the slave normal, see `clip::Frame`).
-    ///
-    /// Triangle: closed form. Quad: Newton on the 2×2 system
-    /// P(x(ξ)) = target from the parallelogram guess; if it does not converge in
-    /// `max_iter` steps, the exact root of the bilinear system's quadratic is used.
+    /// face whose projection by `project` is `target`. See [`PlaneFace::inverse`].
     pub fn inverse_project(&self, project: impl Fn(Point3) -> [f64; 2], target: [f64; 2]) -> InverseMap {
-        let q = [project(self.x[0]), project(self.x[1]), project(self.x[2]), project(self.x[3])];
+        self.project(project).inverse(target)
+    }
+}
+
+/// A face projected onto a plane: its corners q_i in plane coordinates, with the
+/// face's reference map kept (a quad stays bilinear).
+#[derive(Clone, Copy, Debug)]
+pub struct PlaneFace {
+    /// Element type.
+    pub kind: FaceKind,
+    /// Projected corners; for a triangle `q[3]` repeats `q[2]`.
+    pub q: [[f64; 2]; 4],
+}
+
+impl PlaneFace {
+    /// The projected corners actually used.
+    pub fn corners(&self) -> &[[f64; 2]] {
+        match self.kind {
+            FaceKind::Tri3 => &self.q[..3],
+            FaceKind::Quad4 => &self.q,
+        }
+    }
+
+    /// The ξ with Σ λ_i(ξ) q_i = `target`. Triangle: closed form (Cramer). Quad:
+    /// Newton on the 2×2 bilinear system from the parallelogram guess; if it does
+    /// not converge in a few steps, the exact root of the system's quadratic is
+    /// used (the safeguard).
+    pub fn inverse(&self, target: [f64; 2]) -> InverseMap {
+        let q = &self.q;
         match self.kind {
             FaceKind::Tri3 => {
                 let xi = solve2(sub2(q[1], q[0]), sub2(q[2], q[0]), sub2(target, q[0]));
                 InverseMap::classify(xi, FaceKind::Tri3)
             }
-            FaceKind::Quad4 => inverse_bilinear(&q, target),
+            FaceKind::Quad4 => inverse_bilinear(q, target),
         }
     }
 }

@@ -14,7 +14,9 @@
 //! | plain data: [`SurfaceMesh`], [`VolumeMesh`] | `mesh` | |
 //! | reference elements, inverse projection | `element` | D1–D2 |
 //! | triangle quadrature rules | `quadrature` | D3 |
+//! | proximity search: [`FaceTree`] | `search` | A1 |
 //! | Householder frame, projection, polygon clipping | `clip` | C2–C4 |
+//! | assembly of B, D; multipliers; transfer: [`assemble`], [`Mortar`], [`Transfer`] | `mortar` | A2–D5 |
 //!
 //! The crate does no I/O; `seam-io` reads and writes files.
 #![forbid(unsafe_code)]
@@ -22,10 +24,23 @@
 
 mod clip;
 mod element;
+pub mod generate;
 mod mesh;
+mod mortar;
 mod quadrature;
+mod search;
+mod sparse;
 
-pub use clip::{clip_polygon_polygon, convex_hull, fan_triangles, polygon_area, project_face, Frame, Point2, Polygon, MAX_POLYGON};
-pub use element::{shape, FaceElement, FaceKind, InverseMap, Xi, PLANAR_WARP};
+pub use clip::{
+    clip_polygon_polygon, convex_hull, face_polygon, fan_triangles, polygon_area, Frame, Point2, Polygon,
+    MAX_POLYGON,
+};
+pub use element::{shape, FaceElement, FaceKind, InverseMap, PlaneFace, Xi, PLANAR_WARP};
 pub use mesh::{area_vector, Cell, Face, MeshError, Point3, SurfaceMesh, VolumeMesh, ZERO_AREA_RTOL};
+pub use mortar::{
+    assemble, assemble_with_tree, face_integrals, warped_quad_degree, FaceStats, Facing, MaxGap, Mortar,
+    MortarError, MortarOptions, MortarSummary, Multiplier, Transfer, COVERED_FRACTION, WARPED_RTOL,
+};
 pub use quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};
+pub use search::{face_box, FaceTree};
+pub use sparse::CsrMatrix;

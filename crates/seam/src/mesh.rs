@@ -177,7 +177,7 @@ impl SurfaceMesh {
             let c = self.corners(f);
             let area = face_area_estimate(&c[..face.len()]);
             let diam = diameter(&c[..face.len()]);
-            if !(area > ZERO_AREA_RTOL * diam * diam) {
+            if area.is_nan() || area <= ZERO_AREA_RTOL * diam * diam {
                 return Err(MeshError::ZeroArea { face: f });
             }
         }
@@ -242,21 +242,9 @@ pub enum Cell {
 }
 
 const TET4_FACES: &[&[usize]] = &[&[0, 2, 1], &[0, 1, 3], &[0, 3, 2], &[1, 2, 3]];
-const HEX8_FACES: &[&[usize]] = &[
-    &[0, 3, 2, 1],
-    &[4, 5, 6, 7],
-    &[0, 1, 5, 4],
-    &[1, 2, 6, 5],
-    &[2, 3, 7, 6],
-    &[3, 0, 4, 7],
-];
-const PRISM6_FACES: &[&[usize]] = &[
-    &[0, 2, 1],
-    &[3, 4, 5],
-    &[0, 1, 4, 3],
-    &[1, 2, 5, 4],
-    &[2, 0, 3, 5],
-];
+const HEX8_FACES: &[&[usize]] =
+    &[&[0, 3, 2, 1], &[4, 5, 6, 7], &[0, 1, 5, 4], &[1, 2, 6, 5], &[2, 3, 7, 6], &[3, 0, 4, 7]];
+const PRISM6_FACES: &[&[usize]] = &[&[0, 2, 1], &[3, 4, 5], &[0, 1, 4, 3], &[1, 2, 5, 4], &[2, 0, 3, 5]];
 const PYRAMID5_FACES: &[&[usize]] = &[&[0, 3, 2, 1], &[0, 1, 4], &[1, 2, 4], &[2, 3, 4], &[3, 0, 4]];
 
 impl Cell {
@@ -332,16 +320,10 @@ impl VolumeMesh {
     /// [`MeshError`] if the boundary is empty or has a degenerate face.
     pub fn boundary(&self) -> Result<SurfaceMesh, MeshError> {
         let adjacency = self.face_adjacency();
-        let mut faces: Vec<(usize, usize, Face)> = adjacency
-            .into_values()
-            .filter(|a| a.count == 1)
-            .map(|a| (a.cell, a.local, a.face))
-            .collect();
+        let mut faces: Vec<(usize, usize, Face)> =
+            adjacency.into_values().filter(|a| a.count == 1).map(|a| (a.cell, a.local, a.face)).collect();
         faces.sort_unstable_by_key(|&(c, l, _)| (c, l));
-        let faces = faces
-            .into_iter()
-            .map(|(c, _, f)| self.outward(f, c))
-            .collect();
+        let faces = faces.into_iter().map(|(c, _, f)| self.outward(f, c)).collect();
         SurfaceMesh::new(self.points.clone(), faces)
     }
 
@@ -367,9 +349,12 @@ impl VolumeMesh {
         let mut map: HashMap<[usize; 4], Adjacent> = HashMap::with_capacity(self.cells.len() * 4);
         for (c, cell) in self.cells.iter().enumerate() {
             for (l, face) in cell.faces().enumerate() {
-                map.entry(face_key(face.nodes()))
-                    .and_modify(|a| a.count += 1)
-                    .or_insert(Adjacent { cell: c, local: l, face, count: 1 });
+                map.entry(face_key(face.nodes())).and_modify(|a| a.count += 1).or_insert(Adjacent {
+                    cell: c,
+                    local: l,
+                    face,
+                    count: 1,
+                });
             }
         }
         map

@@ -1,0 +1,121 @@
+//! Surface patches on parametric maps (u, v) ∈ [0,1]² ↦ x(u, v): the meshes of
+//! seam's built-in examples, tests and benchmarks.
+//!
+//! Points are numbered row by row, `j·(nu+1) + i` for the grid point (i, j).
+//! Faces are counter-clockwise in (u, v), so their normals follow ∂x/∂u × ∂x/∂v.
+
+use crate::mesh::{Face, Point3, SurfaceMesh};
+
+/// How the grid cells are filled.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Pattern {
+    /// One bilinear quad per cell (warped wherever the map is not affine).
+    Quads,
+    /// Two triangles per cell, the diagonal alternating like a chequerboard.
+    Triangles,
+    /// As `Triangles`, with interior grid points moved at random by up to
+    /// `amplitude` cell sizes (boundary points slide along the boundary only), so
+    /// that the mesh matches no structured one.
+    JitteredTriangles {
+        /// Largest move, in cell sizes (keep below 0.3 for valid triangles).
+        amplitude: f64,
+        /// Seed of the deterministic generator.
+        seed: u64,
+    },
+}
+
+/// A patch of `nu × nv` cells on the map `x`.
+///
+/// # Panics
+/// If `nu` or `nv` is zero, or the map makes a degenerate face.
+pub fn patch(nu: usize, nv: usize, pattern: Pattern, x: impl Fn(f64, f64) -> Point3) -> SurfaceMesh {
+    assert!(nu > 0 && nv > 0, "a patch needs at least one cell in each direction");
+    let mut rng = match pattern {
+        Pattern::JitteredTriangles { seed, .. } => SplitMix64(seed),
+        _ => SplitMix64(0),
+    };
+    let amplitude = match pattern {
+        Pattern::JitteredTriangles { amplitude, .. } => amplitude,
+        _ => 0.0,
+    };
+    let mut points = Vec::with_capacity((nu + 1) * (nv + 1));
+    for j in 0..=nv {
+        for i in 0..=nu {
+            let mut du = amplitude * rng.symmetric() / nu as f64;
+            let mut dv = amplitude * rng.symmetric() / nv as f64;
+            if i == 0 || i == nu {
+                du = 0.0;
+            }
+            if j == 0 || j == nv {
+                dv = 0.0;
+            }
+            points.push(x(i as f64 / nu as f64 + du, j as f64 / nv as f64 + dv));
+        }
+    }
+    let id = |i: usize, j: usize| j * (nu + 1) + i;
+    let mut faces = Vec::with_capacity(nu * nv * 2);
+    for j in 0..nv {
+        for i in 0..nu {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            match pattern {
+                Pattern::Quads => faces.push(Face::Quad4([a, b, c, d])),
+                _ if (i + j) % 2 == 0 => faces.extend([Face::Tri3([a, b, c]), Face::Tri3([a, c, d])]),
+                _ => faces.extend([Face::Tri3([a, b, d]), Face::Tri3([b, c, d])]),
+            }
+        }
+    }
+    SurfaceMesh::new(points, faces).expect("the parametric map makes a valid patch")
+}
+
+/// The plane z = 0 over [0, a] × [0, b].
+pub fn flat(a: f64, b: f64) -> impl Fn(f64, f64) -> Point3 {
+    move |u, v| [a * u, b * v, 0.0]
+}
+
+/// The hyperbolic paraboloid z = c·x·y over [0,1]²: its bilinear quads are the
+/// exact surface, every one of them warped.
+pub fn hyperbolic_paraboloid(c: f64) -> impl Fn(f64, f64) -> Point3 {
+    move |u, v| [u, v, c * u * v]
+}
+
+/// A cylinder patch of radius `r` about the z axis: angle θ ∈ [0, `angle`],
+/// height z ∈ [0, `height`].
+pub fn cylinder(r: f64, angle: f64, height: f64) -> impl Fn(f64, f64) -> Point3 {
+    move |u, v| {
+        let t = angle * u;
+        [r * t.cos(), r * t.sin(), height * v]
+    }
+}
+
+/// SplitMix64: a tiny deterministic generator, enough for jitter.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    /// A number in [−1, 1).
+    fn symmetric(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_and_numbering() {
+        let q = patch(3, 2, Pattern::Quads, flat(3.0, 2.0));
+        assert_eq!((q.n_points(), q.n_faces()), (12, 6));
+        assert_eq!(q.points()[5], [1.0, 1.0, 0.0]);
+        let t = patch(3, 2, Pattern::JitteredTriangles { amplitude: 0.25, seed: 7 }, flat(1.0, 1.0));
+        assert_eq!(t.n_faces(), 12);
+        // Corners stay put; boundary points stay on the boundary.
+        assert_eq!(t.points()[0], [0.0, 0.0, 0.0]);
+        assert_eq!(t.points()[11], [1.0, 1.0, 0.0]);
+        assert_eq!(t.points()[1][1], 0.0);
+    }
+}

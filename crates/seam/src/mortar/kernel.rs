@@ -1,0 +1,295 @@
+//! The per-slave-face kernel: (B1)–(C6) for one slave face against its
+//! candidate master faces.
+//!
+//! Symbols: `es`, `em` slave and master elements; `frame` the Householder frame
+//! of `es` (C2); `xs`, `xm` reference coordinates on the slave and master face of
+//! each polygon vertex (D1–D2); `phi` = ψ-independent slave shape values λ^s,
+//! `lam` = master shape values λ^m; `w` = ω'_l (D4).
+
+use super::multiplier::apply_multiplier;
+use super::rows::Blocks;
+use super::{face_integrals, warped_quad_degree, FaceStats, Facing, MortarOptions};
+use crate::clip::{clip_polygon_polygon, face_polygon, fan_triangles, polygon_area, Frame, MAX_POLYGON};
+use crate::element::{dot, FaceElement, FaceKind, InverseMap, PlaneFace, Xi, PLANAR_WARP};
+use crate::mesh::SurfaceMesh;
+use crate::quadrature::{triangle_rule, TriangleRule};
+use crate::search::{face_box, FaceTree};
+
+/// Points closer than `CLIP_RTOL · h` (h the slave face diameter) are one point
+/// for the clipping (C4).
+const CLIP_RTOL: f64 = 1e-12;
+
+/// Intersection polygons with area below `AREA_RTOL ·` (projected slave area)
+/// are empty: shared edges and touching vertices.
+const AREA_RTOL: f64 = 1e-12;
+
+/// The quadrature rules by integrand (D3): exact for polynomial integrands.
+pub(super) struct Rules {
+    /// Slave Tri3 × master Tri3: ψλ is degree 2.
+    tri_tri: TriangleRule,
+    /// Slave Tri3 × master Quad4: degree 1 × 2.
+    tri_quad: TriangleRule,
+    /// Planar slave quad: ψ (2) × λ (2) × |J| (1, affine on a planar quad).
+    planar_quad: TriangleRule,
+    /// Warped slave quad: |J| is not a polynomial; the rule is fixed by the
+    /// options or chosen per face.
+    fixed_warped: Option<TriangleRule>,
+}
+
+impl Rules {
+    fn new(warped_degree: Option<usize>) -> Rules {
+        Rules {
+            tri_tri: rule(2),
+            tri_quad: rule(3),
+            planar_quad: rule(5),
+            fixed_warped: warped_degree.map(rule),
+        }
+    }
+
+    fn select(&self, slave: &SlaveFace, master: FaceKind) -> TriangleRule {
+        match (slave.element.kind, master) {
+            (FaceKind::Tri3, FaceKind::Tri3) => self.tri_tri,
+            (FaceKind::Tri3, FaceKind::Quad4) => self.tri_quad,
+            (FaceKind::Quad4, _) => slave.warped_rule.unwrap_or(self.planar_quad),
+        }
+    }
+}
+
+fn rule(degree: usize) -> TriangleRule {
+    triangle_rule(degree).expect("degree checked against MAX_TRIANGLE_DEGREE")
+}
+
+/// Everything the per-face work reads.
+pub(super) struct Kernel<'a> {
+    master: &'a SurfaceMesh,
+    tree: &'a FaceTree,
+    slave: &'a SurfaceMesh,
+    options: &'a MortarOptions,
+    rules: Rules,
+    cos_max_angle: f64,
+}
+
+/// Buffers reused from face to face (one per chunk of faces, never per pair).
+#[derive(Default)]
+pub(super) struct Scratch {
+    candidates: Vec<usize>,
+    /// Master points touched by this slave face (the block's columns).
+    cols: Vec<usize>,
+    /// Column-major n_s × |cols| block of B: `b[j * 4 + p]`.
+    b: Vec<f64>,
+}
+
+/// A slave face prepared for pairing: its element, frame and projection.
+struct SlaveFace {
+    element: FaceElement,
+    /// The rule of a warped quad (`None` for triangles and planar quads).
+    warped_rule: Option<TriangleRule>,
+    frame: Frame,
+    plane: PlaneFace,
+    polygon: crate::clip::Polygon,
+    gap_tol: f64,
+    clip_tol: f64,
+    area_tol: f64,
+}
+
+/// What one pair (F_s, F_m) contributes, on the stack.
+struct PairBlock {
+    /// n_s × n_s, row-major `d[p * 4 + q]`.
+    d: [f64; 16],
+    /// n_s × n_m, row-major `b[p * 4 + q]`.
+    b: [f64; 16],
+    covered_area: f64,
+    segments: u32,
+}
+
+impl<'a> Kernel<'a> {
+    pub(super) fn new(
+        master: &'a SurfaceMesh,
+        tree: &'a FaceTree,
+        slave: &'a SurfaceMesh,
+        options: &'a MortarOptions,
+    ) -> Self {
+        Kernel {
+            master,
+            tree,
+            slave,
+            options,
+            rules: Rules::new(options.warped_quad_degree),
+            cos_max_angle: options.max_angle_degrees.to_radians().cos(),
+        }
+    }
+
+    /// (B1)–(B2) for slave face `s`; appends its block to `out`.
+    pub(super) fn face(&self, s: usize, scratch: &mut Scratch, out: &mut Blocks) {
+        let sf = self.prepare(s);
+        let n_s = sf.element.n_nodes();
+        let mut stats = FaceStats::default();
+        let mut d = [0.0; 16];
+        scratch.cols.clear();
+        scratch.b.clear();
+        let (lo, hi) = face_box(sf.element.corners(), sf.gap_tol);
+        self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates);
+        stats.candidates = scratch.candidates.len() as u32;
+        for &m in &scratch.candidates {
+            let Some(pair) = self.pair(&sf, m, &mut stats) else { continue };
+            stats.intersecting += 1;
+            stats.segments += pair.segments;
+            stats.covered_area += pair.covered_area;
+            for k in 0..16 {
+                d[k] += pair.d[k];
+            }
+            add_columns(&mut scratch.cols, &mut scratch.b, self.master.faces()[m].nodes(), &pair.b);
+        }
+        let full = self.full_face_integrals(&sf, &mut stats);
+        let dual_fallback = apply_multiplier(self.options.multiplier, n_s, &mut d, &mut scratch.b);
+        stats.dual_fallbacks = dual_fallback as u32;
+        out.push(&scratch.cols, &scratch.b, d, full, stats);
+    }
+
+    fn prepare(&self, s: usize) -> SlaveFace {
+        let element = FaceElement::of(self.slave, s);
+        let frame = Frame::householder(element.normal(), element.centre());
+        let plane = element.project(|x| frame.project(x));
+        let polygon = face_polygon(plane.corners());
+        let h = element.diameter();
+        SlaveFace {
+            warped_rule: (element.kind == FaceKind::Quad4 && element.warp() >= PLANAR_WARP)
+                .then(|| self.rules.fixed_warped.unwrap_or_else(|| rule(warped_quad_degree(&element)))),
+            gap_tol: self.options.max_gap.at(h),
+            clip_tol: CLIP_RTOL * h,
+            area_tol: AREA_RTOL * polygon_area(&polygon),
+            element,
+            frame,
+            plane,
+            polygon,
+        }
+    }
+
+    /// (C1)–(C6) for the pair (slave face, master face `m`); `None` when the pair
+    /// is filtered out or does not overlap.
+    fn pair(&self, sf: &SlaveFace, m: usize, stats: &mut FaceStats) -> Option<PairBlock> {
+        let em = FaceElement::of(self.master, m);
+        let cos = dot(sf.frame.normal(), em.normal());
+        let aligned = match self.options.facing {
+            Facing::Any => cos.abs(),
+            Facing::Opposite => -cos,
+        };
+        if aligned < self.cos_max_angle {
+            stats.rejected_angle += 1;
+            return None;
+        }
+        // (C3)–(C4)
+        let master_plane = em.project(|x| sf.frame.project(x));
+        let polygon = clip_polygon_polygon(&face_polygon(master_plane.corners()), &sf.polygon, sf.clip_tol);
+        if polygon.len() < 3 || polygon_area(&polygon) <= sf.area_tol {
+            stats.empty += 1;
+            return None;
+        }
+        // (D1)–(D2): reference coordinates of every polygon vertex on both faces.
+        let mut xs = [[0.0; 2]; MAX_POLYGON];
+        let mut xm = [[0.0; 2]; MAX_POLYGON];
+        let (mut gap, mut overlap) = (0.0f64, 0.0f64);
+        for (v, &p) in polygon.iter().enumerate() {
+            xs[v] = inverse(&sf.plane, p, stats);
+            xm[v] = inverse(&master_plane, p, stats);
+            let g = sf.frame.height(em.map(xm[v])) - sf.frame.height(sf.element.map(xs[v]));
+            if g.abs() > sf.gap_tol {
+                stats.rejected_gap += 1;
+                return None;
+            }
+            gap = gap.max(g);
+            overlap = overlap.max(-g);
+        }
+        stats.max_gap = stats.max_gap.max(gap);
+        stats.max_overlap = stats.max_overlap.max(overlap);
+        let rule = self.rules.select(sf, em.kind);
+        let mut block = PairBlock { d: [0.0; 16], b: [0.0; 16], covered_area: 0.0, segments: 0 };
+        for [a, b, c] in fan_triangles(polygon.len()) {
+            let ts = [xs[a], xs[b], xs[c]];
+            let tm = [xm[a], xm[b], xm[c]];
+            integrate_segment(&sf.element, &em, ts, tm, &rule, &mut block);
+        }
+        Some(block)
+    }
+
+    /// ∫_e λ_p |J| over the whole slave face; adds its area to `stats`.
+    fn full_face_integrals(&self, sf: &SlaveFace, stats: &mut FaceStats) -> [f64; 4] {
+        let full = face_integrals(&sf.element, self.rules.select(sf, sf.element.kind).degree);
+        stats.area += full.iter().sum::<f64>();
+        full
+    }
+}
+
+fn inverse(plane: &PlaneFace, p: [f64; 2], stats: &mut FaceStats) -> Xi {
+    let r = plane.inverse(p);
+    if matches!(r, InverseMap::NotConverged { .. }) {
+        stats.inverse_failures += 1;
+    }
+    r.xi()
+}
+
+/// (D3)–(D5) on one intersection triangle with reference images `ts` (slave) and
+/// `tm` (master): the quadrature points are mapped affinely onto both, and
+/// ω'_l = ω_l |J_s(x_l^s)| |T̂s|.
+#[inline]
+fn integrate_segment(
+    es: &FaceElement,
+    em: &FaceElement,
+    ts: [Xi; 3],
+    tm: [Xi; 3],
+    rule: &TriangleRule,
+    block: &mut PairBlock,
+) {
+    let area_ref = triangle_area(ts);
+    if area_ref == 0.0 {
+        return;
+    }
+    block.segments += 1;
+    let (n_s, n_m) = (es.n_nodes(), em.n_nodes());
+    for (pt, &w) in rule.points.iter().zip(rule.weights) {
+        let xis = barycentric(ts, *pt);
+        let xim = barycentric(tm, *pt);
+        let phi = es.shape(xis);
+        let lam = em.shape(xim);
+        let wj = w * area_ref * es.jacobian(xis);
+        block.covered_area += wj;
+        for p in 0..n_s {
+            let wp = wj * phi[p];
+            for q in 0..n_s {
+                block.d[p * 4 + q] += wp * phi[q];
+            }
+            for q in 0..n_m {
+                block.b[p * 4 + q] += wp * lam[q];
+            }
+        }
+    }
+}
+
+/// The point with barycentric coordinates (1−ξ−η, ξ, η) in triangle `t`.
+#[inline]
+pub(super) fn barycentric(t: [Xi; 3], pt: [f64; 2]) -> Xi {
+    let l0 = 1.0 - pt[0] - pt[1];
+    [l0 * t[0][0] + pt[0] * t[1][0] + pt[1] * t[2][0], l0 * t[0][1] + pt[0] * t[1][1] + pt[1] * t[2][1]]
+}
+
+#[inline]
+pub(super) fn triangle_area(t: [Xi; 3]) -> f64 {
+    0.5 * ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0])).abs()
+}
+
+/// Adds a pair's n_s × n_m block to the face's block, one column per master point.
+fn add_columns(cols: &mut Vec<usize>, block: &mut Vec<f64>, master_nodes: &[usize], b: &[f64; 16]) {
+    for (q, &node) in master_nodes.iter().enumerate() {
+        let j = match cols.iter().position(|&c| c == node) {
+            Some(j) => j,
+            None => {
+                cols.push(node);
+                block.extend_from_slice(&[0.0; 4]);
+                cols.len() - 1
+            }
+        };
+        for p in 0..4 {
+            block[j * 4 + p] += b[p * 4 + q];
+        }
+    }
+}

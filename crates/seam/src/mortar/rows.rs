@@ -1,0 +1,201 @@
+//! From per-face blocks to CSR rows.
+//!
+//! Each slave face e leaves a dense block: its n_s × |cols_e| part of B (the
+//! master points it touched) and its n_s × n_s part of D. Row p of the global
+//! matrices is the sum over the faces around p, taken in increasing face order,
+//! of the block rows for p — so the result does not depend on how faces were
+//! spread over threads (I7).
+
+use super::{FaceStats, Mortar, MortarSummary, Multiplier, COVERED_FRACTION};
+use crate::mesh::SurfaceMesh;
+use crate::sparse::CsrMatrix;
+use rayon::prelude::*;
+
+/// Per-face blocks of a range of slave faces, in face order.
+#[derive(Default)]
+pub(super) struct Blocks {
+    /// `col_ptr[f]..col_ptr[f + 1]` indexes face f's columns in `cols`.
+    col_ptr: Vec<usize>,
+    cols: Vec<usize>,
+    /// Column-major 4-row blocks: `b[j * 4 + p]` for column j of `cols`.
+    b: Vec<f64>,
+    /// Row-major 4×4 blocks of D.
+    d: Vec<[f64; 16]>,
+    /// ∫_e λ_p |J| over the whole face.
+    full: Vec<[f64; 4]>,
+    pub(super) faces: Vec<FaceStats>,
+}
+
+impl Blocks {
+    pub(super) fn with_capacity(faces: usize) -> Blocks {
+        let mut b = Blocks {
+            col_ptr: Vec::with_capacity(faces + 1),
+            cols: Vec::with_capacity(faces * 12),
+            b: Vec::with_capacity(faces * 48),
+            d: Vec::with_capacity(faces),
+            full: Vec::with_capacity(faces),
+            faces: Vec::with_capacity(faces),
+        };
+        b.col_ptr.push(0);
+        b
+    }
+
+    pub(super) fn push(&mut self, cols: &[usize], b: &[f64], d: [f64; 16], full: [f64; 4], stats: FaceStats) {
+        self.cols.extend_from_slice(cols);
+        self.b.extend_from_slice(b);
+        self.col_ptr.push(self.cols.len());
+        self.d.push(d);
+        self.full.push(full);
+        self.faces.push(stats);
+    }
+
+    /// Joins chunk results in order.
+    pub(super) fn concat(chunks: Vec<Blocks>) -> Blocks {
+        let faces: usize = chunks.iter().map(|c| c.faces.len()).sum();
+        let mut all = Blocks::with_capacity(faces);
+        for c in chunks {
+            let offset = all.cols.len();
+            all.col_ptr.extend(c.col_ptr[1..].iter().map(|&p| p + offset));
+            all.cols.extend(c.cols);
+            all.b.extend(c.b);
+            all.d.extend(c.d);
+            all.full.extend(c.full);
+            all.faces.extend(c.faces);
+        }
+        all
+    }
+}
+
+/// For every point, the (face, local corner) pairs around it, faces ascending.
+struct PointFaces {
+    ptr: Vec<usize>,
+    entries: Vec<(usize, usize)>,
+}
+
+impl PointFaces {
+    fn new(mesh: &SurfaceMesh) -> PointFaces {
+        let mut ptr = vec![0usize; mesh.n_points() + 1];
+        for face in mesh.faces() {
+            for &n in face.nodes() {
+                ptr[n + 1] += 1;
+            }
+        }
+        for i in 0..mesh.n_points() {
+            ptr[i + 1] += ptr[i];
+        }
+        let mut next = ptr.clone();
+        let mut entries = vec![(0, 0); ptr[mesh.n_points()]];
+        for (f, face) in mesh.faces().iter().enumerate() {
+            for (l, &n) in face.nodes().iter().enumerate() {
+                entries[next[n]] = (f, l);
+                next[n] += 1;
+            }
+        }
+        PointFaces { ptr, entries }
+    }
+
+    fn around(&self, p: usize) -> &[(usize, usize)] {
+        &self.entries[self.ptr[p]..self.ptr[p + 1]]
+    }
+}
+
+/// Sums the face blocks into B and D and measures the coverage of each point.
+pub(super) fn into_mortar(
+    master: &SurfaceMesh,
+    slave: &SurfaceMesh,
+    blocks: Blocks,
+    multiplier: Multiplier,
+    mut summary: MortarSummary,
+) -> Mortar {
+    let around = PointFaces::new(slave);
+    let n = slave.n_points();
+    let b = sum_rows(n, master.n_points(), &around, |f, l, out| {
+        for j in blocks.col_ptr[f]..blocks.col_ptr[f + 1] {
+            out.push((blocks.cols[j], blocks.b[j * 4 + l]));
+        }
+    });
+    let d = sum_rows(n, n, &around, |f, l, out| {
+        for (q, &node) in slave.faces()[f].nodes().iter().enumerate() {
+            out.push((node, blocks.d[f][l * 4 + q]));
+        }
+    });
+    let node_coverage: Vec<f64> = (0..n)
+        .map(|p| {
+            let (mut covered, mut full) = (0.0, 0.0);
+            for &(f, l) in around.around(p) {
+                // Row sums of a face's D block are ∫_{e,cov} λ_l for every multiplier.
+                covered += blocks.d[f][l * 4..l * 4 + 4].iter().sum::<f64>();
+                full += blocks.full[f][l];
+            }
+            if full > 0.0 {
+                covered / full
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let used = slave.used_points();
+    let covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
+    summary.uncovered_slave_nodes = (0..n).filter(|&p| used[p] && !covered[p]).collect();
+    Mortar { b, d, multiplier, faces: blocks.faces, node_coverage, covered, summary }
+}
+
+/// Builds an nrows × ncols CSR matrix whose row p collects, for each face around
+/// p in order, the (column, value) entries `entries(face, local)` pushes;
+/// duplicates are summed in that order and exact zeros dropped.
+fn sum_rows(
+    nrows: usize,
+    ncols: usize,
+    around: &PointFaces,
+    entries: impl Fn(usize, usize, &mut Vec<(usize, f64)>) + Sync,
+) -> CsrMatrix {
+    const CHUNK: usize = 4096;
+    let parts: Vec<(Vec<usize>, Vec<usize>, Vec<f64>)> = (0..nrows.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut lens = Vec::with_capacity(CHUNK);
+            let (mut cols, mut vals) = (Vec::new(), Vec::new());
+            let mut buf: Vec<(usize, f64)> = Vec::new();
+            for p in c * CHUNK..((c + 1) * CHUNK).min(nrows) {
+                buf.clear();
+                for &(f, l) in around.around(p) {
+                    entries(f, l, &mut buf);
+                }
+                buf.sort_by_key(|e| e.0); // stable: equal columns keep face order
+                let start = cols.len();
+                for &(j, v) in &buf {
+                    if cols.len() > start && cols[cols.len() - 1] == j {
+                        *vals.last_mut().unwrap() += v;
+                    } else {
+                        cols.push(j);
+                        vals.push(v);
+                    }
+                }
+                // Drop exact zeros (e.g. off-diagonal entries of a dual D).
+                let mut keep = start;
+                for k in start..cols.len() {
+                    if vals[k] != 0.0 {
+                        cols[keep] = cols[k];
+                        vals[keep] = vals[k];
+                        keep += 1;
+                    }
+                }
+                cols.truncate(keep);
+                vals.truncate(keep);
+                lens.push(keep - start);
+            }
+            (lens, cols, vals)
+        })
+        .collect();
+    let mut m = CsrMatrix::zeros(0, ncols);
+    for (lens, cols, vals) in parts {
+        for len in lens {
+            let last = *m.indptr.last().unwrap();
+            m.indptr.push(last + len);
+        }
+        m.indices.extend(cols);
+        m.values.extend(vals);
+    }
+    m.nrows = nrows;
+    m
+}
