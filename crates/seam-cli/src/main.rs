@@ -1,2 +1,56 @@
-//! The `seam` command-line tool (being written).
-fn main() {}
+//! The `seam` command-line tool: argument parsing and glue around the `seam`
+//! library (the maths) and `seam-io` (the files).
+//!
+//! Exit codes: 0 = success; 1 = ran, but the meshes do not couple (no overlap);
+//! 2 = error (bad input, unwritable output, …). Errors are one line on stderr.
+#![forbid(unsafe_code)]
+
+mod args;
+mod assemble;
+mod bench;
+mod example;
+mod output;
+
+use args::{Cli, Command};
+use clap::Parser;
+use std::process::ExitCode;
+
+/// What went wrong, sorted by exit code.
+pub enum Failure {
+    /// The run finished but found nothing to couple (exit 1).
+    NoCoupling(anyhow::Error),
+    /// Anything else (exit 2).
+    Error(anyhow::Error),
+}
+
+impl<E: Into<anyhow::Error>> From<E> for Failure {
+    fn from(e: E) -> Self {
+        Failure::Error(e.into())
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Assemble(a) => assemble::run(&a).map(|_| ()),
+        Command::Example(e) => example::run(&e),
+        Command::Bench(b) => bench::run(&b),
+        Command::BenchCase(c) => bench::run_case(&c),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::NoCoupling(e)) => {
+            eprintln!("seam: {}", one_line(&e));
+            ExitCode::from(1)
+        }
+        Err(Failure::Error(e)) => {
+            eprintln!("seam: error: {}", one_line(&e));
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// The error and its causes on one line: "context: cause: cause".
+fn one_line(e: &anyhow::Error) -> String {
+    format!("{e:#}").replace('\n', " ")
+}

@@ -1,3 +1,28 @@
-//! File formats for seam (being written).
+//! File formats for seam.
+//!
+//! | format | versions | read | write |
+//! |---|---|---|---|
+//! | [Gmsh MSH](https://gmsh.info/doc/texinfo/gmsh.html#MSH-file-format) | 4.1 and 2.2, ASCII and binary | [`read_msh`], [`read_surface_file`], [`read_volume_file`] | 4.1 ASCII surfaces: [`write_msh`] |
+//! | [Matrix Market](https://math.nist.gov/MatrixMarket/formats.html) | coordinate real general, 1-based | [`read_matrix_market_str`] | [`write_matrix_market`] |
+//!
+//! MSH 2.2 is described in the [legacy section](https://gmsh.info/doc/texinfo/gmsh.html#MSH-file-format-version-2-_0028Legacy_0029)
+//! of the Gmsh manual. Meshes from Gmsh 4.x are 4.1 by default; set
+//! `Mesh.MshFileVersion` (or `-format msh22`) for 2.2.
+//!
+//! ```no_run
+//! let surface = seam_io::read_surface_file("slave.msh", Some("interface"))?;
+//! println!("{} faces on {} nodes", surface.n_faces(), surface.n_points());
+//! # Ok::<(), seam_io::MshError>(())
+//! ```
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
+
+pub mod msh;
+pub mod mtx;
+
+pub use msh::{
+    read_msh, read_msh_file, read_surface_file, read_volume_file, write_msh, write_msh_file, Degeneracy,
+    GroupId, Location, Msh, MshElement, MshError, MshErrorKind, MshFormat, MshVersion, NodeData,
+    PhysicalName,
+};
+pub use mtx::{read_matrix_market_str, write_matrix_market, write_matrix_market_file, MatrixMarketError};

@@ -1,4 +1,4 @@
-//! Surface patches on parametric maps (u, v) ∈ [0,1]² ↦ x(u, v): the meshes of
+//! Surface patches on parametric maps (u, v) ∈ \[0,1\]² ↦ x(u, v): the meshes of
 //! seam's built-in examples, tests and benchmarks.
 //!
 //! Points are numbered row by row, `j·(nu+1) + i` for the grid point (i, j).
@@ -72,7 +72,7 @@ pub fn flat(a: f64, b: f64) -> impl Fn(f64, f64) -> Point3 {
     move |u, v| [a * u, b * v, 0.0]
 }
 
-/// The hyperbolic paraboloid z = c·x·y over [0,1]²: its bilinear quads are the
+/// The hyperbolic paraboloid z = c·x·y over \[0,1\]²: its bilinear quads are the
 /// exact surface, every one of them warped.
 pub fn hyperbolic_paraboloid(c: f64) -> impl Fn(f64, f64) -> Point3 {
     move |u, v| [u, v, c * u * v]

@@ -220,6 +220,7 @@ pub struct FaceStats {
 
 /// Totals over the interface.
 #[derive(Clone, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct MortarSummary {
     /// Slave points used by some slave face.
     pub slave_nodes: usize,
@@ -239,8 +240,9 @@ pub struct MortarSummary {
     pub slave_area: f64,
     /// 1ᵀD1 (standard multipliers): the covered part of Γs.
     pub covered_area: f64,
-    /// Slave points on the surface whose support is (numerically) not covered.
-    pub uncovered_slave_nodes: Vec<usize>,
+    /// Slave points on the surface whose support is (numerically) not covered
+    /// (listed by [`Mortar::uncovered_nodes`]).
+    pub uncovered_slave_nodes: usize,
     /// Largest gap seen.
     pub max_gap: f64,
     /// Largest overlap seen.
@@ -249,6 +251,13 @@ pub struct MortarSummary {
     pub inverse_failures: usize,
     /// Faces whose dual basis fell back to lumping.
     pub dual_fallbacks: usize,
+}
+
+impl Mortar {
+    /// The slave points on the surface whose support is not covered, ascending.
+    pub fn uncovered_nodes(&self) -> Vec<usize> {
+        (0..self.covered.len()).filter(|&p| self.on_surface[p] && !self.covered[p]).collect()
+    }
 }
 
 /// A node counts as covered when the covered part of its support carries more
@@ -270,6 +279,8 @@ pub struct Mortar {
     pub node_coverage: Vec<f64>,
     /// Per slave point: covered (see [`COVERED_FRACTION`]).
     pub covered: Vec<bool>,
+    /// Per slave point: used by some slave face.
+    pub on_surface: Vec<bool>,
     /// Totals.
     pub summary: MortarSummary,
 }

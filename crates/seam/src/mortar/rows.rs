@@ -134,10 +134,10 @@ pub(super) fn into_mortar(
             }
         })
         .collect();
-    let used = slave.used_points();
+    let on_surface = slave.used_points();
     let covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
-    summary.uncovered_slave_nodes = (0..n).filter(|&p| used[p] && !covered[p]).collect();
-    Mortar { b, d, multiplier, faces: blocks.faces, node_coverage, covered, summary }
+    summary.uncovered_slave_nodes = (0..n).filter(|&p| on_surface[p] && !covered[p]).count();
+    Mortar { b, d, multiplier, faces: blocks.faces, node_coverage, covered, on_surface, summary }
 }
 
 /// Builds an nrows × ncols CSR matrix whose row p collects, for each face around

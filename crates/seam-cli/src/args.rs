@@ -1,0 +1,157 @@
+//! Command-line definitions (clap derive); help texts live on the flags.
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+/// Mortar coupling between non-matching warped interfaces: the operators
+/// D_pq = ∫ψ_p λ^s_q, B_pq = ∫ψ_p (λ^m_q∘Φ) and T = D⁻¹B, after Dickopf & Krause.
+#[derive(Parser)]
+#[command(name = "seam", version, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Assemble B, D (and T) between a master and a slave surface mesh.
+    Assemble(AssembleArgs),
+    /// Run a built-in example that makes its own meshes.
+    Example(ExampleArgs),
+    /// Benchmark the assembly on generated meshes and print a Markdown table
+    /// (build with --release).
+    Bench(BenchArgs),
+    /// One benchmark case as a JSON line (used by `bench`, one process per case).
+    #[command(hide = true)]
+    BenchCase(BenchCaseArgs),
+}
+
+/// The multiplier basis ψ_p.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+pub enum MultiplierArg {
+    /// ψ_p = λ_p; D is the slave mass matrix on the covered part (T is applied
+    /// by a sparse Cholesky solve and not written).
+    #[default]
+    Standard,
+    /// Biorthogonal basis: D diagonal, T = D⁻¹B written.
+    Dual,
+    /// D replaced by its row sums: diagonal, T written.
+    Lumped,
+}
+
+/// Which normal orientations may be paired.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+pub enum FacingArg {
+    /// Either orientation (surface meshes whose normals may point either way).
+    #[default]
+    Any,
+    /// Only faces whose normals point at each other (two bodies, outward normals).
+    Opposite,
+}
+
+#[derive(Args, Debug)]
+pub struct AssembleArgs {
+    /// Master (mortar) surface: a Gmsh MSH file (2.2 or 4.1, ASCII or binary).
+    pub master: PathBuf,
+    /// Slave (non-mortar) surface: a Gmsh MSH file; rows of B and D follow its nodes.
+    pub slave: PathBuf,
+    /// Output directory for B.mtx, D.mtx, T.mtx (dual, lumped) and summary.json.
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+    /// Physical surface of the master file, by name or number (default: all
+    /// surface elements, or the boundary of the volume mesh).
+    #[arg(long, value_name = "G")]
+    pub master_group: Option<String>,
+    /// Physical surface of the slave file, by name or number.
+    #[arg(long, value_name = "G")]
+    pub slave_group: Option<String>,
+    /// Lagrange multiplier basis.
+    #[arg(long, value_enum, default_value_t)]
+    pub multiplier: MultiplierArg,
+    /// Largest normal distance between paired points, as a length
+    /// [default: half the diameter of each slave face].
+    #[arg(long, value_name = "X")]
+    pub max_gap: Option<f64>,
+    /// Which normal orientations may be paired.
+    #[arg(long, value_enum, default_value_t)]
+    pub facing: FacingArg,
+    /// Largest angle between slave and master face normals, in degrees.
+    #[arg(long, value_name = "DEG", default_value_t = 45.0)]
+    pub max_angle: f64,
+    /// Triangle-rule degree on warped slave quads (1..=20) [default: chosen per
+    /// face so that its integrals agree with degree 20 to 1e-13]. Triangles and
+    /// planar quads always use exact rules.
+    #[arg(long, value_name = "N")]
+    pub quad_order: Option<usize>,
+    /// Worker threads [default: all cores].
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Overwrite output files that already exist in DIR.
+    #[arg(long)]
+    pub force: bool,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ExampleName {
+    /// A quad patch on a twisted barrel (warped quads) against an
+    /// unstructured triangle patch 0.2 % farther out: writes both meshes,
+    /// assembles B, D, T and reports coverage, invariants and timings.
+    Operator,
+}
+
+#[derive(Args, Debug)]
+pub struct ExampleArgs {
+    /// Which example.
+    #[arg(value_enum)]
+    pub name: ExampleName,
+    /// Output directory.
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+    /// Overwrite output files that already exist in DIR.
+    #[arg(long)]
+    pub force: bool,
+    /// Worker threads [default: all cores].
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+}
+
+/// Surfaces of the benchmark.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum BenchShape {
+    /// The unit square.
+    Flat,
+    /// A cylinder patch (radius 1, 1 rad, height 1), the master 0.2 % outside.
+    Cylinder,
+}
+
+impl BenchShape {
+    pub fn name(&self) -> &'static str {
+        match self {
+            BenchShape::Flat => "flat",
+            BenchShape::Cylinder => "cylinder",
+        }
+    }
+}
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Surfaces.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [BenchShape::Flat, BenchShape::Cylinder])]
+    pub shapes: Vec<BenchShape>,
+    /// Approximate numbers of slave faces.
+    #[arg(long, value_delimiter = ',', default_values_t = [10_000, 100_000, 1_000_000])]
+    pub sizes: Vec<usize>,
+    /// Thread counts.
+    #[arg(long, value_delimiter = ',', default_values_t = [1, 2])]
+    pub threads: Vec<usize>,
+}
+
+#[derive(Args, Debug)]
+pub struct BenchCaseArgs {
+    #[arg(long, value_enum)]
+    pub shape: BenchShape,
+    #[arg(long)]
+    pub faces: usize,
+    #[arg(long)]
+    pub threads: usize,
+}

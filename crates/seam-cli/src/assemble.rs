@@ -1,0 +1,209 @@
+//! `seam assemble MASTER SLAVE -o DIR`: read, search, assemble, write.
+
+use crate::args::{AssembleArgs, FacingArg, MultiplierArg};
+use crate::output::Staged;
+use crate::Failure;
+use anyhow::{anyhow, Context};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use seam::{
+    assemble_with_tree, FaceTree, Facing, MaxGap, Mortar, MortarError, MortarOptions, MortarSummary,
+    Multiplier, SurfaceMesh,
+};
+use serde::Serialize;
+use std::path::Path;
+use std::time::Instant;
+
+/// The files `assemble` may write.
+const OUTPUTS: [&str; 4] = ["B.mtx", "D.mtx", "T.mtx", "summary.json"];
+
+/// Slave face count from which a progress bar is shown (on a terminal only).
+const PROGRESS_FROM: usize = 20_000;
+
+/// What `assemble` did, for callers that report on it (the examples).
+pub struct Assembled {
+    pub mortar: Mortar,
+    pub summary: Summary,
+}
+
+/// `summary.json`: the interface totals of the library, the inputs and options,
+/// and the timings.
+#[derive(Serialize)]
+pub struct Summary {
+    pub master: String,
+    pub slave: String,
+    pub master_group: Option<String>,
+    pub slave_group: Option<String>,
+    #[serde(flatten)]
+    pub interface: MortarSummary,
+    pub covered_fraction: f64,
+    /// 1-based rows (slave file node order) of the uncovered nodes.
+    pub uncovered_slave_node_rows: Vec<usize>,
+    pub max_gap_limit: String,
+    pub max_angle_degrees: f64,
+    pub facing: String,
+    pub multiplier: String,
+    pub quad_order: String,
+    pub nnz: Nnz,
+    pub threads: usize,
+    pub seconds: Seconds,
+    pub seam_version: &'static str,
+}
+
+#[derive(Serialize)]
+pub struct Nnz {
+    #[serde(rename = "B")]
+    pub b: usize,
+    #[serde(rename = "D")]
+    pub d: usize,
+    #[serde(rename = "T")]
+    pub t: Option<usize>,
+}
+
+#[derive(Serialize, Default)]
+pub struct Seconds {
+    pub read: f64,
+    pub search: f64,
+    pub assemble: f64,
+    pub write: f64,
+    pub total: f64,
+}
+
+pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
+    let start = Instant::now();
+    let options = options(args)?;
+    let pool = thread_pool(args.threads)?;
+    let mut out = Staged::prepare(&args.output, &OUTPUTS, args.force)?;
+    let mut seconds = Seconds::default();
+
+    let t = Instant::now();
+    let (master, slave) = pool.install(|| {
+        rayon::join(|| read(&args.master, &args.master_group), || read(&args.slave, &args.slave_group))
+    });
+    let (master, slave) = (master?, slave?);
+    seconds.read = t.elapsed().as_secs_f64();
+
+    let t = Instant::now();
+    let tree = FaceTree::new(&master);
+    seconds.search = t.elapsed().as_secs_f64();
+
+    let t = Instant::now();
+    let bar = progress_bar(slave.n_faces());
+    let mortar = pool
+        .install(|| assemble_with_tree(&master, &tree, &slave, &options, &|n| bar.inc(n as u64)))
+        .map_err(|e| match e {
+            e @ MortarError::NoOverlap { .. } => Failure::NoCoupling(anyhow!(e).context(format!(
+                "{} (slave) and {}",
+                args.slave.display(),
+                args.master.display()
+            ))),
+            e => Failure::Error(e.into()),
+        })?;
+    bar.finish_and_clear();
+    let transfer = mortar.transfer().context("the transfer operator")?;
+    seconds.assemble = t.elapsed().as_secs_f64();
+
+    let t = Instant::now();
+    let rows = format!("rows: nodes of {} in file order", args.slave.display());
+    let cols = |side: &Path| format!("columns: nodes of {} in file order", side.display());
+    out.write("B.mtx", |p| seam_io::write_matrix_market_file(p, &mortar.b, &[&rows, &cols(&args.master)]))?;
+    out.write("D.mtx", |p| seam_io::write_matrix_market_file(p, &mortar.d, &[&rows, &cols(&args.slave)]))?;
+    if let Some(t) = transfer.matrix() {
+        out.write("T.mtx", |p| seam_io::write_matrix_market_file(p, t, &[&rows, &cols(&args.master)]))?;
+    }
+    seconds.write = t.elapsed().as_secs_f64();
+    seconds.total = start.elapsed().as_secs_f64();
+
+    let summary = summary(
+        args,
+        &options,
+        &mortar,
+        transfer.matrix().map(|t| t.nnz()),
+        pool.current_num_threads(),
+        seconds,
+    );
+    let json = serde_json::to_string_pretty(&summary).context("summary")?;
+    out.write("summary.json", |p| std::fs::write(p, json + "\n"))?;
+    out.commit(&["T.mtx"])?;
+    Ok(Assembled { mortar, summary })
+}
+
+fn read(path: &Path, group: &Option<String>) -> anyhow::Result<SurfaceMesh> {
+    Ok(seam_io::read_surface_file(path, group.as_deref())?)
+}
+
+fn options(args: &AssembleArgs) -> anyhow::Result<MortarOptions> {
+    let max_gap = match args.max_gap {
+        Some(g) if !(g.is_finite() && g >= 0.0) => {
+            anyhow::bail!("--max-gap must be a non-negative length, got {g}")
+        }
+        Some(g) => MaxGap::Absolute(g),
+        None => MaxGap::DEFAULT,
+    };
+    Ok(MortarOptions {
+        multiplier: match args.multiplier {
+            MultiplierArg::Standard => Multiplier::Standard,
+            MultiplierArg::Dual => Multiplier::Dual,
+            MultiplierArg::Lumped => Multiplier::Lumped,
+        },
+        facing: match args.facing {
+            FacingArg::Any => Facing::Any,
+            FacingArg::Opposite => Facing::Opposite,
+        },
+        max_gap,
+        max_angle_degrees: args.max_angle,
+        warped_quad_degree: args.quad_order,
+    })
+}
+
+pub fn thread_pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        anyhow::ensure!(n >= 1, "--threads must be at least 1");
+        builder = builder.num_threads(n);
+    }
+    builder.build().context("cannot start the worker threads")
+}
+
+fn progress_bar(faces: usize) -> ProgressBar {
+    if faces < PROGRESS_FROM {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(faces as u64), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} slave faces, {per_sec}, {eta} left")
+            .expect("valid template"),
+    );
+    bar
+}
+
+fn summary(
+    args: &AssembleArgs,
+    options: &MortarOptions,
+    mortar: &Mortar,
+    nnz_t: Option<usize>,
+    threads: usize,
+    seconds: Seconds,
+) -> Summary {
+    let s = &mortar.summary;
+    Summary {
+        master: args.master.display().to_string(),
+        slave: args.slave.display().to_string(),
+        master_group: args.master_group.clone(),
+        slave_group: args.slave_group.clone(),
+        interface: s.clone(),
+        covered_fraction: s.covered_area / s.slave_area,
+        uncovered_slave_node_rows: mortar.uncovered_nodes().iter().map(|p| p + 1).collect(),
+        max_gap_limit: match options.max_gap {
+            MaxGap::Absolute(g) => format!("{g}"),
+            MaxGap::Relative(f) => format!("{f} × slave face diameter"),
+        },
+        max_angle_degrees: options.max_angle_degrees,
+        facing: format!("{:?}", options.facing).to_lowercase(),
+        multiplier: format!("{:?}", options.multiplier).to_lowercase(),
+        quad_order: options.warped_quad_degree.map_or("per face".into(), |d| d.to_string()),
+        nnz: Nnz { b: mortar.b.nnz(), d: mortar.d.nnz(), t: nnz_t },
+        threads,
+        seconds,
+        seam_version: env!("CARGO_PKG_VERSION"),
+    }
+}

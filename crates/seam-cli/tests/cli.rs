@@ -1,0 +1,268 @@
+//! The `seam` binary, run as a user would: in a temporary directory, checking
+//! exit codes, stderr and the files it leaves.
+
+use seam_io::read_matrix_market_str;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn seam(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_seam"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the seam binary runs")
+}
+
+fn fixture(name: &str) -> String {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../seam-io/tests/data").join(name);
+    assert!(p.exists(), "missing fixture {}", p.display());
+    p.to_string_lossy().into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+}
+
+fn matrix(path: &Path) -> seam::CsrMatrix {
+    read_matrix_market_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// A bad input: exit 2, exactly one line on stderr that names `file` and contains
+/// `problem`, no panic, and no result left in the output directory.
+fn assert_clean_failure(o: &Output, code: i32, file: &str, problem: &str, out: &Path) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(code), "exit code; stderr: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line on stderr, got: {err}");
+    assert!(err.contains(file), "stderr names {file}: {err}");
+    assert!(err.to_lowercase().contains(&problem.to_lowercase()), "stderr says '{problem}': {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!out.join("summary.json").exists(), "no summary.json after a failure");
+    assert!(!out.join("B.mtx").exists(), "no B.mtx after a failure");
+}
+
+#[test]
+fn example_operator_writes_meshes_matrices_and_summary() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = seam(&["example", "operator", "-o", "out"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = tmp.path().join("out");
+    let report = String::from_utf8_lossy(&o.stdout);
+    assert!(!report.contains("VIOLATED"), "{report}");
+    assert_eq!(report.matches(" ok").count(), 4, "{report}");
+    let s = summary(&out);
+    for key in [
+        "slave_nodes",
+        "master_nodes",
+        "slave_faces",
+        "master_faces",
+        "candidate_pairs",
+        "intersecting_pairs",
+        "segments",
+        "slave_area",
+        "covered_area",
+        "uncovered_slave_nodes",
+        "max_gap",
+        "max_overlap",
+        "multiplier",
+        "threads",
+    ] {
+        assert!(s.get(key).is_some(), "summary.json lacks {key}");
+    }
+    for phase in ["read", "search", "assemble", "write", "total"] {
+        assert!(s["seconds"][phase].as_f64().unwrap() >= 0.0);
+    }
+    let (b, d, t) = (matrix(&out.join("B.mtx")), matrix(&out.join("D.mtx")), matrix(&out.join("T.mtx")));
+    let (ns, nm) =
+        (s["slave_nodes"].as_u64().unwrap() as usize, s["master_nodes"].as_u64().unwrap() as usize);
+    assert_eq!((b.nrows, b.ncols, d.nrows, d.ncols, t.nrows, t.ncols), (ns, nm, ns, ns, ns, nm));
+    assert!(d.is_diagonal());
+    // The meshes it wrote read back, and assembling them again gives the same B.
+    let again = seam(
+        &["assemble", "out/master.msh", "out/slave.msh", "-o", "again", "--multiplier", "dual"],
+        tmp.path(),
+    );
+    assert!(again.status.success(), "{}", stderr(&again));
+    assert_eq!(matrix(&tmp.path().join("again/B.mtx")), b);
+}
+
+#[test]
+fn the_four_msh_flavours_give_the_same_matrices() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut reference: Option<(seam::CsrMatrix, seam::CsrMatrix)> = None;
+    for flavour in ["v22.ascii", "v22.bin", "v41.ascii", "v41.bin"] {
+        let (master, slave) =
+            (fixture(&format!("square_tri.{flavour}.msh")), fixture(&format!("square_mixed.{flavour}.msh")));
+        let o = seam(&["assemble", &master, &slave, "-o", flavour], tmp.path());
+        assert!(o.status.success(), "{flavour}: {}", stderr(&o));
+        let out = tmp.path().join(flavour);
+        let s = summary(&out);
+        assert!(
+            (s["covered_area"].as_f64().unwrap() - 1.0).abs() < 1e-13,
+            "{flavour}: unit squares cover each other"
+        );
+        assert_eq!(s["uncovered_slave_nodes"], 0);
+        let m = (matrix(&out.join("B.mtx")), matrix(&out.join("D.mtx")));
+        assert!(!out.join("T.mtx").exists(), "standard multipliers write no T.mtx");
+        match &reference {
+            None => reference = Some(m),
+            // ASCII files hold printed coordinates, binary ones exact doubles:
+            // the same pattern, values equal to round-off.
+            Some(r) => {
+                for (a, b) in [(&r.0, &m.0), (&r.1, &m.1)] {
+                    assert_eq!((&a.indptr, &a.indices), (&b.indptr, &b.indices), "{flavour}: same pattern");
+                    let diff = a.values.iter().zip(&b.values).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+                    assert!(diff < 1e-15, "{flavour} differs from v22.ascii by {diff:e}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn volume_files_with_physical_surfaces_couple_across_the_interface() {
+    // The top of the unit tet box (z = 1, [0,1]²) against the top of the 2×1×1 hex
+    // box (z = 1, [0,2]×[0,1]): half of the slave is covered.
+    let tmp = tempfile::tempdir().unwrap();
+    let (tet, hex) = (fixture("box_tet.v41.ascii.msh"), fixture("box_hex.v41.bin.msh"));
+    let o = seam(
+        &["assemble", &tet, &hex, "-o", "out", "--master-group", "top", "--slave-group", "top"],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = summary(&tmp.path().join("out"));
+    assert!((s["covered_area"].as_f64().unwrap() - 1.0).abs() < 1e-13, "{s}");
+    assert!((s["slave_area"].as_f64().unwrap() - 2.0).abs() < 1e-13, "{s}");
+    // 5 × 3 nodes at x = 0, ½, 1, 3/2, 2: the columns x = 3/2 and 2 have no master.
+    assert_eq!(s["uncovered_slave_nodes"], 6, "{s}");
+    // Both are outward normals on the same side: they do not face each other.
+    let o = seam(
+        &[
+            "assemble",
+            &tet,
+            &hex,
+            "-o",
+            "opp",
+            "--master-group",
+            "top",
+            "--slave-group",
+            "top",
+            "--facing",
+            "opposite",
+        ],
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_string_lossy().into_owned()
+}
+
+/// A unit square of two triangles (MSH 2.2 ASCII), with a replaceable node line
+/// and element line.
+fn square_msh(node3: &str, element2: &str) -> String {
+    format!(
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n{node3}\n4 0 1 0\n$EndNodes\n\
+         $Elements\n2\n1 2 2 1 1 1 2 3\n{element2}\n$EndElements\n"
+    )
+}
+
+#[test]
+fn bad_input_fails_cleanly_with_one_line_naming_the_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let good = write(dir, "good.msh", &square_msh("3 1 1 0", "2 2 2 1 1 1 3 4"));
+    let out = dir.join("out");
+    let o = seam(&["assemble", &good, "missing.msh", "-o", "out"], dir);
+    assert_clean_failure(&o, 2, "missing.msh", "no such file", &out);
+
+    let full = std::fs::read_to_string(fixture("square_tri.v41.ascii.msh")).unwrap();
+    let truncated = write(dir, "truncated.msh", &full[..full.len() / 2]);
+    let o = seam(&["assemble", &good, &truncated, "-o", "out"], dir);
+    assert_clean_failure(&o, 2, "truncated.msh", "", &out);
+
+    let nan = write(dir, "nan.msh", &square_msh("3 nan 1 0", "2 2 2 1 1 1 3 4"));
+    let o = seam(&["assemble", &good, &nan, "-o", "out"], dir);
+    assert_clean_failure(&o, 2, "nan.msh", "node 3", &out);
+
+    let o = seam(&["assemble", &good, &good, "-o", "out", "--slave-group", "nowhere"], dir);
+    assert_clean_failure(&o, 2, "good.msh", "nowhere", &out);
+
+    let repeated = write(dir, "repeated.msh", &square_msh("3 1 1 0", "2 2 2 1 1 1 3 3"));
+    let o = seam(&["assemble", &good, &repeated, "-o", "out"], dir);
+    assert_clean_failure(&o, 2, "repeated.msh", "element 2", &out);
+
+    let flat = write(dir, "flat.msh", &square_msh("3 2 0 0", "2 2 2 1 1 1 2 3"));
+    let o = seam(&["assemble", &good, &flat, "-o", "out"], dir);
+    assert_clean_failure(&o, 2, "flat.msh", "element", &out);
+
+    let far = write(
+        dir,
+        "far.msh",
+        &square_msh("3 1 1 0", "2 2 2 1 1 1 3 4")
+            .replace("\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0", "\n1 5 0 0\n2 6 0 0\n3 6 1 0\n4 5 1 0"),
+    );
+    let o = seam(&["assemble", &good, &far, "-o", "out"], dir);
+    assert_clean_failure(&o, 1, "far.msh", "do not overlap", &out);
+
+    let o = seam(&["assemble", &good, &good, "-o", "good.msh/out"], dir);
+    assert_clean_failure(
+        &o,
+        2,
+        "good.msh/out",
+        "cannot create output directory",
+        &dir.join("good.msh-nonexistent"),
+    );
+
+    let o = seam(&["assemble", &good, &good, "-o", "out", "--threads", "0"], dir);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        !out.exists() || std::fs::read_dir(&out).unwrap().next().is_none(),
+        "a failed run leaves no files"
+    );
+}
+
+#[test]
+fn existing_results_are_not_overwritten_without_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (master, slave) = (fixture("square_tri.v41.ascii.msh"), fixture("square_mixed.v41.ascii.msh"));
+    let first = seam(&["assemble", &master, &slave, "-o", "out", "--multiplier", "lumped"], tmp.path());
+    assert!(first.status.success(), "{}", stderr(&first));
+    let o = seam(&["assemble", &master, &slave, "-o", "out"], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--force"), "{}", stderr(&o));
+    assert!(tmp.path().join("out/T.mtx").exists(), "the earlier result is intact");
+    let o = seam(&["assemble", &master, &slave, "-o", "out", "--force"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!tmp.path().join("out/T.mtx").exists(), "a stale T.mtx from the lumped run is removed");
+    assert_eq!(summary(&tmp.path().join("out"))["multiplier"], "standard");
+}
+
+#[test]
+fn every_command_has_help() {
+    let tmp = tempfile::tempdir().unwrap();
+    for args in [vec!["--help"], vec!["assemble", "--help"], vec!["example", "--help"]] {
+        let o = seam(&args, tmp.path());
+        assert!(o.status.success());
+        assert!(String::from_utf8_lossy(&o.stdout).contains("Usage"));
+    }
+    let o = seam(&["assemble", "--help"], tmp.path());
+    let help = String::from_utf8_lossy(&o.stdout);
+    for flag in [
+        "--master-group",
+        "--slave-group",
+        "--multiplier",
+        "--max-gap",
+        "--facing",
+        "--quad-order",
+        "--threads",
+    ] {
+        assert!(help.contains(flag), "assemble --help lacks {flag}");
+    }
+}

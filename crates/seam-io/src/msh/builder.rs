@@ -1,0 +1,193 @@
+//! Assembles an [`Msh`] from the records the section readers parse, whatever
+//! the version and encoding: node tags become indices, MSH 2.2 copies of one
+//! element are merged, repeated `$NodeData` names keep the last step.
+
+use std::collections::HashMap;
+
+use seam::Point3;
+
+use super::element_types::ElementType;
+use super::{Msh, MshElement, MshErrorKind, MshFormat, MshVersion, NodeData, PhysicalName};
+
+/// One element as a file gives it, with node tags not yet resolved.
+pub(crate) struct ElementRecord<'r> {
+    pub tag: u64,
+    pub element_type: ElementType,
+    pub entity: i32,
+    pub physical_tags: &'r [i32],
+    pub node_tags: &'r [u64],
+}
+
+/// An [`Msh`] under construction.
+pub(crate) struct MshBuilder {
+    msh: Msh,
+    index_of_tag: HashMap<u64, usize>,
+}
+
+impl MshBuilder {
+    /// An empty mesh of the given format.
+    pub fn new(format: MshFormat) -> Self {
+        let msh = Msh {
+            format,
+            nodes: Vec::new(),
+            node_tags: Vec::new(),
+            elements: Vec::new(),
+            physical_names: Vec::new(),
+            node_data: Vec::new(),
+        };
+        MshBuilder { msh, index_of_tag: HashMap::new() }
+    }
+
+    /// Makes room for `additional` more nodes.
+    pub fn reserve_nodes(&mut self, additional: usize) {
+        self.msh.nodes.reserve(additional);
+        self.msh.node_tags.reserve(additional);
+        self.index_of_tag.reserve(additional);
+    }
+
+    /// Appends a node.
+    pub fn add_node(&mut self, tag: u64, xyz: Point3) -> Result<(), MshErrorKind> {
+        let index = self.msh.nodes.len();
+        if self.index_of_tag.insert(tag, index).is_some() {
+            return Err(MshErrorKind::DuplicateNode { node_tag: tag });
+        }
+        self.msh.nodes.push(xyz);
+        self.msh.node_tags.push(tag);
+        Ok(())
+    }
+
+    /// The number of nodes so far.
+    pub fn node_count(&self) -> usize {
+        self.msh.nodes.len()
+    }
+
+    /// The 0-based index of the node with this tag.
+    pub fn node_index(&self, tag: u64) -> Option<usize> {
+        self.index_of_tag.get(&tag).copied()
+    }
+
+    /// Appends an element, resolving its node tags (the nodes must come first,
+    /// as `$Nodes` precedes `$Elements`).
+    pub fn add_element(&mut self, record: ElementRecord<'_>) -> Result<(), MshErrorKind> {
+        let nodes = record
+            .node_tags
+            .iter()
+            .map(|&node_tag| {
+                self.node_index(node_tag)
+                    .ok_or(MshErrorKind::UnknownNode { element_tag: record.tag, node_tag })
+            })
+            .collect::<Result<Vec<usize>, _>>()?;
+        let element = MshElement {
+            tag: record.tag,
+            gmsh_type: record.element_type.number,
+            dim: record.element_type.dim(),
+            entity: record.entity,
+            nodes,
+            physical_tags: record.physical_tags.to_vec(),
+        };
+        if !self.merge_into_previous(&element) {
+            self.msh.elements.push(element);
+        }
+        Ok(())
+    }
+
+    /// MSH 2.2 writes an element once per physical group: if `element` repeats
+    /// the previous one but for its physical tag, adds the tag there instead.
+    fn merge_into_previous(&mut self, element: &MshElement) -> bool {
+        if self.msh.format.version != MshVersion::V2_2 {
+            return false;
+        }
+        let Some(previous) = self.msh.elements.last_mut() else {
+            return false;
+        };
+        let same = previous.gmsh_type == element.gmsh_type
+            && previous.entity == element.entity
+            && previous.nodes == element.nodes;
+        if same {
+            for &tag in &element.physical_tags {
+                if !previous.physical_tags.contains(&tag) {
+                    previous.physical_tags.push(tag);
+                }
+            }
+        }
+        same
+    }
+
+    /// Appends a `$PhysicalNames` entry.
+    pub fn add_physical_name(&mut self, name: PhysicalName) {
+        self.msh.physical_names.push(name);
+    }
+
+    /// Adds a `$NodeData` field, replacing an earlier one of the same name.
+    pub fn add_node_data(&mut self, data: NodeData) {
+        match self.msh.node_data.iter_mut().find(|d| d.name == data.name) {
+            Some(earlier) => *earlier = data,
+            None => self.msh.node_data.push(data),
+        }
+    }
+
+    /// The finished mesh.
+    pub fn finish(self) -> Msh {
+        self.msh
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::element_types::{element_type, TRI3};
+    use super::*;
+
+    fn record<'r>(tag: u64, physical_tags: &'r [i32], node_tags: &'r [u64]) -> ElementRecord<'r> {
+        ElementRecord { tag, element_type: element_type(TRI3).unwrap(), entity: 1, physical_tags, node_tags }
+    }
+
+    fn builder(version: MshVersion) -> MshBuilder {
+        let mut b = MshBuilder::new(MshFormat { version, binary: false });
+        for (tag, x) in [(10, 0.0), (20, 1.0), (30, 2.0)] {
+            b.add_node(tag, [x, x * x, 0.0]).unwrap();
+        }
+        b
+    }
+
+    #[test]
+    fn node_tags_become_indices_in_file_order() {
+        let mut b = builder(MshVersion::V4_1);
+        b.add_element(record(5, &[7], &[30, 10, 20])).unwrap();
+        let msh = b.finish();
+        assert_eq!(msh.elements[0].nodes, vec![2, 0, 1]);
+        assert_eq!(msh.elements[0].dim, 2);
+    }
+
+    #[test]
+    fn unknown_and_duplicate_tags_are_errors() {
+        let mut b = builder(MshVersion::V4_1);
+        let e = b.add_element(record(5, &[], &[10, 20, 40])).unwrap_err();
+        assert!(matches!(e, MshErrorKind::UnknownNode { element_tag: 5, node_tag: 40 }));
+        let e = b.add_node(20, [0.0; 3]).unwrap_err();
+        assert!(matches!(e, MshErrorKind::DuplicateNode { node_tag: 20 }));
+    }
+
+    #[test]
+    fn msh2_copies_of_an_element_merge_their_physical_tags() {
+        let mut b = builder(MshVersion::V2_2);
+        b.add_element(record(1, &[7], &[10, 20, 30])).unwrap();
+        b.add_element(record(2, &[8], &[10, 20, 30])).unwrap();
+        b.add_element(record(3, &[7], &[30, 20, 10])).unwrap();
+        let msh = b.finish();
+        assert_eq!(msh.elements.len(), 2);
+        assert_eq!(msh.elements[0].tag, 1);
+        assert_eq!(msh.elements[0].physical_tags, vec![7, 8]);
+    }
+
+    #[test]
+    fn the_last_node_data_of_a_name_wins() {
+        let mut b = builder(MshVersion::V4_1);
+        let data =
+            |step: i32| NodeData { name: "u".into(), time_step: step, components: 1, values: vec![0.0; 3] };
+        b.add_node_data(data(0));
+        b.add_node_data(data(1));
+        let msh = b.finish();
+        assert_eq!(msh.node_data.len(), 1);
+        assert_eq!(msh.node_data[0].time_step, 1);
+    }
+}

@@ -1,0 +1,333 @@
+//! [`MshError`]: what went wrong, in which file, and where.
+
+use std::fmt;
+use std::io;
+use std::path::{Path, PathBuf};
+
+use seam::MeshError;
+
+use super::element_types::describe_type;
+
+/// Where in a file an error is: a line for ASCII files, a byte offset for binary
+/// ones (where lines mean nothing).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// 1-based line number.
+    Line(usize),
+    /// 0-based byte offset.
+    Offset(usize),
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Location::Line(n) => write!(f, "line {n}"),
+            Location::Offset(n) => write!(f, "byte {n}"),
+        }
+    }
+}
+
+/// A physical group as an error message lists it: its number and, if the file
+/// names it in `$PhysicalNames`, its name.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GroupId {
+    /// The physical tag.
+    pub tag: i32,
+    /// The name from `$PhysicalNames`, if any.
+    pub name: Option<String>,
+}
+
+impl fmt::Display for GroupId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.name {
+            Some(name) => write!(f, "{name:?} ({})", self.tag),
+            None => write!(f, "{}", self.tag),
+        }
+    }
+}
+
+/// Why a face is degenerate.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Degeneracy {
+    /// The element lists the same node twice.
+    RepeatedNode {
+        /// The Gmsh tag of the repeated node.
+        node_tag: u64,
+    },
+    /// The face has (numerically) zero area.
+    ZeroArea,
+}
+
+impl fmt::Display for Degeneracy {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Degeneracy::RepeatedNode { node_tag } => write!(f, "node {node_tag} appears twice"),
+            Degeneracy::ZeroArea => write!(f, "its area is zero"),
+        }
+    }
+}
+
+/// What is wrong, without the file name and location (see [`MshError`]).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MshErrorKind {
+    /// The file could not be read.
+    #[error("cannot read the file: {}", lowercase_first(&.0.to_string()))]
+    Io(io::Error),
+    /// The input does not start with `$MeshFormat`.
+    #[error("not a Gmsh MSH file: expected $MeshFormat at the start, found {found}")]
+    NotMsh {
+        /// What the file starts with (quoted), or "an empty file".
+        found: String,
+    },
+    /// An MSH version other than 2.2 and 4.1 (or a data size other than 4/8).
+    #[error("unsupported MSH version {version}: seam reads versions 2.2 and 4.1 (set Mesh.MshFileVersion in Gmsh)")]
+    UnsupportedVersion {
+        /// The version as the file gives it.
+        version: String,
+    },
+    /// The file ends inside a section.
+    #[error("truncated file: it ends inside the ${section} section, before $End{section}")]
+    Truncated {
+        /// The section name without `$`, for example `Nodes`.
+        section: String,
+    },
+    /// A section is not closed by its `$End...` line.
+    #[error("expected $End{section} to close the ${section} section, found {found}")]
+    MissingEnd {
+        /// The section name without `$`.
+        section: String,
+        /// What the file has instead (quoted).
+        found: String,
+    },
+    /// The text or data does not have the expected form.
+    #[error("expected {expected}, found {found}")]
+    Parse {
+        /// What the reader expected.
+        expected: String,
+        /// What the file has instead (quoted, or for example "end of line").
+        found: String,
+    },
+    /// A node coordinate is NaN or infinite.
+    #[error("node {node_tag} has a non-finite coordinate")]
+    NonFiniteCoordinate {
+        /// The Gmsh node tag.
+        node_tag: u64,
+    },
+    /// Two nodes have the same tag.
+    #[error("node {node_tag} is defined twice")]
+    DuplicateNode {
+        /// The Gmsh node tag.
+        node_tag: u64,
+    },
+    /// An element lists a node tag that `$Nodes` does not define.
+    #[error("element {element_tag} refers to node {node_tag}, which the $Nodes section does not define")]
+    UnknownNode {
+        /// The Gmsh element tag.
+        element_tag: u64,
+        /// The unknown node tag.
+        node_tag: u64,
+    },
+    /// A `$NodeData` entry names a node tag that `$Nodes` does not define.
+    #[error("node data {name:?} refers to node {node_tag}, which the $Nodes section does not define")]
+    UnknownDataNode {
+        /// The name of the data (its first string tag).
+        name: String,
+        /// The unknown node tag.
+        node_tag: u64,
+    },
+    /// No physical group of the wanted dimension has this name or number.
+    #[error("no physical group {group:?} of dimension {dim} (by name or number); {}", list_groups(*.dim, .available))]
+    UnknownGroup {
+        /// The wanted dimension (2 for surfaces, 3 for volumes).
+        dim: u8,
+        /// The name or number asked for.
+        group: String,
+        /// The groups of that dimension the file has.
+        available: Vec<GroupId>,
+    },
+    /// A selected element has a type seam cannot use there.
+    #[error("element {element_tag} is {} (type {gmsh_type}); only {supported} are supported", describe_type(*.gmsh_type))]
+    UnsupportedElement {
+        /// The Gmsh element tag.
+        element_tag: u64,
+        /// The Gmsh element type number.
+        gmsh_type: u32,
+        /// The supported types in words.
+        supported: &'static str,
+    },
+    /// An element lists a number of nodes that does not fit its type (only
+    /// possible for an [`Msh`](super::Msh) built by hand).
+    #[error("element {element_tag} is {} (type {gmsh_type}) but lists {found} nodes", describe_type(*.gmsh_type))]
+    WrongNodeCount {
+        /// The Gmsh element tag.
+        element_tag: u64,
+        /// The Gmsh element type number.
+        gmsh_type: u32,
+        /// The number of nodes it lists.
+        found: usize,
+    },
+    /// A face is degenerate.
+    #[error("{} is degenerate: {reason}", element_or_face(*.element_tag))]
+    Degenerate {
+        /// The Gmsh element tag, or `None` for a face of a volume boundary.
+        element_tag: Option<u64>,
+        /// What is degenerate about it.
+        reason: Degeneracy,
+    },
+    /// Any other mesh inconsistency [`seam`] reports (for example a node index out
+    /// of range in an [`Msh`](super::Msh) built by hand).
+    #[error("invalid mesh at {}: {problem}", element_or_face(*.element_tag))]
+    InvalidMesh {
+        /// The Gmsh element tag, if known.
+        element_tag: Option<u64>,
+        /// The error from [`seam`], with 0-based indices.
+        problem: MeshError,
+    },
+    /// The selection has no faces.
+    #[error("no faces found in {selection}")]
+    NoFaces {
+        /// What was selected, for example `physical group "top" (2)`.
+        selection: String,
+    },
+    /// The selection has no volume cells.
+    #[error("no volume cells found in {selection}")]
+    NoCells {
+        /// What was selected.
+        selection: String,
+    },
+}
+
+fn lowercase_first(text: &str) -> String {
+    let mut chars = text.chars();
+    match chars.next() {
+        Some(c) => c.to_lowercase().chain(chars).collect(),
+        None => String::new(),
+    }
+}
+
+fn list_groups(dim: u8, groups: &[GroupId]) -> String {
+    if groups.is_empty() {
+        return format!("the file has no physical groups of dimension {dim}");
+    }
+    let list: Vec<String> = groups.iter().map(GroupId::to_string).collect();
+    format!("available: {}", list.join(", "))
+}
+
+fn element_or_face(element_tag: Option<u64>) -> String {
+    match element_tag {
+        Some(tag) => format!("element {tag}"),
+        None => "a boundary face".to_string(),
+    }
+}
+
+/// An error reading or interpreting a Gmsh MSH file: the file (when read from a
+/// path), the location in it (when known) and the [`MshErrorKind`].
+///
+/// Displays on one line, for example
+/// `mesh.msh: line 17: expected 3 coordinates for node 4, found "1.0 abc"`.
+#[derive(Debug)]
+pub struct MshError {
+    path: Option<PathBuf>,
+    location: Option<Location>,
+    kind: MshErrorKind,
+}
+
+impl MshError {
+    /// An error without path or location.
+    pub fn new(kind: MshErrorKind) -> Self {
+        MshError { path: None, location: None, kind }
+    }
+
+    /// An error at a location in the input.
+    pub fn at(location: Location, kind: MshErrorKind) -> Self {
+        MshError { path: None, location: Some(location), kind }
+    }
+
+    /// The same error, attributed to the file at `path`.
+    #[must_use]
+    pub fn with_path(mut self, path: impl AsRef<Path>) -> Self {
+        self.path = Some(path.as_ref().to_path_buf());
+        self
+    }
+
+    /// What went wrong.
+    pub fn kind(&self) -> &MshErrorKind {
+        &self.kind
+    }
+
+    /// The file, if the error came from reading a path.
+    pub fn path(&self) -> Option<&Path> {
+        self.path.as_deref()
+    }
+
+    /// Where in the file, if known.
+    pub fn location(&self) -> Option<Location> {
+        self.location
+    }
+
+    /// The I/O error kind, if the file could not be read.
+    pub fn io_kind(&self) -> Option<io::ErrorKind> {
+        match &self.kind {
+            MshErrorKind::Io(e) => Some(e.kind()),
+            _ => None,
+        }
+    }
+}
+
+impl From<MshErrorKind> for MshError {
+    fn from(kind: MshErrorKind) -> Self {
+        MshError::new(kind)
+    }
+}
+
+impl fmt::Display for MshError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(path) = &self.path {
+            write!(f, "{}: ", path.display())?;
+        }
+        if let Some(location) = self.location {
+            write!(f, "{location}: ")?;
+        }
+        write!(f, "{}", self.kind)
+    }
+}
+
+impl std::error::Error for MshError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn display_is_path_location_kind() {
+        let e = MshError::at(Location::Line(17), MshErrorKind::NonFiniteCoordinate { node_tag: 4 })
+            .with_path("m.msh");
+        assert_eq!(e.to_string(), "m.msh: line 17: node 4 has a non-finite coordinate");
+        let e = MshError::at(Location::Offset(99), MshErrorKind::Truncated { section: "Nodes".into() });
+        assert_eq!(
+            e.to_string(),
+            "byte 99: truncated file: it ends inside the $Nodes section, before $EndNodes"
+        );
+    }
+
+    #[test]
+    fn io_errors_keep_their_kind_and_read_lowercase() {
+        let io = io::Error::new(io::ErrorKind::NotFound, "No such file");
+        let e = MshError::new(MshErrorKind::Io(io));
+        assert_eq!(e.io_kind(), Some(io::ErrorKind::NotFound));
+        assert_eq!(e.to_string(), "cannot read the file: no such file");
+    }
+
+    #[test]
+    fn unknown_group_lists_the_available_ones() {
+        let available = vec![GroupId { tag: 2, name: Some("top".into()) }, GroupId { tag: 5, name: None }];
+        let e = MshErrorKind::UnknownGroup { dim: 2, group: "lid".into(), available };
+        assert_eq!(
+            e.to_string(),
+            "no physical group \"lid\" of dimension 2 (by name or number); available: \"top\" (2), 5"
+        );
+        let e = MshErrorKind::UnknownGroup { dim: 3, group: "1".into(), available: vec![] };
+        assert!(e.to_string().ends_with("the file has no physical groups of dimension 3"));
+    }
+}

@@ -1,0 +1,199 @@
+//! From an [`Msh`] to seam's meshes: physical group lookup, element type
+//! checks, outward orientation, and [`MeshError`]s translated to Gmsh tags.
+
+use std::collections::BTreeMap;
+
+use seam::{Cell, Face, MeshError, SurfaceMesh, VolumeMesh};
+
+use super::element_types::{HEX8, PRISM6, PYRAMID5, QUAD4, TET4, TRI3};
+use super::{Degeneracy, GroupId, Msh, MshElement, MshError, MshErrorKind};
+
+const FACE_TYPES: &str = "3-node triangles and 4-node quadrangles";
+const CELL_TYPES: &str = "4-node tetrahedra, 8-node hexahedra, 6-node prisms and 5-node pyramids";
+
+impl Msh {
+    /// The surface to couple, with all nodes of the file as its points (in file
+    /// order, unused ones included).
+    ///
+    /// - `group = Some(g)`: the elements of the dimension-2 physical group named
+    ///   `g`, or else numbered `g` (`"top"` or `"3"`). If the file has volume
+    ///   cells (4-node tetrahedra, 8-node hexahedra, 6-node prisms, 5-node
+    ///   pyramids), each face is oriented outward from the cell it bounds.
+    /// - `group = None`: with volume elements in the file, the boundary of all of
+    ///   them, outward; otherwise all 2D elements (lines and points are ignored).
+    ///
+    /// # Errors
+    /// Unknown group (the message lists the available ones), an element other
+    /// than a 3-node triangle or 4-node quadrangle, no faces, or a degenerate
+    /// face or non-finite node, named by its Gmsh tag.
+    pub fn surface(&self, group: Option<&str>) -> Result<SurfaceMesh, MshError> {
+        match group {
+            Some(group) => self.group_surface(group),
+            None if self.elements.iter().any(|e| e.dim == 3) => {
+                self.volume(None)?.boundary().map_err(|e| self.mesh_error(e, &[]))
+            }
+            None => self.all_faces(),
+        }
+    }
+
+    /// The volume cells: all of them, or those of the dimension-3 physical group
+    /// named or numbered `group`. Points are all nodes of the file.
+    ///
+    /// # Errors
+    /// Unknown group, an element other than a 4-node tetrahedron, 8-node
+    /// hexahedron, 6-node prism or 5-node pyramid, no cells, or a degenerate cell.
+    pub fn volume(&self, group: Option<&str>) -> Result<VolumeMesh, MshError> {
+        let (selected, selection) = match group {
+            Some(group) => {
+                let tag = self.group_tag(3, group)?;
+                (self.group_elements(3, tag), self.describe_group(3, tag))
+            }
+            None => (self.elements.iter().filter(|e| e.dim == 3).collect(), "the file".to_string()),
+        };
+        if selected.is_empty() {
+            return Err(MshErrorKind::NoCells { selection }.into());
+        }
+        let cells = selected.iter().map(|e| cell_of(e)).collect::<Result<Vec<_>, _>>()?;
+        let tags = tags_of(&selected);
+        VolumeMesh::new(self.nodes.clone(), cells).map_err(|e| self.mesh_error(e, &tags))
+    }
+
+    /// The physical groups of dimension `dim`: those named in `$PhysicalNames`
+    /// and those elements of that dimension belong to, by tag.
+    pub fn physical_groups(&self, dim: u8) -> Vec<GroupId> {
+        let mut groups: BTreeMap<i32, Option<String>> = BTreeMap::new();
+        for element in self.elements.iter().filter(|e| e.dim == dim) {
+            for &tag in &element.physical_tags {
+                groups.entry(tag).or_default();
+            }
+        }
+        for name in self.physical_names.iter().filter(|n| n.dim == dim) {
+            groups.insert(name.tag, Some(name.name.clone()));
+        }
+        groups.into_iter().map(|(tag, name)| GroupId { tag, name }).collect()
+    }
+
+    /// The tag of the dimension-`dim` physical group named `group`, or else
+    /// numbered `group`.
+    ///
+    /// # Errors
+    /// [`MshErrorKind::UnknownGroup`], listing the groups of that dimension.
+    pub fn group_tag(&self, dim: u8, group: &str) -> Result<i32, MshError> {
+        let groups = self.physical_groups(dim);
+        let by_name = groups.iter().find(|g| g.name.as_deref() == Some(group));
+        let number = group.trim().parse::<i32>().ok();
+        let by_number = || groups.iter().find(|g| Some(g.tag) == number);
+        match by_name.or_else(by_number) {
+            Some(found) => Ok(found.tag),
+            None => {
+                Err(MshErrorKind::UnknownGroup { dim, group: group.to_string(), available: groups }.into())
+            }
+        }
+    }
+
+    fn group_surface(&self, group: &str) -> Result<SurfaceMesh, MshError> {
+        let tag = self.group_tag(2, group)?;
+        let selected = self.group_elements(2, tag);
+        if selected.is_empty() {
+            return Err(MshErrorKind::NoFaces { selection: self.describe_group(2, tag) }.into());
+        }
+        let faces = selected.iter().map(|e| face_of(e)).collect::<Result<Vec<_>, _>>()?;
+        let face_tags = tags_of(&selected);
+        let (cells, cell_tags): (Vec<Cell>, Vec<u64>) = self
+            .elements
+            .iter()
+            .filter(|e| e.dim == 3)
+            .filter_map(|e| Some((cell_of(e).ok()?, e.tag)))
+            .unzip();
+        if cells.is_empty() {
+            return SurfaceMesh::new(self.nodes.clone(), faces).map_err(|e| self.mesh_error(e, &face_tags));
+        }
+        let volume =
+            VolumeMesh::new(self.nodes.clone(), cells).map_err(|e| self.mesh_error(e, &cell_tags))?;
+        volume.orient_outward(&faces).map_err(|e| self.mesh_error(e, &face_tags))
+    }
+
+    fn all_faces(&self) -> Result<SurfaceMesh, MshError> {
+        let selected: Vec<&MshElement> = self.elements.iter().filter(|e| e.dim == 2).collect();
+        if selected.is_empty() {
+            let selection = "the file (it has no 2D or 3D elements)".to_string();
+            return Err(MshErrorKind::NoFaces { selection }.into());
+        }
+        let faces = selected.iter().map(|e| face_of(e)).collect::<Result<Vec<_>, _>>()?;
+        SurfaceMesh::new(self.nodes.clone(), faces).map_err(|e| self.mesh_error(e, &tags_of(&selected)))
+    }
+
+    fn group_elements(&self, dim: u8, tag: i32) -> Vec<&MshElement> {
+        self.elements.iter().filter(|e| e.dim == dim && e.physical_tags.contains(&tag)).collect()
+    }
+
+    fn describe_group(&self, dim: u8, tag: i32) -> String {
+        let name = self.physical_names.iter().find(|n| n.dim == dim && n.tag == tag).map(|n| n.name.clone());
+        format!("physical group {}", GroupId { tag, name })
+    }
+
+    /// A [`MeshError`] about face or cell `i` of a mesh built from elements with
+    /// tags `element_tags`, in terms of Gmsh element and node tags.
+    fn mesh_error(&self, error: MeshError, element_tags: &[u64]) -> MshError {
+        let element_tag = error.element().and_then(|i| element_tags.get(i).copied());
+        let node_tag = |i: usize| self.node_tags.get(i).copied().unwrap_or(i as u64);
+        let kind = match error {
+            MeshError::NonFiniteCoordinate { node } => {
+                MshErrorKind::NonFiniteCoordinate { node_tag: node_tag(node) }
+            }
+            MeshError::RepeatedNode { node, .. } => MshErrorKind::Degenerate {
+                element_tag,
+                reason: Degeneracy::RepeatedNode { node_tag: node_tag(node) },
+            },
+            MeshError::ZeroArea { .. } => {
+                MshErrorKind::Degenerate { element_tag, reason: Degeneracy::ZeroArea }
+            }
+            MeshError::Empty => MshErrorKind::NoFaces { selection: "the mesh".into() },
+            problem => MshErrorKind::InvalidMesh { element_tag, problem },
+        };
+        kind.into()
+    }
+}
+
+fn tags_of(elements: &[&MshElement]) -> Vec<u64> {
+    elements.iter().map(|e| e.tag).collect()
+}
+
+fn face_of(element: &MshElement) -> Result<Face, MshError> {
+    match element.gmsh_type {
+        TRI3 => Ok(Face::Tri3(corners(element)?)),
+        QUAD4 => Ok(Face::Quad4(corners(element)?)),
+        _ => Err(unsupported(element, FACE_TYPES)),
+    }
+}
+
+fn cell_of(element: &MshElement) -> Result<Cell, MshError> {
+    match element.gmsh_type {
+        TET4 => Ok(Cell::Tet4(corners(element)?)),
+        HEX8 => Ok(Cell::Hex8(corners(element)?)),
+        PRISM6 => Ok(Cell::Prism6(corners(element)?)),
+        PYRAMID5 => Ok(Cell::Pyramid5(corners(element)?)),
+        _ => Err(unsupported(element, CELL_TYPES)),
+    }
+}
+
+/// The element's nodes as an array of the size its type needs.
+fn corners<const N: usize>(element: &MshElement) -> Result<[usize; N], MshError> {
+    element.nodes.as_slice().try_into().map_err(|_| {
+        let kind = MshErrorKind::WrongNodeCount {
+            element_tag: element.tag,
+            gmsh_type: element.gmsh_type,
+            found: element.nodes.len(),
+        };
+        kind.into()
+    })
+}
+
+fn unsupported(element: &MshElement, supported: &'static str) -> MshError {
+    let kind = MshErrorKind::UnsupportedElement {
+        element_tag: element.tag,
+        gmsh_type: element.gmsh_type,
+        supported,
+    };
+    kind.into()
+}
