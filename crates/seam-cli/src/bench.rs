@@ -1,7 +1,8 @@
 //! `seam bench`: the assembly benchmark of BENCHMARKS.md.
 //!
-//! Slave bilinear quads against master triangles with h_s/h_m ≈ 1.4, on a flat
-//! square and on a cylinder patch. Every (case, size, threads) runs in a fresh
+//! Slave bilinear quads against master triangles whose legs are ≈ 1.41× the quad
+//! edge (about as many faces on both sides, as in the dune-grid-glue peer's
+//! meshes), on a flat square and on a cylinder patch. Every (case, size, threads) runs in a fresh
 //! process (`seam bench-case`) so that its peak memory is its own; the driver
 //! prints one Markdown table.
 
@@ -74,11 +75,12 @@ pub fn run(args: &BenchArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The meshes of one case: about `faces` slave quads and master triangles 1.4×
-/// finer in each direction.
+/// The meshes of one case: n × n slave quads (n² ≈ `faces`) and m × m cells of
+/// two jittered master triangles with m = n/√2, so h_m/h_s ≈ 1.41 and the face
+/// counts match.
 fn meshes(shape: BenchShape, faces: usize) -> (SurfaceMesh, SurfaceMesh) {
     let n = ((faces as f64).sqrt().round() as usize).max(1);
-    let m = ((1.4 * n as f64).round() as usize).max(1);
+    let m = ((n as f64 / std::f64::consts::SQRT_2).round() as usize).max(1);
     let master = Pattern::JitteredTriangles { amplitude: 0.2, seed: 42 };
     match shape {
         BenchShape::Flat => {

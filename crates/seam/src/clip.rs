@@ -14,8 +14,9 @@ use arrayvec::ArrayVec;
 pub type Point2 = [f64; 2];
 
 /// Capacity of a [`Polygon`]. Two convex quadrilaterals intersect in at most 8
-/// vertices; the margin absorbs near-duplicates created by round-off.
-pub const MAX_POLYGON: usize = 16;
+/// vertices (each clipping edge adds at most one); the margin absorbs
+/// near-duplicates created by round-off.
+pub const MAX_POLYGON: usize = 12;
 
 /// A convex polygon on the stack, counter-clockwise.
 pub type Polygon = ArrayVec<Point2, MAX_POLYGON>;
@@ -107,7 +108,7 @@ pub fn face_polygon(q: &[Point2]) -> Polygon {
     if polygon_area(&p) < 0.0 {
         p.reverse();
     }
-    if is_convex(&p) {
+    if p.len() == 3 || is_convex(&p) {
         p
     } else {
         convex_hull(&p)
@@ -121,55 +122,93 @@ fn is_convex(p: &[Point2]) -> bool {
     })
 }
 
-/// (C4) Intersection of two convex counter-clockwise polygons by
-/// Sutherland–Hodgman: `subject` is clipped by each edge of `clip` in turn.
-///
-/// A point within `tol` (a length) of an edge's line counts as inside, so that
-/// shared edges, collinear edges, touching vertices and identical polygons give
-/// the exact overlap (or a zero-area sliver) instead of spurious vertices.
-/// Consecutive vertices closer than `tol` are merged. The result has fewer than
-/// 3 vertices when the intersection is empty or degenerate.
-///
-/// # Performance
-/// O(|subject|·|clip|), no allocation. Disjoint bounding boxes return at once.
-pub fn clip_polygon_polygon(subject: &[Point2], clip: &[Point2], tol: f64) -> Polygon {
-    let mut out: Polygon = subject.iter().copied().collect();
-    if !boxes_overlap(subject, clip, tol) {
-        out.clear();
-        return out;
+/// (C4) A convex counter-clockwise polygon prepared for clipping others
+/// against it: its edges as (point, inward unit normal), computed once and used
+/// for every polygon clipped (every candidate master face of a slave face).
+#[derive(Clone, Debug)]
+pub struct ConvexClipper {
+    edges: ArrayVec<(Point2, Point2), MAX_POLYGON>,
+    lo: Point2,
+    hi: Point2,
+    tol: f64,
+}
+
+impl ConvexClipper {
+    /// The clipper of `clip`; points within `tol` (a length) of an edge's line
+    /// count as inside.
+    pub fn new(clip: &[Point2], tol: f64) -> ConvexClipper {
+        let mut edges = ArrayVec::new();
+        for i in 0..clip.len() {
+            let (a, b) = (clip[i], clip[(i + 1) % clip.len()]);
+            let len = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+            if len > tol {
+                edges.push((a, [-(b[1] - a[1]) / len, (b[0] - a[0]) / len]));
+            }
+        }
+        let (lo, hi) = bounding_box(clip);
+        ConvexClipper { edges, lo, hi, tol }
     }
-    for i in 0..clip.len() {
-        let (a, b) = (clip[i], clip[(i + 1) % clip.len()]);
-        let e = [b[0] - a[0], b[1] - a[1]];
-        let len = e[0].hypot(e[1]);
-        if len <= tol {
-            continue;
+
+    /// Intersection of the convex counter-clockwise `subject` with the clip
+    /// polygon by Sutherland–Hodgman: `subject` is cut by each edge in turn.
+    ///
+    /// Shared edges, collinear edges, touching vertices and identical polygons
+    /// give the exact overlap (or a zero-area sliver) instead of spurious
+    /// vertices: the inside test has the tolerance, and consecutive vertices
+    /// closer than it are merged. Fewer than 3 vertices: empty or degenerate.
+    ///
+    /// # Performance
+    /// O(|subject|·|clip|), no allocation; disjoint bounding boxes return at once.
+    pub fn clip(&self, subject: &[Point2]) -> Polygon {
+        let tol = self.tol;
+        let (lo, hi) = bounding_box(subject);
+        if lo[0] > self.hi[0] + tol
+            || self.lo[0] > hi[0] + tol
+            || lo[1] > self.hi[1] + tol
+            || self.lo[1] > hi[1] + tol
+        {
+            return Polygon::new();
         }
-        // Signed distance to the line through a, b: positive on the left.
-        let dist = |p: Point2| (e[0] * (p[1] - a[1]) - e[1] * (p[0] - a[0])) / len;
-        let input = out.clone();
-        out.clear();
-        for j in 0..input.len() {
-            let (p, q) = (input[j], input[(j + 1) % input.len()]);
-            let (dp, dq) = (dist(p), dist(q));
-            let (p_in, q_in) = (dp >= -tol, dq >= -tol);
-            if p_in {
-                push_distinct(&mut out, p, tol);
-            }
-            if p_in != q_in && (dp - dq).abs() > 0.0 {
-                let t = dp / (dp - dq);
-                push_distinct(&mut out, [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])], tol);
-            }
-        }
-        while out.len() > 1 && close(out[0], out[out.len() - 1], tol) {
-            out.pop();
-        }
-        if out.len() < 3 {
+        // Two buffers used in turn: the input of one edge is the output of the last.
+        let mut buffers = [subject.iter().copied().collect::<Polygon>(), Polygon::new()];
+        let mut current = 0;
+        for &(a, n) in &self.edges {
+            // Signed distance to the edge's line: positive inside.
+            let dist = |p: Point2| n[0] * (p[0] - a[0]) + n[1] * (p[1] - a[1]);
+            let (first, second) = buffers.split_at_mut(1);
+            let (input, out) =
+                if current == 0 { (&first[0], &mut second[0]) } else { (&second[0], &mut first[0]) };
             out.clear();
-            return out;
+            let mut p = input[input.len() - 1];
+            let mut dp = dist(p);
+            for &q in input.iter() {
+                let dq = dist(q);
+                let (p_in, q_in) = (dp >= -tol, dq >= -tol);
+                if p_in != q_in && dp != dq {
+                    let t = dp / (dp - dq);
+                    push_distinct(out, [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])], tol);
+                }
+                if q_in {
+                    push_distinct(out, q, tol);
+                }
+                (p, dp) = (q, dq);
+            }
+            while out.len() > 1 && close(out[0], out[out.len() - 1], tol) {
+                out.pop();
+            }
+            if out.len() < 3 {
+                return Polygon::new();
+            }
+            current = 1 - current;
         }
+        std::mem::take(&mut buffers[current])
     }
-    out
+}
+
+/// (C4) Intersection of two convex counter-clockwise polygons; see
+/// [`ConvexClipper::clip`].
+pub fn clip_polygon_polygon(subject: &[Point2], clip: &[Point2], tol: f64) -> Polygon {
+    ConvexClipper::new(clip, tol).clip(subject)
 }
 
 fn push_distinct(out: &mut Polygon, p: Point2, tol: f64) {
@@ -183,14 +222,14 @@ fn close(p: Point2, q: Point2, tol: f64) -> bool {
     (p[0] - q[0]).abs() <= tol && (p[1] - q[1]).abs() <= tol
 }
 
-fn boxes_overlap(a: &[Point2], b: &[Point2], tol: f64) -> bool {
-    let bbox = |p: &[Point2]| {
-        p.iter().fold([f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY], |m, q| {
-            [m[0].min(q[0]), m[1].min(q[1]), m[2].max(q[0]), m[3].max(q[1])]
-        })
-    };
-    let (x, y) = (bbox(a), bbox(b));
-    x[0] <= y[2] + tol && y[0] <= x[2] + tol && x[1] <= y[3] + tol && y[1] <= x[3] + tol
+fn bounding_box(p: &[Point2]) -> (Point2, Point2) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for q in p {
+        lo = [lo[0].min(q[0]), lo[1].min(q[1])];
+        hi = [hi[0].max(q[0]), hi[1].max(q[1])];
+    }
+    (lo, hi)
 }
 
 /// (C4) Fan triangulation of a convex polygon: triangles (0, k, k+1), k = 1..n−2,

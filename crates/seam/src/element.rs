@@ -109,6 +109,35 @@ impl FaceElement {
         norm(cross(a, b))
     }
 
+    /// The surface Jacobian as a field, precomputed once per face. For x(ξ) =
+    /// a + bξ + cη + dξη the area vector is ∂x/∂ξ × ∂x/∂η = b×c + ξ b×d + η d×c,
+    /// affine in ξ: on a triangle (d = 0) and a planar quad (all three terms
+    /// along n) |J| is the affine n·(…); on a warped quad it is the norm of the
+    /// affine vector.
+    pub fn jacobian_field(&self) -> JacobianField {
+        let x = &self.x;
+        let b = sub(x[1], x[0]);
+        let (c, d) = match self.kind {
+            FaceKind::Tri3 => (sub(x[2], x[0]), [0.0; 3]),
+            FaceKind::Quad4 => (
+                sub(x[3], x[0]),
+                [
+                    x[0][0] - x[1][0] + x[2][0] - x[3][0],
+                    x[0][1] - x[1][1] + x[2][1] - x[3][1],
+                    x[0][2] - x[1][2] + x[2][2] - x[3][2],
+                ],
+            ),
+        };
+        let v = [cross(b, c), cross(b, d), cross(d, c)];
+        if self.is_planar() {
+            let n = self.normal();
+            let s = if dot(n, v[0]) + 0.5 * (dot(n, v[1]) + dot(n, v[2])) >= 0.0 { 1.0 } else { -1.0 };
+            JacobianField::Affine([s * dot(n, v[0]), s * dot(n, v[1]), s * dot(n, v[2])])
+        } else {
+            JacobianField::Norm(v)
+        }
+    }
+
     /// The face normal of DESIGN.md §2: Tri3, the unit normal of its plane;
     /// Quad4, the unit normal at the centre, (x2−x0)×(x3−x1) normalised.
     pub fn normal(&self) -> Point3 {
@@ -177,10 +206,10 @@ impl FaceElement {
     /// The face projected onto a plane by the linear map `project` (for seam,
     /// the projection along the slave normal, `clip::Frame::project`).
     pub fn project(&self, project: impl Fn(Point3) -> [f64; 2]) -> PlaneFace {
-        PlaneFace {
-            kind: self.kind,
-            q: [project(self.x[0]), project(self.x[1]), project(self.x[2]), project(self.x[3])],
-        }
+        PlaneFace::new(
+            self.kind,
+            [project(self.x[0]), project(self.x[1]), project(self.x[2]), project(self.x[3])],
+        )
     }
 
     /// Inverse projection (D1–D2): the reference coordinates ξ of the point of the
@@ -191,16 +220,43 @@ impl FaceElement {
 }
 
 /// A face projected onto a plane: its corners q_i in plane coordinates, with the
-/// face's reference map kept (a quad stays bilinear).
+/// face's reference map kept (a quad stays bilinear). The map is stored as
+/// q(ξ, η) = a + bξ + cη + dξη (d = 0 for a triangle) with [b c]⁻¹, so that
+/// inverting it costs a few flops.
 #[derive(Clone, Copy, Debug)]
 pub struct PlaneFace {
     /// Element type.
     pub kind: FaceKind,
     /// Projected corners; for a triangle `q[3]` repeats `q[2]`.
     pub q: [[f64; 2]; 4],
+    a: [f64; 2],
+    b: [f64; 2],
+    c: [f64; 2],
+    d: [f64; 2],
+    /// [b c]⁻¹, row-major.
+    inv: [[f64; 2]; 2],
+    /// max(|b|, |c|): the size of the face in the plane.
+    scale: f64,
 }
 
 impl PlaneFace {
+    /// The projected face with corners `q` (for a triangle `q[3]` is ignored).
+    pub fn new(kind: FaceKind, q: [[f64; 2]; 4]) -> PlaneFace {
+        let a = q[0];
+        let b = sub2(q[1], q[0]);
+        let (c, d) = match kind {
+            FaceKind::Tri3 => (sub2(q[2], q[0]), [0.0; 2]),
+            FaceKind::Quad4 => (
+                sub2(q[3], q[0]),
+                [q[0][0] - q[1][0] + q[2][0] - q[3][0], q[0][1] - q[1][1] + q[2][1] - q[3][1]],
+            ),
+        };
+        let det = b[0] * c[1] - b[1] * c[0];
+        let inv = [[c[1] / det, -c[0] / det], [-b[1] / det, b[0] / det]];
+        let scale = norm2(b).max(norm2(c)).max(f64::MIN_POSITIVE);
+        PlaneFace { kind, q, a, b, c, d, inv, scale }
+    }
+
     /// The projected corners actually used.
     pub fn corners(&self) -> &[[f64; 2]] {
         match self.kind {
@@ -209,18 +265,85 @@ impl PlaneFace {
         }
     }
 
-    /// The ξ with Σ λ_i(ξ) q_i = `target`. Triangle: closed form (Cramer). Quad:
-    /// Newton on the 2×2 bilinear system from the parallelogram guess; if it does
-    /// not converge in a few steps, the exact root of the system's quadratic is
-    /// used (the safeguard).
+    /// The ξ with Σ λ_i(ξ) q_i = `target`. Triangle: closed form, ξ = [b c]⁻¹(p − a).
+    /// Quad: Newton on the 2×2 bilinear system from that parallelogram guess
+    /// (exact for parallelograms); if it does not converge in a few steps, the
+    /// exact root of the system's quadratic is used (the safeguard).
+    #[inline]
     pub fn inverse(&self, target: [f64; 2]) -> InverseMap {
-        let q = &self.q;
+        let e = sub2(target, self.a);
+        let xi =
+            [self.inv[0][0] * e[0] + self.inv[0][1] * e[1], self.inv[1][0] * e[0] + self.inv[1][1] * e[1]];
         match self.kind {
-            FaceKind::Tri3 => {
-                let xi = solve2(sub2(q[1], q[0]), sub2(q[2], q[0]), sub2(target, q[0]));
-                InverseMap::classify(xi, FaceKind::Tri3)
+            FaceKind::Tri3 => InverseMap::classify(xi, FaceKind::Tri3),
+            FaceKind::Quad4 => self.newton(xi, e),
+        }
+    }
+
+    /// q(ξ) − a − e: the residual of the bilinear system at ξ.
+    #[inline]
+    fn residual(&self, xi: Xi, e: [f64; 2]) -> [f64; 2] {
+        let (b, c, d) = (self.b, self.c, self.d);
+        [
+            b[0] * xi[0] + c[0] * xi[1] + d[0] * xi[0] * xi[1] - e[0],
+            b[1] * xi[0] + c[1] * xi[1] + d[1] * xi[0] * xi[1] - e[1],
+        ]
+    }
+
+    fn newton(&self, mut xi: Xi, e: [f64; 2]) -> InverseMap {
+        let (b, c, d) = (self.b, self.c, self.d);
+        let converged = |r: [f64; 2]| r[0].abs().max(r[1].abs()) <= NEWTON_RTOL * self.scale;
+        for _ in 0..NEWTON_MAX_ITER {
+            let r = self.residual(xi, e);
+            if converged(r) {
+                return InverseMap::classify(xi, FaceKind::Quad4);
             }
-            FaceKind::Quad4 => inverse_bilinear(q, target),
+            let ja = [b[0] + d[0] * xi[1], b[1] + d[1] * xi[1]];
+            let jb = [c[0] + d[0] * xi[0], c[1] + d[1] * xi[0]];
+            let step = solve2(ja, jb, r);
+            if !(step[0].is_finite() && step[1].is_finite()) {
+                break;
+            }
+            xi = [xi[0] - step[0], xi[1] - step[1]];
+            if step[0].abs().max(step[1].abs()) < 1e-15 {
+                return InverseMap::classify(xi, FaceKind::Quad4);
+            }
+        }
+        let residual = |xi: Xi| norm2(self.residual(xi, e)) / self.scale;
+        match closed_form_bilinear(b, c, d, e) {
+            Some(root) if residual(root) < 1e-10 => InverseMap::classify(root, FaceKind::Quad4),
+            _ => InverseMap::NotConverged { xi, iters: NEWTON_MAX_ITER, residual: residual(xi) },
+        }
+    }
+}
+
+/// Newton stops when the residual is below this fraction of the face size.
+const NEWTON_RTOL: f64 = 1e-15;
+
+/// The surface Jacobian |J(ξ)| of one face, ready to evaluate (see
+/// [`FaceElement::jacobian_field`]).
+#[derive(Clone, Copy, Debug)]
+pub enum JacobianField {
+    /// j0 + j1 ξ + j2 η (triangles, planar quads).
+    Affine([f64; 3]),
+    /// |v0 + ξ v1 + η v2| (warped quads).
+    Norm([Point3; 3]),
+}
+
+impl JacobianField {
+    /// |J(ξ)|.
+    #[inline]
+    pub fn at(&self, xi: Xi) -> f64 {
+        match self {
+            JacobianField::Affine(j) => j[0] + j[1] * xi[0] + j[2] * xi[1],
+            JacobianField::Norm(v) => {
+                let w = [
+                    v[0][0] + xi[0] * v[1][0] + xi[1] * v[2][0],
+                    v[0][1] + xi[0] * v[1][1] + xi[1] * v[2][1],
+                    v[0][2] + xi[0] * v[1][2] + xi[1] * v[2][2],
+                ];
+                norm(w)
+            }
         }
     }
 }
@@ -269,44 +392,6 @@ impl InverseMap {
 
 /// Newton iterations allowed before the closed-form safeguard.
 const NEWTON_MAX_ITER: usize = 12;
-
-/// Inverts the 2D bilinear map q(ξ,η) = a + bξ + cη + dξη at `p`.
-fn inverse_bilinear(q: &[[f64; 2]; 4], p: [f64; 2]) -> InverseMap {
-    let a = q[0];
-    let b = sub2(q[1], q[0]);
-    let c = sub2(q[3], q[0]);
-    let d = [q[0][0] - q[1][0] + q[2][0] - q[3][0], q[0][1] - q[1][1] + q[2][1] - q[3][1]];
-    let e = sub2(p, a);
-    let scale = norm2(b).max(norm2(c)).max(f64::MIN_POSITIVE);
-    let residual = |xi: Xi| {
-        let r = [
-            b[0] * xi[0] + c[0] * xi[1] + d[0] * xi[0] * xi[1] - e[0],
-            b[1] * xi[0] + c[1] * xi[1] + d[1] * xi[0] * xi[1] - e[1],
-        ];
-        norm2(r) / scale
-    };
-    let mut xi = solve2(b, c, e);
-    for _ in 0..NEWTON_MAX_ITER {
-        let r = [
-            b[0] * xi[0] + c[0] * xi[1] + d[0] * xi[0] * xi[1] - e[0],
-            b[1] * xi[0] + c[1] * xi[1] + d[1] * xi[0] * xi[1] - e[1],
-        ];
-        let ja = [b[0] + d[0] * xi[1], b[1] + d[1] * xi[1]];
-        let jb = [c[0] + d[0] * xi[0], c[1] + d[1] * xi[0]];
-        let step = solve2(ja, jb, r);
-        if !(step[0].is_finite() && step[1].is_finite()) {
-            break;
-        }
-        xi = [xi[0] - step[0], xi[1] - step[1]];
-        if step[0].abs().max(step[1].abs()) < 1e-15 || residual(xi) < 1e-15 {
-            return InverseMap::classify(xi, FaceKind::Quad4);
-        }
-    }
-    match closed_form_bilinear(b, c, d, e) {
-        Some(root) if residual(root) < 1e-10 => InverseMap::classify(root, FaceKind::Quad4),
-        _ => InverseMap::NotConverged { xi, iters: NEWTON_MAX_ITER, residual: residual(xi) },
-    }
-}
 
 /// Exact inverse of e = bξ + cη + dξη: crossing with (c + dξ) eliminates η and
 /// leaves (b×d) ξ² + (b×c − e×d) ξ − e×c = 0; the root nearest [0,1] is taken.
@@ -363,7 +448,7 @@ fn cross2(a: [f64; 2], b: [f64; 2]) -> f64 {
 
 #[inline]
 fn norm2(a: [f64; 2]) -> f64 {
-    a[0].hypot(a[1])
+    (a[0] * a[0] + a[1] * a[1]).sqrt()
 }
 
 #[inline]
@@ -449,6 +534,26 @@ mod tests {
     }
 
     #[test]
+    fn jacobian_field_matches_the_tangents() {
+        let faces = [
+            quad([[0., 0., 0.], [1., 0., 0.], [1., 1., 0.7], [0., 1., 0.]]),
+            quad([[0., 0., 0.], [2., 0., 0.], [1.5, 1., 0.], [0.2, 0.8, 0.]]),
+            quad([[0., 0., 0.], [0.2, 0.8, 0.], [1.5, 1., 0.], [2., 0., 0.]]),
+            FaceElement {
+                kind: FaceKind::Tri3,
+                x: [[0., 0., 0.], [1., 0.2, 0.3], [0.1, 1., -0.2], [0.1, 1., -0.2]],
+            },
+        ];
+        for f in faces {
+            let field = f.jacobian_field();
+            for xi in [[0.0, 0.0], [0.3, 0.6], [1.0, 1.0], [0.9, 0.05]] {
+                let xi = if f.kind == FaceKind::Tri3 { [xi[0] * 0.5, xi[1] * 0.5] } else { xi };
+                assert!((field.at(xi) - f.jacobian(xi)).abs() < 1e-15, "{f:?} at {xi:?}");
+            }
+        }
+    }
+
+    #[test]
     fn planar_quads_are_recognised() {
         let q = quad([[0., 0., 0.], [2., 0., 0.], [1.5, 1., 0.], [0.2, 0.8, 0.]]);
         assert!(q.is_planar());
@@ -460,7 +565,7 @@ mod tests {
         // A strongly non-parallelogram quad, point near a corner.
         let q = [[0., 0.], [1., 0.], [0.05, 0.06], [0., 1.]];
         let target = [0.04, 0.05];
-        let xi = inverse_bilinear(&q, target).xi();
+        let xi = PlaneFace::new(FaceKind::Quad4, q).inverse(target).xi();
         let l = shape(FaceKind::Quad4, xi);
         let p = [
             l[0] * q[0][0] + l[1] * q[1][0] + l[2] * q[2][0] + l[3] * q[3][0],

@@ -35,12 +35,12 @@ pub use clip::{
     clip_polygon_polygon, convex_hull, face_polygon, fan_triangles, polygon_area, Frame, Point2, Polygon,
     MAX_POLYGON,
 };
-pub use element::{shape, FaceElement, FaceKind, InverseMap, PlaneFace, Xi, PLANAR_WARP};
+pub use element::{shape, FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
 pub use mesh::{area_vector, Cell, Face, MeshError, Point3, SurfaceMesh, VolumeMesh, ZERO_AREA_RTOL};
 pub use mortar::{
     assemble, assemble_with_tree, face_integrals, warped_quad_degree, FaceStats, Facing, MaxGap, Mortar,
     MortarError, MortarOptions, MortarSummary, Multiplier, Transfer, COVERED_FRACTION, WARPED_RTOL,
 };
 pub use quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};
-pub use search::{face_box, FaceTree};
+pub use search::{face_box, swept_box, FaceTree};
 pub use sparse::CsrMatrix;

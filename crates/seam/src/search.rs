@@ -1,9 +1,11 @@
 //! (A1) Proximity search: a bounding-volume tree (an R*-tree, bulk-loaded) over
 //! the axis-aligned boxes of the master faces.
 //!
-//! A slave face asks for every master face whose box meets its own box grown by
-//! its gap tolerance g — the same as growing every master box by g, without
-//! fixing g globally.
+//! A master point paired with a slave point x_s lies at x_s + g·n_s with |g| ≤ g_max
+//! (the projection is along the slave normal n_s), so a slave face asks for every
+//! master face whose box meets the box of its corners moved by ±g_max·n_s
+//! ([`swept_box`]): exact, and much tighter than growing the box by g_max in
+//! every direction.
 //!
 //! # Performance
 //! Build O(N log N) (sort-tile-recursive bulk load). A query costs O(log N + k)
@@ -53,6 +55,22 @@ impl FaceTree {
         });
         out.sort_unstable();
     }
+}
+
+/// The axis-aligned box of the corners moved by ±`reach`·`normal`: the region a
+/// face sweeps when moved along its normal by up to `reach` either way.
+pub fn swept_box(corners: &[Point3], normal: Point3, reach: f64) -> (Point3, Point3) {
+    let (lo, hi) = face_box(corners, 0.0);
+    let mut lo2 = lo;
+    let mut hi2 = hi;
+    for k in 0..3 {
+        let d = (reach * normal[k]).abs();
+        lo2[k] = lo[k] - d;
+        hi2[k] = hi[k] + d;
+    }
+    // Round-off: a flat face's box has zero thickness; keep a sliver of slack.
+    let slack = 1e-12 * (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+    ([lo2[0] - slack, lo2[1] - slack, lo2[2] - slack], [hi2[0] + slack, hi2[1] + slack, hi2[2] + slack])
 }
 
 /// The axis-aligned box of `corners`, grown by `margin` on every side.

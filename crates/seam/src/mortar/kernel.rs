@@ -9,11 +9,12 @@
 use super::multiplier::apply_multiplier;
 use super::rows::Blocks;
 use super::{face_integrals, warped_quad_degree, FaceStats, Facing, MortarOptions};
-use crate::clip::{clip_polygon_polygon, face_polygon, fan_triangles, polygon_area, Frame, MAX_POLYGON};
-use crate::element::{dot, FaceElement, FaceKind, InverseMap, PlaneFace, Xi, PLANAR_WARP};
-use crate::mesh::SurfaceMesh;
+use crate::clip::{face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame, MAX_POLYGON};
+use crate::element::{dot, FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
+use crate::mesh::{Point3, SurfaceMesh};
 use crate::quadrature::{triangle_rule, TriangleRule};
-use crate::search::{face_box, FaceTree};
+use crate::search::{swept_box, FaceTree};
+use rayon::prelude::*;
 
 /// Points closer than `CLIP_RTOL · h` (h the slave face diameter) are one point
 /// for the clipping (C4).
@@ -67,6 +68,8 @@ pub(super) struct Kernel<'a> {
     options: &'a MortarOptions,
     rules: Rules,
     cos_max_angle: f64,
+    /// Unit normals of the master faces.
+    master_normals: Vec<Point3>,
 }
 
 /// Buffers reused from face to face (one per chunk of faces, never per pair).
@@ -84,20 +87,20 @@ struct SlaveFace {
     element: FaceElement,
     /// The rule of a warped quad (`None` for triangles and planar quads).
     warped_rule: Option<TriangleRule>,
+    jacobian: JacobianField,
     frame: Frame,
     plane: PlaneFace,
-    polygon: crate::clip::Polygon,
+    clipper: ConvexClipper,
     gap_tol: f64,
-    clip_tol: f64,
     area_tol: f64,
 }
 
 /// What one pair (F_s, F_m) contributes, on the stack.
 struct PairBlock {
-    /// n_s × n_s, row-major `d[p * 4 + q]`.
-    d: [f64; 16],
-    /// n_s × n_m, row-major `b[p * 4 + q]`.
-    b: [f64; 16],
+    /// n_s × n_s: `d[p][q]`.
+    d: [[f64; 4]; 4],
+    /// n_s × n_m: `b[p][q]`.
+    b: [[f64; 4]; 4],
     covered_area: f64,
     segments: u32,
 }
@@ -116,6 +119,10 @@ impl<'a> Kernel<'a> {
             options,
             rules: Rules::new(options.warped_quad_degree),
             cos_max_angle: options.max_angle_degrees.to_radians().cos(),
+            master_normals: (0..master.n_faces())
+                .into_par_iter()
+                .map(|m| FaceElement::of(master, m).normal())
+                .collect(),
         }
     }
 
@@ -127,7 +134,7 @@ impl<'a> Kernel<'a> {
         let mut d = [0.0; 16];
         scratch.cols.clear();
         scratch.b.clear();
-        let (lo, hi) = face_box(sf.element.corners(), sf.gap_tol);
+        let (lo, hi) = swept_box(sf.element.corners(), sf.frame.normal(), sf.gap_tol);
         self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates);
         stats.candidates = scratch.candidates.len() as u32;
         for &m in &scratch.candidates {
@@ -136,7 +143,7 @@ impl<'a> Kernel<'a> {
             stats.segments += pair.segments;
             stats.covered_area += pair.covered_area;
             for k in 0..16 {
-                d[k] += pair.d[k];
+                d[k] += pair.d[k / 4][k % 4];
             }
             add_columns(&mut scratch.cols, &mut scratch.b, self.master.faces()[m].nodes(), &pair.b);
         }
@@ -152,24 +159,24 @@ impl<'a> Kernel<'a> {
         let plane = element.project(|x| frame.project(x));
         let polygon = face_polygon(plane.corners());
         let h = element.diameter();
+        let clipper = ConvexClipper::new(&polygon, CLIP_RTOL * h);
         SlaveFace {
             warped_rule: (element.kind == FaceKind::Quad4 && element.warp() >= PLANAR_WARP)
                 .then(|| self.rules.fixed_warped.unwrap_or_else(|| rule(warped_quad_degree(&element)))),
             gap_tol: self.options.max_gap.at(h),
-            clip_tol: CLIP_RTOL * h,
             area_tol: AREA_RTOL * polygon_area(&polygon),
+            jacobian: element.jacobian_field(),
             element,
             frame,
             plane,
-            polygon,
+            clipper,
         }
     }
 
     /// (C1)–(C6) for the pair (slave face, master face `m`); `None` when the pair
     /// is filtered out or does not overlap.
     fn pair(&self, sf: &SlaveFace, m: usize, stats: &mut FaceStats) -> Option<PairBlock> {
-        let em = FaceElement::of(self.master, m);
-        let cos = dot(sf.frame.normal(), em.normal());
+        let cos = dot(sf.frame.normal(), self.master_normals[m]);
         let aligned = match self.options.facing {
             Facing::Any => cos.abs(),
             Facing::Opposite => -cos,
@@ -179,8 +186,9 @@ impl<'a> Kernel<'a> {
             return None;
         }
         // (C3)–(C4)
+        let em = FaceElement::of(self.master, m);
         let master_plane = em.project(|x| sf.frame.project(x));
-        let polygon = clip_polygon_polygon(&face_polygon(master_plane.corners()), &sf.polygon, sf.clip_tol);
+        let polygon = sf.clipper.clip(&face_polygon(master_plane.corners()));
         if polygon.len() < 3 || polygon_area(&polygon) <= sf.area_tol {
             stats.empty += 1;
             return None;
@@ -203,11 +211,11 @@ impl<'a> Kernel<'a> {
         stats.max_gap = stats.max_gap.max(gap);
         stats.max_overlap = stats.max_overlap.max(overlap);
         let rule = self.rules.select(sf, em.kind);
-        let mut block = PairBlock { d: [0.0; 16], b: [0.0; 16], covered_area: 0.0, segments: 0 };
+        let mut block = PairBlock { d: [[0.0; 4]; 4], b: [[0.0; 4]; 4], covered_area: 0.0, segments: 0 };
         for [a, b, c] in fan_triangles(polygon.len()) {
             let ts = [xs[a], xs[b], xs[c]];
             let tm = [xm[a], xm[b], xm[c]];
-            integrate_segment(&sf.element, &em, ts, tm, &rule, &mut block);
+            integrate_segment(sf, &em, ts, tm, &rule, &mut block);
         }
         Some(block)
     }
@@ -230,10 +238,11 @@ fn inverse(plane: &PlaneFace, p: [f64; 2], stats: &mut FaceStats) -> Xi {
 
 /// (D3)–(D5) on one intersection triangle with reference images `ts` (slave) and
 /// `tm` (master): the quadrature points are mapped affinely onto both, and
-/// ω'_l = ω_l |J_s(x_l^s)| |T̂s|.
+/// ω'_l = ω_l |J_s(x_l^s)| |T̂s|. Dispatches once to the loop specialised for the
+/// two faces' node counts.
 #[inline]
 fn integrate_segment(
-    es: &FaceElement,
+    sf: &SlaveFace,
     em: &FaceElement,
     ts: [Xi; 3],
     tm: [Xi; 3],
@@ -245,24 +254,49 @@ fn integrate_segment(
         return;
     }
     block.segments += 1;
-    let (n_s, n_m) = (es.n_nodes(), em.n_nodes());
+    match (sf.element.kind, em.kind) {
+        (FaceKind::Tri3, FaceKind::Tri3) => accumulate::<3, 3>(&sf.jacobian, ts, tm, area_ref, rule, block),
+        (FaceKind::Tri3, FaceKind::Quad4) => accumulate::<3, 4>(&sf.jacobian, ts, tm, area_ref, rule, block),
+        (FaceKind::Quad4, FaceKind::Tri3) => accumulate::<4, 3>(&sf.jacobian, ts, tm, area_ref, rule, block),
+        (FaceKind::Quad4, FaceKind::Quad4) => accumulate::<4, 4>(&sf.jacobian, ts, tm, area_ref, rule, block),
+    }
+}
+
+/// The quadrature loop of [`integrate_segment`] for an `NS`-node slave and an
+/// `NM`-node master face (fixed sizes: unrolled, no bounds checks).
+#[inline(always)]
+fn accumulate<const NS: usize, const NM: usize>(
+    jacobian: &JacobianField,
+    ts: [Xi; 3],
+    tm: [Xi; 3],
+    area_ref: f64,
+    rule: &TriangleRule,
+    block: &mut PairBlock,
+) {
     for (pt, &w) in rule.points.iter().zip(rule.weights) {
         let xis = barycentric(ts, *pt);
-        let xim = barycentric(tm, *pt);
-        let phi = es.shape(xis);
-        let lam = em.shape(xim);
-        let wj = w * area_ref * es.jacobian(xis);
+        let phi: [f64; NS] = shape_of(xis);
+        let lam: [f64; NM] = shape_of(barycentric(tm, *pt));
+        let wj = w * area_ref * jacobian.at(xis);
         block.covered_area += wj;
-        for p in 0..n_s {
+        for p in 0..NS {
             let wp = wj * phi[p];
-            for q in 0..n_s {
-                block.d[p * 4 + q] += wp * phi[q];
+            for q in 0..NS {
+                block.d[p][q] += wp * phi[q];
             }
-            for q in 0..n_m {
-                block.b[p * 4 + q] += wp * lam[q];
+            for q in 0..NM {
+                block.b[p][q] += wp * lam[q];
             }
         }
     }
+}
+
+/// The 3 (Tri3) or 4 (Quad4) shape functions at ξ.
+#[inline(always)]
+fn shape_of<const N: usize>(xi: Xi) -> [f64; N] {
+    let kind = if N == 3 { FaceKind::Tri3 } else { FaceKind::Quad4 };
+    let l = crate::element::shape(kind, xi);
+    std::array::from_fn(|i| l[i])
 }
 
 /// The point with barycentric coordinates (1−ξ−η, ξ, η) in triangle `t`.
@@ -278,7 +312,7 @@ pub(super) fn triangle_area(t: [Xi; 3]) -> f64 {
 }
 
 /// Adds a pair's n_s × n_m block to the face's block, one column per master point.
-fn add_columns(cols: &mut Vec<usize>, block: &mut Vec<f64>, master_nodes: &[usize], b: &[f64; 16]) {
+fn add_columns(cols: &mut Vec<usize>, block: &mut Vec<f64>, master_nodes: &[usize], b: &[[f64; 4]; 4]) {
     for (q, &node) in master_nodes.iter().enumerate() {
         let j = match cols.iter().position(|&c| c == node) {
             Some(j) => j,
@@ -289,7 +323,7 @@ fn add_columns(cols: &mut Vec<usize>, block: &mut Vec<f64>, master_nodes: &[usiz
             }
         };
         for p in 0..4 {
-            block[j * 4 + p] += b[p * 4 + q];
+            block[j * 4 + p] += b[p][q];
         }
     }
 }

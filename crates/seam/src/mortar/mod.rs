@@ -31,7 +31,7 @@ use crate::search::FaceTree;
 use crate::sparse::CsrMatrix;
 use kernel::{Kernel, Scratch};
 use rayon::prelude::*;
-use rows::Blocks;
+use rows::{Blocks, ChunkedBlocks};
 
 /// The Lagrange multiplier basis ψ_p.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -117,12 +117,13 @@ pub fn warped_quad_degree(e: &FaceElement) -> usize {
 /// ∫_e λ_p |J| over the whole face with the triangle rule of `degree`.
 pub fn face_integrals(e: &FaceElement, degree: usize) -> [f64; 4] {
     let rule = triangle_rule(degree).expect("degree within the tabulated range");
+    let jacobian = e.jacobian_field();
     let mut full = [0.0; 4];
     for t in e.reference_triangles() {
         let area_ref = kernel::triangle_area(*t);
         for (pt, &w) in rule.points.iter().zip(rule.weights) {
             let xi = kernel::barycentric(*t, *pt);
-            let wj = w * area_ref * e.jacobian(xi);
+            let wj = w * area_ref * jacobian.at(xi);
             let phi = e.shape(xi);
             for p in 0..4 {
                 full[p] += wj * phi[p];
@@ -329,10 +330,10 @@ pub fn assemble_with_tree(
             blocks
         })
         .collect();
-    let blocks = Blocks::concat(chunks);
-    let summary = summarize(master, slave, &blocks.faces);
+    let blocks = ChunkedBlocks { chunks, chunk: CHUNK };
+    let summary = summarize(master, slave, blocks.stats());
     if summary.intersecting_pairs == 0 {
-        let sum = |f: fn(&FaceStats) -> u32| blocks.faces.iter().map(|s| f(s) as usize).sum();
+        let sum = |f: fn(&FaceStats) -> u32| blocks.stats().map(|s| f(s) as usize).sum();
         return Err(MortarError::NoOverlap {
             candidates: summary.candidate_pairs,
             rejected_angle: sum(|s| s.rejected_angle),
@@ -362,7 +363,11 @@ fn check_options(o: &MortarOptions) -> Result<(), MortarError> {
     Ok(())
 }
 
-fn summarize(master: &SurfaceMesh, slave: &SurfaceMesh, faces: &[FaceStats]) -> MortarSummary {
+fn summarize<'a>(
+    master: &SurfaceMesh,
+    slave: &SurfaceMesh,
+    faces: impl Iterator<Item = &'a FaceStats>,
+) -> MortarSummary {
     let count = |m: &SurfaceMesh| m.used_points().iter().filter(|&&u| u).count();
     let mut s = MortarSummary {
         slave_nodes: count(slave),

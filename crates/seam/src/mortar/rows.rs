@@ -49,20 +49,26 @@ impl Blocks {
         self.faces.push(stats);
     }
 
-    /// Joins chunk results in order.
-    pub(super) fn concat(chunks: Vec<Blocks>) -> Blocks {
-        let faces: usize = chunks.iter().map(|c| c.faces.len()).sum();
-        let mut all = Blocks::with_capacity(faces);
-        for c in chunks {
-            let offset = all.cols.len();
-            all.col_ptr.extend(c.col_ptr[1..].iter().map(|&p| p + offset));
-            all.cols.extend(c.cols);
-            all.b.extend(c.b);
-            all.d.extend(c.d);
-            all.full.extend(c.full);
-            all.faces.extend(c.faces);
-        }
-        all
+    fn cols(&self, f: usize) -> std::ops::Range<usize> {
+        self.col_ptr[f]..self.col_ptr[f + 1]
+    }
+}
+
+/// The blocks of all slave faces, as the chunks that computed them (face f is
+/// entry f % chunk of chunk f / chunk): no copy into one array.
+pub(super) struct ChunkedBlocks {
+    pub(super) chunks: Vec<Blocks>,
+    pub(super) chunk: usize,
+}
+
+impl ChunkedBlocks {
+    fn at(&self, f: usize) -> (&Blocks, usize) {
+        (&self.chunks[f / self.chunk], f % self.chunk)
+    }
+
+    /// Per-face statistics, in face order.
+    pub(super) fn stats(&self) -> impl Iterator<Item = &FaceStats> {
+        self.chunks.iter().flat_map(|c| c.faces.iter())
     }
 }
 
@@ -103,29 +109,32 @@ impl PointFaces {
 pub(super) fn into_mortar(
     master: &SurfaceMesh,
     slave: &SurfaceMesh,
-    blocks: Blocks,
+    blocks: ChunkedBlocks,
     multiplier: Multiplier,
     mut summary: MortarSummary,
 ) -> Mortar {
     let around = PointFaces::new(slave);
     let n = slave.n_points();
     let b = sum_rows(n, master.n_points(), &around, |f, l, out| {
-        for j in blocks.col_ptr[f]..blocks.col_ptr[f + 1] {
-            out.push((blocks.cols[j], blocks.b[j * 4 + l]));
+        let (c, k) = blocks.at(f);
+        for j in c.cols(k) {
+            out.push((c.cols[j], c.b[j * 4 + l]));
         }
     });
     let d = sum_rows(n, n, &around, |f, l, out| {
+        let (c, k) = blocks.at(f);
         for (q, &node) in slave.faces()[f].nodes().iter().enumerate() {
-            out.push((node, blocks.d[f][l * 4 + q]));
+            out.push((node, c.d[k][l * 4 + q]));
         }
     });
     let node_coverage: Vec<f64> = (0..n)
         .map(|p| {
             let (mut covered, mut full) = (0.0, 0.0);
             for &(f, l) in around.around(p) {
+                let (c, k) = blocks.at(f);
                 // Row sums of a face's D block are ∫_{e,cov} λ_l for every multiplier.
-                covered += blocks.d[f][l * 4..l * 4 + 4].iter().sum::<f64>();
-                full += blocks.full[f][l];
+                covered += c.d[k][l * 4..l * 4 + 4].iter().sum::<f64>();
+                full += c.full[k][l];
             }
             if full > 0.0 {
                 covered / full
@@ -137,7 +146,8 @@ pub(super) fn into_mortar(
     let on_surface = slave.used_points();
     let covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
     summary.uncovered_slave_nodes = (0..n).filter(|&p| on_surface[p] && !covered[p]).count();
-    Mortar { b, d, multiplier, faces: blocks.faces, node_coverage, covered, on_surface, summary }
+    let faces = blocks.stats().copied().collect();
+    Mortar { b, d, multiplier, faces, node_coverage, covered, on_surface, summary }
 }
 
 /// Builds an nrows × ncols CSR matrix whose row p collects, for each face around
