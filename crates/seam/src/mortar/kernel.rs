@@ -88,6 +88,8 @@ struct SlaveFace {
     /// The rule of a warped quad (`None` for triangles and planar quads).
     warped_rule: Option<TriangleRule>,
     jacobian: JacobianField,
+    /// Heights n·(x_i − o) of the corners above the frame's plane.
+    heights: [f64; 4],
     frame: Frame,
     plane: PlaneFace,
     clipper: ConvexClipper,
@@ -147,6 +149,7 @@ impl<'a> Kernel<'a> {
             }
             add_columns(&mut scratch.cols, &mut scratch.b, self.master.faces()[m].nodes(), &pair.b);
         }
+        sort_columns(&mut scratch.cols, &mut scratch.b);
         let full = self.full_face_integrals(&sf, &mut stats);
         let dual_fallback = apply_multiplier(self.options.multiplier, n_s, &mut d, &mut scratch.b);
         stats.dual_fallbacks = dual_fallback as u32;
@@ -166,6 +169,7 @@ impl<'a> Kernel<'a> {
             gap_tol: self.options.max_gap.at(h),
             area_tol: AREA_RTOL * polygon_area(&polygon),
             jacobian: element.jacobian_field(),
+            heights: element.x.map(|x| frame.height(x)),
             element,
             frame,
             plane,
@@ -194,13 +198,15 @@ impl<'a> Kernel<'a> {
             return None;
         }
         // (D1)–(D2): reference coordinates of every polygon vertex on both faces.
+        let master_heights = em.x.map(|x| sf.frame.height(x));
         let mut xs = [[0.0; 2]; MAX_POLYGON];
         let mut xm = [[0.0; 2]; MAX_POLYGON];
         let (mut gap, mut overlap) = (0.0f64, 0.0f64);
         for (v, &p) in polygon.iter().enumerate() {
             xs[v] = inverse(&sf.plane, p, stats);
             xm[v] = inverse(&master_plane, p, stats);
-            let g = sf.frame.height(em.map(xm[v])) - sf.frame.height(sf.element.map(xs[v]));
+            // Height is affine, so n·(x(ξ) − o) = Σ λ_i(ξ) h_i with the corner heights h_i.
+            let g = dot4(em.shape(xm[v]), master_heights) - dot4(sf.element.shape(xs[v]), sf.heights);
             if g.abs() > sf.gap_tol {
                 stats.rejected_gap += 1;
                 return None;
@@ -299,6 +305,12 @@ fn shape_of<const N: usize>(xi: Xi) -> [f64; N] {
     std::array::from_fn(|i| l[i])
 }
 
+/// Σ a_i b_i over four entries (a triangle's fourth shape value is 0).
+#[inline(always)]
+fn dot4(a: [f64; 4], b: [f64; 4]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
+}
+
 /// The point with barycentric coordinates (1−ξ−η, ξ, η) in triangle `t`.
 #[inline]
 pub(super) fn barycentric(t: [Xi; 3], pt: [f64; 2]) -> Xi {
@@ -309,6 +321,21 @@ pub(super) fn barycentric(t: [Xi; 3], pt: [f64; 2]) -> Xi {
 #[inline]
 pub(super) fn triangle_area(t: [Xi; 3]) -> f64 {
     0.5 * ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0])).abs()
+}
+
+/// Sorts a face block's columns by master point (insertion sort: a dozen
+/// columns), so that the rows later merge sorted runs.
+fn sort_columns(cols: &mut [usize], block: &mut [f64]) {
+    for i in 1..cols.len() {
+        let mut j = i;
+        while j > 0 && cols[j - 1] > cols[j] {
+            cols.swap(j - 1, j);
+            for p in 0..4 {
+                block.swap((j - 1) * 4 + p, j * 4 + p);
+            }
+            j -= 1;
+        }
+    }
 }
 
 /// Adds a pair's n_s × n_m block to the face's block, one column per master point.

@@ -128,6 +128,7 @@ pub(super) fn into_mortar(
         }
     });
     let node_coverage: Vec<f64> = (0..n)
+        .into_par_iter()
         .map(|p| {
             let (mut covered, mut full) = (0.0, 0.0);
             for &(f, l) in around.around(p) {
@@ -163,15 +164,17 @@ fn sum_rows(
     let parts: Vec<(Vec<usize>, Vec<usize>, Vec<f64>)> = (0..nrows.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
-            let mut lens = Vec::with_capacity(CHUNK);
-            let (mut cols, mut vals) = (Vec::new(), Vec::new());
+            let rows = c * CHUNK..((c + 1) * CHUNK).min(nrows);
+            let mut lens = Vec::with_capacity(rows.len());
+            let guess = 16 * rows.len();
+            let (mut cols, mut vals) = (Vec::with_capacity(guess), Vec::with_capacity(guess));
             let mut buf: Vec<(usize, f64)> = Vec::new();
-            for p in c * CHUNK..((c + 1) * CHUNK).min(nrows) {
+            for p in rows {
                 buf.clear();
                 for &(f, l) in around.around(p) {
                     entries(f, l, &mut buf);
                 }
-                buf.sort_by_key(|e| e.0); // stable: equal columns keep face order
+                sort_by_column(&mut buf); // stable: equal columns keep face order
                 let start = cols.len();
                 for &(j, v) in &buf {
                     if cols.len() > start && cols[cols.len() - 1] == j {
@@ -208,4 +211,16 @@ fn sum_rows(
     }
     m.nrows = nrows;
     m
+}
+
+/// Stable insertion sort by column: rows hold a few dozen entries, mostly in
+/// runs already sorted, and this allocates nothing (unlike `sort_by_key`).
+fn sort_by_column(v: &mut [(usize, f64)]) {
+    for i in 1..v.len() {
+        let mut j = i;
+        while j > 0 && v[j - 1].0 > v[j].0 {
+            v.swap(j - 1, j);
+            j -= 1;
+        }
+    }
 }
