@@ -120,7 +120,7 @@ pub struct ExampleArgs {
 pub enum BenchShape {
     /// The unit square.
     Flat,
-    /// A cylinder patch (radius 1, 1 rad, height 1), the master 0.2 % outside.
+    /// A quarter cylinder (radius 1, height 1), the master at radius 1.01.
     Cylinder,
 }
 

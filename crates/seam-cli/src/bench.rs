@@ -11,7 +11,7 @@ use crate::assemble::thread_pool;
 use crate::Failure;
 use anyhow::{bail, Context};
 use seam::generate::{cylinder, flat, patch, Pattern};
-use seam::{assemble_with_tree, FaceTree, MortarOptions, SurfaceMesh};
+use seam::{assemble_with_tree, FaceTree, MaxGap, MortarOptions, SurfaceMesh};
 use serde::{Deserialize, Serialize};
 use std::process::Command;
 use std::time::Instant;
@@ -103,8 +103,14 @@ pub fn run_case(args: &BenchCaseArgs) -> Result<(), Failure> {
     let tree = pool.install(|| FaceTree::new(&master));
     let search = t.elapsed().as_secs_f64();
     let t = Instant::now();
+    let options = match args.shape {
+        BenchShape::Flat => MortarOptions::default(),
+        // The gap of 0.01 is more than half a face at 100k faces: an absolute limit,
+        // as the peer's overlap tolerance of 0.02.
+        BenchShape::Cylinder => MortarOptions { max_gap: MaxGap::Absolute(0.02), ..Default::default() },
+    };
     let mortar = pool
-        .install(|| assemble_with_tree(&master, &tree, &slave, &MortarOptions::default(), &|_| {}))
+        .install(|| assemble_with_tree(&master, &tree, &slave, &options, &|_| {}))
         .map_err(anyhow::Error::from)?;
     let assemble = t.elapsed().as_secs_f64();
     let peak = rss_bytes("VmHWM")?;

@@ -57,6 +57,21 @@ impl FaceTree {
     }
 }
 
+impl rstar::PointDistance for FaceBox {
+    fn distance_2(&self, point: &Point3) -> f64 {
+        self.envelope.distance_2(point)
+    }
+}
+
+impl FaceTree {
+    /// Distance from `point` to the nearest face box (0 inside a box).
+    pub fn distance_to(&self, point: Point3) -> f64 {
+        self.tree
+            .nearest_neighbor(point)
+            .map_or(f64::INFINITY, |b| rstar::PointDistance::distance_2(b, &point).sqrt())
+    }
+}
+
 /// The axis-aligned box of the corners moved by ±`reach`·`normal`: the region a
 /// face sweeps when moved along its normal by up to `reach` either way.
 pub fn swept_box(corners: &[Point3], normal: Point3, reach: f64) -> (Point3, Point3) {

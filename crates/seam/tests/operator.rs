@@ -414,7 +414,16 @@ fn meshes_that_do_not_overlap_are_an_error() {
     assert!(err.to_string().contains("do not overlap"), "{err}");
     let above = patch(4, 4, Pattern::Quads, |u, v| [u, v, 3.0]);
     let o = MortarOptions { max_gap: MaxGap::Absolute(0.5), ..Default::default() };
-    assert!(matches!(assemble(&master, &above, &o), Err(MortarError::NoOverlap { .. })));
+    // The error says how far apart the surfaces are, and a large enough gap couples them.
+    match assemble(&master, &above, &o) {
+        Err(e @ MortarError::NoOverlap { nearest_distance: Some(d), .. }) => {
+            assert!((d - 3.0).abs() < 1e-12, "{d}");
+            assert!(e.to_string().contains("3.000e0 away"), "{e}");
+        }
+        other => panic!("expected no overlap, got {other:?}"),
+    }
+    let far_enough = MortarOptions { max_gap: MaxGap::Absolute(3.5), ..Default::default() };
+    assert!(assemble(&master, &above, &far_enough).is_ok());
 }
 
 /// I5 for dual multipliers on partially covered faces: when λ_q^s restricted to

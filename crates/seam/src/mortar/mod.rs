@@ -172,7 +172,10 @@ pub enum MortarError {
     #[error(
         "the meshes do not overlap: no master face meets a slave face within the gap and angle limits \
          ({candidates} candidate pairs from the search; {rejected_angle} rejected by the normal angle, \
-         {rejected_gap} by the gap limit, {empty} with no overlap in projection)"
+         {rejected_gap} by the gap limit, {empty} with no overlap in projection){}",
+        nearest_distance.map_or(String::new(), |d| format!(
+            "; the master surface is {d:.3e} away from the nearest slave face centre (box distance)"
+        ))
     )]
     NoOverlap {
         /// Candidate pairs from the search.
@@ -183,6 +186,9 @@ pub enum MortarError {
         rejected_gap: usize,
         /// Pairs whose projections do not overlap.
         empty: usize,
+        /// The distance from the slave face centres to the nearest master face
+        /// box (a lower bound of the distance between the surfaces).
+        nearest_distance: Option<f64>,
     },
     /// D restricted to the covered slave nodes could not be factorised.
     #[error("the slave mass matrix D is not positive definite on the covered nodes ({0})")]
@@ -339,6 +345,10 @@ pub fn assemble_with_tree(
             rejected_angle: sum(|s| s.rejected_angle),
             rejected_gap: sum(|s| s.rejected_gap),
             empty: sum(|s| s.empty),
+            nearest_distance: (0..n)
+                .into_par_iter()
+                .map(|s| tree.distance_to(crate::element::FaceElement::of(slave, s).centre()))
+                .reduce_with(f64::min),
         });
     }
     Ok(rows::into_mortar(master, slave, blocks, options.multiplier, summary))
