@@ -200,7 +200,16 @@ fn sum_rows(
             (lens, cols, vals)
         })
         .collect();
-    let mut m = CsrMatrix::zeros(0, ncols);
+    // Exact sizes up front, each part freed once copied: the output is not held twice.
+    let nnz = parts.iter().map(|(_, cols, _)| cols.len()).sum();
+    let mut m = CsrMatrix {
+        nrows,
+        ncols,
+        indptr: Vec::with_capacity(nrows + 1),
+        indices: Vec::with_capacity(nnz),
+        values: Vec::with_capacity(nnz),
+    };
+    m.indptr.push(0);
     for (lens, cols, vals) in parts {
         for len in lens {
             let last = *m.indptr.last().unwrap();
