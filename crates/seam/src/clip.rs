@@ -169,8 +169,10 @@ impl ConvexClipper {
         {
             return Polygon::new();
         }
-        // Two buffers used in turn: the input of one edge is the output of the last.
-        let mut buffers = [subject.iter().copied().collect::<Polygon>(), Polygon::new()];
+        // Two plain buffers used in turn: the input of one edge is the output of the last.
+        let mut buffers = [[[0.0f64; 2]; MAX_POLYGON]; 2];
+        let mut lens = [subject.len().min(MAX_POLYGON), 0];
+        buffers[0][..lens[0]].copy_from_slice(&subject[..lens[0]]);
         let mut current = 0;
         for &(a, n) in &self.edges {
             // Signed distance to the edge's line: positive inside.
@@ -178,30 +180,38 @@ impl ConvexClipper {
             let (first, second) = buffers.split_at_mut(1);
             let (input, out) =
                 if current == 0 { (&first[0], &mut second[0]) } else { (&second[0], &mut first[0]) };
-            out.clear();
-            let mut p = input[input.len() - 1];
+            let n_in = lens[current];
+            let mut n_out = 0;
+            let mut push = |x: Point2| {
+                if n_out < MAX_POLYGON && (n_out == 0 || !close(out[n_out - 1], x, tol)) {
+                    out[n_out] = x;
+                    n_out += 1;
+                }
+            };
+            let mut p = input[n_in - 1];
             let mut dp = dist(p);
-            for &q in input.iter() {
+            for &q in &input[..n_in] {
                 let dq = dist(q);
                 let (p_in, q_in) = (dp >= -tol, dq >= -tol);
                 if p_in != q_in && dp != dq {
                     let t = dp / (dp - dq);
-                    push_distinct(out, [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])], tol);
+                    push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
                 }
                 if q_in {
-                    push_distinct(out, q, tol);
+                    push(q);
                 }
                 (p, dp) = (q, dq);
             }
-            while out.len() > 1 && close(out[0], out[out.len() - 1], tol) {
-                out.pop();
+            while n_out > 1 && close(out[0], out[n_out - 1], tol) {
+                n_out -= 1;
             }
-            if out.len() < 3 {
+            if n_out < 3 {
                 return Polygon::new();
             }
             current = 1 - current;
+            lens[current] = n_out;
         }
-        std::mem::take(&mut buffers[current])
+        buffers[current][..lens[current]].iter().copied().collect()
     }
 }
 
@@ -209,13 +219,6 @@ impl ConvexClipper {
 /// [`ConvexClipper::clip`].
 pub fn clip_polygon_polygon(subject: &[Point2], clip: &[Point2], tol: f64) -> Polygon {
     ConvexClipper::new(clip, tol).clip(subject)
-}
-
-fn push_distinct(out: &mut Polygon, p: Point2, tol: f64) {
-    if out.last().is_some_and(|&q| close(p, q, tol)) || out.is_full() {
-        return;
-    }
-    out.push(p);
 }
 
 fn close(p: Point2, q: Point2, tol: f64) -> bool {

@@ -251,8 +251,8 @@ impl PlaneFace {
                 [q[0][0] - q[1][0] + q[2][0] - q[3][0], q[0][1] - q[1][1] + q[2][1] - q[3][1]],
             ),
         };
-        let det = b[0] * c[1] - b[1] * c[0];
-        let inv = [[c[1] / det, -c[0] / det], [-b[1] / det, b[0] / det]];
+        let r = 1.0 / (b[0] * c[1] - b[1] * c[0]);
+        let inv = [[c[1] * r, -c[0] * r], [-b[1] * r, b[0] * r]];
         let scale = norm2(b).max(norm2(c)).max(f64::MIN_POSITIVE);
         PlaneFace { kind, q, a, b, c, d, inv, scale }
     }

@@ -191,13 +191,14 @@ impl<'a> Kernel<'a> {
         }
         // (C3)–(C4)
         let em = FaceElement::of(self.master, m);
-        let master_plane = em.project(|x| sf.frame.project(x));
-        let polygon = sf.clipper.clip(&face_polygon(master_plane.corners()));
+        let q = em.x.map(|x| sf.frame.project(x));
+        let polygon = sf.clipper.clip(&face_polygon(&q[..em.n_nodes()]));
         if polygon.len() < 3 || polygon_area(&polygon) <= sf.area_tol {
             stats.empty += 1;
             return None;
         }
         // (D1)–(D2): reference coordinates of every polygon vertex on both faces.
+        let master_plane = PlaneFace::new(em.kind, q);
         let master_heights = em.x.map(|x| sf.frame.height(x));
         let mut xs = [[0.0; 2]; MAX_POLYGON];
         let mut xm = [[0.0; 2]; MAX_POLYGON];
@@ -222,6 +223,12 @@ impl<'a> Kernel<'a> {
             let ts = [xs[a], xs[b], xs[c]];
             let tm = [xm[a], xm[b], xm[c]];
             integrate_segment(sf, &em, ts, tm, &rule, &mut block);
+        }
+        // D is symmetric: only its upper triangle was accumulated.
+        for p in 0..4 {
+            for q in 0..p {
+                block.d[p][q] = block.d[q][p];
+            }
         }
         Some(block)
     }
@@ -269,7 +276,8 @@ fn integrate_segment(
 }
 
 /// The quadrature loop of [`integrate_segment`] for an `NS`-node slave and an
-/// `NM`-node master face (fixed sizes: unrolled, no bounds checks).
+/// `NM`-node master face (fixed sizes: unrolled, no bounds checks). Only the
+/// upper triangle of the symmetric D block is accumulated.
 #[inline(always)]
 fn accumulate<const NS: usize, const NM: usize>(
     jacobian: &JacobianField,
@@ -287,7 +295,7 @@ fn accumulate<const NS: usize, const NM: usize>(
         block.covered_area += wj;
         for p in 0..NS {
             let wp = wj * phi[p];
-            for q in 0..NS {
+            for q in p..NS {
                 block.d[p][q] += wp * phi[q];
             }
             for q in 0..NM {
