@@ -138,6 +138,14 @@ def compilers_running():
     return sorted(found)
 
 
+def cpu_busy_s():
+    """Busy CPU seconds of the whole machine since boot (all cores)."""
+    with open("/proc/stat") as f:
+        v = [int(x) for x in f.readline().split()[1:]]
+    idle = v[3] + (v[4] if len(v) > 4 else 0)
+    return (sum(v[:8]) - idle) / os.sysconf("SC_CLK_TCK")
+
+
 def wait_quiet(max_load, max_wait):
     t0 = time.time()
     l = load1()
@@ -152,22 +160,27 @@ def wait_quiet(max_load, max_wait):
 def timed(cmd, workdir, timeout, max_load, max_wait):
     state = wait_quiet(max_load, max_wait)
     rssf = os.path.join(workdir, "rss.txt")
-    full = ["/usr/bin/time", "-f", "%M %e", "-o", rssf] + cmd
+    full = ["/usr/bin/time", "-f", "%M %e %U %S", "-o", rssf] + cmd
     log("  $ " + " ".join(cmd))
     t0 = time.time()
+    b0 = cpu_busy_s()
     r = subprocess.run(full, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout)
+    b1 = cpu_busy_s()
     wall = time.time() - t0
     after = compilers_running()
-    rss_kb, wall_e = None, None
+    rss_kb, wall_e, cpu = None, None, None
     try:
         with open(rssf) as f:
             last = f.read().strip().splitlines()[-1].split()
-        rss_kb, wall_e = int(last[0]), float(last[1])
+        rss_kb, wall_e, cpu = int(last[0]), float(last[1]), float(last[2]) + float(last[3])
     except (OSError, IndexError, ValueError):
         pass
+    # CPU seconds used on the machine during the run by anything but this run
+    # (a rough measure of disturbance by other work; ~0.0x is idle noise)
+    foreign = (b1 - b0) - cpu if cpu is not None else None
     state.update({"rc": r.returncode, "rss_mb": rss_kb / 1024.0 if rss_kb else None,
-                  "wall_s": wall_e if wall_e is not None else wall,
-                  "compilers_after": after})
+                  "wall_s": wall_e if wall_e is not None else wall, "cpu_s": cpu,
+                  "foreign_cpu_s": foreign, "compilers_after": after})
     return r, state
 
 
@@ -369,8 +382,8 @@ def tables(rows, raw):
     L.append("| case | F | peer: read / setup / merge / asm s | peer raw: merge / asm s "
              "| seam 1 thr: read / search / asm / write / total s | seam 2 thr total s "
              "| intersections peer / seam segments | peak RSS MB peer grid / raw / seam 1 / seam 2 "
-             "| load1 at start (peer, seam1) | compilers seen |")
-    L.append("|---|---|---|---|---|---|---|---|---|---|")
+             "| load1 at start (peer, seam1) | other CPU s during runs (peer grid / raw / seam 1 / seam 2) | compilers seen |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         pg = r["peer_grid"]["summary"] or {}
         pr = (r.get("peer_raw") or {}).get("summary") or {}
@@ -381,7 +394,9 @@ def tables(rows, raw):
         for k in ("peer_grid", "peer_raw", "seam_t1", "seam_t2"):
             if k in r:
                 comp |= set(r[k]["compilers"]) | set(r[k]["compilers_after"])
-        L.append("| %s | %d | %s / %s / %s / %s | %s / %s | %s / %s / %s / %s / %s | %s | %s / %s | %s / %s / %s / %s | %.2f, %.2f | %s |" % (
+        fo = " / ".join(fmt((r.get(k) or {}).get("foreign_cpu_s"), "%.2f")
+                        for k in ("peer_grid", "peer_raw", "seam_t1", "seam_t2"))
+        L.append("| %s | %d | %s / %s / %s / %s | %s / %s | %s / %s / %s / %s / %s | %s | %s / %s | %s / %s / %s / %s | %.2f, %.2f | %s | %s |" % (
             r["case"], r["F"],
             fmt(pg.get("read_s")), fmt(pg.get("setup_s")), fmt(pg.get("merge_s")), fmt(pg.get("assembly_s")),
             fmt(pr.get("merge_s")), fmt(pr.get("assembly_s")),
@@ -390,7 +405,7 @@ def tables(rows, raw):
             fmt(pg.get("intersections"), "%d"), fmt(s1.get("segments"), "%d"),
             fmt(r["peer_grid"]["rss_mb"], "%.0f"), fmt((r.get("peer_raw") or {}).get("rss_mb"), "%.0f"),
             fmt(r["seam_t1"]["rss_mb"], "%.0f"), fmt(r["seam_t2"]["rss_mb"], "%.0f"),
-            r["peer_grid"]["load1"], r["seam_t1"]["load1"], ",".join(sorted(comp)) or "none"))
+            r["peer_grid"]["load1"], r["seam_t1"]["load1"], fo, ",".join(sorted(comp)) or "none"))
     return "\n".join(L) + "\n"
 
 
