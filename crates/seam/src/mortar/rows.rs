@@ -200,25 +200,31 @@ fn sum_rows(
             (lens, cols, vals)
         })
         .collect();
-    // Exact sizes up front, each part freed once copied: the output is not held twice.
-    let nnz = parts.iter().map(|(_, cols, _)| cols.len()).sum();
-    let mut m = CsrMatrix {
-        nrows,
-        ncols,
-        indptr: Vec::with_capacity(nrows + 1),
-        indices: Vec::with_capacity(nnz),
-        values: Vec::with_capacity(nnz),
-    };
-    m.indptr.push(0);
-    for (lens, cols, vals) in parts {
-        for len in lens {
-            let last = *m.indptr.last().unwrap();
-            m.indptr.push(last + len);
+    // Exact sizes up front; the parts are copied into disjoint slices in parallel
+    // (zeroed allocations are mapped lazily, so the pages are first touched there).
+    let nnz: usize = parts.iter().map(|(_, cols, _)| cols.len()).sum();
+    let mut indptr = Vec::with_capacity(nrows + 1);
+    indptr.push(0);
+    for (lens, _, _) in &parts {
+        for &len in lens {
+            indptr.push(indptr[indptr.len() - 1] + len);
         }
-        m.indices.extend(cols);
-        m.values.extend(vals);
     }
-    m.nrows = nrows;
+    let mut indices = vec![0usize; nnz];
+    let mut values = vec![0.0f64; nnz];
+    let mut targets = Vec::with_capacity(parts.len());
+    let (mut rest_i, mut rest_v) = (indices.as_mut_slice(), values.as_mut_slice());
+    for (_, cols, _) in &parts {
+        let (head_i, tail_i) = rest_i.split_at_mut(cols.len());
+        let (head_v, tail_v) = rest_v.split_at_mut(cols.len());
+        targets.push((head_i, head_v));
+        (rest_i, rest_v) = (tail_i, tail_v);
+    }
+    targets.into_par_iter().zip(parts.par_iter()).for_each(|((ti, tv), (_, cols, vals))| {
+        ti.copy_from_slice(cols);
+        tv.copy_from_slice(vals);
+    });
+    let m = CsrMatrix { nrows, ncols, indptr, indices, values };
     m
 }
 
