@@ -224,8 +224,7 @@ fn sum_rows(
         ti.copy_from_slice(cols);
         tv.copy_from_slice(vals);
     });
-    let m = CsrMatrix { nrows, ncols, indptr, indices, values };
-    m
+    CsrMatrix { nrows, ncols, indptr, indices, values }
 }
 
 /// Stable insertion sort by column: rows hold a few dozen entries, mostly in
