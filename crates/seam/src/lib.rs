@@ -17,8 +17,30 @@
 //! | proximity search: [`FaceTree`] | `search` | A1 |
 //! | Householder frame, projection, polygon clipping | `clip` | C2–C4 |
 //! | assembly of B, D; multipliers; transfer: [`assemble`], [`Mortar`], [`Transfer`] | `mortar` | A2–D5 |
+//! | the result matrices: [`CsrMatrix`] | `sparse` | |
+//! | patches on parametric surfaces (examples, tests, benchmarks) | [`generate`] | |
 //!
 //! The crate does no I/O; `seam-io` reads and writes files.
+//!
+//! ```
+//! use seam::generate::{flat, patch, Pattern};
+//! use seam::{assemble, MortarOptions, Multiplier};
+//!
+//! // Unit square: 4×4 quads (slave) against 5×3 cells of triangles (master).
+//! let slave = patch(4, 4, Pattern::Quads, flat(1.0, 1.0));
+//! let master = patch(5, 3, Pattern::Triangles, flat(1.0, 1.0));
+//! let options = MortarOptions { multiplier: Multiplier::Dual, ..Default::default() };
+//! let mortar = assemble(&master, &slave, &options)?;
+//! assert!((mortar.summary.covered_area - 1.0).abs() < 1e-14);
+//! assert!(mortar.d.is_diagonal());
+//! // T = D⁻¹B maps a linear field on the master exactly onto the slave (I4).
+//! let x: Vec<f64> = master.points().iter().map(|p| p[0]).collect();
+//! let tx = mortar.transfer()?.apply(&x, 1);
+//! for (p, point) in slave.points().iter().enumerate() {
+//!     assert!((tx[p] - point[0]).abs() < 1e-13);
+//! }
+//! # Ok::<(), seam::MortarError>(())
+//! ```
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
@@ -32,8 +54,8 @@ mod search;
 mod sparse;
 
 pub use clip::{
-    clip_polygon_polygon, convex_hull, face_polygon, fan_triangles, polygon_area, Frame, Point2, Polygon,
-    MAX_POLYGON,
+    clip_polygon_polygon, convex_hull, face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame,
+    Point2, Polygon, MAX_POLYGON,
 };
 pub use element::{shape, FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
 pub use mesh::{area_vector, Cell, Face, MeshError, Point3, SurfaceMesh, VolumeMesh, ZERO_AREA_RTOL};
