@@ -3,8 +3,10 @@
 //!
 //! Symbols: `es`, `em` slave and master elements; `frame` the Householder frame
 //! of `es` (C2); `xs`, `xm` reference coordinates on the slave and master face of
-//! each polygon vertex (D1–D2); `phi` = ψ-independent slave shape values λ^s,
-//! `lam` = master shape values λ^m; `w` = ω'_l (D4).
+//! each polygon vertex (D1–D2); `phi` = slave shape values λ^s, `lam` = master
+//! shape values λ^m; `wj` = ω'_l (D4). Blocks are built for ψ = λ (standard);
+//! dual and lumped multipliers transform them per face afterwards
+//! (`multiplier`).
 
 use super::multiplier::apply_multiplier;
 use super::rows::Blocks;
