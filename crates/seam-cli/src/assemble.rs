@@ -99,7 +99,13 @@ pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
             e => Failure::Error(e.into()),
         })?;
     bar.finish_and_clear();
-    let transfer = mortar.transfer().context("the transfer operator")?;
+    // T is written when D is diagonal (dual, lumped); for standard multipliers it
+    // is dense and never formed, so no factorisation is spent on it here.
+    let transfer = match mortar.d.is_diagonal() {
+        true => Some(mortar.transfer().context("the transfer operator")?),
+        false => None,
+    };
+    let t_matrix = transfer.as_ref().and_then(|t| t.matrix());
     seconds.assemble = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
@@ -107,7 +113,7 @@ pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
     let cols = |side: &Path| format!("columns: nodes of {} in file order", side.display());
     out.write("B.mtx", |p| seam_io::write_matrix_market_file(p, &mortar.b, &[&rows, &cols(&args.master)]))?;
     out.write("D.mtx", |p| seam_io::write_matrix_market_file(p, &mortar.d, &[&rows, &cols(&args.slave)]))?;
-    if let Some(t) = transfer.matrix() {
+    if let Some(t) = t_matrix {
         out.write("T.mtx", |p| seam_io::write_matrix_market_file(p, t, &[&rows, &cols(&args.master)]))?;
     }
     seconds.write = t.elapsed().as_secs_f64();
@@ -117,7 +123,7 @@ pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
         args,
         &options,
         &mortar,
-        transfer.matrix().map(|t| t.nnz()),
+        t_matrix.map(|t| t.nnz()),
         pool.current_num_threads(),
         seconds,
     );
