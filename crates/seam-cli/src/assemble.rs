@@ -119,14 +119,8 @@ pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
     seconds.write = t.elapsed().as_secs_f64();
     seconds.total = start.elapsed().as_secs_f64();
 
-    let summary = summary(
-        args,
-        &options,
-        &mortar,
-        t_matrix.map(|t| t.nnz()),
-        pool.current_num_threads(),
-        seconds,
-    );
+    let summary =
+        summary(args, &options, &mortar, t_matrix.map(|t| t.nnz()), pool.current_num_threads(), seconds);
     let json = serde_json::to_string_pretty(&summary).context("summary")?;
     out.write("summary.json", |p| std::fs::write(p, json + "\n"))?;
     out.commit(&["T.mtx"])?;

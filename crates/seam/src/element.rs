@@ -290,31 +290,93 @@ impl PlaneFace {
         ]
     }
 
-    fn newton(&self, mut xi: Xi, e: [f64; 2]) -> InverseMap {
+    /// Newton from the parallelogram guess clamped into [0,1]²: started inside
+    /// the element it finds the element's own root, not the second root of the
+    /// bilinear system (which lies outside and which a strongly distorted quad's
+    /// unclamped guess can lead to). A result outside the element, or no
+    /// convergence, is checked against the exact roots: the one nearest the
+    /// element wins.
+    fn newton(&self, guess: Xi, e: [f64; 2]) -> InverseMap {
+        let start = [guess[0].clamp(0.0, 1.0), guess[1].clamp(0.0, 1.0)];
+        let newton = self.newton_from(start, e);
+        if let Some(xi) = newton {
+            if distance_to_square(xi) <= INSIDE_TOL {
+                return InverseMap::classify(xi, FaceKind::Quad4);
+            }
+        }
+        let residual = |xi: Xi| norm2(self.residual(xi, e)) / self.scale;
+        let exact = closed_form_bilinear(self.b, self.c, self.d, e).filter(|&r| residual(r) < 1e-10);
+        match (newton, exact) {
+            (Some(n), Some(x)) if distance_to_square(x) < distance_to_square(n) => {
+                InverseMap::classify(x, FaceKind::Quad4)
+            }
+            (Some(n), _) => InverseMap::classify(n, FaceKind::Quad4),
+            (None, Some(x)) => InverseMap::classify(x, FaceKind::Quad4),
+            (None, None) => {
+                InverseMap::NotConverged { xi: start, iters: NEWTON_MAX_ITER, residual: residual(start) }
+            }
+        }
+    }
+
+    /// Plain Newton on the bilinear system; `None` if it does not converge.
+    fn newton_from(&self, mut xi: Xi, e: [f64; 2]) -> Option<Xi> {
         let (b, c, d) = (self.b, self.c, self.d);
-        let converged = |r: [f64; 2]| r[0].abs().max(r[1].abs()) <= NEWTON_RTOL * self.scale;
         for _ in 0..NEWTON_MAX_ITER {
             let r = self.residual(xi, e);
-            if converged(r) {
-                return InverseMap::classify(xi, FaceKind::Quad4);
+            if r[0].abs().max(r[1].abs()) <= NEWTON_RTOL * self.scale {
+                return Some(xi);
             }
             let ja = [b[0] + d[0] * xi[1], b[1] + d[1] * xi[1]];
             let jb = [c[0] + d[0] * xi[0], c[1] + d[1] * xi[0]];
             let step = solve2(ja, jb, r);
             if !(step[0].is_finite() && step[1].is_finite()) {
-                break;
+                return None;
             }
             xi = [xi[0] - step[0], xi[1] - step[1]];
             if step[0].abs().max(step[1].abs()) < 1e-15 {
-                return InverseMap::classify(xi, FaceKind::Quad4);
+                return Some(xi);
             }
         }
-        let residual = |xi: Xi| norm2(self.residual(xi, e)) / self.scale;
-        match closed_form_bilinear(b, c, d, e) {
-            Some(root) if residual(root) < 1e-10 => InverseMap::classify(root, FaceKind::Quad4),
-            _ => InverseMap::NotConverged { xi, iters: NEWTON_MAX_ITER, residual: residual(xi) },
+        None
+    }
+
+    /// The map q(ξ) = a + bξ + cη + dξη.
+    #[inline]
+    pub fn map(&self, xi: Xi) -> [f64; 2] {
+        let (a, b, c, d) = (self.a, self.b, self.c, self.d);
+        let st = xi[0] * xi[1];
+        [a[0] + b[0] * xi[0] + c[0] * xi[1] + d[0] * st, a[1] + b[1] * xi[0] + c[1] * xi[1] + d[1] * st]
+    }
+
+    /// ±1: the sign of det ∂q/∂ξ at the centre of the reference cell.
+    pub fn orientation(&self) -> f64 {
+        let m = match self.kind {
+            FaceKind::Tri3 => 1.0 / 3.0,
+            FaceKind::Quad4 => 0.5,
+        };
+        let ja = [self.b[0] + self.d[0] * m, self.b[1] + self.d[1] * m];
+        let jb = [self.c[0] + self.d[0] * m, self.c[1] + self.d[1] * m];
+        if cross2(ja, jb) >= 0.0 {
+            1.0
+        } else {
+            -1.0
         }
     }
+
+    /// True when the map is affine: a triangle, or a quad whose projection is a
+    /// parallelogram (to round-off).
+    pub fn is_affine(&self) -> bool {
+        norm2(self.d) <= 1e-13 * self.scale
+    }
+}
+
+/// How far outside [0,1]² a converged root may lie and still be the element's own.
+const INSIDE_TOL: f64 = 1e-9;
+
+/// Distance from ξ to the square [0,1]² (0 inside).
+fn distance_to_square(xi: Xi) -> f64 {
+    let d = |v: f64| (v - v.clamp(0.0, 1.0)).abs();
+    d(xi[0]).max(d(xi[1]))
 }
 
 /// Newton stops when the residual is below this fraction of the face size.
@@ -394,7 +456,9 @@ impl InverseMap {
 const NEWTON_MAX_ITER: usize = 12;
 
 /// Exact inverse of e = bξ + cη + dξη: crossing with (c + dξ) eliminates η and
-/// leaves (b×d) ξ² + (b×c − e×d) ξ − e×c = 0; the root nearest [0,1] is taken.
+/// leaves (b×d) ξ² + (b×c − e×d) ξ − e×c = 0; of its (up to two) roots, with η
+/// from the least-squares solve of the remaining linear equation, the one
+/// nearest [0,1]² is returned.
 fn closed_form_bilinear(b: [f64; 2], c: [f64; 2], d: [f64; 2], e: [f64; 2]) -> Option<Xi> {
     let qa = cross2(b, d);
     let qb = cross2(b, c) - cross2(e, d);
@@ -409,14 +473,15 @@ fn closed_form_bilinear(b: [f64; 2], c: [f64; 2], d: [f64; 2], e: [f64; 2]) -> O
         let t = -0.5 * (qb + qb.signum() * disc.sqrt());
         [t / qa, qc / t]
     };
-    let distance = |s: f64| if s.is_finite() { (s - s.clamp(0.0, 1.0)).abs() } else { f64::INFINITY };
-    let s = if distance(roots[0]) <= distance(roots[1]) { roots[0] } else { roots[1] };
-    if !s.is_finite() {
-        return None;
+    let with_eta = |s: f64| {
+        let g = [c[0] + d[0] * s, c[1] + d[1] * s];
+        let t = ((e[0] - b[0] * s) * g[0] + (e[1] - b[1] * s) * g[1]) / (g[0] * g[0] + g[1] * g[1]);
+        (s.is_finite() && t.is_finite()).then_some([s, t])
+    };
+    match (with_eta(roots[0]), with_eta(roots[1])) {
+        (Some(x), Some(y)) => Some(if distance_to_square(x) <= distance_to_square(y) { x } else { y }),
+        (x, y) => x.or(y),
     }
-    let g = [c[0] + d[0] * s, c[1] + d[1] * s];
-    let t = ((e[0] - b[0] * s) * g[0] + (e[1] - b[1] * s) * g[1]) / (g[0] * g[0] + g[1] * g[1]);
-    t.is_finite().then_some([s, t])
 }
 
 /// Shape functions of `kind` at ξ; entry 3 is 0 for a triangle.
@@ -572,6 +637,61 @@ mod tests {
             l[0] * q[0][1] + l[1] * q[1][1] + l[2] * q[2][1] + l[3] * q[3][1],
         ];
         assert!((p[0] - target[0]).abs() < 1e-13 && (p[1] - target[1]).abs() < 1e-13, "{xi:?} -> {p:?}");
+    }
+
+    /// issue: a convex quad with a 148° angle (from a jittered 200k-face mesh)
+    /// whose parallelogram guess for its third corner led Newton to the second
+    /// root (−0.431, 2.343) of the bilinear system instead of (1, 1).
+    #[test]
+    fn newton_finds_the_elements_root_on_a_distorted_convex_quad() {
+        let q = [
+            [0.7870618857440987, 0.9534040592414329],
+            [0.7901480800975261, 0.9525948663665575],
+            [0.7893474648094624, 0.955697475223923],
+            [0.7879061164954276, 0.9549118483176244],
+        ];
+        let face = PlaneFace::new(FaceKind::Quad4, q);
+        for (k, corner) in [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]].into_iter().enumerate() {
+            let xi = face.inverse(q[k]).xi();
+            assert!(
+                (xi[0] - corner[0]).abs() < 1e-9 && (xi[1] - corner[1]).abs() < 1e-9,
+                "corner {k}: {xi:?}"
+            );
+        }
+    }
+
+    /// A random convex quad, possibly strongly distorted: four points at random
+    /// angles on an ellipse (angles in order), so the quad is convex with
+    /// interior angles up to nearly 180°.
+    fn distorted_convex_quad() -> impl Strategy<Value = [[f64; 2]; 4]> {
+        (prop::array::uniform4(0.0f64..1.0), 0.2f64..1.0, 0.0f64..3.1).prop_map(|(u, aspect, tilt)| {
+            let mut a: Vec<f64> = u
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (i as f64 + 0.05 + 0.9 * v) * std::f64::consts::FRAC_PI_2)
+                .collect();
+            a.sort_by(f64::total_cmp);
+            let p = |t: f64| {
+                let (x, y) = (t.cos(), aspect * t.sin());
+                [x * tilt.cos() - y * tilt.sin(), x * tilt.sin() + y * tilt.cos()]
+            };
+            [p(a[0]), p(a[1]), p(a[2]), p(a[3])]
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        /// On any convex quad, however distorted, the inverse of a point of the
+        /// element is its own reference coordinate.
+        #[test]
+        fn inverse_is_exact_on_distorted_convex_quads(q in distorted_convex_quad(), s in 0.0f64..1.0, t in 0.0f64..1.0) {
+            let face = PlaneFace::new(FaceKind::Quad4, q);
+            let r = face.inverse(face.map([s, t]));
+            let xi = r.xi();
+            prop_assert!(matches!(r, InverseMap::Inside(_)), "{r:?}");
+            prop_assert!((xi[0] - s).abs() < 1e-7 && (xi[1] - t).abs() < 1e-7, "{xi:?} vs ({s}, {t})");
+        }
     }
 
     proptest! {

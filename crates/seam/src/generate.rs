@@ -22,6 +22,15 @@ pub enum Pattern {
         /// Seed of the deterministic generator.
         seed: u64,
     },
+    /// As `Quads`, with the grid points moved as for `JitteredTriangles`: general
+    /// convex quads, not parallelograms.
+    JitteredQuads {
+        /// Largest move, in cell sizes, along each axis (up to about 0.3 the quads
+        /// stay convex; larger moves can fold them).
+        amplitude: f64,
+        /// Seed of the deterministic generator.
+        seed: u64,
+    },
 }
 
 /// A patch of `nu × nv` cells on the map `x`.
@@ -30,13 +39,11 @@ pub enum Pattern {
 /// If `nu` or `nv` is zero, or the map makes a degenerate face.
 pub fn patch(nu: usize, nv: usize, pattern: Pattern, x: impl Fn(f64, f64) -> Point3) -> SurfaceMesh {
     assert!(nu > 0 && nv > 0, "a patch needs at least one cell in each direction");
-    let mut rng = match pattern {
-        Pattern::JitteredTriangles { seed, .. } => SplitMix64(seed),
-        _ => SplitMix64(0),
-    };
-    let amplitude = match pattern {
-        Pattern::JitteredTriangles { amplitude, .. } => amplitude,
-        _ => 0.0,
+    let (amplitude, mut rng) = match pattern {
+        Pattern::JitteredTriangles { amplitude, seed } | Pattern::JitteredQuads { amplitude, seed } => {
+            (amplitude, SplitMix64(seed))
+        }
+        Pattern::Quads | Pattern::Triangles => (0.0, SplitMix64(0)),
     };
     let mut points = Vec::with_capacity((nu + 1) * (nv + 1));
     for j in 0..=nv {
@@ -58,7 +65,7 @@ pub fn patch(nu: usize, nv: usize, pattern: Pattern, x: impl Fn(f64, f64) -> Poi
         for i in 0..nu {
             let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
             match pattern {
-                Pattern::Quads => faces.push(Face::Quad4([a, b, c, d])),
+                Pattern::Quads | Pattern::JitteredQuads { .. } => faces.push(Face::Quad4([a, b, c, d])),
                 _ if (i + j) % 2 == 0 => faces.extend([Face::Tri3([a, b, c]), Face::Tri3([a, c, d])]),
                 _ => faces.extend([Face::Tri3([a, b, d]), Face::Tri3([b, c, d])]),
             }

@@ -202,6 +202,55 @@ fn flat_unstructured_triangles_against_structured_quads() {
     }
 }
 
+/// Peer-comparison finding: with general (non-parallelogram) quads the master
+/// coordinates of quadrature points must come from inverse projection, not from
+/// the affine map between reference triangles, or B is off by percents and I4
+/// fails.
+#[test]
+fn flat_general_quads_reproduce_linear_fields() {
+    let quads = patch(9, 8, Pattern::JitteredQuads { amplitude: 0.3, seed: 17 }, flat(1.0, 1.0));
+    let other_quads = patch(7, 10, Pattern::JitteredQuads { amplitude: 0.3, seed: 3 }, flat(1.0, 1.0));
+    // Convex, but far from parallelograms: the largest interior angle.
+    let mut largest: f64 = 0.0;
+    for mesh in [&quads, &other_quads] {
+        for f in 0..mesh.n_faces() {
+            let c = mesh.corners(f);
+            for k in 0..4 {
+                let (a, b, d) = (c[(k + 3) % 4], c[k], c[(k + 1) % 4]);
+                let (u, v) = ([a[0] - b[0], a[1] - b[1]], [d[0] - b[0], d[1] - b[1]]);
+                let turn = (d[0] - b[0]) * (b[1] - a[1]) - (d[1] - b[1]) * (b[0] - a[0]);
+                assert!(turn < 0.0, "face {f} is not convex");
+                largest = largest.max((u[0] * v[1] - u[1] * v[0]).abs().atan2(u[0] * v[0] + u[1] * v[1]));
+            }
+        }
+    }
+    assert!(largest.to_degrees() > 120.0, "the quads must be strongly distorted: {}", largest.to_degrees());
+    let tris = patch(11, 12, jittered(23), flat(1.0, 1.0));
+    for (master, slave) in [(&tris, &quads), (&quads, &tris), (&other_quads, &quads)] {
+        let m = check_general_invariants(master, slave, options(Multiplier::Standard));
+        assert!((m.summary.covered_area - 1.0).abs() < EXACT);
+        check_linear_reproduction(master, slave);
+    }
+    check_identity(&quads);
+}
+
+/// Peer-comparison finding: a convex quad with a 148° angle, against itself,
+/// lost 29 % of its area when Newton found the bilinear system's second root.
+#[test]
+fn issue_distorted_convex_quad_against_itself() {
+    let p = vec![
+        [0.7870618857440987, 0.9534040592414329, 0.0],
+        [0.7901480800975261, 0.9525948663665575, 0.0],
+        [0.7893474648094624, 0.955697475223923, 0.0],
+        [0.7879061164954276, 0.9549118483176244, 0.0],
+    ];
+    let quad = SurfaceMesh::new(p, vec![Face::Quad4([0, 1, 2, 3])]).unwrap();
+    let m = assemble(&quad, &quad, &MortarOptions::default()).unwrap();
+    let a = m.summary.slave_area;
+    assert!((m.summary.covered_area - a).abs() < EXACT * a, "covered {} of {a}", m.summary.covered_area);
+    check_identity(&quad);
+}
+
 #[test]
 fn flat_mixed_quads_and_triangles() {
     // A mesh with both face types: the left half quads, the right half triangles.

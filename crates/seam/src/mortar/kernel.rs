@@ -92,6 +92,8 @@ struct SlaveFace {
     jacobian: JacobianField,
     /// Heights n·(x_i − o) of the corners above the frame's plane.
     heights: [f64; 4],
+    /// ±1: the orientation of the slave's map ξ ↦ plane, at the face centre.
+    orientation: f64,
     frame: Frame,
     plane: PlaneFace,
     clipper: ConvexClipper,
@@ -172,6 +174,7 @@ impl<'a> Kernel<'a> {
             area_tol: AREA_RTOL * polygon_area(&polygon),
             jacobian: element.jacobian_field(),
             heights: element.x.map(|x| frame.height(x)),
+            orientation: plane.orientation(),
             element,
             frame,
             plane,
@@ -220,11 +223,18 @@ impl<'a> Kernel<'a> {
         stats.max_gap = stats.max_gap.max(gap);
         stats.max_overlap = stats.max_overlap.max(overlap);
         let rule = self.rules.select(sf, em.kind);
+        // Where both projected faces are affine (triangles, parallelograms), ξ_m is
+        // an affine function of ξ_s on each segment; otherwise each quadrature
+        // point is inverse-projected onto the master face.
+        let master_map = match sf.plane.is_affine() && master_plane.is_affine() {
+            true => MasterCoordinates::Affine,
+            false => MasterCoordinates::Projected { slave: &sf.plane, master: &master_plane },
+        };
         let mut block = PairBlock { d: [[0.0; 4]; 4], b: [[0.0; 4]; 4], covered_area: 0.0, segments: 0 };
         for [a, b, c] in fan_triangles(polygon.len()) {
             let ts = [xs[a], xs[b], xs[c]];
             let tm = [xm[a], xm[b], xm[c]];
-            integrate_segment(sf, &em, ts, tm, &rule, &mut block);
+            integrate_segment(sf, em.kind, ts, tm, master_map, &rule, &mut block);
         }
         // D is symmetric: only its upper triangle was accumulated.
         for p in 0..4 {
@@ -251,29 +261,66 @@ fn inverse(plane: &PlaneFace, p: [f64; 2], stats: &mut FaceStats) -> Xi {
     r.xi()
 }
 
+/// How the quadrature points of a segment get their master reference
+/// coordinates ξ_m (D2–D3).
+#[derive(Clone, Copy)]
+enum MasterCoordinates<'a> {
+    /// By the affine map between the segment's slave and master reference
+    /// triangles: exact when ξ_s ↦ ξ_m is affine (both projected faces affine).
+    Affine,
+    /// By inverse projection of the slave point q_s(ξ_s) onto the master face:
+    /// exact for any faces, so that on a flat interface B reproduces linear
+    /// fields exactly (I4) also for general quads.
+    Projected {
+        /// The slave face in the projection plane.
+        slave: &'a PlaneFace,
+        /// The master face in the projection plane.
+        master: &'a PlaneFace,
+    },
+}
+
+impl MasterCoordinates<'_> {
+    #[inline(always)]
+    fn at(&self, xis: Xi, tm: [Xi; 3], pt: [f64; 2]) -> Xi {
+        match self {
+            MasterCoordinates::Affine => barycentric(tm, pt),
+            MasterCoordinates::Projected { slave, master } => master.inverse(slave.map(xis)).xi(),
+        }
+    }
+}
+
 /// (D3)–(D5) on one intersection triangle with reference images `ts` (slave) and
-/// `tm` (master): the quadrature points are mapped affinely onto both, and
-/// ω'_l = ω_l |J_s(x_l^s)| |T̂s|. Dispatches once to the loop specialised for the
-/// two faces' node counts.
+/// `tm` (master): the quadrature points are placed affinely in the slave's
+/// reference triangle, given their master coordinates by `master_map`, and
+/// weighted by ω'_l = ω_l |J_s(x_l^s)| |T̂s| (|T̂s| signed, see below). Dispatches once to the loop
+/// specialised for the two faces' node counts.
 #[inline]
 fn integrate_segment(
     sf: &SlaveFace,
-    em: &FaceElement,
+    master: FaceKind,
     ts: [Xi; 3],
     tm: [Xi; 3],
+    master_map: MasterCoordinates,
     rule: &TriangleRule,
     block: &mut PairBlock,
 ) {
-    let area_ref = triangle_area(ts);
+    // Signed, relative to the orientation of the slave's map: the fan of a convex
+    // polygon of the plane can map to a non-convex one in ξ_s (a quad's inverse
+    // map is not affine), whose fan triangles overlap; signed, they still add up
+    // to exactly the polygon.
+    let area_ref = sf.orientation * signed_area(ts);
     if area_ref == 0.0 {
         return;
     }
     block.segments += 1;
-    match (sf.element.kind, em.kind) {
-        (FaceKind::Tri3, FaceKind::Tri3) => accumulate::<3, 3>(&sf.jacobian, ts, tm, area_ref, rule, block),
-        (FaceKind::Tri3, FaceKind::Quad4) => accumulate::<3, 4>(&sf.jacobian, ts, tm, area_ref, rule, block),
-        (FaceKind::Quad4, FaceKind::Tri3) => accumulate::<4, 3>(&sf.jacobian, ts, tm, area_ref, rule, block),
-        (FaceKind::Quad4, FaceKind::Quad4) => accumulate::<4, 4>(&sf.jacobian, ts, tm, area_ref, rule, block),
+    let j = &sf.jacobian;
+    match (sf.element.kind, master) {
+        (FaceKind::Tri3, FaceKind::Tri3) => accumulate::<3, 3>(j, ts, tm, master_map, area_ref, rule, block),
+        (FaceKind::Tri3, FaceKind::Quad4) => accumulate::<3, 4>(j, ts, tm, master_map, area_ref, rule, block),
+        (FaceKind::Quad4, FaceKind::Tri3) => accumulate::<4, 3>(j, ts, tm, master_map, area_ref, rule, block),
+        (FaceKind::Quad4, FaceKind::Quad4) => {
+            accumulate::<4, 4>(j, ts, tm, master_map, area_ref, rule, block)
+        }
     }
 }
 
@@ -285,6 +332,7 @@ fn accumulate<const NS: usize, const NM: usize>(
     jacobian: &JacobianField,
     ts: [Xi; 3],
     tm: [Xi; 3],
+    master_map: MasterCoordinates,
     area_ref: f64,
     rule: &TriangleRule,
     block: &mut PairBlock,
@@ -292,7 +340,7 @@ fn accumulate<const NS: usize, const NM: usize>(
     for (pt, &w) in rule.points.iter().zip(rule.weights) {
         let xis = barycentric(ts, *pt);
         let phi: [f64; NS] = shape_of(xis);
-        let lam: [f64; NM] = shape_of(barycentric(tm, *pt));
+        let lam: [f64; NM] = shape_of(master_map.at(xis, tm, *pt));
         let wj = w * area_ref * jacobian.at(xis);
         block.covered_area += wj;
         for p in 0..NS {
@@ -330,7 +378,13 @@ pub(super) fn barycentric(t: [Xi; 3], pt: [f64; 2]) -> Xi {
 
 #[inline]
 pub(super) fn triangle_area(t: [Xi; 3]) -> f64 {
-    0.5 * ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0])).abs()
+    signed_area(t).abs()
+}
+
+/// Signed area of triangle `t` (positive when counter-clockwise).
+#[inline]
+fn signed_area(t: [Xi; 3]) -> f64 {
+    0.5 * ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]))
 }
 
 /// Sorts a face block's columns by master point (insertion sort: a dozen
