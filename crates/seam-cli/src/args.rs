@@ -120,7 +120,7 @@ pub struct ExampleArgs {
 pub enum BenchShape {
     /// The unit square.
     Flat,
-    /// A quarter cylinder (radius 1, height 1), the master at radius 1.01.
+    /// A quarter cylinder (radius 1, height 1), the master at radius 1.001.
     Cylinder,
 }
 

@@ -393,6 +393,14 @@ pub enum JacobianField {
 }
 
 impl JacobianField {
+    /// True when |J| is constant (triangles, parallelograms), to round-off.
+    pub fn is_constant(&self) -> bool {
+        match self {
+            JacobianField::Affine(j) => j[1].abs() + j[2].abs() <= 1e-13 * j[0].abs(),
+            JacobianField::Norm(_) => false,
+        }
+    }
+
     /// |J(ξ)|.
     #[inline]
     pub fn at(&self, xi: Xi) -> f64 {

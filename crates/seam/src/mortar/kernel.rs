@@ -34,6 +34,8 @@ pub(super) struct Rules {
     tri_quad: TriangleRule,
     /// Planar slave quad: ψ (2) × λ (2) × |J| (1, affine on a planar quad).
     planar_quad: TriangleRule,
+    /// Parallelogram slave quad: |J| is constant, ψ (2) × λ (≤ 2).
+    parallelogram: TriangleRule,
     /// Warped slave quad: |J| is not a polynomial; the rule is fixed by the
     /// options or chosen per face.
     fixed_warped: Option<TriangleRule>,
@@ -45,6 +47,7 @@ impl Rules {
             tri_tri: rule(2),
             tri_quad: rule(3),
             planar_quad: rule(5),
+            parallelogram: rule(4),
             fixed_warped: warped_degree.map(rule),
         }
     }
@@ -53,7 +56,11 @@ impl Rules {
         match (slave.element.kind, master) {
             (FaceKind::Tri3, FaceKind::Tri3) => self.tri_tri,
             (FaceKind::Tri3, FaceKind::Quad4) => self.tri_quad,
-            (FaceKind::Quad4, _) => slave.warped_rule.unwrap_or(self.planar_quad),
+            (FaceKind::Quad4, _) => match slave.warped_rule {
+                Some(warped) => warped,
+                None if slave.jacobian.is_constant() => self.parallelogram,
+                None => self.planar_quad,
+            },
         }
     }
 }

@@ -109,7 +109,7 @@ impl PointFaces {
 pub(super) fn into_mortar(
     master: &SurfaceMesh,
     slave: &SurfaceMesh,
-    blocks: ChunkedBlocks,
+    mut blocks: ChunkedBlocks,
     multiplier: Multiplier,
     mut summary: MortarSummary,
 ) -> Mortar {
@@ -121,6 +121,12 @@ pub(super) fn into_mortar(
             out.push((c.cols[j], c.b[j * 4 + l]));
         }
     });
+    // The B blocks are done with: free them before D is built (peak memory).
+    for c in &mut blocks.chunks {
+        c.cols = Vec::new();
+        c.b = Vec::new();
+        c.col_ptr = Vec::new();
+    }
     let d = sum_rows(n, n, &around, |f, l, out| {
         let (c, k) = blocks.at(f);
         for (q, &node) in slave.faces()[f].nodes().iter().enumerate() {
@@ -147,7 +153,7 @@ pub(super) fn into_mortar(
     let on_surface = slave.used_points();
     let covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
     summary.uncovered_slave_nodes = (0..n).filter(|&p| on_surface[p] && !covered[p]).count();
-    let faces = blocks.stats().copied().collect();
+    let faces = blocks.chunks.iter_mut().flat_map(|c| std::mem::take(&mut c.faces)).collect();
     Mortar { b, d, multiplier, faces, node_coverage, covered, on_surface, summary }
 }
 
