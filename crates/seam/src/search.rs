@@ -47,14 +47,16 @@ impl Aabb {
         }
     }
 
+    /// Whether the box meets [lo, hi]; `&` rather than `&&`, so that the six
+    /// comparisons compile without branches.
     #[inline]
     fn meets(&self, lo: &Point3, hi: &Point3) -> bool {
-        self.lo[0] <= hi[0]
-            && lo[0] <= self.hi[0]
-            && self.lo[1] <= hi[1]
-            && lo[1] <= self.hi[1]
-            && self.lo[2] <= hi[2]
-            && lo[2] <= self.hi[2]
+        (self.lo[0] <= hi[0])
+            & (lo[0] <= self.hi[0])
+            & (self.lo[1] <= hi[1])
+            & (lo[1] <= self.hi[1])
+            & (self.lo[2] <= hi[2])
+            & (lo[2] <= self.hi[2])
     }
 
     /// Squared distance from `p` to the box (0 inside).

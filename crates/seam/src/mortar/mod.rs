@@ -320,6 +320,13 @@ pub fn assemble_with_tree(
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Mortar, MortarError> {
     check_options(options)?;
+    if master.n_points() > u32::MAX as usize {
+        return Err(MortarError::InvalidOption(format!(
+            "the master mesh has {} points; at most {} are supported",
+            master.n_points(),
+            u32::MAX
+        )));
+    }
     let kernel = Kernel::new(master, tree, slave, options);
     const CHUNK: usize = 256;
     let n = slave.n_faces();
@@ -336,6 +343,7 @@ pub fn assemble_with_tree(
             blocks
         })
         .collect();
+    drop(kernel); // its per-master-face data is not needed any more (peak memory)
     let blocks = ChunkedBlocks { chunks, chunk: CHUNK };
     let summary = summarize(master, slave, blocks.stats());
     if summary.intersecting_pairs == 0 {

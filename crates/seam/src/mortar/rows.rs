@@ -16,7 +16,8 @@ use rayon::prelude::*;
 pub(super) struct Blocks {
     /// `col_ptr[f]..col_ptr[f + 1]` indexes face f's columns in `cols`.
     col_ptr: Vec<usize>,
-    cols: Vec<usize>,
+    /// Master point indices (u32: half the memory; checked in `assemble_with_tree`).
+    cols: Vec<u32>,
     /// Column-major 4-row blocks: `b[j * 4 + p]` for column j of `cols`.
     b: Vec<f64>,
     /// Row-major 4×4 blocks of D.
@@ -41,7 +42,7 @@ impl Blocks {
     }
 
     pub(super) fn push(&mut self, cols: &[usize], b: &[f64], d: [f64; 16], full: [f64; 4], stats: FaceStats) {
-        self.cols.extend_from_slice(cols);
+        self.cols.extend(cols.iter().map(|&c| c as u32));
         self.b.extend_from_slice(b);
         self.col_ptr.push(self.cols.len());
         self.d.push(d);
@@ -118,7 +119,7 @@ pub(super) fn into_mortar(
     let b = sum_rows(n, master.n_points(), &around, |f, l, out| {
         let (c, k) = blocks.at(f);
         for j in c.cols(k) {
-            out.push((c.cols[j], c.b[j * 4 + l]));
+            out.push((c.cols[j] as usize, c.b[j * 4 + l]));
         }
     });
     // The B blocks are done with: free them before D is built (peak memory).
