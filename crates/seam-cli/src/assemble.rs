@@ -152,6 +152,7 @@ fn options(args: &AssembleArgs) -> anyhow::Result<MortarOptions> {
         max_gap,
         max_angle_degrees: args.max_angle,
         warped_quad_degree: args.quad_order,
+        record_segments: false,
     })
 }
 

@@ -60,8 +60,9 @@ pub use clip::{
 pub use element::{shape, FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
 pub use mesh::{area_vector, Cell, Face, MeshError, Point3, SurfaceMesh, VolumeMesh, ZERO_AREA_RTOL};
 pub use mortar::{
-    assemble, assemble_with_tree, face_integrals, warped_quad_degree, FaceStats, Facing, MaxGap, Mortar,
-    MortarError, MortarOptions, MortarSummary, Multiplier, Transfer, COVERED_FRACTION, WARPED_RTOL,
+    assemble, assemble_with_tree, face_integrals, face_quality, nodal_normals, normal_gaps,
+    warped_quad_degree, FaceQuality, FaceStats, Facing, MaxGap, Mortar, MortarError, MortarOptions,
+    MortarSummary, Multiplier, Segment, Transfer, COVERED_FRACTION, WARPED_RTOL,
 };
 pub use quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};
 pub use search::{face_box, swept_box, FaceTree};

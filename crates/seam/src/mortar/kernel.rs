@@ -10,7 +10,7 @@
 
 use super::multiplier::apply_multiplier;
 use super::rows::Blocks;
-use super::{face_integrals, warped_quad_degree, FaceStats, Facing, MortarOptions};
+use super::{face_integrals, warped_quad_degree, FaceStats, Facing, MortarOptions, Segment};
 use crate::clip::{face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame, MAX_POLYGON};
 use crate::element::{dot, FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
 use crate::mesh::{Point3, SurfaceMesh};
@@ -151,7 +151,8 @@ impl<'a> Kernel<'a> {
         self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates);
         stats.candidates = scratch.candidates.len() as u32;
         for &m in &scratch.candidates {
-            let Some(pair) = self.pair(&sf, m, &mut stats) else { continue };
+            let record = self.options.record_segments.then_some(&mut out.segments);
+            let Some(pair) = self.pair(&sf, s, m, &mut stats, record) else { continue };
             stats.intersecting += 1;
             stats.segments += pair.segments;
             stats.covered_area += pair.covered_area;
@@ -191,7 +192,14 @@ impl<'a> Kernel<'a> {
 
     /// (C1)–(C6) for the pair (slave face, master face `m`); `None` when the pair
     /// is filtered out or does not overlap.
-    fn pair(&self, sf: &SlaveFace, m: usize, stats: &mut FaceStats) -> Option<PairBlock> {
+    fn pair(
+        &self,
+        sf: &SlaveFace,
+        s: usize,
+        m: usize,
+        stats: &mut FaceStats,
+        mut record: Option<&mut Vec<Segment>>,
+    ) -> Option<PairBlock> {
         let cos = dot(sf.frame.normal(), self.master_normals[m]);
         let aligned = match self.options.facing {
             Facing::Any => cos.abs(),
@@ -242,6 +250,9 @@ impl<'a> Kernel<'a> {
             let ts = [xs[a], xs[b], xs[c]];
             let tm = [xm[a], xm[b], xm[c]];
             integrate_segment(sf, em.kind, ts, tm, master_map, &rule, &mut block);
+            if let Some(segments) = record.as_deref_mut() {
+                segments.push(Segment { slave: s, master: m, corners: ts.map(|xi| sf.element.map(xi)) });
+            }
         }
         // D is symmetric: only its upper triangle was accumulated.
         for p in 0..4 {

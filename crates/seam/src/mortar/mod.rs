@@ -17,15 +17,17 @@
 //! face); rows are then summed face by face in increasing face order. B, D and T
 //! are therefore bit-for-bit the same for any number of threads.
 
+mod diagnostics;
 mod kernel;
 mod multiplier;
 mod rows;
 mod transfer;
 
+pub use diagnostics::{face_quality, nodal_normals, normal_gaps, FaceQuality};
 pub use transfer::Transfer;
 
 use crate::element::FaceElement;
-use crate::mesh::SurfaceMesh;
+use crate::mesh::{Point3, SurfaceMesh};
 use crate::quadrature::{triangle_rule, MAX_TRIANGLE_DEGREE};
 use crate::search::FaceTree;
 use crate::sparse::CsrMatrix;
@@ -148,6 +150,8 @@ pub struct MortarOptions {
     /// per face ([`warped_quad_degree`]). Polynomial integrands —
     /// triangles, planar quads — always get an exact rule.
     pub warped_quad_degree: Option<usize>,
+    /// Keep the intersection triangles ([`Mortar::segments`]), for inspection.
+    pub record_segments: bool,
 }
 
 impl Default for MortarOptions {
@@ -158,6 +162,7 @@ impl Default for MortarOptions {
             max_gap: MaxGap::DEFAULT,
             max_angle_degrees: 45.0,
             warped_quad_degree: None,
+            record_segments: false,
         }
     }
 }
@@ -267,6 +272,18 @@ impl Mortar {
     }
 }
 
+/// One intersection triangle (a mortar segment) on the slave surface: the
+/// images x_s(ξ_s) of its corners, and the faces whose overlap it is part of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment {
+    /// Slave face index.
+    pub slave: usize,
+    /// Master face index.
+    pub master: usize,
+    /// Corners on the slave surface.
+    pub corners: [Point3; 3],
+}
+
 /// A node counts as covered when the covered part of its support carries more
 /// than this fraction of ∫ λ_p.
 pub const COVERED_FRACTION: f64 = 1e-10;
@@ -288,6 +305,9 @@ pub struct Mortar {
     pub covered: Vec<bool>,
     /// Per slave point: used by some slave face.
     pub on_surface: Vec<bool>,
+    /// The intersection triangles, in slave face order, when
+    /// [`MortarOptions::record_segments`] was set (empty otherwise).
+    pub segments: Vec<Segment>,
     /// Totals.
     pub summary: MortarSummary,
 }

@@ -6,7 +6,7 @@
 //! of the block rows for p — so the result does not depend on how faces were
 //! spread over threads (I7).
 
-use super::{FaceStats, Mortar, MortarSummary, Multiplier, COVERED_FRACTION};
+use super::{FaceStats, Mortar, MortarSummary, Multiplier, Segment, COVERED_FRACTION};
 use crate::mesh::SurfaceMesh;
 use crate::sparse::CsrMatrix;
 use rayon::prelude::*;
@@ -25,6 +25,8 @@ pub(super) struct Blocks {
     /// ∫_e λ_p |J| over the whole face.
     full: Vec<[f64; 4]>,
     pub(super) faces: Vec<FaceStats>,
+    /// Intersection triangles, when recorded.
+    pub(super) segments: Vec<Segment>,
 }
 
 impl Blocks {
@@ -36,6 +38,7 @@ impl Blocks {
             d: Vec::with_capacity(faces),
             full: Vec::with_capacity(faces),
             faces: Vec::with_capacity(faces),
+            segments: Vec::new(),
         };
         b.col_ptr.push(0);
         b
@@ -155,7 +158,8 @@ pub(super) fn into_mortar(
     let covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
     summary.uncovered_slave_nodes = (0..n).filter(|&p| on_surface[p] && !covered[p]).count();
     let faces = blocks.chunks.iter_mut().flat_map(|c| std::mem::take(&mut c.faces)).collect();
-    Mortar { b, d, multiplier, faces, node_coverage, covered, on_surface, summary }
+    let segments = blocks.chunks.iter_mut().flat_map(|c| std::mem::take(&mut c.segments)).collect();
+    Mortar { b, d, multiplier, faces, node_coverage, covered, on_surface, segments, summary }
 }
 
 /// Builds an nrows × ncols CSR matrix whose row p collects, for each face around
