@@ -16,6 +16,11 @@ pub struct Cli {
 pub enum Command {
     /// Assemble B, D (and T) between a master and a slave surface mesh.
     Assemble(AssembleArgs),
+    /// Move a field (or a load) from one surface mesh to the other.
+    Transfer(TransferArgs),
+    /// Report on how two surfaces meet: coverage, gaps, orientation, face
+    /// quality and the invariants of the assembled operator.
+    Check(CheckArgs),
     /// Run a built-in example that makes its own meshes.
     Example(ExampleArgs),
     /// Benchmark the assembly on generated meshes and print a Markdown table
@@ -49,22 +54,10 @@ pub enum FacingArg {
     Opposite,
 }
 
-#[derive(Args, Debug)]
-pub struct AssembleArgs {
-    /// Master (mortar) surface: a Gmsh MSH file (2.2 or 4.1, ASCII or binary).
-    pub master: PathBuf,
-    /// Slave (non-mortar) surface: a Gmsh MSH file; rows of B and D follow its nodes.
-    pub slave: PathBuf,
-    /// Output directory for B.mtx, D.mtx, T.mtx (dual, lumped) and summary.json.
-    #[arg(short, long, value_name = "DIR")]
-    pub output: PathBuf,
-    /// Physical surface of the master file, by name or number (default: all
-    /// surface elements, or the boundary of the volume mesh).
-    #[arg(long, value_name = "G")]
-    pub master_group: Option<String>,
-    /// Physical surface of the slave file, by name or number.
-    #[arg(long, value_name = "G")]
-    pub slave_group: Option<String>,
+/// How the two surfaces are coupled: the options `assemble`, `transfer` and
+/// `check` share.
+#[derive(Args, Debug, Clone)]
+pub struct CouplingArgs {
     /// Lagrange multiplier basis.
     #[arg(long, value_enum, default_value_t)]
     pub multiplier: MultiplierArg,
@@ -86,7 +79,110 @@ pub struct AssembleArgs {
     /// Worker threads [default: all cores].
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
-    /// Overwrite output files that already exist in DIR.
+}
+
+#[derive(Args, Debug)]
+pub struct AssembleArgs {
+    /// Master (mortar) surface: a Gmsh MSH file (2.2 or 4.1, ASCII or binary).
+    pub master: PathBuf,
+    /// Slave (non-mortar) surface: a Gmsh MSH file; rows of B and D follow its nodes.
+    pub slave: PathBuf,
+    /// Output directory for B.mtx, D.mtx, T.mtx (dual, lumped) and summary.json.
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+    /// Physical surface of the master file, by name or number (default: all
+    /// surface elements, or the boundary of the volume mesh).
+    #[arg(long, value_name = "G")]
+    pub master_group: Option<String>,
+    /// Physical surface of the slave file, by name or number.
+    #[arg(long, value_name = "G")]
+    pub slave_group: Option<String>,
+    #[command(flatten)]
+    pub coupling: CouplingArgs,
+    /// Also write the intersection triangles (mortar segments) on the slave
+    /// side, with their slave and master face ids, as a VTU file.
+    #[arg(long, value_name = "FILE.vtu")]
+    pub segments: Option<PathBuf>,
+    /// Overwrite output files that already exist.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// How a field crosses the interface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum ModeArg {
+    /// Values (temperatures, displacements): TARGET is the slave side and gets
+    /// T·(source values); constants stay constants.
+    #[default]
+    Consistent,
+    /// Nodal loads (forces, fluxes): SOURCE is the slave side and the loads are
+    /// mapped with Tᵀ, so the total is kept exactly.
+    Conservative,
+}
+
+#[derive(Args, Debug)]
+#[command(group(clap::ArgGroup::new("values").required(true).args(["field", "expr"])))]
+pub struct TransferArgs {
+    /// The surface that carries the field: a Gmsh MSH file (fields from its
+    /// $NodeData) or a VTU file (fields from its point data).
+    pub source: PathBuf,
+    /// The surface that receives it: a Gmsh MSH or VTU file.
+    pub target: PathBuf,
+    /// Output: the target surface with the transferred field, `coverage` and
+    /// `normal_gap`, as VTU; a summary is written beside it as OUT.json.
+    #[arg(short, long, value_name = "OUT.vtu")]
+    pub output: PathBuf,
+    /// The field of SOURCE to transfer (scalar or vector).
+    #[arg(long, value_name = "NAME")]
+    pub field: Option<String>,
+    /// Instead of a field: an expression in x, y, z evaluated at the source
+    /// nodes, e.g. "sin(x)*y + z"; the summary reports the L2 error on the
+    /// target against the same expression.
+    #[arg(long, value_name = "EXPR")]
+    pub expr: Option<String>,
+    /// Name of the transferred field given by --expr.
+    #[arg(long, value_name = "NAME", default_value = "f")]
+    pub name: String,
+    /// Consistent (values) or conservative (loads) transfer.
+    #[arg(long, value_enum, default_value_t)]
+    pub mode: ModeArg,
+    /// Physical surface of SOURCE (MSH), by name or number.
+    #[arg(long, value_name = "G")]
+    pub source_group: Option<String>,
+    /// Physical surface of TARGET (MSH), by name or number.
+    #[arg(long, value_name = "G")]
+    pub target_group: Option<String>,
+    #[command(flatten)]
+    pub coupling: CouplingArgs,
+    /// Overwrite output files that already exist.
+    #[arg(long)]
+    pub force: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct CheckArgs {
+    /// Master surface: a Gmsh MSH or VTU file.
+    pub master: PathBuf,
+    /// Slave surface: a Gmsh MSH or VTU file.
+    pub slave: PathBuf,
+    /// Physical surface of the master file, by name or number.
+    #[arg(long, value_name = "G")]
+    pub master_group: Option<String>,
+    /// Physical surface of the slave file, by name or number.
+    #[arg(long, value_name = "G")]
+    pub slave_group: Option<String>,
+    #[command(flatten)]
+    pub coupling: CouplingArgs,
+    /// Write the per-node coverage and normal gap on the slave surface as VTU.
+    #[arg(long, value_name = "FILE.vtu")]
+    pub vtu: Option<PathBuf>,
+    /// Write the report as JSON.
+    #[arg(long, value_name = "FILE.json")]
+    pub json: Option<PathBuf>,
+    /// Exit with code 3 when the coverage is incomplete or an invariant is violated.
+    #[arg(long)]
+    pub strict: bool,
+    /// Overwrite output files that already exist.
     #[arg(long)]
     pub force: bool,
 }

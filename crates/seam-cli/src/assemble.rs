@@ -1,20 +1,18 @@
 //! `seam assemble MASTER SLAVE -o DIR`: read, search, assemble, write.
 
-use crate::args::{AssembleArgs, FacingArg, MultiplierArg};
+use crate::args::{AssembleArgs, CouplingArgs, FacingArg, MultiplierArg};
 use crate::output::Staged;
 use crate::Failure;
 use anyhow::{anyhow, Context};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use seam::{
-    assemble_with_tree, FaceTree, Facing, MaxGap, Mortar, MortarError, MortarOptions, MortarSummary,
-    Multiplier, SurfaceMesh,
+    assemble_with_tree, Face, FaceTree, Facing, MaxGap, Mortar, MortarError, MortarOptions, MortarSummary,
+    Multiplier, Point3, Segment, SurfaceMesh,
 };
+use seam_io::Field;
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
-
-/// The files `assemble` may write.
-const OUTPUTS: [&str; 4] = ["B.mtx", "D.mtx", "T.mtx", "summary.json"];
 
 /// Slave face count from which a progress bar is shown (on a terminal only).
 const PROGRESS_FROM: usize = 20_000;
@@ -70,9 +68,12 @@ pub struct Seconds {
 
 pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
     let start = Instant::now();
-    let options = options(args)?;
-    let pool = thread_pool(args.threads)?;
-    let mut out = Staged::prepare(&args.output, &OUTPUTS, args.force)?;
+    let options = MortarOptions { record_segments: args.segments.is_some(), ..options(&args.coupling)? };
+    let pool = thread_pool(args.coupling.threads)?;
+    let file = |name: &str| args.output.join(name);
+    let mut targets = vec![file("B.mtx"), file("D.mtx"), file("T.mtx"), file("summary.json")];
+    targets.extend(args.segments.clone());
+    let mut out = Staged::prepare(&targets, args.force)?;
     let mut seconds = Seconds::default();
 
     let t = Instant::now();
@@ -111,10 +112,19 @@ pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
     let t = Instant::now();
     let rows = format!("rows: nodes of {} in file order", args.slave.display());
     let cols = |side: &Path| format!("columns: nodes of {} in file order", side.display());
-    out.write("B.mtx", |p| seam_io::write_matrix_market_file(p, &mortar.b, &[&rows, &cols(&args.master)]))?;
-    out.write("D.mtx", |p| seam_io::write_matrix_market_file(p, &mortar.d, &[&rows, &cols(&args.slave)]))?;
+    out.write(&file("B.mtx"), |p| {
+        seam_io::write_matrix_market_file(p, &mortar.b, &[&rows, &cols(&args.master)])
+    })?;
+    out.write(&file("D.mtx"), |p| {
+        seam_io::write_matrix_market_file(p, &mortar.d, &[&rows, &cols(&args.slave)])
+    })?;
     if let Some(t) = t_matrix {
-        out.write("T.mtx", |p| seam_io::write_matrix_market_file(p, t, &[&rows, &cols(&args.master)]))?;
+        out.write(&file("T.mtx"), |p| {
+            seam_io::write_matrix_market_file(p, t, &[&rows, &cols(&args.master)])
+        })?;
+    }
+    if let Some(path) = &args.segments {
+        out.write(path, |p| write_segments(p, &mortar.segments))?;
     }
     seconds.write = t.elapsed().as_secs_f64();
     seconds.total = start.elapsed().as_secs_f64();
@@ -122,8 +132,8 @@ pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
     let summary =
         summary(args, &options, &mortar, t_matrix.map(|t| t.nnz()), pool.current_num_threads(), seconds);
     let json = serde_json::to_string_pretty(&summary).context("summary")?;
-    out.write("summary.json", |p| std::fs::write(p, json + "\n"))?;
-    out.commit(&["T.mtx"])?;
+    out.write(&file("summary.json"), |p| std::fs::write(p, json + "\n"))?;
+    out.commit(&[file("T.mtx")])?;
     Ok(Assembled { mortar, summary })
 }
 
@@ -131,7 +141,19 @@ fn read(path: &Path, group: &Option<String>) -> anyhow::Result<SurfaceMesh> {
     Ok(seam_io::read_surface_file(path, group.as_deref())?)
 }
 
-fn options(args: &AssembleArgs) -> anyhow::Result<MortarOptions> {
+/// The mortar segments as a VTU triangle mesh (three points per triangle), with
+/// the cell fields `slave_face` and `master_face` (0-based face indices).
+fn write_segments(path: &Path, segments: &[Segment]) -> std::io::Result<()> {
+    let points: Vec<Point3> = segments.iter().flat_map(|s| s.corners).collect();
+    let faces = (0..segments.len()).map(|k| Face::Tri3([3 * k, 3 * k + 1, 3 * k + 2])).collect();
+    let mesh = SurfaceMesh::new(points, faces).map_err(std::io::Error::other)?;
+    let ids = |f: fn(&Segment) -> usize| segments.iter().map(|s| f(s) as f64).collect::<Vec<f64>>();
+    let cells =
+        [Field::scalars("slave_face", ids(|s| s.slave)), Field::scalars("master_face", ids(|s| s.master))];
+    seam_io::write_vtu_file(path, &mesh, &[], &cells).map_err(std::io::Error::other)
+}
+
+pub fn options(args: &CouplingArgs) -> anyhow::Result<MortarOptions> {
     let max_gap = match args.max_gap {
         Some(g) if !(g.is_finite() && g >= 0.0) => {
             anyhow::bail!("--max-gap must be a non-negative length, got {g}")

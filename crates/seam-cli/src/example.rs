@@ -1,6 +1,6 @@
 //! `seam example NAME -o DIR`: built-in examples that make their own meshes.
 
-use crate::args::{AssembleArgs, ExampleArgs, ExampleName, FacingArg, MultiplierArg};
+use crate::args::{AssembleArgs, CouplingArgs, ExampleArgs, ExampleName, FacingArg, MultiplierArg};
 use crate::assemble::{self, Assembled};
 use crate::Failure;
 use anyhow::Context;
@@ -47,12 +47,15 @@ fn operator(args: &ExampleArgs) -> Result<(), Failure> {
         output: dir.clone(),
         master_group: Some("interface".into()),
         slave_group: Some("interface".into()),
-        multiplier: MultiplierArg::Dual,
-        max_gap: None,
-        facing: FacingArg::Any,
-        max_angle: 45.0,
-        quad_order: None,
-        threads: args.threads,
+        coupling: CouplingArgs {
+            multiplier: MultiplierArg::Dual,
+            max_gap: None,
+            facing: FacingArg::Any,
+            max_angle: 45.0,
+            quad_order: None,
+            threads: args.threads,
+        },
+        segments: None,
         force: args.force,
     })?;
     print_report(dir, &slave, &master, &assembled)?;

@@ -2,14 +2,18 @@
 //! library (the maths) and `seam-io` (the files).
 //!
 //! Exit codes: 0 = success; 1 = ran, but the meshes do not couple (no overlap);
-//! 2 = error (bad input, unwritable output, …). Errors are one line on stderr.
+//! 2 = error (bad input, unwritable output, …); 3 = `check --strict` found
+//! incomplete coverage or a violated invariant. Errors are one line on stderr.
 #![forbid(unsafe_code)]
 
 mod args;
 mod assemble;
 mod bench;
+mod check;
 mod example;
+mod input;
 mod output;
+mod transfer;
 
 use args::{Cli, Command};
 use clap::Parser;
@@ -21,6 +25,8 @@ pub enum Failure {
     NoCoupling(anyhow::Error),
     /// Anything else (exit 2).
     Error(anyhow::Error),
+    /// `check --strict` found a problem (exit 3).
+    CheckFailed(anyhow::Error),
 }
 
 impl<E: Into<anyhow::Error>> From<E> for Failure {
@@ -33,6 +39,8 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Assemble(a) => assemble::run(&a).map(|_| ()),
+        Command::Transfer(t) => transfer::run(&t),
+        Command::Check(c) => check::run(&c),
         Command::Example(e) => example::run(&e),
         Command::Bench(b) => bench::run(&b),
         Command::BenchCase(c) => bench::run_case(&c),
@@ -46,6 +54,10 @@ fn main() -> ExitCode {
         Err(Failure::Error(e)) => {
             eprintln!("seam: error: {}", one_line(&e));
             ExitCode::from(2)
+        }
+        Err(Failure::CheckFailed(e)) => {
+            eprintln!("seam: check failed: {}", one_line(&e));
+            ExitCode::from(3)
         }
     }
 }

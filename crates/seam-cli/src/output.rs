@@ -1,59 +1,65 @@
 //! Output files written all-or-nothing: each file is written under a temporary
-//! name in the output directory and renamed into place only when every file
-//! has been written, `summary.json` last. An error leaves no file that looks
-//! like a result. Existing files are never overwritten without `--force`.
+//! name beside its target and renamed into place only when every file has been
+//! written (in the order written, so a summary written last appears last). An
+//! error leaves no file that looks like a result, and removes the directories
+//! this run created if they stay empty. Existing files are never overwritten
+//! without `--force`.
 
 use anyhow::{bail, Context, Result};
 use std::fs;
 use std::path::{Path, PathBuf};
 
 pub struct Staged {
-    dir: PathBuf,
-    created_dir: bool,
     force: bool,
+    /// Directories this run created, deepest last.
+    created_dirs: Vec<PathBuf>,
     /// (temporary, final) paths written so far.
     files: Vec<(PathBuf, PathBuf)>,
     committed: bool,
 }
 
 impl Staged {
-    /// Creates `dir` if needed, checks that it is writable and that none of
-    /// `names` exists there (unless `force`): all before any heavy work.
-    pub fn prepare(dir: &Path, names: &[&str], force: bool) -> Result<Staged> {
-        let created_dir = !dir.exists();
-        fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create output directory {}", dir.display()))?;
-        let staged =
-            Staged { dir: dir.to_path_buf(), created_dir, force, files: Vec::new(), committed: false };
-        for name in names {
-            let path = dir.join(name);
-            if path.exists() && !force {
-                bail!("{} already exists; pass --force to overwrite it", path.display());
+    /// Creates the parent directories of `targets` if needed, checks that they
+    /// are writable and that no target exists (unless `force`): all before any
+    /// heavy work.
+    pub fn prepare(targets: &[PathBuf], force: bool) -> Result<Staged> {
+        let mut staged = Staged { force, created_dirs: Vec::new(), files: Vec::new(), committed: false };
+        for target in targets {
+            let dir = parent(target);
+            if !dir.exists() {
+                let mut missing: Vec<PathBuf> =
+                    dir.ancestors().take_while(|d| !d.exists()).map(Path::to_path_buf).collect();
+                fs::create_dir_all(dir)
+                    .with_context(|| format!("cannot create output directory {}", dir.display()))?;
+                missing.reverse();
+                staged.created_dirs.extend(missing);
             }
+            if target.exists() && !force {
+                bail!("{} already exists; pass --force to overwrite it", target.display());
+            }
+            let probe = dir.join(".seam-write-probe");
+            fs::write(&probe, b"")
+                .with_context(|| format!("output directory {} is not writable", dir.display()))?;
+            let _ = fs::remove_file(probe);
         }
-        let probe = dir.join(".seam-write-probe");
-        fs::write(&probe, b"")
-            .with_context(|| format!("output directory {} is not writable", dir.display()))?;
-        let _ = fs::remove_file(probe);
         Ok(staged)
     }
 
-    /// Writes `name` through `write` (given the temporary path).
-    pub fn write(&mut self, name: &str, write: impl FnOnce(&Path) -> std::io::Result<()>) -> Result<()> {
-        let target = self.dir.join(name);
-        let temporary = self.dir.join(format!(".{name}.partial"));
-        self.files.push((temporary.clone(), target.clone()));
+    /// Writes `target` through `write` (given the temporary path).
+    pub fn write(&mut self, target: &Path, write: impl FnOnce(&Path) -> std::io::Result<()>) -> Result<()> {
+        let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let temporary = parent(target).join(format!(".{name}.partial"));
+        self.files.push((temporary.clone(), target.to_path_buf()));
         write(&temporary).with_context(|| format!("cannot write {}", target.display()))
     }
 
-    /// Renames every written file into place (in the order written) and, with
-    /// `--force`, removes the listed stale outputs this run did not write.
-    pub fn commit(mut self, stale: &[&str]) -> Result<()> {
+    /// Renames every written file into place and, with `--force`, removes the
+    /// listed stale outputs this run did not write.
+    pub fn commit(mut self, stale: &[PathBuf]) -> Result<()> {
         if self.force {
-            for name in stale {
-                let path = self.dir.join(name);
-                if path.exists() && !self.files.iter().any(|(_, t)| *t == path) {
-                    fs::remove_file(&path)
+            for path in stale {
+                if path.exists() && !self.files.iter().any(|(_, t)| t == path) {
+                    fs::remove_file(path)
                         .with_context(|| format!("cannot remove stale {}", path.display()))?;
                 }
             }
@@ -74,8 +80,16 @@ impl Drop for Staged {
         for (temporary, _) in &self.files {
             let _ = fs::remove_file(temporary);
         }
-        if self.created_dir {
-            let _ = fs::remove_dir(&self.dir); // only succeeds when empty
+        for dir in self.created_dirs.iter().rev() {
+            let _ = fs::remove_dir(dir); // only succeeds when empty
         }
+    }
+}
+
+/// The directory a path lies in ("." for a bare file name).
+fn parent(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
     }
 }

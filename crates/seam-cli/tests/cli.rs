@@ -247,7 +247,14 @@ fn existing_results_are_not_overwritten_without_force() {
 #[test]
 fn every_command_has_help() {
     let tmp = tempfile::tempdir().unwrap();
-    for args in [vec!["--help"], vec!["assemble", "--help"], vec!["example", "--help"]] {
+    for args in [
+        vec!["--help"],
+        vec!["assemble", "--help"],
+        vec!["transfer", "--help"],
+        vec!["check", "--help"],
+        vec!["example", "--help"],
+        vec!["bench", "--help"],
+    ] {
         let o = seam(&args, tmp.path());
         assert!(o.status.success());
         assert!(String::from_utf8_lossy(&o.stdout).contains("Usage"));
@@ -265,4 +272,117 @@ fn every_command_has_help() {
     ] {
         assert!(help.contains(flag), "assemble --help lacks {flag}");
     }
+}
+
+fn vtu(path: &Path) -> seam_io::VtuMesh {
+    seam_io::read_vtu_file(path).unwrap()
+}
+
+#[test]
+fn transfer_reproduces_a_linear_field_and_reports_its_error() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (source, target) = (fixture("square_tri.v41.bin.msh"), fixture("square_mixed.v22.ascii.msh"));
+    let o = seam(
+        &["transfer", &source, &target, "-o", "out/t.vtu", "--expr", "2*x - y + 0.5", "--name", "u"],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("out/t.json")).unwrap()).unwrap();
+    assert!(s["l2_error"].as_f64().unwrap() < 1e-13, "{s}");
+    assert!((s["covered_fraction"].as_f64().unwrap() - 1.0).abs() < 1e-13);
+    let out = vtu(&tmp.path().join("out/t.vtu"));
+    let u = out.point_field("u").unwrap();
+    assert_eq!(u.components, 1);
+    for (p, x) in out.mesh.points().iter().enumerate() {
+        if out.mesh.used_points()[p] {
+            assert!((u.values[p] - (2.0 * x[0] - x[1] + 0.5)).abs() < 1e-12);
+        }
+    }
+    let gap = out.point_field("normal_gap").unwrap();
+    let coverage = out.point_field("coverage").unwrap();
+    assert!(out
+        .mesh
+        .used_points()
+        .iter()
+        .enumerate()
+        .all(|(p, &u)| !u || (gap.values[p].abs() < 1e-14 && (coverage.values[p] - 1.0).abs() < 1e-12)));
+}
+
+#[test]
+fn conservative_transfer_keeps_the_total_load() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (source, target) = (fixture("square_mixed.v41.ascii.msh"), fixture("square_tri.v22.bin.msh"));
+    let o = seam(
+        &["transfer", &source, &target, "-o", "c.vtu", "--expr", "1 + x*y", "--mode", "conservative"],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("c.json")).unwrap()).unwrap();
+    let (a, b) = (s["total_source"][0].as_f64().unwrap(), s["total_target"][0].as_f64().unwrap());
+    assert!((a - b).abs() < 1e-12 * a.abs(), "{a} vs {b}");
+}
+
+#[test]
+fn transfer_of_a_gmsh_node_data_vector_field() {
+    // The hex box's "temperature" ($NodeData) from its top to the top of the tet box.
+    let tmp = tempfile::tempdir().unwrap();
+    let (source, target) = (fixture("box_hex.v41.ascii.msh"), fixture("box_tet.v41.ascii.msh"));
+    let args =
+        ["transfer", &source, &target, "-o", "h.vtu", "--source-group", "top", "--target-group", "top"];
+    let o = seam(&[&args[..], &["--field", "temperature"]].concat(), tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = vtu(&tmp.path().join("h.vtu"));
+    let t = out.point_field("temperature").unwrap();
+    assert!(out.mesh.used_points().iter().enumerate().all(|(p, &u)| !u || t.values[p].is_finite()));
+    // "displacement" is given at 5 nodes only in its last time step: a clear error.
+    let o = seam(&[&args[..], &["--field", "displacement", "--force"]].concat(), tmp.path());
+    assert_clean_failure(&o, 2, "box_hex", "no finite value at node", &tmp.path().join("nothing"));
+    let o = seam(&[&args[..], &["--field", "pressure", "--force"]].concat(), tmp.path());
+    assert_clean_failure(
+        &o,
+        2,
+        "box_hex",
+        "no field named 'pressure' (fields: temperature, displacement)",
+        &tmp.path().join("nothing"),
+    );
+    let o = seam(&[&args[..], &["--expr", "sin(x", "--force"]].concat(), tmp.path());
+    assert_clean_failure(&o, 2, "sin(x", "does not parse", &tmp.path().join("nothing"));
+}
+
+#[test]
+fn check_reports_coverage_gaps_orientation_and_invariants() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (master, slave) = (fixture("square_tri.v41.ascii.msh"), fixture("square_mixed.v41.bin.msh"));
+    let o = seam(&["check", &master, &slave, "--json", "r.json", "--vtu", "r.vtu", "--strict"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    for word in ["covered", "normal gap", "orientation  slave consistent", "quality", "verdict      ok"] {
+        assert!(text.contains(word), "report lacks '{word}':\n{text}");
+    }
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("r.json")).unwrap()).unwrap();
+    assert_eq!(r["ok"], true);
+    assert!(r["invariants"].as_array().unwrap().iter().all(|i| i["ok"] == true));
+    assert!(vtu(&tmp.path().join("r.vtu")).point_field("coverage").is_some());
+    // The 2×1 hex top is only half covered by the unit tet top: --strict fails with 3.
+    let (tet, hex) = (fixture("box_tet.v41.ascii.msh"), fixture("box_hex.v41.bin.msh"));
+    let o =
+        seam(&["check", &tet, &hex, "--master-group", "top", "--slave-group", "top", "--strict"], tmp.path());
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("6 slave nodes"));
+}
+
+#[test]
+fn assemble_writes_the_mortar_segments() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (master, slave) = (fixture("square_tri.v41.ascii.msh"), fixture("square_mixed.v41.ascii.msh"));
+    let o = seam(&["assemble", &master, &slave, "-o", "out", "--segments", "seg/segments.vtu"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let seg = vtu(&tmp.path().join("seg/segments.vtu"));
+    let s = summary(&tmp.path().join("out"));
+    assert_eq!(seg.mesh.n_faces() as u64, s["segments"].as_u64().unwrap());
+    let slave_ids = seg.cell_data.iter().find(|f| f.name == "slave_face").unwrap();
+    assert!(slave_ids.values.iter().all(|&v| v >= 0.0 && v < s["slave_faces"].as_f64().unwrap()));
 }

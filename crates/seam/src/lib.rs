@@ -61,8 +61,8 @@ pub use element::{shape, FaceElement, FaceKind, InverseMap, JacobianField, Plane
 pub use mesh::{area_vector, Cell, Face, MeshError, Point3, SurfaceMesh, VolumeMesh, ZERO_AREA_RTOL};
 pub use mortar::{
     assemble, assemble_with_tree, face_integrals, face_quality, nodal_normals, normal_gaps,
-    warped_quad_degree, FaceQuality, FaceStats, Facing, MaxGap, Mortar, MortarError, MortarOptions,
-    MortarSummary, Multiplier, Segment, Transfer, COVERED_FRACTION, WARPED_RTOL,
+    orientation_conflicts, warped_quad_degree, FaceQuality, FaceStats, Facing, MaxGap, Mortar, MortarError,
+    MortarOptions, MortarSummary, Multiplier, Segment, Transfer, COVERED_FRACTION, WARPED_RTOL,
 };
 pub use quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};
 pub use search::{face_box, swept_box, FaceTree};

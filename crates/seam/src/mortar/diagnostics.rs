@@ -53,6 +53,25 @@ pub fn normal_gaps(
         .collect()
 }
 
+/// The number of interior edges whose two faces run through them in the same
+/// direction: 0 when the normals of the sheet are consistently oriented (edges
+/// shared by more than two faces are not counted).
+pub fn orientation_conflicts(mesh: &SurfaceMesh) -> usize {
+    let mut edges: Vec<(usize, usize, bool)> = Vec::with_capacity(mesh.n_faces() * 4);
+    for face in mesh.faces() {
+        let n = face.nodes();
+        for k in 0..n.len() {
+            let (a, b) = (n[k], n[(k + 1) % n.len()]);
+            edges.push((a.min(b), a.max(b), a < b));
+        }
+    }
+    edges.sort_unstable();
+    edges
+        .chunk_by(|x, y| (x.0, x.1) == (y.0, y.1))
+        .filter(|run| run.len() == 2 && run[0].2 == run[1].2)
+        .count()
+}
+
 /// Shape measures of one face.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FaceQuality {
@@ -114,6 +133,15 @@ mod tests {
                 assert!((v - offset).abs() < 1e-13, "{v} vs {offset}");
             }
         }
+    }
+
+    #[test]
+    fn flipped_faces_are_orientation_conflicts() {
+        let m = patch(3, 3, Pattern::Quads, flat(1.0, 1.0));
+        assert_eq!(orientation_conflicts(&m), 0);
+        let (points, mut faces) = m.into_parts();
+        faces[4] = faces[4].reversed(); // the centre face: its 4 edges now conflict
+        assert_eq!(orientation_conflicts(&SurfaceMesh::new(points, faces).unwrap()), 4);
     }
 
     #[test]

@@ -23,7 +23,7 @@ mod multiplier;
 mod rows;
 mod transfer;
 
-pub use diagnostics::{face_quality, nodal_normals, normal_gaps, FaceQuality};
+pub use diagnostics::{face_quality, nodal_normals, normal_gaps, orientation_conflicts, FaceQuality};
 pub use transfer::Transfer;
 
 use crate::element::FaceElement;
