@@ -83,9 +83,10 @@ pub struct CouplingArgs {
 
 #[derive(Args, Debug)]
 pub struct AssembleArgs {
-    /// Master (mortar) surface: a Gmsh MSH file (2.2 or 4.1, ASCII or binary).
+    /// Master (mortar) surface: a Gmsh MSH file (2.2 or 4.1, ASCII or binary) or a
+    /// VTU file.
     pub master: PathBuf,
-    /// Slave (non-mortar) surface: a Gmsh MSH file; rows of B and D follow its nodes.
+    /// Slave (non-mortar) surface, MSH or VTU; rows of B and D follow its nodes.
     pub slave: PathBuf,
     /// Output directory for B.mtx, D.mtx, T.mtx (dual, lumped) and summary.json.
     #[arg(short, long, value_name = "DIR")]

@@ -138,7 +138,7 @@ pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
 }
 
 fn read(path: &Path, group: &Option<String>) -> anyhow::Result<SurfaceMesh> {
-    Ok(seam_io::read_surface_file(path, group.as_deref())?)
+    Ok(crate::input::Surface::read(path, group.as_deref())?.mesh)
 }
 
 /// The mortar segments as a VTU triangle mesh (three points per triangle), with

@@ -62,7 +62,19 @@ fn main() -> ExitCode {
     }
 }
 
-/// The error and its causes on one line: "context: cause: cause".
+/// The error and its causes on one line, "context: cause: cause", leaving out a
+/// cause whose text the line already holds (many errors quote their source).
 fn one_line(e: &anyhow::Error) -> String {
-    format!("{e:#}").replace('\n', " ")
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if line.contains(&text) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&text);
+    }
+    line.replace('\n', " ")
 }

@@ -273,9 +273,15 @@ fn vtu_bytes(mesh: &SurfaceMesh, point_data: &[Field], cell_data: &[Field]) -> R
 // ---------------------------------------------------------------------------
 // Reading
 
-/// Runs vtkio code that may panic on malformed input (it slices and unwraps).
+/// Runs vtkio code that may panic on malformed input (it slices and unwraps):
+/// the panic becomes an error, and the panic hook is silenced meanwhile so that
+/// no panic message reaches stderr (the caller reports the error in one line).
 fn guard<T>(f: impl FnOnce() -> T) -> Result<T, VtuError> {
-    catch_unwind(AssertUnwindSafe(f)).map_err(|payload| {
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let result = catch_unwind(AssertUnwindSafe(f));
+    std::panic::set_hook(hook);
+    result.map_err(|payload| {
         let why = payload
             .downcast_ref::<&str>()
             .map(|s| s.to_string())
