@@ -28,7 +28,7 @@ impl Surface {
             return Ok(Surface { mesh: vtu.mesh, fields: vtu.point_data });
         }
         let msh = seam_io::read_msh_file(path)?;
-        let mesh = msh.surface(group)?;
+        let mesh = msh.surface(group).map_err(|e| e.with_path(path))?;
         let fields = msh
             .node_data
             .iter()
