@@ -1,0 +1,212 @@
+"""Mortar coupling operators between non-matching surface meshes (type stubs).
+
+The full docstrings are those of the compiled module: ``help(seam.assemble)``.
+"""
+
+import os
+from typing import Literal, Optional, Sequence, Tuple, TypedDict, Union, final
+
+import numpy as np
+import numpy.typing as npt
+import scipy.sparse
+
+__all__ = [
+    "FactorizationError",
+    "InvalidOptionError",
+    "Mesh",
+    "MeshError",
+    "Mortar",
+    "MortarError",
+    "MshError",
+    "NoOverlapError",
+    "__version__",
+    "assemble",
+    "read_mesh",
+]
+
+__version__: str
+
+_Faces = Union[npt.ArrayLike, Sequence[npt.ArrayLike]]
+"""An (m, 3) or (m, 4) integer array, or a list of such arrays and single faces."""
+
+_MeshLike = Union["Mesh", Tuple[npt.ArrayLike, _Faces]]
+"""A Mesh, or a ``(points, faces)`` tuple."""
+
+class MeshError(ValueError):
+    """The points and faces do not form a valid surface mesh."""
+
+class MshError(ValueError):
+    """A Gmsh MSH file could not be interpreted (the message gives file and line)."""
+
+class MortarError(ValueError):
+    """The mortar assembly produced no operator."""
+
+class InvalidOptionError(MortarError):
+    """An option of ``assemble`` is out of range."""
+
+class NoOverlapError(MortarError):
+    """No master face meets a slave face within the gap and angle limits."""
+
+class FactorizationError(MortarError):
+    """D restricted to the covered slave nodes is not positive definite."""
+
+@final
+class Mesh:
+    """A surface mesh of linear triangles and bilinear quads (possibly mixed).
+
+    Args:
+        points: Array-like of shape (n, 3), real numbers.
+        faces: Integer array of shape (m, 3) or (m, 4) of 0-based point indices,
+            or a list of such arrays and/or single faces, numbered in list order.
+
+    Raises:
+        ValueError: A wrong shape.
+        TypeError: Points that are not real numbers, faces that are not integers.
+        MeshError: Non-finite coordinate, index out of range or negative,
+            repeated corner, zero-area face, no faces.
+    """
+
+    def __new__(cls, points: npt.ArrayLike, faces: _Faces) -> "Mesh": ...
+    @property
+    def points(self) -> npt.NDArray[np.float64]:
+        """Point coordinates, shape (n_points, 3) (a copy)."""
+    @property
+    def triangles(self) -> npt.NDArray[np.int64]:
+        """Triangles in face order, shape (n_triangles, 3), 0-based."""
+    @property
+    def quads(self) -> npt.NDArray[np.int64]:
+        """Quadrilaterals in face order, shape (n_quads, 4), 0-based."""
+    @property
+    def n_points(self) -> int:
+        """Number of points, including points no face uses."""
+    @property
+    def n_faces(self) -> int:
+        """Number of faces."""
+
+class _Summary(TypedDict):
+    """``Mortar.summary``: the Rust MortarSummary fields plus ``multiplier``."""
+
+    slave_nodes: int
+    master_nodes: int
+    slave_faces: int
+    master_faces: int
+    candidate_pairs: int
+    intersecting_pairs: int
+    segments: int
+    slave_area: float
+    covered_area: float
+    uncovered_slave_nodes: int
+    max_gap: float
+    max_overlap: float
+    inverse_failures: int
+    dual_fallbacks: int
+    multiplier: Literal["standard", "dual", "lumped"]
+
+@final
+class Mortar:
+    """The assembled mortar operator: B, D and the transfer T = D⁻¹B.
+
+    Rows of B and D are slave points, columns of B master points; the transfer
+    acts on the covered slave points (uncovered ones receive 0).
+    """
+
+    @property
+    def B(self) -> scipy.sparse.csr_matrix:
+        """B, shape (n_slave_points, n_master_points); a new matrix at each access."""
+    @property
+    def D(self) -> scipy.sparse.csr_matrix:
+        """D, shape (n_slave_points, n_slave_points); a new matrix at each access."""
+    @property
+    def T(self) -> Optional[scipy.sparse.csr_matrix]:
+        """T = D⁻¹B when D is diagonal ("dual", "lumped"), else None."""
+    def transfer(self, values: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """Master → slave nodal values, u_s = T u_m.
+
+        Args:
+            values: Shape (n_master_points,) or (n_master_points, k).
+
+        Returns:
+            Shape (n_slave_points,) or (n_slave_points, k).
+        """
+    def transfer_conservative(self, loads: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """Slave → master nodal loads, f_m = Tᵀ f_s (keeps the total).
+
+        Args:
+            loads: Shape (n_slave_points,) or (n_slave_points, k).
+
+        Returns:
+            Shape (n_master_points,) or (n_master_points, k).
+        """
+    @property
+    def summary(self) -> _Summary:
+        """Totals over the interface (a new dict at each access)."""
+    @property
+    def coverage(self) -> npt.NDArray[np.float64]:
+        """Per slave point, the covered fraction of ∫ λ_p (0 off the surface)."""
+    @property
+    def covered(self) -> npt.NDArray[np.bool_]:
+        """Per slave point, covered (coverage above 1e-10): the rows T acts on."""
+    @property
+    def on_surface(self) -> npt.NDArray[np.bool_]:
+        """Per slave point, used by some slave face."""
+    @property
+    def uncovered_nodes(self) -> npt.NDArray[np.int64]:
+        """Slave points on the surface that are not covered, ascending."""
+    @property
+    def multiplier(self) -> Literal["standard", "dual", "lumped"]:
+        """The multiplier the matrices were built with."""
+    @property
+    def shape(self) -> Tuple[int, int]:
+        """(n_slave_points, n_master_points)."""
+
+def read_mesh(path: Union[str, "os.PathLike[str]"], group: Union[str, int, None] = None) -> Mesh:
+    """Reads the surface to couple from a Gmsh MSH file (4.1 or 2.2, ASCII or binary).
+
+    Args:
+        path: The file.
+        group: A physical group of dimension 2, by name or number; None for all
+            2-D elements (or the boundary of the volume cells, if any).
+
+    Returns:
+        The surface; points are all the file's nodes, in file order.
+
+    Raises:
+        FileNotFoundError: No such file (other I/O failures: the matching OSError).
+        MshError: Invalid file, unknown group, unsupported or degenerate elements.
+    """
+
+def assemble(
+    master: _MeshLike,
+    slave: _MeshLike,
+    multiplier: Literal["standard", "dual", "lumped"] = "standard",
+    max_gap: Optional[float] = None,
+    facing: Literal["any", "opposite"] = "any",
+    threads: Optional[int] = None,
+    *,
+    max_angle: float = 45.0,
+    warped_quad_degree: Optional[int] = None,
+) -> Mortar:
+    """Assembles the mortar matrices B and D between two surface meshes.
+
+    Args:
+        master: The master (mortar) side.
+        slave: The slave (non-mortar) side, carrying the multipliers.
+        multiplier: "standard", "dual" (D diagonal) or "lumped" (D row-summed).
+        max_gap: Largest normal distance between paired points, a length; None
+            for half the local slave face diameter.
+        facing: "any" or "opposite" (the faces face each other).
+        threads: Worker threads; None for all cores. B and D do not depend on it.
+        max_angle: Largest angle between the normals, in degrees.
+        warped_quad_degree: Triangle-rule degree (1 to 20) on warped slave quads;
+            None chooses it per face.
+
+    Returns:
+        The operator.
+
+    Raises:
+        NoOverlapError: No master face meets a slave face within the limits.
+        InvalidOptionError: An option out of range.
+        MeshError: A (points, faces) tuple that is not a valid mesh.
+        ValueError: Unknown multiplier or facing, threads < 1, wrong shapes.
+        TypeError: master or slave of another type.
+    """

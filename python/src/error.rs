@@ -1,0 +1,92 @@
+//! Rust errors → Python exceptions, all in one place.
+//!
+//! | Rust | Python |
+//! |---|---|
+//! | `seam::MeshError`, a negative face index | `seam.MeshError` (a `ValueError`) |
+//! | `seam_io::MshError`, I/O kinds | `FileNotFoundError`, `PermissionError`, `IsADirectoryError`, `NotADirectoryError`, else `OSError` |
+//! | `seam_io::MshError`, other kinds | `seam.MshError` (a `ValueError`) |
+//! | `MortarError::InvalidOption` | `seam.InvalidOptionError` (a `seam.MortarError`, a `ValueError`) |
+//! | `MortarError::NoOverlap` | `seam.NoOverlapError` (idem) |
+//! | `MortarError::Factorization` | `seam.FactorizationError` (idem) |
+//!
+//! Messages are the Rust `Display` text, unchanged.
+
+use pyo3::create_exception;
+use pyo3::exceptions::{
+    PyFileNotFoundError, PyIsADirectoryError, PyNotADirectoryError, PyOSError, PyPermissionError,
+    PyValueError,
+};
+use pyo3::PyErr;
+use seam::MortarError as CoreMortarError;
+use seam_io::MshErrorKind;
+use std::io::ErrorKind;
+
+create_exception!(
+    seam,
+    MeshError,
+    PyValueError,
+    "The points and faces do not form a valid surface mesh (non-finite coordinate, \
+     node index out of range, repeated corner, zero-area face, no faces)."
+);
+create_exception!(
+    seam,
+    MshError,
+    PyValueError,
+    "A Gmsh MSH file could not be interpreted (the message gives the file and line)."
+);
+create_exception!(seam, MortarError, PyValueError, "The mortar assembly produced no operator.");
+create_exception!(seam, InvalidOptionError, MortarError, "An option of `assemble` is out of range.");
+create_exception!(
+    seam,
+    NoOverlapError,
+    MortarError,
+    "No master face meets a slave face within the gap and angle limits."
+);
+create_exception!(
+    seam,
+    FactorizationError,
+    MortarError,
+    "D restricted to the covered slave nodes is not positive definite."
+);
+
+/// `seam.MeshError` with the message of `e`.
+pub fn mesh_error(e: seam::MeshError) -> PyErr {
+    MeshError::new_err(e.to_string())
+}
+
+/// `seam.MortarError` subclasses by kind.
+pub fn mortar_error(e: CoreMortarError) -> PyErr {
+    let message = e.to_string();
+    match e {
+        CoreMortarError::InvalidOption(_) => InvalidOptionError::new_err(message),
+        CoreMortarError::NoOverlap { .. } => NoOverlapError::new_err(message),
+        CoreMortarError::Factorization(_) => FactorizationError::new_err(message),
+    }
+}
+
+/// I/O failures become the `OSError` subclass of their kind, built like Python
+/// builds them, `(errno, strerror, filename)`: `strerror` is the message without
+/// the path (the path is `filename`). Everything else is `seam.MshError`.
+pub fn msh_error(e: seam_io::MshError) -> PyErr {
+    let MshErrorKind::Io(io) = e.kind() else {
+        return MshError::new_err(e.to_string());
+    };
+    let strerror = e.kind().to_string();
+    let filename = e.path().map(|p| p.to_string_lossy().into_owned());
+    macro_rules! os_error {
+        ($class:ty) => {
+            match (io.raw_os_error(), filename) {
+                (Some(errno), Some(filename)) => <$class>::new_err((errno, strerror, filename)),
+                (Some(errno), None) => <$class>::new_err((errno, strerror)),
+                (None, _) => <$class>::new_err(e.to_string()),
+            }
+        };
+    }
+    match io.kind() {
+        ErrorKind::NotFound => os_error!(PyFileNotFoundError),
+        ErrorKind::PermissionDenied => os_error!(PyPermissionError),
+        ErrorKind::IsADirectory => os_error!(PyIsADirectoryError),
+        ErrorKind::NotADirectory => os_error!(PyNotADirectoryError),
+        _ => os_error!(PyOSError),
+    }
+}

@@ -1,0 +1,34 @@
+//! Python bindings of seam: conversions only (NumPy/SciPy ↔ `seam`, `seam-io`).
+//!
+//! | Python | Rust |
+//! |---|---|
+//! | `seam.Mesh` | [`seam::SurfaceMesh`] ([`mesh::PyMesh`]) |
+//! | `seam.read_mesh` | [`seam_io::read_surface_file`] |
+//! | `seam.assemble` | [`seam::assemble`] on a rayon pool, GIL released |
+//! | `seam.Mortar` | [`seam::Mortar`] + its [`seam::Transfer`] ([`mortar::PyMortar`]) |
+//! | exceptions | [`error`] |
+#![forbid(unsafe_code)]
+
+mod convert;
+mod error;
+mod mesh;
+mod mortar;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _seam(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add_class::<mesh::PyMesh>()?;
+    m.add_class::<mortar::PyMortar>()?;
+    m.add_function(wrap_pyfunction!(mesh::read_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(mortar::assemble, m)?)?;
+    m.add("MeshError", py.get_type::<error::MeshError>())?;
+    m.add("MshError", py.get_type::<error::MshError>())?;
+    m.add("MortarError", py.get_type::<error::MortarError>())?;
+    m.add("InvalidOptionError", py.get_type::<error::InvalidOptionError>())?;
+    m.add("NoOverlapError", py.get_type::<error::NoOverlapError>())?;
+    m.add("FactorizationError", py.get_type::<error::FactorizationError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

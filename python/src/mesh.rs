@@ -1,0 +1,216 @@
+//! `seam.Mesh` and `seam.read_mesh`.
+
+use std::path::PathBuf;
+
+use numpy::ndarray::Array2;
+use numpy::{PyArray2, ToPyArray};
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+use seam::{Face, SurfaceMesh};
+
+use crate::convert::{faces_from, index_rows, points_from, short};
+use crate::error::{mesh_error, msh_error};
+
+/// A surface mesh of linear triangles and bilinear quadrilaterals (possibly
+/// mixed, quads possibly warped).
+///
+/// Points are kept in the order given (or the order of the file), including
+/// points no face uses, so that matrix rows and columns follow that numbering.
+///
+/// Args:
+///     points: Array-like of shape (n, 3) with the point coordinates (real
+///         numbers; converted to float64).
+///     faces: Integer array of shape (m, 3) (triangles) or (m, 4) (quads) of
+///         0-based point indices, corners in cyclic order; or a list of such
+///         arrays and/or single faces (3 or 4 indices), numbered in list order.
+///
+/// Raises:
+///     ValueError: A wrong shape.
+///     TypeError: Points that are not real numbers, faces that are not integers.
+///     MeshError: A non-finite coordinate, an index out of range or negative, a
+///         repeated corner, a zero-area face, no faces (a ValueError).
+#[pyclass(name = "Mesh", module = "seam", frozen)]
+pub struct PyMesh {
+    pub inner: SurfaceMesh,
+}
+
+impl From<SurfaceMesh> for PyMesh {
+    fn from(inner: SurfaceMesh) -> Self {
+        PyMesh { inner }
+    }
+}
+
+impl From<PyMesh> for SurfaceMesh {
+    fn from(mesh: PyMesh) -> Self {
+        mesh.inner
+    }
+}
+
+/// Builds and checks a mesh from array-likes (the GIL is released for the check).
+pub fn mesh_from_arrays(
+    py: Python<'_>,
+    points: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+) -> PyResult<SurfaceMesh> {
+    let points = points_from(points)?;
+    let faces = faces_from(faces)?;
+    py.detach(|| SurfaceMesh::new(points, faces)).map_err(mesh_error)
+}
+
+/// The same exception, its message prefixed by `what: ` (which side is wrong).
+fn with_context(py: Python<'_>, e: PyErr, what: &str) -> PyErr {
+    let message = format!("{what}: {}", e.value(py));
+    match e.get_type(py).call1((message,)) {
+        Ok(value) => PyErr::from_value(value),
+        Err(_) => e,
+    }
+}
+
+/// A master or slave argument: a `Mesh`, or a `(points, faces)` tuple.
+pub enum MeshArg<'py> {
+    Object(Bound<'py, PyMesh>),
+    Built(SurfaceMesh),
+}
+
+impl MeshArg<'_> {
+    pub fn get(&self) -> &SurfaceMesh {
+        match self {
+            MeshArg::Object(m) => &m.get().inner,
+            MeshArg::Built(m) => m,
+        }
+    }
+}
+
+impl<'py> MeshArg<'py> {
+    pub fn extract(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Self> {
+        if let Ok(mesh) = obj.cast::<PyMesh>() {
+            return Ok(MeshArg::Object(mesh.clone()));
+        }
+        match obj.cast::<PyTuple>() {
+            Ok(t) if t.len() == 2 => mesh_from_arrays(obj.py(), &t.get_item(0)?, &t.get_item(1)?)
+                .map(MeshArg::Built)
+                .map_err(|e| with_context(obj.py(), e, what)),
+            _ => Err(PyTypeError::new_err(format!(
+                "{what} must be a seam.Mesh or a (points, faces) tuple, got {}",
+                obj.get_type().name()?
+            ))),
+        }
+    }
+}
+
+#[pymethods]
+impl PyMesh {
+    #[new]
+    fn new(py: Python<'_>, points: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<Self> {
+        Ok(mesh_from_arrays(py, points, faces)?.into())
+    }
+
+    /// Point coordinates, float64 array of shape (n_points, 3) (a copy).
+    #[getter]
+    fn points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let flat: Vec<f64> = self.inner.points().iter().flatten().copied().collect();
+        let array = Array2::from_shape_vec((self.inner.n_points(), 3), flat)
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        Ok(array.to_pyarray(py))
+    }
+
+    /// Triangles in face order, int64 array of shape (n_triangles, 3) of 0-based
+    /// point indices.
+    #[getter]
+    fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        let rows = self.inner.faces().iter().filter_map(|f| match f {
+            Face::Tri3(n) => Some(*n),
+            Face::Quad4(_) => None,
+        });
+        index_rows(py, rows.collect())
+    }
+
+    /// Quadrilaterals in face order, int64 array of shape (n_quads, 4) of 0-based
+    /// point indices.
+    #[getter]
+    fn quads<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        let rows = self.inner.faces().iter().filter_map(|f| match f {
+            Face::Quad4(n) => Some(*n),
+            Face::Tri3(_) => None,
+        });
+        index_rows(py, rows.collect())
+    }
+
+    /// Number of points (including points no face uses).
+    #[getter]
+    fn n_points(&self) -> usize {
+        self.inner.n_points()
+    }
+
+    /// Number of faces (triangles and quads).
+    #[getter]
+    fn n_faces(&self) -> usize {
+        self.inner.n_faces()
+    }
+
+    fn __repr__(&self) -> String {
+        let faces = self.inner.faces();
+        let tris = faces.iter().filter(|f| matches!(f, Face::Tri3(_))).count();
+        let used = self.inner.used_points().iter().filter(|&&u| u).count();
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for p in self.inner.points() {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        }
+        let bounds: Vec<String> = (0..3).map(|a| format!("[{}, {}]", short(lo[a]), short(hi[a]))).collect();
+        let n = self.inner.n_points();
+        let unused = if used < n { format!(" ({} not on a face)", n - used) } else { String::new() };
+        format!(
+            "<seam.Mesh: {n} points{unused}, {tris} triangles, {} quads, bounds {}>",
+            faces.len() - tris,
+            bounds.join(" × ")
+        )
+    }
+}
+
+/// Reads the surface to couple from a Gmsh MSH file (versions 4.1 and 2.2,
+/// ASCII or binary).
+///
+/// Points are all the nodes of the file, in file order (0-based), whether or not
+/// a selected face uses them. Faces are the 3-node triangles and 4-node quads of
+/// the physical group `group`; without a group, the 2-D elements of the file, or
+/// the boundary of its volume cells if it has any.
+///
+/// Args:
+///     path: The file (str or os.PathLike).
+///     group: A physical group of dimension 2, by name or number.
+///
+/// Returns:
+///     The surface as a Mesh.
+///
+/// Raises:
+///     FileNotFoundError: The file does not exist (other I/O failures raise
+///         the matching OSError).
+///     MshError: The file is not a valid MSH file, the group does not exist
+///         (the message lists those that do), it has unsupported elements or
+///         degenerate faces (a ValueError).
+#[pyfunction]
+#[pyo3(signature = (path, group = None))]
+pub fn read_mesh(py: Python<'_>, path: PathBuf, group: Option<&Bound<'_, PyAny>>) -> PyResult<PyMesh> {
+    let group: Option<String> = match group {
+        None => None,
+        Some(g) if g.is_none() => None,
+        Some(g) => match g.extract::<String>() {
+            Ok(name) => Some(name),
+            Err(_) => match g.extract::<i64>() {
+                Ok(number) => Some(number.to_string()),
+                Err(_) => {
+                    return Err(PyTypeError::new_err(format!(
+                        "group must be a physical group name (str) or number (int), got {}",
+                        g.get_type().name()?
+                    )))
+                }
+            },
+        },
+    };
+    py.detach(|| seam_io::read_surface_file(&path, group.as_deref())).map(PyMesh::from).map_err(msh_error)
+}
