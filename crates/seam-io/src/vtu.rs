@@ -10,7 +10,7 @@
 //! 0-based indices. Every data array is inline binary (`format="binary"`): base64,
 //! uncompressed, little-endian, with a `UInt64` size header (`version="1.0"`),
 //! which ParaView/VTK and meshio both read. Points and fields are `Float64` (values
-//! round-trip bit for bit), connectivity and offsets `UInt64`, cell types `UInt8`.
+//! round-trip bit for bit), connectivity and offsets `Int64` (as VTK writes them), cell types `UInt8`.
 //! The first 1-component field of the point (cell) data is marked as the active
 //! scalars, the first 3-component one as the active vectors.
 //!
@@ -267,7 +267,21 @@ fn vtu_bytes(mesh: &SurfaceMesh, point_data: &[Field], cell_data: &[Field]) -> R
     let mut bytes = b"<?xml version=\"1.0\"?>\n".to_vec();
     xml.write(&mut bytes).map_err(vtkio_failed)?;
     bytes.push(b'\n');
-    Ok(bytes)
+    Ok(declare_cells_signed(bytes))
+}
+
+/// vtkio declares connectivity and offsets `UInt64`; VTK writes `Int64`, and
+/// meshio turns unsigned offsets into floats (numpy promotes uint64 with int64 to
+/// float64). Node indices are far below 2⁶³, so the bytes are the same either
+/// way: only the declared type changes.
+fn declare_cells_signed(bytes: Vec<u8>) -> Vec<u8> {
+    let text = String::from_utf8(bytes).expect("vtkio writes UTF-8");
+    text.replace(
+        r#"<DataArray type="UInt64" Name="connectivity""#,
+        r#"<DataArray type="Int64" Name="connectivity""#,
+    )
+    .replace(r#"<DataArray type="UInt64" Name="offsets""#, r#"<DataArray type="Int64" Name="offsets""#)
+    .into_bytes()
 }
 
 // ---------------------------------------------------------------------------
