@@ -386,3 +386,32 @@ fn assemble_writes_the_mortar_segments() {
     let slave_ids = seg.cell_data.iter().find(|f| f.name == "slave_face").unwrap();
     assert!(slave_ids.values.iter().all(|&v| v >= 0.0 && v < s["slave_faces"].as_f64().unwrap()));
 }
+
+#[test]
+fn transfer_bad_input_is_reported_cleanly() {
+    let tmp = tempfile::tempdir().unwrap();
+    // A VTU whose point field has 3 values for 4 points.
+    let bad = write(
+        tmp.path(),
+        "short.vtu",
+        r#"<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">
+<UnstructuredGrid><Piece NumberOfPoints="4" NumberOfCells="2">
+<PointData><DataArray type="Float64" Name="T" format="ascii">1 2 3</DataArray></PointData>
+<Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 1 1 0 0 1 0</DataArray></Points>
+<Cells><DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 0 2 3</DataArray>
+<DataArray type="Int64" Name="offsets" format="ascii">3 6</DataArray>
+<DataArray type="UInt8" Name="types" format="ascii">5 5</DataArray></Cells>
+</Piece></UnstructuredGrid></VTKFile>
+"#,
+    );
+    let target = fixture("square_mixed.v41.ascii.msh");
+    let o = seam(&["transfer", &bad, &target, "-o", "o.vtu", "--field", "T"], tmp.path());
+    assert_clean_failure(&o, 2, "short.vtu", "T", &tmp.path().join("nothing"));
+    assert!(!tmp.path().join("o.vtu").exists());
+    // Surfaces five units apart: no coupling, exit 1.
+    let far = write(tmp.path(), "far.msh", &square_msh("3 1 1 0", "2 2 2 1 1 1 3 4").replace("\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0", "\n1 5 0 0\n2 6 0 0\n3 6 1 0\n4 5 1 0"));
+    let o = seam(&["transfer", &far, &target, "-o", "o.vtu", "--expr", "x"], tmp.path());
+    assert_clean_failure(&o, 1, "far.msh", "do not overlap", &tmp.path().join("nothing"));
+    assert!(!tmp.path().join("o.vtu").exists() && !tmp.path().join("o.json").exists());
+}
