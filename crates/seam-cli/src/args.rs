@@ -81,23 +81,30 @@ pub struct CouplingArgs {
     pub threads: Option<usize>,
 }
 
-#[derive(Args, Debug)]
-pub struct AssembleArgs {
+/// The two surfaces to couple.
+#[derive(Args, Debug, Clone)]
+pub struct PairArgs {
     /// Master (mortar) surface: a Gmsh MSH file (2.2 or 4.1, ASCII or binary) or a
     /// VTU file.
     pub master: PathBuf,
     /// Slave (non-mortar) surface, MSH or VTU; rows of B and D follow its nodes.
     pub slave: PathBuf,
-    /// Output directory for B.mtx, D.mtx, T.mtx (dual, lumped) and summary.json.
-    #[arg(short, long, value_name = "DIR")]
-    pub output: PathBuf,
-    /// Physical surface of the master file, by name or number (default: all
+    /// Physical surface of the master file (MSH), by name or number (default: all
     /// surface elements, or the boundary of the volume mesh).
     #[arg(long, value_name = "G")]
     pub master_group: Option<String>,
-    /// Physical surface of the slave file, by name or number.
+    /// Physical surface of the slave file (MSH), by name or number.
     #[arg(long, value_name = "G")]
     pub slave_group: Option<String>,
+}
+
+#[derive(Args, Debug)]
+pub struct AssembleArgs {
+    #[command(flatten)]
+    pub pair: PairArgs,
+    /// Output directory for B.mtx, D.mtx, T.mtx (dual, lumped) and summary.json.
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
     #[command(flatten)]
     pub coupling: CouplingArgs,
     /// Also write the intersection triangles (mortar segments) on the slave
@@ -162,16 +169,8 @@ pub struct TransferArgs {
 
 #[derive(Args, Debug)]
 pub struct CheckArgs {
-    /// Master surface: a Gmsh MSH or VTU file.
-    pub master: PathBuf,
-    /// Slave surface: a Gmsh MSH or VTU file.
-    pub slave: PathBuf,
-    /// Physical surface of the master file, by name or number.
-    #[arg(long, value_name = "G")]
-    pub master_group: Option<String>,
-    /// Physical surface of the slave file, by name or number.
-    #[arg(long, value_name = "G")]
-    pub slave_group: Option<String>,
+    #[command(flatten)]
+    pub pair: PairArgs,
     #[command(flatten)]
     pub coupling: CouplingArgs,
     /// Write the per-node coverage and normal gap on the slave surface as VTU.

@@ -3,11 +3,11 @@
 use crate::args::{AssembleArgs, CouplingArgs, FacingArg, MultiplierArg};
 use crate::output::Staged;
 use crate::Failure;
-use anyhow::{anyhow, Context};
+use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use seam::{
-    assemble_with_tree, Face, FaceTree, Facing, MaxGap, Mortar, MortarError, MortarOptions, MortarSummary,
-    Multiplier, Point3, Segment, SurfaceMesh,
+    assemble_with_tree, Face, FaceTree, Facing, MaxGap, Mortar, MortarOptions, MortarSummary, Multiplier,
+    Point3, Segment, SurfaceMesh,
 };
 use seam_io::Field;
 use serde::Serialize;
@@ -78,7 +78,10 @@ pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
 
     let t = Instant::now();
     let (master, slave) = pool.install(|| {
-        rayon::join(|| read(&args.master, &args.master_group), || read(&args.slave, &args.slave_group))
+        rayon::join(
+            || read(&args.pair.master, &args.pair.master_group),
+            || read(&args.pair.slave, &args.pair.slave_group),
+        )
     });
     let (master, slave) = (master?, slave?);
     seconds.read = t.elapsed().as_secs_f64();
@@ -91,14 +94,7 @@ pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
     let bar = progress_bar(slave.n_faces());
     let mortar = pool
         .install(|| assemble_with_tree(&master, &tree, &slave, &options, &|n| bar.inc(n as u64)))
-        .map_err(|e| match e {
-            e @ MortarError::NoOverlap { .. } => Failure::NoCoupling(anyhow!(e).context(format!(
-                "{} (slave) and {}",
-                args.slave.display(),
-                args.master.display()
-            ))),
-            e => Failure::Error(e.into()),
-        })?;
+        .map_err(|e| Failure::from_coupling(e, &args.pair.slave, &args.pair.master))?;
     bar.finish_and_clear();
     // T is written when D is diagonal (dual, lumped); for standard multipliers it
     // is dense and never formed, so no factorisation is spent on it here.
@@ -110,17 +106,17 @@ pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
     seconds.assemble = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let rows = format!("rows: nodes of {} in file order", args.slave.display());
+    let rows = format!("rows: nodes of {} in file order", args.pair.slave.display());
     let cols = |side: &Path| format!("columns: nodes of {} in file order", side.display());
     out.write(&file("B.mtx"), |p| {
-        seam_io::write_matrix_market_file(p, &mortar.b, &[&rows, &cols(&args.master)])
+        seam_io::write_matrix_market_file(p, &mortar.b, &[&rows, &cols(&args.pair.master)])
     })?;
     out.write(&file("D.mtx"), |p| {
-        seam_io::write_matrix_market_file(p, &mortar.d, &[&rows, &cols(&args.slave)])
+        seam_io::write_matrix_market_file(p, &mortar.d, &[&rows, &cols(&args.pair.slave)])
     })?;
     if let Some(t) = t_matrix {
         out.write(&file("T.mtx"), |p| {
-            seam_io::write_matrix_market_file(p, t, &[&rows, &cols(&args.master)])
+            seam_io::write_matrix_market_file(p, t, &[&rows, &cols(&args.pair.master)])
         })?;
     }
     if let Some(path) = &args.segments {
@@ -209,10 +205,10 @@ fn summary(
 ) -> Summary {
     let s = &mortar.summary;
     Summary {
-        master: args.master.display().to_string(),
-        slave: args.slave.display().to_string(),
-        master_group: args.master_group.clone(),
-        slave_group: args.slave_group.clone(),
+        master: args.pair.master.display().to_string(),
+        slave: args.pair.slave.display().to_string(),
+        master_group: args.pair.master_group.clone(),
+        slave_group: args.pair.slave_group.clone(),
         interface: s.clone(),
         covered_fraction: s.covered_area / s.slave_area,
         uncovered_slave_node_rows: mortar.uncovered_nodes().iter().map(|p| p + 1).collect(),

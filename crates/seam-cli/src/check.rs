@@ -9,7 +9,7 @@ use crate::Failure;
 use anyhow::{anyhow, Context};
 use seam::{
     assemble, face_integrals, face_quality, normal_gaps, orientation_conflicts, warped_quad_degree,
-    FaceElement, Mortar, MortarError, SurfaceMesh,
+    FaceElement, Mortar, SurfaceMesh,
 };
 use seam_io::Field;
 use serde::Serialize;
@@ -69,16 +69,12 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     let pool = thread_pool(args.coupling.threads)?;
     let targets: Vec<PathBuf> = args.vtu.iter().chain(&args.json).cloned().collect();
     let mut out = Staged::prepare(&targets, args.force)?;
-    let master = Surface::read(&args.master, args.master_group.as_deref())?.mesh;
-    let slave = Surface::read(&args.slave, args.slave_group.as_deref())?.mesh;
-    let mortar = pool.install(|| assemble(&master, &slave, &options)).map_err(|e| match e {
-        e @ MortarError::NoOverlap { .. } => Failure::NoCoupling(anyhow!(e).context(format!(
-            "{} (slave) and {}",
-            args.slave.display(),
-            args.master.display()
-        ))),
-        e => Failure::Error(e.into()),
-    })?;
+    let pair = &args.pair;
+    let master = Surface::read(&pair.master, pair.master_group.as_deref())?.mesh;
+    let slave = Surface::read(&pair.slave, pair.slave_group.as_deref())?.mesh;
+    let mortar = pool
+        .install(|| assemble(&master, &slave, &options))
+        .map_err(|e| Failure::from_coupling(e, &pair.slave, &pair.master))?;
     let transfer = mortar.transfer().context("the transfer operator")?;
     let gaps = normal_gaps(&slave, &master, &transfer, &mortar.covered);
     let report = report(args, &master, &slave, &mortar, &transfer, &gaps);
@@ -96,8 +92,8 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     if args.strict && !report.ok {
         return Err(Failure::CheckFailed(anyhow!(
             "{} and {}: incomplete coverage or a violated invariant (--strict)",
-            args.slave.display(),
-            args.master.display()
+            args.pair.slave.display(),
+            args.pair.master.display()
         )));
     }
     Ok(())
@@ -117,8 +113,8 @@ fn report(
     let finite: Vec<f64> = gaps.iter().copied().filter(|g| g.is_finite()).collect();
     let (lo, hi) = finite.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &g| (a.min(g), b.max(g)));
     Report {
-        master: args.master.display().to_string(),
-        slave: args.slave.display().to_string(),
+        master: args.pair.master.display().to_string(),
+        slave: args.pair.slave.display().to_string(),
         slave_faces: s.slave_faces,
         master_faces: s.master_faces,
         slave_area: s.slave_area,

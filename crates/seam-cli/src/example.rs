@@ -1,6 +1,6 @@
 //! `seam example NAME -o DIR`: built-in examples that make their own meshes.
 
-use crate::args::{AssembleArgs, CouplingArgs, ExampleArgs, ExampleName, FacingArg, MultiplierArg};
+use crate::args::{AssembleArgs, CouplingArgs, ExampleArgs, ExampleName, FacingArg, MultiplierArg, PairArgs};
 use crate::assemble::{self, Assembled};
 use crate::Failure;
 use anyhow::Context;
@@ -42,11 +42,13 @@ fn operator(args: &ExampleArgs) -> Result<(), Failure> {
             .with_context(|| format!("cannot write {}", path.display()))?;
     }
     let assembled = assemble::run(&AssembleArgs {
-        master: master_path,
-        slave: slave_path,
+        pair: PairArgs {
+            master: master_path,
+            slave: slave_path,
+            master_group: Some("interface".into()),
+            slave_group: Some("interface".into()),
+        },
         output: dir.clone(),
-        master_group: Some("interface".into()),
-        slave_group: Some("interface".into()),
         coupling: CouplingArgs {
             multiplier: MultiplierArg::Dual,
             max_gap: None,

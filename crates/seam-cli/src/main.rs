@@ -29,6 +29,19 @@ pub enum Failure {
     CheckFailed(anyhow::Error),
 }
 
+impl Failure {
+    /// An assembly error: no overlap is "ran, found nothing to couple" (exit 1),
+    /// naming the two files; anything else an error.
+    pub fn from_coupling(e: seam::MortarError, slave: &std::path::Path, master: &std::path::Path) -> Failure {
+        match e {
+            e @ seam::MortarError::NoOverlap { .. } => Failure::NoCoupling(
+                anyhow::anyhow!(e).context(format!("{} (slave) and {}", slave.display(), master.display())),
+            ),
+            e => Failure::Error(e.into()),
+        }
+    }
+}
+
 impl<E: Into<anyhow::Error>> From<E> for Failure {
     fn from(e: E) -> Self {
         Failure::Error(e.into())

@@ -6,8 +6,8 @@ use crate::assemble::{options, thread_pool};
 use crate::input::{Expression, Surface};
 use crate::output::Staged;
 use crate::Failure;
-use anyhow::{anyhow, Context};
-use seam::{assemble, normal_gaps, Mortar, MortarError, MortarOptions, Multiplier, SurfaceMesh};
+use anyhow::Context;
+use seam::{assemble, normal_gaps, Mortar, MortarOptions, Multiplier, SurfaceMesh};
 use seam_io::Field;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -68,7 +68,8 @@ pub fn run(args: &TransferArgs) -> Result<(), Failure> {
     // mode, and the coverage and normal gaps of the target in both modes.
     let couple =
         |master: &SurfaceMesh, slave: &SurfaceMesh, o: &MortarOptions, which: (&PathBuf, &PathBuf)| {
-            pool.install(|| assemble(master, slave, o)).map_err(|e| coupling_failure(e, which.0, which.1))
+            pool.install(|| assemble(master, slave, o))
+                .map_err(|e| Failure::from_coupling(e, which.0, which.1))
         };
     let consistent = couple(&source.mesh, &target.mesh, &options, (&args.target, &args.source))?;
     let t = consistent.transfer().context("the transfer operator")?;
@@ -128,17 +129,6 @@ pub fn run(args: &TransferArgs) -> Result<(), Failure> {
     out.commit(&[])?;
     print_summary(&summary, &args.output);
     Ok(())
-}
-
-fn coupling_failure(e: MortarError, slave: &Path, master: &Path) -> Failure {
-    match e {
-        e @ MortarError::NoOverlap { .. } => Failure::NoCoupling(anyhow!(e).context(format!(
-            "{} (slave) and {}",
-            slave.display(),
-            master.display()
-        ))),
-        e => Failure::Error(e.into()),
-    }
 }
 
 /// The loads on covered nodes only: Tᵀ moves what the covered part carries.

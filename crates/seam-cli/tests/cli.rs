@@ -410,7 +410,12 @@ fn transfer_bad_input_is_reported_cleanly() {
     assert_clean_failure(&o, 2, "short.vtu", "T", &tmp.path().join("nothing"));
     assert!(!tmp.path().join("o.vtu").exists());
     // Surfaces five units apart: no coupling, exit 1.
-    let far = write(tmp.path(), "far.msh", &square_msh("3 1 1 0", "2 2 2 1 1 1 3 4").replace("\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0", "\n1 5 0 0\n2 6 0 0\n3 6 1 0\n4 5 1 0"));
+    let far = write(
+        tmp.path(),
+        "far.msh",
+        &square_msh("3 1 1 0", "2 2 2 1 1 1 3 4")
+            .replace("\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0", "\n1 5 0 0\n2 6 0 0\n3 6 1 0\n4 5 1 0"),
+    );
     let o = seam(&["transfer", &far, &target, "-o", "o.vtu", "--expr", "x"], tmp.path());
     assert_clean_failure(&o, 1, "far.msh", "do not overlap", &tmp.path().join("nothing"));
     assert!(!tmp.path().join("o.vtu").exists() && !tmp.path().join("o.json").exists());
