@@ -168,3 +168,29 @@ def test_meshio_reads_the_committed_fixtures_as_described():
             assert np.array_equal(mesh.point_data[field_name], values), (path.name, field_name)
         for field_name, values in make_fixtures.CELL_DATA.items():
             assert np.array_equal(np.concatenate(mesh.cell_data[field_name]), values), (path.name, field_name)
+
+
+def test_volume_cells_read_by_meshio_and_vtk(tmp_path):
+    """The volume writer: cell types and fields as meshio reads them, and positive
+    volumes in VTK (so Gmsh's node orders are VTK's for every cell type)."""
+    env = dict(os.environ, SEAM_VTU_OUT=str(tmp_path))
+    subprocess.run(["cargo", "test", "-q", "-p", "seam-io", "--test", "vtu", "write_volume_fixture_for_python",
+                    "--", "--exact"], cwd=ROOT, env=env, check=True, capture_output=True)
+    m = meshio.read(tmp_path / "volume.vtu")
+    assert [c.type for c in m.cells] == ["tetra", "hexahedron", "wedge", "pyramid"]
+    assert np.array_equal(m.point_data["z"], m.points[:, 2])
+    assert np.array_equal(np.concatenate([d.reshape(-1) for d in m.cell_data["cell_id"]]), [0, 1, 2, 3])
+    vtk = pytest.importorskip("vtk")
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(tmp_path / "volume.vtu"))
+    reader.Update()
+    quality = vtk.vtkMeshQuality()
+    quality.SetInputData(reader.GetOutput())
+    quality.SetTetQualityMeasureToVolume()
+    quality.SetHexQualityMeasureToVolume()
+    quality.SetWedgeQualityMeasureToVolume()
+    quality.SetPyramidQualityMeasureToVolume()
+    quality.Update()
+    q = quality.GetOutput().GetCellData().GetArray("Quality")
+    volumes = [q.GetValue(i) for i in range(q.GetNumberOfTuples())]
+    assert np.allclose(volumes, [1 / 6, 1.0, 0.5, 1 / 3])

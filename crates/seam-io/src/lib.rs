@@ -28,4 +28,7 @@ pub use msh::{
     PhysicalName,
 };
 pub use mtx::{read_matrix_market_str, write_matrix_market, write_matrix_market_file, MatrixMarketError};
-pub use vtu::{read_vtu, read_vtu_file, write_vtu, write_vtu_file, Field, VtuError, VtuErrorKind, VtuMesh};
+pub use vtu::{
+    read_vtu, read_vtu_file, write_volume_vtu, write_volume_vtu_file, write_vtu, write_vtu_file, Field,
+    VtuError, VtuErrorKind, VtuMesh,
+};

@@ -43,7 +43,7 @@ use std::io::{self, Read, Write};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
-use seam::{Face, MeshError, SurfaceMesh};
+use seam::{Cell, Face, MeshError, SurfaceMesh, VolumeMesh};
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType, IOBuffer, Piece,
     UnstructuredGridPiece, Version, VertexNumbers, Vtk,
@@ -155,10 +155,43 @@ pub fn write_vtu_file(
     point_data: &[Field],
     cell_data: &[Field],
 ) -> Result<(), VtuError> {
-    let path = path.as_ref();
-    let bytes = vtu_bytes(mesh, point_data, cell_data).map_err(|e| e.with_path(path))?;
+    write_file(path.as_ref(), vtu_bytes(mesh, point_data, cell_data))
+}
+
+/// Writes the encoded file (created or truncated); nothing is created when the
+/// encoding failed.
+fn write_file(path: &Path, bytes: Result<Vec<u8>, VtuError>) -> Result<(), VtuError> {
+    let bytes = bytes.map_err(|e| e.with_path(path))?;
     let mut file = File::create(path).map_err(|e| VtuError::io(true, e).with_path(path))?;
     file.write_all(&bytes).and_then(|()| file.flush()).map_err(|e| VtuError::io(true, e).with_path(path))
+}
+
+/// Writes a volume mesh (tetrahedra, hexahedra, prisms, pyramids, mixed) as a
+/// VTU file, with point fields and cell fields, encoded as [`write_vtu`] does.
+///
+/// # Errors
+/// As [`write_vtu`], with cell fields of `n_cells × components` values.
+pub fn write_volume_vtu(
+    mut w: impl Write,
+    mesh: &VolumeMesh,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<(), VtuError> {
+    let bytes = grid_bytes(mesh.points(), GridCells::of_volume(mesh), point_data, cell_data)?;
+    w.write_all(&bytes).and_then(|()| w.flush()).map_err(|e| VtuError::io(true, e))
+}
+
+/// Writes a volume mesh to the file `path`; see [`write_volume_vtu`].
+///
+/// # Errors
+/// As [`write_volume_vtu`], with the path. Nothing is created when a field is wrong.
+pub fn write_volume_vtu_file(
+    path: impl AsRef<Path>,
+    mesh: &VolumeMesh,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<(), VtuError> {
+    write_file(path.as_ref(), grid_bytes(mesh.points(), GridCells::of_volume(mesh), point_data, cell_data))
 }
 
 /// Reads a VTU file; see the [module docs](self) for what is read.
@@ -234,21 +267,65 @@ fn attributes(fields: &[Field]) -> Vec<Attribute> {
         .collect()
 }
 
-fn vtu_bytes(mesh: &SurfaceMesh, point_data: &[Field], cell_data: &[Field]) -> Result<Vec<u8>, VtuError> {
-    check_fields(point_data, mesh.n_points(), false)?;
-    check_fields(cell_data, mesh.n_faces(), true)?;
-    let points: Vec<f64> = mesh.points().iter().flatten().copied().collect();
-    let mut connectivity = Vec::with_capacity(4 * mesh.n_faces());
-    let mut offsets = Vec::with_capacity(mesh.n_faces());
-    let mut types = Vec::with_capacity(mesh.n_faces());
-    for face in mesh.faces() {
-        connectivity.extend(face.nodes().iter().map(|&n| n as u64));
-        offsets.push(connectivity.len() as u64);
-        types.push(match face {
-            Face::Tri3(_) => CellType::Triangle,
-            Face::Quad4(_) => CellType::Quad,
-        });
+/// The cells of a grid to write: VTK types and connectivity.
+#[derive(Default)]
+struct GridCells {
+    types: Vec<CellType>,
+    connectivity: Vec<u64>,
+    offsets: Vec<u64>,
+}
+
+impl GridCells {
+    fn push(&mut self, kind: CellType, nodes: &[usize]) {
+        self.connectivity.extend(nodes.iter().map(|&n| n as u64));
+        self.offsets.push(self.connectivity.len() as u64);
+        self.types.push(kind);
     }
+
+    fn of_surface(mesh: &SurfaceMesh) -> GridCells {
+        let mut cells = GridCells::default();
+        for face in mesh.faces() {
+            let kind = match face {
+                Face::Tri3(_) => CellType::Triangle,
+                Face::Quad4(_) => CellType::Quad,
+            };
+            cells.push(kind, face.nodes());
+        }
+        cells
+    }
+
+    /// Volume cells. Gmsh's node orders of the tetrahedron, hexahedron, prism
+    /// (VTK's wedge) and pyramid are VTK's: VTK computes a positive volume for
+    /// cells that are positive in Gmsh (checked by `tests/python`).
+    fn of_volume(mesh: &VolumeMesh) -> GridCells {
+        let mut cells = GridCells::default();
+        for cell in mesh.cells() {
+            let kind = match cell {
+                Cell::Tet4(_) => CellType::Tetra,
+                Cell::Hex8(_) => CellType::Hexahedron,
+                Cell::Prism6(_) => CellType::Wedge,
+                Cell::Pyramid5(_) => CellType::Pyramid,
+            };
+            cells.push(kind, cell.nodes());
+        }
+        cells
+    }
+}
+
+fn vtu_bytes(mesh: &SurfaceMesh, point_data: &[Field], cell_data: &[Field]) -> Result<Vec<u8>, VtuError> {
+    grid_bytes(mesh.points(), GridCells::of_surface(mesh), point_data, cell_data)
+}
+
+fn grid_bytes(
+    points: &[[f64; 3]],
+    cells: GridCells,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<Vec<u8>, VtuError> {
+    check_fields(point_data, points.len(), false)?;
+    check_fields(cell_data, cells.types.len(), true)?;
+    let GridCells { types, connectivity, offsets } = cells;
+    let points: Vec<f64> = points.iter().flatten().copied().collect();
     let vtk = Vtk {
         version: Version::new_xml(1, 0),
         title: String::new(),

@@ -487,3 +487,53 @@ fn write_fixtures_for_python() {
     json.push_str("}\n");
     std::fs::write(dir.join("expected.json"), json).unwrap();
 }
+
+/// One positively oriented cell of each volume type (Gmsh node order), with a
+/// point field and a cell field, for `tests/python/test_vtu_meshio.py` (written to
+/// `$SEAM_VTU_OUT` when set).
+#[test]
+fn write_volume_fixture_for_python() {
+    use seam::{Cell, VolumeMesh};
+    let temp = tempfile::tempdir().unwrap();
+    let dir =
+        std::env::var_os("SEAM_VTU_OUT").map(PathBuf::from).unwrap_or_else(|| temp.path().to_path_buf());
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut points = Vec::new();
+    let mut cells = Vec::new();
+    let mut add = |corners: &[[f64; 3]], dx: f64, make: fn(Vec<usize>) -> Cell| {
+        let first = points.len();
+        points.extend(corners.iter().map(|p| [p[0] + dx, p[1], p[2]]));
+        cells.push(make((first..first + corners.len()).collect()));
+    };
+    add(&[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]], 0.0, |n| {
+        Cell::Tet4([n[0], n[1], n[2], n[3]])
+    });
+    add(
+        &[
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 1., 0.],
+            [0., 0., 1.],
+            [1., 0., 1.],
+            [1., 1., 1.],
+            [0., 1., 1.],
+        ],
+        2.0,
+        |n| Cell::Hex8([n[0], n[1], n[2], n[3], n[4], n[5], n[6], n[7]]),
+    );
+    add(&[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.], [1., 0., 1.], [0., 1., 1.]], 4.0, |n| {
+        Cell::Prism6([n[0], n[1], n[2], n[3], n[4], n[5]])
+    });
+    add(&[[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [0.5, 0.5, 1.]], 6.0, |n| {
+        Cell::Pyramid5([n[0], n[1], n[2], n[3], n[4]])
+    });
+    let mesh = VolumeMesh::new(points, cells).unwrap();
+    let z: Vec<f64> = mesh.points().iter().map(|p| p[2]).collect();
+    let id = Field::scalars("cell_id", vec![0.0, 1.0, 2.0, 3.0]);
+    seam_io::write_volume_vtu_file(dir.join("volume.vtu"), &mesh, &[Field::scalars("z", z)], &[id]).unwrap();
+    // A wrong cell-field length is an error, and no file is created.
+    let bad =
+        seam_io::write_volume_vtu_file(dir.join("bad.vtu"), &mesh, &[], &[Field::scalars("c", vec![1.0])]);
+    assert!(bad.is_err() && !dir.join("bad.vtu").exists());
+}
