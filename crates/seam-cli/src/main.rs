@@ -9,6 +9,8 @@
 mod args;
 mod assemble;
 mod bench;
+#[allow(dead_code)] // read by `seam solve`, which comes with the elasticity solver
+mod case;
 mod check;
 mod example;
 mod input;

@@ -1,0 +1,357 @@
+//! Case files of `seam solve CASE.toml`: several linear-elastic bodies, glued
+//! (or, later, in contact) through interfaces, with Dirichlet conditions and
+//! tractions on named boundaries.
+//!
+//! ```toml
+//! [[body]]              # one per body
+//! name = "lower"
+//! mesh = "lower.msh"    # Gmsh volume mesh; its physical surfaces name the boundaries
+//! young = 1.0e3
+//! poisson = 0.3
+//! body_force = [0.0, 0.0, 0.0]   # optional, force per volume
+//!
+//! [[interface]]         # surfaces are named "body:physical-surface"
+//! master = "lower:top"
+//! slave = "upper:bottom"
+//! kind = "glue"
+//! multiplier = "standard"        # or "dual", "lumped"
+//!
+//! [[dirichlet]]         # any subset of ux, uy, uz
+//! boundary = "lower:bottom"
+//! uz = 0.0
+//!
+//! [[traction]]
+//! boundary = "upper:top"
+//! t = [0.0, 0.0, -1.0]
+//!
+//! [output]
+//! dir = "out"
+//! ```
+//!
+//! Everything that can be checked without solving is checked by [`Case::read`],
+//! before any heavy work: names, references, material ranges, and that every
+//! body is held by a Dirichlet condition, directly or through glued neighbours.
+
+use anyhow::{anyhow, bail, Context, Result};
+use serde::Deserialize;
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// A case file, as written.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Case {
+    #[serde(rename = "body")]
+    pub bodies: Vec<Body>,
+    #[serde(rename = "interface", default)]
+    pub interfaces: Vec<Interface>,
+    #[serde(default)]
+    pub dirichlet: Vec<Dirichlet>,
+    #[serde(default)]
+    pub traction: Vec<Traction>,
+    pub output: Output,
+    /// The directory of the case file: meshes and outputs are relative to it.
+    #[serde(skip)]
+    pub base: PathBuf,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Body {
+    pub name: String,
+    pub mesh: PathBuf,
+    pub young: f64,
+    pub poisson: f64,
+    #[serde(default)]
+    pub body_force: [f64; 3],
+}
+
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum InterfaceKind {
+    Glue,
+    Contact,
+}
+
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum CaseMultiplier {
+    #[default]
+    Standard,
+    Dual,
+    Lumped,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Interface {
+    pub master: String,
+    pub slave: String,
+    pub kind: InterfaceKind,
+    #[serde(default)]
+    pub multiplier: CaseMultiplier,
+    /// Largest normal distance between paired points (default: half a slave face).
+    pub max_gap: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Dirichlet {
+    pub boundary: String,
+    pub ux: Option<f64>,
+    pub uy: Option<f64>,
+    pub uz: Option<f64>,
+}
+
+impl Dirichlet {
+    /// The prescribed components as (component, value).
+    pub fn components(&self) -> Vec<(usize, f64)> {
+        [self.ux, self.uy, self.uz].iter().enumerate().filter_map(|(k, v)| v.map(|v| (k, v))).collect()
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Traction {
+    pub boundary: String,
+    pub t: [f64; 3],
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Output {
+    pub dir: PathBuf,
+}
+
+/// A boundary reference "body:surface", split.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SurfaceRef {
+    pub body: String,
+    pub surface: String,
+}
+
+impl SurfaceRef {
+    pub fn parse(text: &str, context: &str) -> Result<SurfaceRef> {
+        match text.split_once(':') {
+            Some((b, s)) if !b.trim().is_empty() && !s.trim().is_empty() => {
+                Ok(SurfaceRef { body: b.trim().to_string(), surface: s.trim().to_string() })
+            }
+            _ => bail!("{context}: \"{text}\" is not of the form \"body:surface\""),
+        }
+    }
+}
+
+impl Case {
+    /// Reads and checks a case file (see the module doc).
+    pub fn read(path: &Path) -> Result<Case> {
+        let text =
+            std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+        let mut case: Case = toml::from_str(&text)
+            .map_err(|e| anyhow!("{}: {}", path.display(), e.to_string().trim().replace('\n', " ")))?;
+        case.base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        case.check().map_err(|e| anyhow!("{}: {e:#}", path.display()))?;
+        Ok(case)
+    }
+
+    /// A path of the case (relative to the case file's directory).
+    pub fn resolve(&self, p: &Path) -> PathBuf {
+        if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            self.base.join(p)
+        }
+    }
+
+    fn check(&self) -> Result<()> {
+        if self.bodies.is_empty() {
+            bail!("no [[body]]");
+        }
+        let mut names = BTreeSet::new();
+        for b in &self.bodies {
+            if !names.insert(b.name.as_str()) {
+                bail!("body \"{}\" is defined twice", b.name);
+            }
+            if b.name.contains(':') || b.name.is_empty() {
+                bail!("body name \"{}\" must be non-empty and without ':'", b.name);
+            }
+            if !(b.young.is_finite() && b.young > 0.0) {
+                bail!("body \"{}\": young = {} must be positive", b.name, b.young);
+            }
+            if !(b.poisson > -1.0 && b.poisson < 0.5) {
+                bail!("body \"{}\": poisson = {} must lie in (-1, 0.5)", b.name, b.poisson);
+            }
+            if b.body_force.iter().any(|v| !v.is_finite()) {
+                bail!("body \"{}\": body_force must be finite", b.name);
+            }
+            let mesh = self.resolve(&b.mesh);
+            if !mesh.is_file() {
+                bail!("body \"{}\": mesh {} does not exist", b.name, mesh.display());
+            }
+        }
+        let known = |r: &SurfaceRef, what: &str| -> Result<()> {
+            if names.contains(r.body.as_str()) {
+                Ok(())
+            } else {
+                bail!(
+                    "{what}: no body named \"{}\" (bodies: {})",
+                    r.body,
+                    names.iter().cloned().collect::<Vec<_>>().join(", ")
+                )
+            }
+        };
+        for (i, f) in self.interfaces.iter().enumerate() {
+            let what = format!("interface {}", i + 1);
+            let (m, s) = (SurfaceRef::parse(&f.master, &what)?, SurfaceRef::parse(&f.slave, &what)?);
+            known(&m, &what)?;
+            known(&s, &what)?;
+            if m.body == s.body {
+                bail!("{what}: master and slave belong to the same body \"{}\"", m.body);
+            }
+            if f.kind == InterfaceKind::Contact {
+                bail!("{what}: kind = \"contact\" is not supported yet (only \"glue\")");
+            }
+            if let Some(g) = f.max_gap {
+                if !(g.is_finite() && g >= 0.0) {
+                    bail!("{what}: max_gap = {g} must be a non-negative length");
+                }
+            }
+        }
+        for (i, d) in self.dirichlet.iter().enumerate() {
+            let what = format!("dirichlet {}", i + 1);
+            known(&SurfaceRef::parse(&d.boundary, &what)?, &what)?;
+            if d.components().is_empty() {
+                bail!("{what}: give at least one of ux, uy, uz");
+            }
+            if d.components().iter().any(|(_, v)| !v.is_finite()) {
+                bail!("{what}: values must be finite");
+            }
+        }
+        for (i, t) in self.traction.iter().enumerate() {
+            let what = format!("traction {}", i + 1);
+            known(&SurfaceRef::parse(&t.boundary, &what)?, &what)?;
+            if t.t.iter().any(|v| !v.is_finite()) {
+                bail!("{what}: t must be finite");
+            }
+        }
+        self.check_held()
+    }
+
+    /// Every body must be held against rigid motion: some body of its glued
+    /// group needs a Dirichlet condition on all three components (a necessary
+    /// condition; the factorisation detects the rest).
+    fn check_held(&self) -> Result<()> {
+        let index: BTreeMap<&str, usize> =
+            self.bodies.iter().enumerate().map(|(i, b)| (b.name.as_str(), i)).collect();
+        let mut group: Vec<usize> = (0..self.bodies.len()).collect();
+        fn root(g: &mut [usize], mut i: usize) -> usize {
+            while g[i] != i {
+                g[i] = g[g[i]];
+                i = g[i];
+            }
+            i
+        }
+        for f in &self.interfaces {
+            let (m, s) = (SurfaceRef::parse(&f.master, "")?, SurfaceRef::parse(&f.slave, "")?);
+            let (a, b) = (root(&mut group, index[m.body.as_str()]), root(&mut group, index[s.body.as_str()]));
+            group[a] = b;
+        }
+        let mut held = vec![[false; 3]; self.bodies.len()];
+        for d in &self.dirichlet {
+            let r = root(&mut group, index[SurfaceRef::parse(&d.boundary, "")?.body.as_str()]);
+            for (k, _) in d.components() {
+                held[r][k] = true;
+            }
+        }
+        for (i, b) in self.bodies.iter().enumerate() {
+            let r = root(&mut group, i);
+            if let Some(k) = (0..3).find(|&k| !held[r][k]) {
+                bail!(
+                    "body \"{}\" can move freely along {} (no Dirichlet condition on {} in it or in a body glued to it): \
+                     the problem is singular",
+                    b.name,
+                    ["x", "y", "z"][k],
+                    ["ux", "uy", "uz"][k]
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn case(dir: &Path, text: &str) -> Result<Case> {
+        std::fs::write(dir.join("a.msh"), "").unwrap();
+        std::fs::write(dir.join("b.msh"), "").unwrap();
+        let path = dir.join("case.toml");
+        std::fs::write(&path, text).unwrap();
+        Case::read(&path)
+    }
+
+    const GOOD: &str = r#"
+[[body]]
+name = "lower"
+mesh = "a.msh"
+young = 1.0e3
+poisson = 0.3
+
+[[body]]
+name = "upper"
+mesh = "b.msh"
+young = 2.0e3
+poisson = 0.25
+
+[[interface]]
+master = "lower:top"
+slave = "upper:bottom"
+kind = "glue"
+multiplier = "dual"
+
+[[dirichlet]]
+boundary = "lower:bottom"
+ux = 0.0
+uy = 0.0
+uz = 0.0
+
+[[traction]]
+boundary = "upper:top"
+t = [0.0, 0.0, -1.0]
+
+[output]
+dir = "out"
+"#;
+
+    #[test]
+    fn a_good_case_reads() {
+        let tmp = tempfile::tempdir().unwrap();
+        let c = case(tmp.path(), GOOD).unwrap();
+        assert_eq!(c.bodies.len(), 2);
+        assert_eq!(c.interfaces[0].multiplier, CaseMultiplier::Dual);
+        assert_eq!(c.dirichlet[0].components(), vec![(0, 0.0), (1, 0.0), (2, 0.0)]);
+        assert_eq!(c.resolve(Path::new("a.msh")), tmp.path().join("a.msh"));
+    }
+
+    #[test]
+    fn input_errors_are_named_before_any_work() {
+        let tmp = tempfile::tempdir().unwrap();
+        let cases = [
+            (GOOD.replace("young = 2.0e3", "young = -1.0"), "young = -1 must be positive"),
+            (GOOD.replace("poisson = 0.25", "poisson = 0.5"), "poisson = 0.5 must lie in (-1, 0.5)"),
+            (GOOD.replace("b.msh", "missing.msh"), "missing.msh does not exist"),
+            (GOOD.replace("slave = \"upper:bottom\"", "slave = \"middle:bottom\""), "no body named \"middle\""),
+            (GOOD.replace("boundary = \"upper:top\"", "boundary = \"upper\""), "is not of the form \"body:surface\""),
+            (GOOD.replace("[[interface]]\nmaster = \"lower:top\"\nslave = \"upper:bottom\"\nkind = \"glue\"\nmultiplier = \"dual\"\n", ""), "body \"upper\" can move freely along x"),
+            (GOOD.replace("uz = 0.0", ""), "can move freely along z"),
+            (GOOD.replace("kind = \"glue\"", "kind = \"weld\""), "unknown variant `weld`"),
+            (GOOD.replace("young = 1.0e3", "youngs = 1.0e3"), "unknown field `youngs`"),
+            (GOOD.replace("name = \"upper\"", "name = \"lower\""), "body \"lower\" is defined twice"),
+        ];
+        for (text, message) in cases {
+            let err = format!("{:#}", case(tmp.path(), &text).unwrap_err());
+            assert!(err.contains(message), "expected '{message}' in: {err}");
+            assert!(err.contains("case.toml"), "the error names the file: {err}");
+        }
+    }
+}
