@@ -1,0 +1,420 @@
+//! Global assembly: the stiffness matrix K, body-force and traction loads.
+//!
+//! Degrees of freedom: 3 per mesh point, `dof = 3·point + component`
+//! (component 0, 1, 2 = x, y, z). For a cell e with nodes i, j and physical
+//! shape gradients g_i = ∇_x N_i = J⁻ᵀ∇_ξ N_i (J = ∂x/∂ξ = Σ_i x_i ⊗ ∇_ξ N_i),
+//!
+//! ```text
+//! K^e_{3i+a, 3j+b} = Σ_q w_q |det J| (λ g_ia g_jb + μ g_ib g_ja + μ δ_ab g_i·g_j)   (= ∫_e B_iᵀ C B_j)
+//! f_{3i+a}         = ∫_Ω N_i b_a dV + ∫_Γ N_i t_a dA
+//! ```
+//!
+//! # Determinism
+//! Cell blocks are computed in parallel (rayon), each by a fixed sequence of
+//! operations. K is then built row by row (in parallel over points): a row sums
+//! the blocks of the cells around its point in increasing cell order, so every
+//! entry is the same sum in the same order whatever the number of threads. Loads
+//! are scattered in cell (face) order. The results are bitwise reproducible.
+
+use crate::element::{ElementKind, VolumeRule, Xi, MAX_NODES};
+use crate::material::Material;
+use rayon::prelude::*;
+use seam::{triangle_rule, CsrMatrix, FaceElement, Point3, SurfaceMesh, VolumeMesh};
+
+/// Quadrature degree of body-force loads ([`ElementKind::rule`]): exact for
+/// N_i·b with b affine on affine cells.
+pub const BODY_FORCE_DEGREE: usize = 2;
+
+/// Triangle-rule degree of traction loads on each reference triangle of a face:
+/// exact for N_i t |J| with t affine on triangles and planar quads (and for
+/// N_i σ·(∂x/∂ξ × ∂x/∂η) with σ constant on warped quads).
+pub const TRACTION_DEGREE: usize = 4;
+
+/// A cell is degenerate when |det J| ≤ `DEGENERATE_RTOL` · |J e_1| |J e_2| |J e_3|
+/// at a quadrature point (a volume vanishing relative to its edge lengths).
+pub const DEGENERATE_RTOL: f64 = 1e-12;
+
+/// Why an assembly failed.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum AssemblyError {
+    /// A cell's Jacobian determinant vanishes or changes sign.
+    #[error("cell {cell} is degenerate or tangled: its Jacobian determinant vanishes or changes sign")]
+    DegenerateCell {
+        /// The cell index.
+        cell: usize,
+    },
+}
+
+/// The physical view of a cell at one reference point.
+#[derive(Clone, Copy, Debug)]
+pub struct PointGeometry {
+    /// det J, J = ∂x/∂ξ (negative for a cell of negative orientation).
+    pub det: f64,
+    /// Physical gradients ∇_x N_i = J⁻ᵀ ∇_ξ N_i; entries past the node count are 0.
+    pub grads: [[f64; 3]; MAX_NODES],
+}
+
+/// The map x(ξ) = Σ_i N_i(ξ) x_i of a cell with corners `x` (Gmsh order).
+pub fn map_point(kind: ElementKind, x: &[Point3], xi: Xi) -> Point3 {
+    let n = kind.shape(xi);
+    let mut p = [0.0; 3];
+    for (i, xi) in x.iter().enumerate() {
+        for k in 0..3 {
+            p[k] += n[i] * xi[k];
+        }
+    }
+    p
+}
+
+/// det J and the physical gradients at ξ; `None` when the cell is degenerate
+/// there (|det J| ≤ [`DEGENERATE_RTOL`] · Π_l |J e_l|, or not finite).
+pub fn geometry(kind: ElementKind, x: &[Point3], xi: Xi) -> Option<PointGeometry> {
+    debug_assert_eq!(x.len(), kind.n_nodes());
+    let g = kind.gradients(xi);
+    // J[k][l] = ∂x_k/∂ξ_l
+    let mut j = [[0.0; 3]; 3];
+    for (i, xi) in x.iter().enumerate() {
+        for k in 0..3 {
+            for l in 0..3 {
+                j[k][l] += xi[k] * g[i][l];
+            }
+        }
+    }
+    let cof = [
+        [
+            j[1][1] * j[2][2] - j[1][2] * j[2][1],
+            j[1][2] * j[2][0] - j[1][0] * j[2][2],
+            j[1][0] * j[2][1] - j[1][1] * j[2][0],
+        ],
+        [
+            j[0][2] * j[2][1] - j[0][1] * j[2][2],
+            j[0][0] * j[2][2] - j[0][2] * j[2][0],
+            j[0][1] * j[2][0] - j[0][0] * j[2][1],
+        ],
+        [
+            j[0][1] * j[1][2] - j[0][2] * j[1][1],
+            j[0][2] * j[1][0] - j[0][0] * j[1][2],
+            j[0][0] * j[1][1] - j[0][1] * j[1][0],
+        ],
+    ];
+    let det = j[0][0] * cof[0][0] + j[0][1] * cof[0][1] + j[0][2] * cof[0][2];
+    let col = |l: usize| (j[0][l] * j[0][l] + j[1][l] * j[1][l] + j[2][l] * j[2][l]).sqrt();
+    let scale = col(0) * col(1) * col(2);
+    if !det.is_finite() || det.abs() <= DEGENERATE_RTOL * scale {
+        return None;
+    }
+    // J⁻¹ = cof(J)ᵀ / det, so ∇_x N = J⁻ᵀ ∇_ξ N = cof(J) ∇_ξ N / det.
+    let mut grads = [[0.0; 3]; MAX_NODES];
+    for i in 0..x.len() {
+        for k in 0..3 {
+            grads[i][k] = (cof[k][0] * g[i][0] + cof[k][1] * g[i][1] + cof[k][2] * g[i][2]) / det;
+        }
+    }
+    Some(PointGeometry { det, grads })
+}
+
+/// The geometry at every point of `rule`, or `None` if the cell is degenerate at
+/// one of them or det J changes sign between them.
+fn geometry_at_rule(kind: ElementKind, x: &[Point3], rule: &VolumeRule) -> Option<Vec<PointGeometry>> {
+    let geo: Vec<PointGeometry> =
+        rule.points.iter().map(|&xi| geometry(kind, x, xi)).collect::<Option<_>>()?;
+    let positive = geo[0].det > 0.0;
+    geo.iter().all(|g| (g.det > 0.0) == positive).then_some(geo)
+}
+
+/// Element stiffness ∫_e Bᵀ C B dV with [`ElementKind::stiffness_rule`], as a dense
+/// row-major (3n)×(3n) matrix in local dofs 3i + a. Cells of either orientation
+/// are accepted (|det J|). `None` for a degenerate or tangled cell.
+pub fn element_stiffness(kind: ElementKind, x: &[Point3], material: &Material) -> Option<Vec<f64>> {
+    let rule = kind.stiffness_rule();
+    let geo = geometry_at_rule(kind, x, rule)?;
+    let (lambda, mu) = material.lame();
+    let n = kind.n_nodes();
+    let nd = 3 * n;
+    let mut k = vec![0.0; nd * nd];
+    for (g, w) in geo.iter().zip(&rule.weights) {
+        let wd = w * g.det.abs();
+        let (wl, wm) = (wd * lambda, wd * mu);
+        for i in 0..n {
+            let gi = g.grads[i];
+            for j in i..n {
+                let gj = g.grads[j];
+                let dot = gi[0] * gj[0] + gi[1] * gj[1] + gi[2] * gj[2];
+                for a in 0..3 {
+                    for b in 0..3 {
+                        let mut v = wl * gi[a] * gj[b] + wm * gi[b] * gj[a];
+                        if a == b {
+                            v += wm * dot;
+                        }
+                        k[(3 * i + a) * nd + 3 * j + b] += v;
+                    }
+                }
+            }
+        }
+    }
+    // Mirror the upper blocks: K^e is exactly symmetric.
+    for r in 0..nd {
+        for c in 0..r {
+            k[r * nd + c] = k[c * nd + r];
+        }
+    }
+    Some(k)
+}
+
+/// The corner coordinates of cell `c`.
+fn corners(mesh: &VolumeMesh, c: usize) -> ([Point3; MAX_NODES], ElementKind) {
+    let cell = &mesh.cells()[c];
+    let mut x = [[0.0; 3]; MAX_NODES];
+    for (i, &p) in cell.nodes().iter().enumerate() {
+        x[i] = mesh.points()[p];
+    }
+    (x, ElementKind::of(cell))
+}
+
+/// Runs `f` on every cell in parallel; the first (lowest) failing cell is the error.
+fn per_cell<T: Send>(
+    mesh: &VolumeMesh,
+    f: impl Fn(ElementKind, &[Point3]) -> Option<T> + Sync,
+) -> Result<Vec<T>, AssemblyError> {
+    let out: Vec<Option<T>> = (0..mesh.cells().len())
+        .into_par_iter()
+        .map(|c| {
+            let (x, kind) = corners(mesh, c);
+            f(kind, &x[..kind.n_nodes()])
+        })
+        .collect();
+    if let Some(cell) = out.iter().position(Option::is_none) {
+        return Err(AssemblyError::DegenerateCell { cell });
+    }
+    Ok(out.into_iter().flatten().collect())
+}
+
+/// The cells around each point, in increasing cell order, with the point's local
+/// index in the cell: (offsets, (cell, local)), CSR-like.
+pub(crate) fn point_cells(mesh: &VolumeMesh) -> (Vec<usize>, Vec<(usize, usize)>) {
+    let n = mesh.points().len();
+    let mut offsets = vec![0usize; n + 1];
+    for cell in mesh.cells() {
+        for &p in cell.nodes() {
+            offsets[p + 1] += 1;
+        }
+    }
+    for p in 0..n {
+        offsets[p + 1] += offsets[p];
+    }
+    let mut fill = offsets.clone();
+    let mut entries = vec![(0, 0); offsets[n]];
+    for (c, cell) in mesh.cells().iter().enumerate() {
+        for (l, &p) in cell.nodes().iter().enumerate() {
+            entries[fill[p]] = (c, l);
+            fill[p] += 1;
+        }
+    }
+    (offsets, entries)
+}
+
+/// The global stiffness matrix K (3·n_points square, symmetric, sorted CSR).
+/// Points that no cell uses get empty rows.
+///
+/// # Errors
+/// [`AssemblyError::DegenerateCell`] for the first degenerate or tangled cell.
+///
+/// # Performance
+/// Parallel over cells, then over points; deterministic (module doc).
+pub fn stiffness(mesh: &VolumeMesh, material: &Material) -> Result<CsrMatrix, AssemblyError> {
+    let blocks = per_cell(mesh, |kind, x| element_stiffness(kind, x, material))?;
+    let (offsets, around) = point_cells(mesh);
+    let cells = mesh.cells();
+    let n = mesh.points().len();
+    // Per point p: the neighbouring points (sorted) and the 3 rows of p.
+    let rows: Vec<(Vec<usize>, Vec<f64>)> = (0..n)
+        .into_par_iter()
+        .map(|p| {
+            let adjacent = &around[offsets[p]..offsets[p + 1]];
+            let mut neighbours: Vec<usize> =
+                adjacent.iter().flat_map(|&(c, _)| cells[c].nodes().iter().copied()).collect();
+            neighbours.sort_unstable();
+            neighbours.dedup();
+            let width = 3 * neighbours.len();
+            let mut vals = vec![0.0; 3 * width];
+            for &(c, li) in adjacent {
+                let nodes = cells[c].nodes();
+                let nd = 3 * nodes.len();
+                let block = &blocks[c];
+                for (lj, q) in nodes.iter().enumerate() {
+                    let col = 3 * neighbours.binary_search(q).expect("a cell's nodes are neighbours");
+                    for a in 0..3 {
+                        let src = &block[(3 * li + a) * nd + 3 * lj..][..3];
+                        let dst = &mut vals[a * width + col..][..3];
+                        for b in 0..3 {
+                            dst[b] += src[b];
+                        }
+                    }
+                }
+            }
+            (neighbours, vals)
+        })
+        .collect();
+    let nnz: usize = rows.iter().map(|(nb, _)| 9 * nb.len()).sum();
+    let mut k = CsrMatrix {
+        nrows: 3 * n,
+        ncols: 3 * n,
+        indptr: Vec::with_capacity(3 * n + 1),
+        indices: Vec::with_capacity(nnz),
+        values: Vec::with_capacity(nnz),
+    };
+    k.indptr.push(0);
+    for (neighbours, vals) in &rows {
+        let width = 3 * neighbours.len();
+        for a in 0..3 {
+            k.indices.extend(neighbours.iter().flat_map(|&q| [3 * q, 3 * q + 1, 3 * q + 2]));
+            k.values.extend_from_slice(&vals[a * width..(a + 1) * width]);
+            k.indptr.push(k.indices.len());
+        }
+    }
+    Ok(k)
+}
+
+/// Body-force load f_{3i+a} = ∫_Ω N_i b_a(x) dV, with [`ElementKind::rule`] of
+/// degree [`BODY_FORCE_DEGREE`]; length 3·n_points.
+///
+/// # Errors
+/// [`AssemblyError::DegenerateCell`] for the first degenerate or tangled cell.
+pub fn body_force(
+    mesh: &VolumeMesh,
+    b: impl Fn(Point3) -> [f64; 3] + Sync,
+) -> Result<Vec<f64>, AssemblyError> {
+    let rules = ElementKind::ALL.map(|k| k.rule(BODY_FORCE_DEGREE));
+    let local = per_cell(mesh, |kind, x| {
+        let rule = &rules[kind as usize];
+        let geo = geometry_at_rule(kind, x, rule)?;
+        let mut f = [[0.0; 3]; MAX_NODES];
+        for ((&xi, w), g) in rule.points.iter().zip(&rule.weights).zip(&geo) {
+            let n = kind.shape(xi);
+            let bx = b(map_point(kind, x, xi));
+            let wd = w * g.det.abs();
+            for i in 0..x.len() {
+                for a in 0..3 {
+                    f[i][a] += wd * n[i] * bx[a];
+                }
+            }
+        }
+        Some(f)
+    })?;
+    let mut f = vec![0.0; 3 * mesh.points().len()];
+    for (cell, fl) in mesh.cells().iter().zip(&local) {
+        for (i, &p) in cell.nodes().iter().enumerate() {
+            for a in 0..3 {
+                f[3 * p + a] += fl[i][a];
+            }
+        }
+    }
+    Ok(f)
+}
+
+/// Traction load f_{3i+a} = ∫_Γ N_i t_a(x, n) dA over the faces of `surface`,
+/// whose points must be the volume mesh's points (as from
+/// [`VolumeMesh::boundary`], [`VolumeMesh::orient_outward`] or `seam_io`); length
+/// 3·n_points.
+///
+/// `t(x, n)` is the traction at x, n the unit normal ∂x/∂ξ × ∂x/∂η / |…| of the
+/// face there (outward for outward-oriented faces): a pressure p is
+/// `|_, n| [-p * n[0], -p * n[1], -p * n[2]]`. Quads are integrated as two
+/// reference triangles with [`seam::triangle_rule`] of degree [`TRACTION_DEGREE`]
+/// (as `seam::face_integrals` does), triangles as one.
+pub fn traction(surface: &SurfaceMesh, t: impl Fn(Point3, Point3) -> [f64; 3] + Sync) -> Vec<f64> {
+    let rule = triangle_rule(TRACTION_DEGREE).expect("tabulated degree");
+    let local: Vec<[[f64; 3]; 4]> = (0..surface.n_faces())
+        .into_par_iter()
+        .map(|f| {
+            let e = FaceElement::of(surface, f);
+            let mut out = [[0.0; 3]; 4];
+            for tri in e.reference_triangles() {
+                let (u, v) = (
+                    [tri[1][0] - tri[0][0], tri[1][1] - tri[0][1]],
+                    [tri[2][0] - tri[0][0], tri[2][1] - tri[0][1]],
+                );
+                let area = 0.5 * (u[0] * v[1] - u[1] * v[0]).abs();
+                for (p, &w) in rule.points.iter().zip(rule.weights) {
+                    let xi = [tri[0][0] + p[0] * u[0] + p[1] * v[0], tri[0][1] + p[0] * u[1] + p[1] * v[1]];
+                    let (a, b) = e.tangents(xi);
+                    let nv =
+                        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+                    let jac = (nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]).sqrt();
+                    let tx = t(e.map(xi), [nv[0] / jac, nv[1] / jac, nv[2] / jac]);
+                    let wj = w * area * jac;
+                    let n = e.shape(xi);
+                    for i in 0..e.n_nodes() {
+                        for c in 0..3 {
+                            out[i][c] += wj * n[i] * tx[c];
+                        }
+                    }
+                }
+            }
+            out
+        })
+        .collect();
+    let mut f = vec![0.0; 3 * surface.n_points()];
+    for (face, fl) in surface.faces().iter().zip(&local) {
+        for (i, &p) in face.nodes().iter().enumerate() {
+            for c in 0..3 {
+                f[3 * p + c] += fl[i][c];
+            }
+        }
+    }
+    f
+}
+
+/// Cell volumes ∫_e dV = Σ_q w_q |det J| with the stiffness rule (exact for
+/// every cell of the four kinds, trilinear hexes included).
+///
+/// # Errors
+/// [`AssemblyError::DegenerateCell`] for the first degenerate or tangled cell.
+pub fn cell_volumes(mesh: &VolumeMesh) -> Result<Vec<f64>, AssemblyError> {
+    per_cell(mesh, |kind, x| {
+        let rule = kind.stiffness_rule();
+        let geo = geometry_at_rule(kind, x, rule)?;
+        Some(geo.iter().zip(&rule.weights).map(|(g, w)| w * g.det.abs()).sum())
+    })
+}
+
+/// The six rigid-body motions of the points, as dof vectors (length 3·n):
+/// translations e_x, e_y, e_z, then rotations e_k × x about the origin.
+pub fn rigid_body_modes(points: &[Point3]) -> [Vec<f64>; 6] {
+    std::array::from_fn(|m| {
+        points
+            .iter()
+            .flat_map(|x| match m {
+                0..=2 => {
+                    let mut v = [0.0; 3];
+                    v[m] = 1.0;
+                    v
+                }
+                3 => [0.0, -x[2], x[1]],
+                4 => [x[2], 0.0, -x[0]],
+                _ => [-x[1], x[0], 0.0],
+            })
+            .collect()
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unit_tet_stiffness_row_sums_vanish() {
+        let x = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
+        let m = Material::new(1.0, 0.25).unwrap();
+        let k = element_stiffness(ElementKind::Tet4, &x, &m).unwrap();
+        for r in 0..12 {
+            for a in 0..3 {
+                let s: f64 = (0..4).map(|j| k[r * 12 + 3 * j + a]).sum();
+                assert!(s.abs() < 1e-15);
+            }
+        }
+        // Flat tet: degenerate.
+        let flat = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]];
+        assert!(element_stiffness(ElementKind::Tet4, &flat, &m).is_none());
+    }
+}

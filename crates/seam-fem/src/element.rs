@@ -1,0 +1,542 @@
+//! Reference volume elements in Gmsh node order: shape functions N_i(ξ), their
+//! gradients ∇_ξ N_i, and quadrature rules on the reference cell.
+//!
+//! | element | reference cell | nodes (Gmsh order) | N_i |
+//! |---|---|---|---|
+//! | Tet4 | ξ, η, ζ ≥ 0, ξ+η+ζ ≤ 1 | (0,0,0) (1,0,0) (0,1,0) (0,0,1) | 1−ξ−η−ζ, ξ, η, ζ |
+//! | Hex8 | \[−1,1\]³ | bottom ζ=−1: (−1,−1) (1,−1) (1,1) (−1,1), then top ζ=1 | ⅛(1+ξ_iξ)(1+η_iη)(1+ζ_iζ) |
+//! | Prism6 | triangle {(0,0),(1,0),(0,1)} × \[−1,1\] | bottom ζ=−1: (0,0) (1,0) (0,1), then top | L_i(ξ,η)·½(1∓ζ) |
+//! | Pyramid5 | base \[−1,1\]² at ζ=0, apex (0,0,1) | (−1,−1,0) (1,−1,0) (1,1,0) (−1,1,0) (0,0,1) | see below |
+//!
+//! **Pyramid** (Bedrosian's rational functions = the trilinear hex collapsed onto
+//! its apex): with s = 1−ζ,
+//!
+//! ```text
+//! N_i = ¼ (s + ξ_i ξ + η_i η + ξ_i η_i ξη/s)   (base corners i = 0..3),    N_4 = ζ.
+//! ```
+//!
+//! In the collapsed coordinates ξ = a·s, η = b·s (a, b ∈ \[−1,1\]) they read
+//! ¼(1+ξ_i a)(1+η_i b)·s: polynomial, and so are their physical gradients times
+//! the Jacobian. At the apex itself (s = 0) the rational term is taken as 0, its
+//! limit along the axis; quadrature never evaluates it there.
+//!
+//! # Quadrature
+//!
+//! [`ElementKind::stiffness_rule`] is the rule used for the stiffness: exact for
+//! the stiffness of affine cells, and for ∫_e ∇N_i dV and the volume of any
+//! (trilinear, prismatic, collapsed) cell, which is what the patch test needs:
+//!
+//! | element | points | why it is enough |
+//! |---|---:|---|
+//! | Tet4 | 1 (centroid) | ∇N constant |
+//! | Hex8 | 2×2×2 Gauss | cof(J)ᵀ∇_ξN and det J are of degree ≤ 3 in each variable |
+//! | Prism6 | 3-point triangle (degree 2) × 2 Gauss | degree ≤ 2 in (ξ, η), ≤ 3 in ζ |
+//! | Pyramid5 | 2×2×2 collapsed Gauss | in (a, b, ζ) the cell is a degenerate trilinear hex |
+//!
+//! The pyramid rule is the 2×2×2 Gauss rule of the cube (a, b, ζ) ∈ \[−1,1\]²×\[0,1\]
+//! mapped by ξ = a(1−ζ), η = b(1−ζ), the Duffy factor (1−ζ)² folded into the
+//! weights. For an affine pyramid the stiffness integrand ∇N_i·C∇N_j(1−ζ)² has
+//! degree ≤ 2 in each of a, b, ζ, so 2 points per direction are exact; 3×3×3
+//! would cost 27/8 as much for no gain on affine cells, and the rule is of full
+//! rank (the element stiffness has exactly the 6 rigid-body zero modes).
+//!
+//! [`ElementKind::rule`] gives rules of any degree (loads, error norms).
+
+use seam::triangle_rule;
+use std::sync::LazyLock;
+
+/// The largest number of nodes of an element (Hex8).
+pub const MAX_NODES: usize = 8;
+
+/// Reference coordinates (ξ, η, ζ).
+pub type Xi = [f64; 3];
+
+/// The four volume element types.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ElementKind {
+    /// Four-node linear tetrahedron.
+    Tet4,
+    /// Eight-node trilinear hexahedron.
+    Hex8,
+    /// Six-node prism (linear triangle × linear segment).
+    Prism6,
+    /// Five-node pyramid (rational, collapsed hex).
+    Pyramid5,
+}
+
+/// A quadrature rule on a reference cell: ∫ f dξ ≈ Σ_q w_q f(ξ_q).
+///
+/// Weights sum to the volume of the reference cell ([`ElementKind::reference_volume`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct VolumeRule {
+    /// Points ξ_q in reference coordinates, all inside the cell.
+    pub points: Vec<Xi>,
+    /// Weights w_q, all positive.
+    pub weights: Vec<f64>,
+}
+
+impl VolumeRule {
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// True for a rule without points (never returned by this module).
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+
+    /// (ξ_q, w_q) pairs.
+    pub fn iter(&self) -> impl Iterator<Item = (Xi, f64)> + '_ {
+        self.points.iter().copied().zip(self.weights.iter().copied())
+    }
+}
+
+const TET4_NODES: [Xi; 4] = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
+const HEX8_NODES: [Xi; 8] = [
+    [-1., -1., -1.],
+    [1., -1., -1.],
+    [1., 1., -1.],
+    [-1., 1., -1.],
+    [-1., -1., 1.],
+    [1., -1., 1.],
+    [1., 1., 1.],
+    [-1., 1., 1.],
+];
+const PRISM6_NODES: [Xi; 6] =
+    [[0., 0., -1.], [1., 0., -1.], [0., 1., -1.], [0., 0., 1.], [1., 0., 1.], [0., 1., 1.]];
+const PYRAMID5_NODES: [Xi; 5] = [[-1., -1., 0.], [1., -1., 0.], [1., 1., 0.], [-1., 1., 0.], [0., 0., 1.]];
+
+/// 1 − ζ below which a point counts as the pyramid apex.
+const APEX_TOL: f64 = 1e-14;
+
+static STIFFNESS_RULES: LazyLock<[VolumeRule; 4]> = LazyLock::new(|| {
+    [ElementKind::Tet4.rule(1), ElementKind::Hex8.rule(3), ElementKind::Prism6.rule(2), pyramid_rule(2, 2)]
+});
+
+impl ElementKind {
+    /// All four kinds.
+    pub const ALL: [ElementKind; 4] =
+        [ElementKind::Tet4, ElementKind::Hex8, ElementKind::Prism6, ElementKind::Pyramid5];
+
+    /// The element type of a mesh cell.
+    pub fn of(cell: &seam::Cell) -> ElementKind {
+        match cell {
+            seam::Cell::Tet4(_) => ElementKind::Tet4,
+            seam::Cell::Hex8(_) => ElementKind::Hex8,
+            seam::Cell::Prism6(_) => ElementKind::Prism6,
+            seam::Cell::Pyramid5(_) => ElementKind::Pyramid5,
+        }
+    }
+
+    /// Number of nodes.
+    pub fn n_nodes(self) -> usize {
+        match self {
+            ElementKind::Tet4 => 4,
+            ElementKind::Hex8 => 8,
+            ElementKind::Prism6 => 6,
+            ElementKind::Pyramid5 => 5,
+        }
+    }
+
+    /// The reference coordinates of the nodes, in Gmsh order.
+    pub fn reference_nodes(self) -> &'static [Xi] {
+        match self {
+            ElementKind::Tet4 => &TET4_NODES,
+            ElementKind::Hex8 => &HEX8_NODES,
+            ElementKind::Prism6 => &PRISM6_NODES,
+            ElementKind::Pyramid5 => &PYRAMID5_NODES,
+        }
+    }
+
+    /// Volume of the reference cell: 1/6, 8, 1, 4/3.
+    pub fn reference_volume(self) -> f64 {
+        match self {
+            ElementKind::Tet4 => 1.0 / 6.0,
+            ElementKind::Hex8 => 8.0,
+            ElementKind::Prism6 => 1.0,
+            ElementKind::Pyramid5 => 4.0 / 3.0,
+        }
+    }
+
+    /// Centroid of the reference cell: (¼,¼,¼), 0, (⅓,⅓,0), (0,0,¼). For an
+    /// affine cell it maps to the physical centroid.
+    pub fn centroid(self) -> Xi {
+        match self {
+            ElementKind::Tet4 => [0.25; 3],
+            ElementKind::Hex8 => [0.0; 3],
+            ElementKind::Prism6 => [1.0 / 3.0, 1.0 / 3.0, 0.0],
+            ElementKind::Pyramid5 => [0.0, 0.0, 0.25],
+        }
+    }
+
+    /// Shape functions N_i(ξ); entries past [`ElementKind::n_nodes`] are 0.
+    pub fn shape(self, xi: Xi) -> [f64; MAX_NODES] {
+        let [x, y, z] = xi;
+        let mut n = [0.0; MAX_NODES];
+        match self {
+            ElementKind::Tet4 => n[..4].copy_from_slice(&[1.0 - x - y - z, x, y, z]),
+            ElementKind::Hex8 => {
+                for (i, p) in HEX8_NODES.iter().enumerate() {
+                    n[i] = 0.125 * (1.0 + p[0] * x) * (1.0 + p[1] * y) * (1.0 + p[2] * z);
+                }
+            }
+            ElementKind::Prism6 => {
+                let l = [1.0 - x - y, x, y];
+                for i in 0..3 {
+                    n[i] = l[i] * 0.5 * (1.0 - z);
+                    n[i + 3] = l[i] * 0.5 * (1.0 + z);
+                }
+            }
+            ElementKind::Pyramid5 => {
+                let s = 1.0 - z;
+                let q = if s > APEX_TOL { x * y / s } else { 0.0 };
+                for (i, p) in PYRAMID5_NODES[..4].iter().enumerate() {
+                    n[i] = 0.25 * (s + p[0] * x + p[1] * y + p[0] * p[1] * q);
+                }
+                n[4] = z;
+            }
+        }
+        n
+    }
+
+    /// Gradients ∇_ξ N_i(ξ) = (∂N_i/∂ξ, ∂N_i/∂η, ∂N_i/∂ζ); entries past
+    /// [`ElementKind::n_nodes`] are 0.
+    pub fn gradients(self, xi: Xi) -> [[f64; 3]; MAX_NODES] {
+        let [x, y, z] = xi;
+        let mut g = [[0.0; 3]; MAX_NODES];
+        match self {
+            ElementKind::Tet4 => {
+                g[0] = [-1.0, -1.0, -1.0];
+                g[1] = [1.0, 0.0, 0.0];
+                g[2] = [0.0, 1.0, 0.0];
+                g[3] = [0.0, 0.0, 1.0];
+            }
+            ElementKind::Hex8 => {
+                for (i, p) in HEX8_NODES.iter().enumerate() {
+                    let (a, b, c) = (1.0 + p[0] * x, 1.0 + p[1] * y, 1.0 + p[2] * z);
+                    g[i] = [0.125 * p[0] * b * c, 0.125 * a * p[1] * c, 0.125 * a * b * p[2]];
+                }
+            }
+            ElementKind::Prism6 => {
+                let l = [1.0 - x - y, x, y];
+                let dl = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
+                for i in 0..3 {
+                    let (lo, hi) = (0.5 * (1.0 - z), 0.5 * (1.0 + z));
+                    g[i] = [dl[i][0] * lo, dl[i][1] * lo, -0.5 * l[i]];
+                    g[i + 3] = [dl[i][0] * hi, dl[i][1] * hi, 0.5 * l[i]];
+                }
+            }
+            ElementKind::Pyramid5 => {
+                let s = 1.0 - z;
+                let (a, b) = if s > APEX_TOL { (x / s, y / s) } else { (0.0, 0.0) };
+                for (i, p) in PYRAMID5_NODES[..4].iter().enumerate() {
+                    let pq = p[0] * p[1];
+                    g[i] = [0.25 * (p[0] + pq * b), 0.25 * (p[1] + pq * a), 0.25 * (-1.0 + pq * a * b)];
+                }
+                g[4] = [0.0, 0.0, 1.0];
+            }
+        }
+        g
+    }
+
+    /// The rule the stiffness is integrated with (see the module table):
+    /// 1, 8, 6 and 8 points.
+    pub fn stiffness_rule(self) -> &'static VolumeRule {
+        let rules = &*STIFFNESS_RULES;
+        match self {
+            ElementKind::Tet4 => &rules[0],
+            ElementKind::Hex8 => &rules[1],
+            ElementKind::Prism6 => &rules[2],
+            ElementKind::Pyramid5 => &rules[3],
+        }
+    }
+
+    /// A rule exact for polynomials of total degree ≤ `degree` on the reference
+    /// cell (for the pyramid: polynomials in (ξ, η, ζ), and also every function
+    /// of degree ≤ `degree` in each collapsed coordinate a, b, ζ times (1−ζ)²,
+    /// e.g. products of its shape functions).
+    ///
+    /// - Tet4: centroid (degree ≤ 1), 4-point rule (degree 2), otherwise the
+    ///   collapsed (Duffy) Gauss rule with n = ⌈(degree+3)/2⌉ points per direction.
+    /// - Hex8: n × n × n Gauss, n = ⌈(degree+1)/2⌉.
+    /// - Prism6: `seam::triangle_rule(degree)` × n Gauss, n = ⌈(degree+1)/2⌉.
+    /// - Pyramid5: n × n Gauss in (a, b) and ⌈(degree+3)/2⌉ in ζ, collapsed.
+    ///
+    /// # Panics
+    /// Prism6 with `degree > seam::MAX_TRIANGLE_DEGREE`.
+    pub fn rule(self, degree: usize) -> VolumeRule {
+        match self {
+            ElementKind::Tet4 => match degree {
+                0 | 1 => VolumeRule { points: vec![[0.25; 3]], weights: vec![1.0 / 6.0] },
+                2 => {
+                    let a = (5.0 + 3.0 * 5f64.sqrt()) / 20.0;
+                    let b = (5.0 - 5f64.sqrt()) / 20.0;
+                    VolumeRule {
+                        points: vec![[b, b, b], [a, b, b], [b, a, b], [b, b, a]],
+                        weights: vec![1.0 / 24.0; 4],
+                    }
+                }
+                _ => tet_collapsed_rule((degree + 4) / 2),
+            },
+            ElementKind::Hex8 => {
+                let (x, w) = gauss_legendre(degree / 2 + 1);
+                let mut rule = VolumeRule { points: Vec::new(), weights: Vec::new() };
+                for k in 0..x.len() {
+                    for j in 0..x.len() {
+                        for i in 0..x.len() {
+                            rule.points.push([x[i], x[j], x[k]]);
+                            rule.weights.push(w[i] * w[j] * w[k]);
+                        }
+                    }
+                }
+                rule
+            }
+            ElementKind::Prism6 => {
+                let tri = triangle_rule(degree).expect("triangle rule degree within the tabulated range");
+                let (x, w) = gauss_legendre(degree / 2 + 1);
+                let mut rule = VolumeRule { points: Vec::new(), weights: Vec::new() };
+                for k in 0..x.len() {
+                    for (p, wt) in tri.points.iter().zip(tri.weights) {
+                        rule.points.push([p[0], p[1], x[k]]);
+                        rule.weights.push(0.5 * wt * w[k]);
+                    }
+                }
+                rule
+            }
+            ElementKind::Pyramid5 => pyramid_rule(degree / 2 + 1, (degree + 4) / 2),
+        }
+    }
+}
+
+/// Gauss points on \[0,1\]: (points, weights summing to 1).
+fn gauss_unit(n: usize) -> (Vec<f64>, Vec<f64>) {
+    let (x, w) = gauss_legendre(n);
+    (x.iter().map(|x| 0.5 * (1.0 + x)).collect(), w.iter().map(|w| 0.5 * w).collect())
+}
+
+/// The collapsed tet rule with n points per direction: (u, v, w) ∈ \[0,1\]³ ↦
+/// ξ = u(1−v)(1−w), η = v(1−w), ζ = w, Jacobian (1−v)(1−w)²; exact for total
+/// degree ≤ 2n − 3.
+fn tet_collapsed_rule(n: usize) -> VolumeRule {
+    let (x, w) = gauss_unit(n);
+    let mut rule = VolumeRule { points: Vec::new(), weights: Vec::new() };
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let (u, v, t) = (x[i], x[j], x[k]);
+                rule.points.push([u * (1.0 - v) * (1.0 - t), v * (1.0 - t), t]);
+                rule.weights.push(w[i] * w[j] * w[k] * (1.0 - v) * (1.0 - t) * (1.0 - t));
+            }
+        }
+    }
+    rule
+}
+
+/// The collapsed pyramid rule: n_ab × n_ab Gauss in (a, b) ∈ \[−1,1\]², n_z Gauss
+/// in ζ ∈ \[0,1\]; ξ = a(1−ζ), η = b(1−ζ), weight w_a w_b w_ζ (1−ζ)².
+fn pyramid_rule(n_ab: usize, n_z: usize) -> VolumeRule {
+    let (a, wa) = gauss_legendre(n_ab);
+    let (z, wz) = gauss_unit(n_z);
+    let mut rule = VolumeRule { points: Vec::new(), weights: Vec::new() };
+    for k in 0..n_z {
+        let s = 1.0 - z[k];
+        for j in 0..n_ab {
+            for i in 0..n_ab {
+                rule.points.push([a[i] * s, a[j] * s, z[k]]);
+                rule.weights.push(wa[i] * wa[j] * wz[k] * s * s);
+            }
+        }
+    }
+    rule
+}
+
+/// The n-point Gauss–Legendre rule on \[−1,1\], points ascending: exact for
+/// polynomials of degree ≤ 2n − 1. Newton's iteration on P_n from Chebyshev-like
+/// initial guesses; weights w_i = 2 / ((1 − x_i²) P_n'(x_i)²).
+///
+/// # Panics
+/// If `n == 0`.
+pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
+    assert!(n > 0, "a Gauss rule needs at least one point");
+    let mut x = vec![0.0; n];
+    let mut w = vec![0.0; n];
+    for i in 0..n {
+        let mut t = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+        let mut dp = 1.0;
+        for _ in 0..100 {
+            let (p, d) = legendre(n, t);
+            dp = d;
+            let dt = p / d;
+            t -= dt;
+            if dt.abs() < 1e-16 {
+                break;
+            }
+        }
+        let (_, d) = legendre(n, t);
+        if d != 0.0 {
+            dp = d;
+        }
+        x[n - 1 - i] = t;
+        w[n - 1 - i] = 2.0 / ((1.0 - t * t) * dp * dp);
+    }
+    (x, w)
+}
+
+/// (P_n(t), P_n'(t)) by the three-term recurrence.
+fn legendre(n: usize, t: f64) -> (f64, f64) {
+    let (mut p0, mut p1) = (1.0, t);
+    for k in 2..=n {
+        let p2 = ((2 * k - 1) as f64 * t * p1 - (k - 1) as f64 * p0) / k as f64;
+        p0 = p1;
+        p1 = p2;
+    }
+    // n = 1: P_0 = 1, P_1 = t.
+    let d = n as f64 * (t * p1 - p0) / (t * t - 1.0);
+    (p1, d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Points strictly inside each reference cell.
+    fn samples(kind: ElementKind) -> Vec<Xi> {
+        match kind {
+            ElementKind::Tet4 => vec![[0.1, 0.2, 0.3], [0.25, 0.25, 0.25], [0.6, 0.1, 0.05]],
+            ElementKind::Hex8 => vec![[0.1, -0.7, 0.3], [0.0; 3], [0.9, 0.8, -0.95]],
+            ElementKind::Prism6 => vec![[0.1, 0.2, 0.3], [0.5, 0.3, -0.9], [0.2, 0.7, 0.6]],
+            ElementKind::Pyramid5 => vec![[0.1, -0.2, 0.3], [0.5, 0.3, 0.1], [-0.05, 0.02, 0.9]],
+        }
+    }
+
+    #[test]
+    fn partition_of_unity_and_zero_gradient_sum() {
+        for kind in ElementKind::ALL {
+            for xi in samples(kind) {
+                let n = kind.shape(xi);
+                assert!((n.iter().sum::<f64>() - 1.0).abs() < 1e-14, "{kind:?} at {xi:?}");
+                let g = kind.gradients(xi);
+                for k in 0..3 {
+                    let s: f64 = g.iter().map(|gi| gi[k]).sum();
+                    assert!(s.abs() < 1e-14, "{kind:?} at {xi:?}: Σ ∂N/∂ξ_{k} = {s}");
+                }
+                // Linear completeness: Σ N_i ξ_i = ξ, Σ ξ_i ⊗ ∇N_i = I.
+                let nodes = kind.reference_nodes();
+                for k in 0..3 {
+                    let s: f64 = nodes.iter().zip(&n).map(|(p, n)| p[k] * n).sum();
+                    assert!((s - xi[k]).abs() < 1e-14, "{kind:?}: Σ N_i ξ_i ≠ ξ");
+                    for l in 0..3 {
+                        let s: f64 = nodes.iter().zip(&g).map(|(p, g)| p[k] * g[l]).sum();
+                        assert!((s - (k == l) as u8 as f64).abs() < 1e-14, "{kind:?}: Σ ξ_i ∇N_i ≠ I");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn nodal_interpolation() {
+        for kind in ElementKind::ALL {
+            for (j, &p) in kind.reference_nodes().iter().enumerate() {
+                let n = kind.shape(p);
+                for (i, &v) in n[..kind.n_nodes()].iter().enumerate() {
+                    let expected = if i == j { 1.0 } else { 0.0 };
+                    assert!((v - expected).abs() < 1e-15, "{kind:?}: N_{i}(node {j}) = {v}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn gradients_match_finite_differences() {
+        let h = 1e-6;
+        for kind in ElementKind::ALL {
+            for xi in samples(kind) {
+                let g = kind.gradients(xi);
+                for k in 0..3 {
+                    let (mut a, mut b) = (xi, xi);
+                    a[k] += h;
+                    b[k] -= h;
+                    let (na, nb) = (kind.shape(a), kind.shape(b));
+                    for i in 0..kind.n_nodes() {
+                        let fd = (na[i] - nb[i]) / (2.0 * h);
+                        assert!(
+                            (fd - g[i][k]).abs() < 1e-8,
+                            "{kind:?} N_{i} ∂_{k} at {xi:?}: {fd} vs {}",
+                            g[i][k]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn gauss_legendre_is_exact_to_degree_2n_minus_1() {
+        for n in 1..=6 {
+            let (x, w) = gauss_legendre(n);
+            assert!(x.windows(2).all(|p| p[0] < p[1]));
+            for d in 0..2 * n {
+                let exact = if d % 2 == 0 { 2.0 / (d as f64 + 1.0) } else { 0.0 };
+                let q: f64 = x.iter().zip(&w).map(|(x, w)| w * x.powi(d as i32)).sum();
+                assert!((q - exact).abs() < 1e-14, "n = {n}, degree {d}: {q} vs {exact}");
+            }
+        }
+    }
+
+    fn factorial(n: usize) -> f64 {
+        (1..=n).map(|k| k as f64).product()
+    }
+
+    /// ∫ ξ^a η^b ζ^c over the reference cell.
+    fn monomial_integral(kind: ElementKind, a: usize, b: usize, c: usize) -> f64 {
+        let sym = |p: usize| if p % 2 == 0 { 2.0 / (p as f64 + 1.0) } else { 0.0 };
+        match kind {
+            ElementKind::Tet4 => factorial(a) * factorial(b) * factorial(c) / factorial(a + b + c + 3),
+            ElementKind::Hex8 => sym(a) * sym(b) * sym(c),
+            ElementKind::Prism6 => factorial(a) * factorial(b) / factorial(a + b + 2) * sym(c),
+            // ∫_0^1 ζ^c (1−ζ)^{a+b+2} dζ · ∫ a^a ∫ b^b
+            ElementKind::Pyramid5 => {
+                sym(a) * sym(b) * factorial(c) * factorial(a + b + 2) / factorial(a + b + c + 3)
+            }
+        }
+    }
+
+    #[test]
+    fn rules_integrate_monomials_of_their_degree() {
+        for kind in ElementKind::ALL {
+            for degree in 0..=7 {
+                let rule = kind.rule(degree);
+                assert!(rule.weights.iter().all(|&w| w > 0.0));
+                for a in 0..=degree {
+                    for b in 0..=degree - a {
+                        for c in 0..=degree - a - b {
+                            let q: f64 = rule
+                                .iter()
+                                .map(|(p, w)| {
+                                    w * p[0].powi(a as i32) * p[1].powi(b as i32) * p[2].powi(c as i32)
+                                })
+                                .sum();
+                            let exact = monomial_integral(kind, a, b, c);
+                            assert!(
+                                (q - exact).abs() < 1e-14 * kind.reference_volume(),
+                                "{kind:?} rule({degree}): ξ^{a}η^{b}ζ^{c}: {q} vs {exact}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn stiffness_rules() {
+        let sizes: Vec<usize> = ElementKind::ALL.iter().map(|k| k.stiffness_rule().len()).collect();
+        assert_eq!(sizes, [1, 8, 6, 8]);
+        for kind in ElementKind::ALL {
+            let v: f64 = kind.stiffness_rule().weights.iter().sum();
+            assert!((v - kind.reference_volume()).abs() < 1e-14, "{kind:?}");
+        }
+    }
+}
