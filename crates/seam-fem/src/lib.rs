@@ -43,12 +43,14 @@
 pub mod assembly;
 pub mod element;
 pub mod generate;
+pub mod glue;
 pub mod material;
 pub mod solve;
 pub mod stress;
 
 pub use assembly::{body_force, cell_volumes, rigid_body_modes, stiffness, traction, AssemblyError};
 pub use element::{ElementKind, VolumeRule};
+pub use glue::{solve_glued, Body, GlueError, GluedSolution, Interface, Solver};
 pub use material::{Material, MaterialError};
 pub use solve::{solve, Dirichlet, SolveError};
 pub use stress::{recover_stresses, von_mises, Stresses};

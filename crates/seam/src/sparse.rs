@@ -123,6 +123,30 @@ impl CsrMatrix {
         m
     }
 
+    /// Aᵀ, with sorted rows.
+    #[must_use]
+    pub fn transpose(&self) -> CsrMatrix {
+        let mut indptr = vec![0usize; self.ncols + 1];
+        for &j in &self.indices {
+            indptr[j + 1] += 1;
+        }
+        for j in 0..self.ncols {
+            indptr[j + 1] += indptr[j];
+        }
+        let mut next = indptr.clone();
+        let mut indices = vec![0; self.nnz()];
+        let mut values = vec![0.0; self.nnz()];
+        for i in 0..self.nrows {
+            let (c, v) = self.row(i);
+            for (&j, &a) in c.iter().zip(v) {
+                indices[next[j]] = i;
+                values[next[j]] = a;
+                next[j] += 1;
+            }
+        }
+        CsrMatrix { nrows: self.ncols, ncols: self.nrows, indptr, indices, values }
+    }
+
     /// The diagonal (zero where not stored).
     pub fn diagonal(&self) -> Vec<f64> {
         (0..self.nrows.min(self.ncols)).map(|i| self.get(i, i)).collect()
@@ -159,5 +183,8 @@ mod tests {
         let x = [1.0, 10.0, 2.0, 20.0, 3.0, 30.0];
         assert_eq!(a.mul_vec(&x, 2), vec![7.0, 70.0, 0.0, 0.0, 6.0, 60.0]);
         assert_eq!(a.transpose_mul_vec(&x, 2), vec![1.0, 10.0, 9.0, 90.0, 2.0, 20.0]);
+        let t = a.transpose();
+        assert_eq!(t.mul_vec(&x, 2), a.transpose_mul_vec(&x, 2));
+        assert_eq!(t.transpose(), a);
     }
 }

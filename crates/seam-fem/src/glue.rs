@@ -1,0 +1,629 @@
+//! Mortar gluing of linear-elastic bodies across non-matching interfaces (the
+//! paper's first application).
+//!
+//! Bodies b = 1…N with stiffness K_b and load f_b are numbered one after the
+//! other (`dof = offset_b + 3·point + component`). Each interface pairs a master
+//! and a slave surface; its mortar matrices D (slave × slave) and B (slave ×
+//! master), applied to each component, give the constraint (paper (3)₁)
+//!
+//! ```text
+//! (D u_s − B u_m)_{p,c} = 0      for each covered slave point p and component c,
+//! ```
+//!
+//! one row of C per constrained slave dof. The glued problem is the saddle point
+//!
+//! ```text
+//! [ K  Cᵀ ] [ u ]   [ f ]
+//! [ C  0  ] [ λ ] = [ 0 ]
+//! ```
+//!
+//! with the Dirichlet conditions eliminated. A slave dof is constrained once: not
+//! when it is prescribed, and only by the first interface that claims it (cross
+//! points), which keeps C of full row rank.
+//!
+//! # Solvers
+//! - [`Solver::Direct`] with dual or lumped multipliers: every row of C
+//!   eliminates its own slave dof, C = [C_S C_R] with C_S diagonal, so
+//!   u_S = T u_R with T = −C_S⁻¹C_R (paper (3)₂) and u = P u_R, P = [I; T]. The
+//!   reduced system PᵀKP u_R = Pᵀf is symmetric positive definite and solved by
+//!   sparse Cholesky ([`solve`](crate::solve::solve)).
+//! - [`Solver::Direct`] with standard multipliers (C_S is the slave mass matrix,
+//!   so T is dense): the saddle point itself, by sparse LU with two steps of
+//!   iterative refinement.
+//!
+//! # Multipliers and tractions
+//! The slave rows of the saddle point read (K u)_S + C_Sᵀ λ = f_S, so
+//! λ = C_S⁻ᵀ (f − K u)_S. −λ is the traction the master exerts on the slave
+//! (force per area); the resultant on the slave is −Σ_p (D λ)_p.
+
+use crate::material::Material;
+use crate::solve::{solve, Dirichlet, SolveError};
+use crate::{stiffness, AssemblyError};
+use faer::linalg::solvers::Solve;
+use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Mat, Par};
+use seam::{CsrMatrix, Mortar, MortarError, MortarOptions, SurfaceMesh, VolumeMesh};
+use std::time::Instant;
+
+/// One linear-elastic body.
+#[derive(Clone, Debug)]
+pub struct Body<'a> {
+    /// Its cells.
+    pub mesh: &'a VolumeMesh,
+    /// Its material.
+    pub material: Material,
+    /// Its load vector f (body forces and tractions), 3 entries per mesh point.
+    pub load: Vec<f64>,
+    /// Its prescribed displacements (dofs `3·point + component` of this body).
+    pub dirichlet: Dirichlet,
+}
+
+/// A glued interface between a master and a slave surface of two bodies. The
+/// surfaces index their body's mesh points.
+#[derive(Clone, Debug)]
+pub struct Interface<'a> {
+    /// Index of the master body.
+    pub master: usize,
+    /// The master surface.
+    pub master_surface: &'a SurfaceMesh,
+    /// Index of the slave body.
+    pub slave: usize,
+    /// The slave surface (where the multiplier lives).
+    pub slave_surface: &'a SurfaceMesh,
+    /// Mortar options (multiplier, gap and angle limits).
+    pub options: MortarOptions,
+}
+
+/// How the glued system is solved (module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Solver {
+    /// Sparse Cholesky of the reduced system (dual, lumped) or sparse LU of the
+    /// saddle point (standard).
+    Direct,
+}
+
+/// Why a glued problem could not be solved.
+#[derive(Debug, thiserror::Error)]
+pub enum GlueError {
+    /// An interface refers to a body that does not exist, or to one body twice.
+    #[error("interface {interface}: {what}")]
+    BadInterface {
+        /// Interface index.
+        interface: usize,
+        /// What is wrong.
+        what: String,
+    },
+    /// A body's load or surface does not match its mesh.
+    #[error("body {body}: {what}")]
+    BadBody {
+        /// Body index.
+        body: usize,
+        /// What is wrong.
+        what: String,
+    },
+    /// A body's stiffness could not be assembled.
+    #[error("body {body}: {source}")]
+    Assembly {
+        /// Body index.
+        body: usize,
+        /// The cause.
+        source: AssemblyError,
+    },
+    /// An interface's mortar operator could not be assembled.
+    #[error("interface {interface}: {source}")]
+    Mortar {
+        /// Interface index.
+        interface: usize,
+        /// The cause.
+        source: MortarError,
+    },
+    /// The linear solve failed.
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+}
+
+/// Wall-clock seconds per phase.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timings {
+    /// Stiffness assembly of all bodies.
+    pub assembly: f64,
+    /// Mortar operators (search and assembly) of all interfaces.
+    pub mortar: f64,
+    /// Forming the system to solve (constraints, reduction PᵀKP).
+    pub setup: f64,
+    /// Factorisation, or the PCG iterations.
+    pub factorization: f64,
+    /// Triangular solves, refinement and recovery of u and λ.
+    pub solve: f64,
+}
+
+/// What the solve did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GlueReport {
+    /// Displacement unknowns, 3 per point of all bodies.
+    pub dofs: usize,
+    /// Rows of C (constrained slave dofs).
+    pub constraints: usize,
+    /// The method used, e.g. "saddle-point LU".
+    pub method: &'static str,
+    /// PCG iterations, or refinement steps of a direct solve.
+    pub iterations: usize,
+    /// ‖f − K u − Cᵀλ‖ / ‖f‖ over the free dofs, and ‖C u‖ relative to ‖C‖‖u‖,
+    /// the larger of the two.
+    pub residual: f64,
+    /// Seconds per phase.
+    pub seconds: Timings,
+}
+
+/// The solution on one interface.
+#[derive(Clone, Debug)]
+pub struct InterfaceSolution {
+    /// The mortar operator of the interface.
+    pub mortar: Mortar,
+    /// Per slave body point: the traction −λ exerted by the master on the slave
+    /// (zero where unconstrained).
+    pub traction: Vec<[f64; 3]>,
+    /// Per slave body point and component: constrained by this interface.
+    pub constrained: Vec<[bool; 3]>,
+    /// Resultant force on the slave, −Σ_p (D λ)_p.
+    pub force: [f64; 3],
+}
+
+/// The solution of a glued problem.
+#[derive(Clone, Debug)]
+pub struct GluedSolution {
+    /// Per body: displacements, 3 per mesh point.
+    pub displacement: Vec<Vec<f64>>,
+    /// Per interface.
+    pub interfaces: Vec<InterfaceSolution>,
+    /// Sizes, method, residual and timings.
+    pub report: GlueReport,
+}
+
+/// Solves the glued problem (module doc).
+///
+/// # Errors
+/// [`GlueError`] for inconsistent input, a failed assembly, an interface with
+/// no overlap, or a singular system.
+pub fn solve_glued(
+    bodies: &[Body],
+    interfaces: &[Interface],
+    solver: Solver,
+) -> Result<GluedSolution, GlueError> {
+    check_input(bodies, interfaces)?;
+    let mut seconds = Timings::default();
+    let clock = Instant::now();
+    let stiffnesses = bodies
+        .iter()
+        .enumerate()
+        .map(|(b, body)| {
+            stiffness(body.mesh, &body.material).map_err(|source| GlueError::Assembly { body: b, source })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    seconds.assembly = clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let mortars = interfaces
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            seam::assemble(f.master_surface, f.slave_surface, &f.options)
+                .map_err(|source| GlueError::Mortar { interface: i, source })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    seconds.mortar = clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let offsets = dof_offsets(bodies);
+    let n = *offsets.last().expect("at least the leading zero");
+    let k = block_diagonal(&stiffnesses, n);
+    drop(stiffnesses);
+    let mut f = vec![0.0; n];
+    let mut dirichlet = Dirichlet::new();
+    for (b, body) in bodies.iter().enumerate() {
+        f[offsets[b]..offsets[b + 1]].copy_from_slice(&body.load);
+        for (dof, v) in body.dirichlet.iter() {
+            dirichlet.fix_dof(offsets[b] + dof, v);
+        }
+    }
+    let constraints = Constraints::new(interfaces, &mortars, &offsets, &dirichlet);
+    seconds.setup = clock.elapsed().as_secs_f64();
+
+    let diagonal = constraints.eliminated_block_is_diagonal();
+    let solved = match solver {
+        Solver::Direct if diagonal => eliminated_direct(&k, &f, &dirichlet, &constraints, &mut seconds)?,
+        Solver::Direct => saddle_point(&k, &f, &dirichlet, &constraints, &mut seconds)?,
+    };
+    let (u, lambda, method, iterations) = solved;
+
+    let residual = residual(&k, &f, &dirichlet, &constraints, &u, &lambda);
+    let displacement = (0..bodies.len()).map(|b| u[offsets[b]..offsets[b + 1]].to_vec()).collect();
+    let interfaces = interface_solutions(interfaces, mortars, &constraints, bodies, &lambda);
+    let report =
+        GlueReport { dofs: n, constraints: constraints.rows.len(), method, iterations, residual, seconds };
+    Ok(GluedSolution { displacement, interfaces, report })
+}
+
+fn check_input(bodies: &[Body], interfaces: &[Interface]) -> Result<(), GlueError> {
+    for (b, body) in bodies.iter().enumerate() {
+        let n = 3 * body.mesh.points().len();
+        if body.load.len() != n {
+            let what = format!("the load has {} entries, the mesh {} dofs", body.load.len(), n);
+            return Err(GlueError::BadBody { body: b, what });
+        }
+        if let Some((dof, _)) = body.dirichlet.iter().find(|&(d, _)| d >= n) {
+            let what = format!("Dirichlet condition on dof {dof}, but the mesh has {n} dofs");
+            return Err(GlueError::BadBody { body: b, what });
+        }
+    }
+    for (i, f) in interfaces.iter().enumerate() {
+        let bad = |what: String| GlueError::BadInterface { interface: i, what };
+        for (side, body, surface) in
+            [("master", f.master, f.master_surface), ("slave", f.slave, f.slave_surface)]
+        {
+            let Some(b) = bodies.get(body) else {
+                return Err(bad(format!("{side} body {body} does not exist ({} bodies)", bodies.len())));
+            };
+            if surface.n_points() != b.mesh.points().len() {
+                return Err(bad(format!(
+                    "the {side} surface has {} points, its body's mesh {}: surfaces must index the body's points",
+                    surface.n_points(),
+                    b.mesh.points().len()
+                )));
+            }
+        }
+        if f.master == f.slave {
+            return Err(bad(format!("master and slave are the same body {}", f.master)));
+        }
+    }
+    Ok(())
+}
+
+/// offsets[b] = first dof of body b; the last entry is the number of dofs.
+fn dof_offsets(bodies: &[Body]) -> Vec<usize> {
+    let mut offsets = vec![0];
+    for body in bodies {
+        offsets.push(offsets.last().unwrap() + 3 * body.mesh.points().len());
+    }
+    offsets
+}
+
+/// diag(K_1, …, K_N) as one n × n matrix.
+fn block_diagonal(blocks: &[CsrMatrix], n: usize) -> CsrMatrix {
+    let nnz = blocks.iter().map(CsrMatrix::nnz).sum();
+    let mut k = CsrMatrix {
+        nrows: n,
+        ncols: n,
+        indptr: Vec::with_capacity(n + 1),
+        indices: Vec::with_capacity(nnz),
+        values: Vec::with_capacity(nnz),
+    };
+    k.indptr.push(0);
+    let mut offset = 0;
+    for block in blocks {
+        let base = k.indices.len();
+        k.indices.extend(block.indices.iter().map(|&j| j + offset));
+        k.values.extend_from_slice(&block.values);
+        k.indptr.extend(block.indptr[1..].iter().map(|&p| base + p));
+        offset += block.nrows;
+    }
+    k
+}
+
+/// One row of C: the slave dof it constrains (and eliminates).
+#[derive(Clone, Copy, Debug)]
+struct Row {
+    dof: usize,
+    interface: usize,
+    point: usize,
+    component: usize,
+}
+
+/// The constraint matrix C of all interfaces (module doc).
+struct Constraints {
+    /// rows × dofs.
+    c: CsrMatrix,
+    rows: Vec<Row>,
+    /// Per dof: the row that eliminates it, or `NONE`.
+    row_of: Vec<usize>,
+}
+
+const NONE: usize = usize::MAX;
+
+impl Constraints {
+    /// Rows (D u_s − B u_m)_{p,c} for covered slave points p, in interface, point,
+    /// component order, skipping prescribed and already constrained slave dofs.
+    fn new(interfaces: &[Interface], mortars: &[Mortar], offsets: &[usize], dirichlet: &Dirichlet) -> Self {
+        let n = *offsets.last().unwrap();
+        let mut row_of = vec![NONE; n];
+        let mut rows = Vec::new();
+        let mut entries: Vec<(usize, f64)> = Vec::new();
+        let mut c = CsrMatrix::zeros(0, n);
+        for (i, (f, m)) in interfaces.iter().zip(mortars).enumerate() {
+            let (os, om) = (offsets[f.slave], offsets[f.master]);
+            for p in (0..m.covered.len()).filter(|&p| m.covered[p]) {
+                for comp in 0..3 {
+                    let dof = os + 3 * p + comp;
+                    if row_of[dof] != NONE || dirichlet.value(dof).is_some() {
+                        continue;
+                    }
+                    row_of[dof] = rows.len();
+                    rows.push(Row { dof, interface: i, point: p, component: comp });
+                    entries.clear();
+                    let (dq, dv) = m.d.row(p);
+                    entries.extend(dq.iter().zip(dv).map(|(&q, &v)| (os + 3 * q + comp, v)));
+                    let (bq, bv) = m.b.row(p);
+                    entries.extend(bq.iter().zip(bv).map(|(&q, &v)| (om + 3 * q + comp, -v)));
+                    entries.sort_unstable_by_key(|e| e.0);
+                    c.indices.extend(entries.iter().map(|e| e.0));
+                    c.values.extend(entries.iter().map(|e| e.1));
+                    c.indptr.push(c.indices.len());
+                    c.nrows += 1;
+                }
+            }
+        }
+        Constraints { c, rows, row_of }
+    }
+
+    /// True when each row touches no eliminated dof but its own: C_S is diagonal.
+    fn eliminated_block_is_diagonal(&self) -> bool {
+        self.rows.iter().enumerate().all(|(r, row)| {
+            let (cols, _) = self.c.row(r);
+            cols.iter().all(|&j| j == row.dof || self.row_of[j] == NONE)
+        })
+    }
+}
+
+/// (u, λ, method, iterations) of a solver.
+type Solved = (Vec<f64>, Vec<f64>, &'static str, usize);
+
+/// Dual or lumped multipliers: u = P u_R, PᵀKP u_R = Pᵀf by sparse Cholesky.
+fn eliminated_direct(
+    k: &CsrMatrix,
+    f: &[f64],
+    dirichlet: &Dirichlet,
+    constraints: &Constraints,
+    seconds: &mut Timings,
+) -> Result<Solved, GlueError> {
+    let clock = Instant::now();
+    let (p, retained) = prolongation(constraints);
+    let a = triple_product(&p, k);
+    let g = p.transpose_mul_vec(f, 1);
+    let mut reduced = Dirichlet::new();
+    for (dof, v) in dirichlet.iter() {
+        reduced.fix_dof(retained[dof], v);
+    }
+    seconds.setup += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let u_r = solve(&a, &g, &reduced)?;
+    seconds.factorization += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let u = p.mul_vec(&u_r, 1);
+    let ku = k.mul_vec(&u, 1);
+    let lambda = constraints
+        .rows
+        .iter()
+        .enumerate()
+        .map(|(r, row)| (f[row.dof] - ku[row.dof]) / constraints.c.get(r, row.dof))
+        .collect();
+    seconds.solve += clock.elapsed().as_secs_f64();
+    Ok((u, lambda, "reduced Cholesky (u_s = T u_m)", 0))
+}
+
+/// P = [I; −C_S⁻¹C_R] (n × n_R) for diagonal C_S, and the index in R of each
+/// retained dof (`NONE` for eliminated ones).
+fn prolongation(constraints: &Constraints) -> (CsrMatrix, Vec<usize>) {
+    let n = constraints.row_of.len();
+    let mut retained = vec![NONE; n];
+    let mut n_r = 0;
+    for (dof, r) in retained.iter_mut().enumerate() {
+        if constraints.row_of[dof] == NONE {
+            *r = n_r;
+            n_r += 1;
+        }
+    }
+    let mut p = CsrMatrix::zeros(0, n_r);
+    for dof in 0..n {
+        match constraints.row_of[dof] {
+            NONE => {
+                p.indices.push(retained[dof]);
+                p.values.push(1.0);
+            }
+            r => {
+                let (cols, vals) = constraints.c.row(r);
+                let pivot = constraints.c.get(r, dof);
+                for (&j, &v) in cols.iter().zip(vals) {
+                    if j != dof {
+                        p.indices.push(retained[j]);
+                        p.values.push(-v / pivot);
+                    }
+                }
+            }
+        }
+        p.indptr.push(p.indices.len());
+        p.nrows += 1;
+    }
+    (p, retained)
+}
+
+/// A CSR matrix read as the CSC matrix of its transpose (no copy).
+fn transposed_view(a: &CsrMatrix) -> SparseColMatRef<'_, usize, f64> {
+    let symbolic = SymbolicSparseColMatRef::new_checked(a.ncols, a.nrows, &a.indptr, None, &a.indices);
+    SparseColMatRef::new(symbolic, &a.values)
+}
+
+/// The CSR matrix whose transpose is the CSC matrix `x` (no copy).
+fn from_transposed(x: SparseColMat<usize, f64>) -> CsrMatrix {
+    let (symbolic, values) = x.into_parts();
+    let (nrows, ncols, indptr, _, indices) = symbolic.into_parts();
+    CsrMatrix { nrows: ncols, ncols: nrows, indptr, indices, values }
+}
+
+/// PᵀKP for a symmetric K, by two sparse products (faer, sorted output).
+fn triple_product(p: &CsrMatrix, k: &CsrMatrix) -> CsrMatrix {
+    let par = Par::rayon(0);
+    // As CSC: view(P) = Pᵀ, view(K) = K, so Pᵀ·K is (KP)ᵀ, i.e. KP in CSR.
+    let kp =
+        faer::sparse::linalg::matmul::sparse_sparse_matmul(transposed_view(p), transposed_view(k), 1.0, par)
+            .expect("sparse product fits in memory");
+    let kp = from_transposed(kp);
+    // (KP)ᵀ P as CSC is PᵀKP in CSR: view(KP) = (KP)ᵀ = PᵀK; P as CSC needs a transpose.
+    let pt = p.transpose();
+    let a = faer::sparse::linalg::matmul::sparse_sparse_matmul(
+        transposed_view(&kp),
+        transposed_view(&pt),
+        1.0,
+        par,
+    )
+    .expect("sparse product fits in memory");
+    from_transposed(a)
+}
+
+/// Standard multipliers: the saddle point over the free dofs F,
+/// [K_FF C_Fᵀ; C_F 0] [u_F; λ] = [f_F − K_FD ū; −C_D ū], by sparse LU and two
+/// steps of iterative refinement.
+fn saddle_point(
+    k: &CsrMatrix,
+    f: &[f64],
+    dirichlet: &Dirichlet,
+    constraints: &Constraints,
+    seconds: &mut Timings,
+) -> Result<Solved, GlueError> {
+    let clock = Instant::now();
+    let n = k.nrows;
+    let mut u = vec![0.0; n];
+    let mut local = vec![NONE; n];
+    let mut free = Vec::new();
+    for (dof, v) in dirichlet.iter() {
+        u[dof] = v;
+    }
+    for i in 0..n {
+        if dirichlet.value(i).is_none() && k.indptr[i + 1] > k.indptr[i] {
+            local[i] = free.len();
+            free.push(i);
+        }
+    }
+    let (m, nc) = (free.len(), constraints.rows.len());
+    let ct = constraints.c.transpose();
+    let mut a = CsrMatrix::zeros(0, m + nc);
+    let mut rhs = vec![0.0; m + nc];
+    let push = |a: &mut CsrMatrix, cols: &[usize], vals: &[f64], shift: usize, b: &mut f64| {
+        for (&j, &v) in cols.iter().zip(vals) {
+            if local[j] != NONE {
+                a.indices.push(local[j] + shift);
+                a.values.push(v);
+            } else {
+                *b -= v * u[j];
+            }
+        }
+    };
+    for (r, &i) in free.iter().enumerate() {
+        let mut b = f[i];
+        let (cols, vals) = k.row(i);
+        push(&mut a, cols, vals, 0, &mut b);
+        let (rows, vals) = ct.row(i);
+        a.indices.extend(rows.iter().map(|&l| m + l));
+        a.values.extend_from_slice(vals);
+        a.indptr.push(a.indices.len());
+        a.nrows += 1;
+        rhs[r] = b;
+    }
+    for r in 0..nc {
+        let (cols, vals) = constraints.c.row(r);
+        let mut b = 0.0;
+        push(&mut a, cols, vals, 0, &mut b);
+        a.indptr.push(a.indices.len());
+        a.nrows += 1;
+        rhs[m + r] = b;
+    }
+    seconds.setup += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    // A is symmetric: its CSR arrays are its CSC arrays.
+    let lu = transposed_view(&a).sp_lu().map_err(|_| SolveError::Singular)?;
+    seconds.factorization += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let solve_with = |b: &[f64]| -> Vec<f64> {
+        let mut x = Mat::<f64>::from_fn(b.len(), 1, |i, _| b[i]);
+        lu.solve_in_place(x.as_mut());
+        (0..b.len()).map(|i| x[(i, 0)]).collect()
+    };
+    let mut x = solve_with(&rhs);
+    const REFINEMENTS: usize = 2;
+    for _ in 0..REFINEMENTS {
+        let ax = a.mul_vec(&x, 1);
+        let r: Vec<f64> = rhs.iter().zip(&ax).map(|(b, y)| b - y).collect();
+        for (xi, d) in x.iter_mut().zip(solve_with(&r)) {
+            *xi += d;
+        }
+    }
+    if x.iter().any(|v| !v.is_finite()) {
+        return Err(SolveError::Singular.into());
+    }
+    for (r, &i) in free.iter().enumerate() {
+        u[i] = x[r];
+    }
+    let lambda = x[m..].to_vec();
+    seconds.solve += clock.elapsed().as_secs_f64();
+    Ok((u, lambda, "saddle-point sparse LU", REFINEMENTS))
+}
+
+/// max(‖(f − Ku − Cᵀλ)_F‖ / ‖f_F‖, ‖Cu‖ / (‖C‖ ‖u‖)) in the max norm, F the free dofs.
+fn residual(
+    k: &CsrMatrix,
+    f: &[f64],
+    dirichlet: &Dirichlet,
+    constraints: &Constraints,
+    u: &[f64],
+    lambda: &[f64],
+) -> f64 {
+    let ku = k.mul_vec(u, 1);
+    let ctl = constraints.c.transpose_mul_vec(lambda, 1);
+    let free = |i: &usize| dirichlet.value(*i).is_none() && k.indptr[i + 1] > k.indptr[*i];
+    let (mut r, mut scale) = (0.0f64, 0.0f64);
+    for i in (0..k.nrows).filter(free) {
+        r = r.max((f[i] - ku[i] - ctl[i]).abs());
+        scale = scale.max(f[i].abs()).max(ku[i].abs());
+    }
+    let equilibrium = if scale > 0.0 { r / scale } else { r };
+    let cu = constraints.c.mul_vec(u, 1);
+    let c_max = constraints.c.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let u_max = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let gap = cu.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let compatibility = if c_max * u_max > 0.0 { gap / (c_max * u_max) } else { gap };
+    equilibrium.max(compatibility)
+}
+
+/// Tractions −λ per slave point and resultants −Σ_p (Dλ)_p per interface.
+fn interface_solutions(
+    interfaces: &[Interface],
+    mortars: Vec<Mortar>,
+    constraints: &Constraints,
+    bodies: &[Body],
+    lambda: &[f64],
+) -> Vec<InterfaceSolution> {
+    let mut out: Vec<InterfaceSolution> = interfaces
+        .iter()
+        .zip(mortars)
+        .map(|(f, mortar)| {
+            let n = bodies[f.slave].mesh.points().len();
+            InterfaceSolution {
+                mortar,
+                traction: vec![[0.0; 3]; n],
+                constrained: vec![[false; 3]; n],
+                force: [0.0; 3],
+            }
+        })
+        .collect();
+    let row_sums: Vec<Vec<f64>> = out.iter().map(|s| s.mortar.d.row_sums()).collect();
+    for (row, &l) in constraints.rows.iter().zip(lambda) {
+        let s = &mut out[row.interface];
+        s.traction[row.point][row.component] = -l;
+        s.constrained[row.point][row.component] = true;
+        s.force[row.component] -= l * row_sums[row.interface][row.point];
+    }
+    out
+}
