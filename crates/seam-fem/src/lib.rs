@@ -45,6 +45,8 @@ pub mod element;
 pub mod generate;
 pub mod glue;
 pub mod material;
+pub mod problem;
+pub mod scene;
 pub mod solve;
 pub mod stress;
 
@@ -52,5 +54,6 @@ pub use assembly::{body_force, cell_volumes, rigid_body_modes, stiffness, tracti
 pub use element::{ElementKind, VolumeRule};
 pub use glue::{solve_glued, Body, GlueError, GluedSolution, Interface, Solver};
 pub use material::{Material, MaterialError};
+pub use problem::{Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
 pub use solve::{solve, Dirichlet, SolveError};
 pub use stress::{recover_stresses, von_mises, Stresses};

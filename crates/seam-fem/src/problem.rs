@@ -1,0 +1,167 @@
+//! A glued multi-body problem with named bodies and boundaries: what a case file
+//! (`seam solve CASE.toml`) or a built-in example describes, in memory.
+//!
+//! Boundaries are named surfaces of a body ("body:surface"); Dirichlet
+//! conditions, tractions and interfaces refer to them. [`Problem::solve`] builds
+//! the loads f = ∫_Ω N b + ∫_Γ N t and the prescribed dofs of each body, and
+//! hands them to [`solve_glued`].
+
+use crate::assembly::{body_force, traction};
+use crate::glue::{solve_glued, Body, GlueError, GluedSolution, Interface, Solver};
+use crate::material::Material;
+use crate::solve::Dirichlet;
+use seam::{MortarOptions, SurfaceMesh, VolumeMesh};
+
+/// A body with its named boundary surfaces.
+#[derive(Clone, Debug)]
+pub struct ProblemBody {
+    /// Its name (unique in the problem).
+    pub name: String,
+    /// Its cells.
+    pub mesh: VolumeMesh,
+    /// Its material.
+    pub material: Material,
+    /// Force per volume.
+    pub body_force: [f64; 3],
+    /// Named boundary surfaces, outward, indexing the mesh's points.
+    pub surfaces: Vec<(String, SurfaceMesh)>,
+}
+
+/// A surface of a body: indices into [`Problem::bodies`] and its `surfaces`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SurfaceId {
+    /// The body.
+    pub body: usize,
+    /// The surface of that body.
+    pub surface: usize,
+}
+
+/// A glued interface.
+#[derive(Clone, Debug)]
+pub struct ProblemInterface {
+    /// The master surface.
+    pub master: SurfaceId,
+    /// The slave surface, where the multiplier lives.
+    pub slave: SurfaceId,
+    /// Multiplier, gap and angle limits.
+    pub options: MortarOptions,
+}
+
+/// Prescribed displacement components on a boundary.
+#[derive(Clone, Copy, Debug)]
+pub struct Support {
+    /// The boundary.
+    pub boundary: SurfaceId,
+    /// u_x, u_y, u_z, each prescribed or free.
+    pub values: [Option<f64>; 3],
+}
+
+/// A uniform traction (force per area) on a boundary.
+#[derive(Clone, Copy, Debug)]
+pub struct Load {
+    /// The boundary.
+    pub boundary: SurfaceId,
+    /// The traction vector.
+    pub t: [f64; 3],
+}
+
+/// Bodies, interfaces, supports and loads.
+#[derive(Clone, Debug, Default)]
+pub struct Problem {
+    /// The bodies.
+    pub bodies: Vec<ProblemBody>,
+    /// The glued interfaces.
+    pub interfaces: Vec<ProblemInterface>,
+    /// Dirichlet conditions, applied in order (a later one overrides an earlier
+    /// one on shared points).
+    pub supports: Vec<Support>,
+    /// Tractions.
+    pub loads: Vec<Load>,
+}
+
+impl Problem {
+    /// The surface `id`.
+    ///
+    /// # Panics
+    /// If `id` is out of range.
+    pub fn surface(&self, id: SurfaceId) -> &SurfaceMesh {
+        &self.bodies[id.body].surfaces[id.surface].1
+    }
+
+    /// "body:surface" of `id`.
+    pub fn surface_name(&self, id: SurfaceId) -> String {
+        let body = &self.bodies[id.body];
+        format!("{}:{}", body.name, body.surfaces[id.surface].0)
+    }
+
+    /// The id of the surface named "body:surface", if any.
+    pub fn find_surface(&self, name: &str) -> Option<SurfaceId> {
+        let (b, s) = name.split_once(':')?;
+        let body = self.bodies.iter().position(|x| x.name == b)?;
+        let surface = self.bodies[body].surfaces.iter().position(|x| x.0 == s)?;
+        Some(SurfaceId { body, surface })
+    }
+
+    /// Displacement unknowns, 3 per point of every body.
+    pub fn dofs(&self) -> usize {
+        self.bodies.iter().map(|b| 3 * b.mesh.points().len()).sum()
+    }
+
+    /// Per body: the load vector (body force and tractions) and the prescribed dofs.
+    ///
+    /// # Errors
+    /// [`GlueError::Assembly`] for a degenerate cell.
+    pub fn loads_and_supports(&self) -> Result<Vec<(Vec<f64>, Dirichlet)>, GlueError> {
+        self.bodies
+            .iter()
+            .enumerate()
+            .map(|(b, body)| {
+                let mut f = if body.body_force == [0.0; 3] {
+                    vec![0.0; 3 * body.mesh.points().len()]
+                } else {
+                    body_force(&body.mesh, |_| body.body_force)
+                        .map_err(|source| GlueError::Assembly { body: b, source })?
+                };
+                for load in self.loads.iter().filter(|l| l.boundary.body == b) {
+                    let t = traction(self.surface(load.boundary), |_, _| load.t);
+                    for (a, v) in f.iter_mut().zip(t) {
+                        *a += v;
+                    }
+                }
+                let mut dirichlet = Dirichlet::new();
+                for support in self.supports.iter().filter(|s| s.boundary.body == b) {
+                    let surface = self.surface(support.boundary);
+                    let used = surface.used_points();
+                    dirichlet.fix_all((0..used.len()).filter(|&p| used[p]), support.values);
+                }
+                Ok((f, dirichlet))
+            })
+            .collect()
+    }
+
+    /// Assembles and solves the glued problem.
+    ///
+    /// # Errors
+    /// See [`solve_glued`].
+    pub fn solve(&self, solver: Solver) -> Result<GluedSolution, GlueError> {
+        let prepared = self.loads_and_supports()?;
+        let bodies: Vec<Body> = self
+            .bodies
+            .iter()
+            .zip(prepared)
+            .map(|(b, (load, dirichlet))| Body { mesh: &b.mesh, material: b.material, load, dirichlet })
+            .collect();
+        let interfaces: Vec<Interface> = self
+            .interfaces
+            .iter()
+            .map(|f| Interface {
+                master: f.master.body,
+                master_surface: self.surface(f.master),
+                slave: f.slave.body,
+                slave_surface: self.surface(f.slave),
+                options: f.options,
+            })
+            .collect();
+        solve_glued(&bodies, &interfaces, solver)
+    }
+}

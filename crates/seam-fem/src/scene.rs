@@ -1,0 +1,119 @@
+//! Built-in problems that make their own meshes.
+//!
+//! [`warped_glue`] is the paper's first example (Fig. 2): the unit cube cut by
+//! the warped surface z = s(x, y) into two bodies meshed independently with
+//! hexahedra, the upper (slave) side `ratio` times coarser than the lower
+//! (master) side, glued by mortar; clamped at the bottom, loaded at the top by a
+//! traction with a shear part.
+
+use crate::generate::{block, BlockKind, Grid, Side};
+use crate::material::Material;
+use crate::problem::{Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
+use seam::{Facing, MeshError, MortarOptions, Multiplier, Point3};
+
+/// Parameters of [`warped_glue`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WarpedGlue {
+    /// Slave (upper) cells across x and y; (n + 1)² slave interface nodes.
+    pub slave_cells: usize,
+    /// h_s / h_m: master (lower) cells across = `ratio · slave_cells`.
+    pub ratio: usize,
+    /// Slave cell layers (upper body, uniform in z).
+    pub slave_layers: usize,
+    /// Master cell layers (lower body, graded towards the interface).
+    pub master_layers: usize,
+    /// Amplitude of the interface: s(x, y) = 1/2 + a sin(2πx) sin(πy).
+    pub amplitude: f64,
+    /// The multiplier.
+    pub multiplier: Multiplier,
+    /// Traction on the top face.
+    pub traction: [f64; 3],
+}
+
+impl Default for WarpedGlue {
+    /// The paper's proportions: 8 × 8 slave faces (81 nodes), h_s/h_m = 8.
+    fn default() -> Self {
+        WarpedGlue {
+            slave_cells: 8,
+            ratio: 8,
+            slave_layers: 8,
+            master_layers: 8,
+            amplitude: 0.1,
+            multiplier: Multiplier::Standard,
+            traction: [0.2, 0.0, -1.0],
+        }
+    }
+}
+
+impl WarpedGlue {
+    /// The interface height s(x, y).
+    pub fn interface(&self, x: f64, y: f64) -> f64 {
+        use std::f64::consts::PI;
+        0.5 + self.amplitude * (2.0 * PI * x).sin() * (PI * y).sin()
+    }
+
+    /// The lower body's map: layers graded as 1 − (1 − w)^1.5, so the cells at
+    /// the interface are about as thick as they are wide.
+    fn lower(&self, u: f64, v: f64, w: f64) -> Point3 {
+        [u, v, self.interface(u, v) * (1.0 - (1.0 - w).powf(1.5))]
+    }
+
+    /// The upper body's map, uniform between the interface and z = 1.
+    fn upper(&self, u: f64, v: f64, w: f64) -> Point3 {
+        let s = self.interface(u, v);
+        [u, v, s + (1.0 - s) * w]
+    }
+}
+
+/// The warped-glue problem (module doc): bodies "lower" (master, surfaces
+/// "bottom", "top") and "upper" (slave, "bottom", "top"), E = 1000, ν = 0.3 both.
+///
+/// # Errors
+/// [`MeshError`] only for degenerate parameters (e.g. an amplitude ≥ 1/2).
+///
+/// # Panics
+/// If a cell count is zero.
+pub fn warped_glue(p: &WarpedGlue) -> Result<Problem, MeshError> {
+    let material = Material::new(1000.0, 0.3).expect("valid constants");
+    let nm = p.slave_cells * p.ratio;
+    let lower = block(nm, nm, p.master_layers, |u, v, w| p.lower(u, v, w), BlockKind::Hex);
+    let lower_grid = Grid::new(nm, nm, p.master_layers);
+    let ns = p.slave_cells;
+    let upper = block(ns, ns, p.slave_layers, |u, v, w| p.upper(u, v, w), BlockKind::Hex);
+    let upper_grid = Grid::new(ns, ns, p.slave_layers);
+    let surfaces = |mesh: &seam::VolumeMesh, grid: &Grid| -> Result<Vec<_>, MeshError> {
+        Ok(vec![
+            ("bottom".to_string(), grid.side_faces(mesh, Side::ZMin)?),
+            ("top".to_string(), grid.side_faces(mesh, Side::ZMax)?),
+        ])
+    };
+    let bodies = vec![
+        ProblemBody {
+            name: "lower".into(),
+            surfaces: surfaces(&lower, &lower_grid)?,
+            mesh: lower,
+            material,
+            body_force: [0.0; 3],
+        },
+        ProblemBody {
+            name: "upper".into(),
+            surfaces: surfaces(&upper, &upper_grid)?,
+            mesh: upper,
+            material,
+            body_force: [0.0; 3],
+        },
+    ];
+    let (bottom, top) = (0, 1);
+    let options =
+        MortarOptions { multiplier: p.multiplier, facing: Facing::Opposite, ..MortarOptions::default() };
+    Ok(Problem {
+        bodies,
+        interfaces: vec![ProblemInterface {
+            master: SurfaceId { body: 0, surface: top },
+            slave: SurfaceId { body: 1, surface: bottom },
+            options,
+        }],
+        supports: vec![Support { boundary: SurfaceId { body: 0, surface: bottom }, values: [Some(0.0); 3] }],
+        loads: vec![Load { boundary: SurfaceId { body: 1, surface: top }, t: p.traction }],
+    })
+}
