@@ -4,23 +4,12 @@ independent reader): field names, shapes and values.
 Uses the `seam` binary that `cargo test` builds (target/debug/seam, or $SEAM_BIN).
 """
 import json
-import os
-import pathlib
-import subprocess
 
 import meshio
 import numpy as np
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-DATA = ROOT / "crates/seam-io/tests/data"
-SEAM = pathlib.Path(os.environ.get("SEAM_BIN", ROOT / "target/debug/seam"))
-
-
-def seam(*args, cwd):
-    if not SEAM.exists():
-        raise AssertionError(f"{SEAM} is missing: run `cargo build -p seam-cli` (scripts/test does)")
-    return subprocess.run([str(SEAM), *map(str, args)], cwd=cwd, capture_output=True, text=True)
+from seam_cli import DATA, seam
 
 
 def surface_points(mesh):

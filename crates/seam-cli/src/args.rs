@@ -21,6 +21,9 @@ pub enum Command {
     /// Report on how two surfaces meet: coverage, gaps, orientation, face
     /// quality and the invariants of the assembled operator.
     Check(CheckArgs),
+    /// Solve a glued linear-elasticity problem described by a case file (TOML):
+    /// bodies, interfaces, Dirichlet conditions and tractions.
+    Solve(SolveArgs),
     /// Run a built-in example that makes its own meshes.
     Example(ExampleArgs),
     /// Benchmark the assembly on generated meshes and print a Markdown table
@@ -187,12 +190,59 @@ pub struct CheckArgs {
     pub force: bool,
 }
 
+/// How the glued system is solved.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum SolverArg {
+    /// Sparse direct: Cholesky of the reduced system (dual, lumped
+    /// multipliers) or LDLᵀ of the saddle-point system (standard, or when the
+    /// elimination would fill in).
+    #[default]
+    Direct,
+    /// Preconditioned conjugate gradients on the reduced system (any
+    /// multiplier, matrix-free): for large problems.
+    Pcg,
+}
+
+impl SolverArg {
+    /// The name written to summary.json.
+    pub fn name(self) -> &'static str {
+        match self {
+            SolverArg::Direct => "direct",
+            SolverArg::Pcg => "pcg",
+        }
+    }
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct SolveArgs {
+    /// The case file (TOML; schema in the README). Meshes and the output
+    /// directory are relative to its directory.
+    pub case: PathBuf,
+    /// How the glued system is solved.
+    #[arg(long, value_enum, default_value_t)]
+    pub solver: SolverArg,
+    /// PCG: stop when ‖r‖₂ ≤ RTOL ‖b‖₂.
+    #[arg(long, default_value_t = 1e-10, value_name = "RTOL")]
+    pub rtol: f64,
+    /// Overwrite output files that already exist.
+    #[arg(long)]
+    pub force: bool,
+    /// Worker threads [default: all cores].
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+}
+
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum ExampleName {
     /// A quad patch on a twisted barrel (warped quads) against an
     /// unstructured triangle patch 0.2 % farther out: writes both meshes,
     /// assembles B, D, T and reports coverage, invariants and timings.
     Operator,
+    /// Two hexahedral blocks glued at a warped interface z = 1/2 + 0.1 sin 2πx
+    /// sin πy, the upper (slave) side 8× coarser than the lower (master) side
+    /// (the paper's Fig. 2): writes the meshes and a case file, solves it as
+    /// `seam solve` does, and draws the result as a PNG picture.
+    WarpedGlue,
 }
 
 #[derive(Args, Debug)]
@@ -209,6 +259,13 @@ pub struct ExampleArgs {
     /// Worker threads [default: all cores].
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
+    /// warped-glue: h_s/h_m, the master (lower) side's refinement over the
+    /// slave (upper) side's (for tests and quick runs).
+    #[arg(long, hide = true, value_name = "N")]
+    pub ratio: Option<usize>,
+    /// warped-glue: slave cells across x and y.
+    #[arg(long, hide = true, value_name = "N")]
+    pub slave_cells: Option<usize>,
 }
 
 /// Surfaces of the benchmark.

@@ -4,8 +4,9 @@
 //!
 //! ```toml
 //! [[body]]              # one per body
-//! name = "lower"
+//! name = "lower"        # also the name of its output file, lower.vtu
 //! mesh = "lower.msh"    # Gmsh volume mesh; its physical surfaces name the boundaries
+//! volume = "steel"      # optional: the cells of this physical volume (default: all cells)
 //! young = 1.0e3
 //! poisson = 0.3
 //! body_force = [0.0, 0.0, 0.0]   # optional, force per volume
@@ -15,6 +16,7 @@
 //! slave = "upper:bottom"
 //! kind = "glue"
 //! multiplier = "standard"        # or "dual", "lumped"
+//! max_gap = 0.01                 # optional (default: half the diameter of each slave face)
 //!
 //! [[dirichlet]]         # any subset of ux, uy, uz
 //! boundary = "lower:bottom"
@@ -24,8 +26,8 @@
 //! boundary = "upper:top"
 //! t = [0.0, 0.0, -1.0]
 //!
-//! [output]
-//! dir = "out"
+//! [output]              # optional
+//! dir = "out"           # the default
 //! ```
 //!
 //! Everything that can be checked without solving is checked by [`Case::read`],
@@ -49,6 +51,7 @@ pub struct Case {
     pub dirichlet: Vec<Dirichlet>,
     #[serde(default)]
     pub traction: Vec<Traction>,
+    #[serde(default)]
     pub output: Output,
     /// The directory of the case file: meshes and outputs are relative to it.
     #[serde(skip)]
@@ -60,6 +63,8 @@ pub struct Case {
 pub struct Body {
     pub name: String,
     pub mesh: PathBuf,
+    /// The physical volume (name or number) whose cells make the body.
+    pub volume: Option<String>,
     pub young: f64,
     pub poisson: f64,
     #[serde(default)]
@@ -120,7 +125,25 @@ pub struct Traction {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Output {
+    #[serde(default = "default_output_dir")]
     pub dir: PathBuf,
+}
+
+fn default_output_dir() -> PathBuf {
+    PathBuf::from("out")
+}
+
+impl Default for Output {
+    fn default() -> Self {
+        Output { dir: default_output_dir() }
+    }
+}
+
+impl Interface {
+    /// The interface's name in messages: "slave → master".
+    pub fn describe(&self, index: usize) -> String {
+        format!("interface {} ({} → {})", index + 1, self.slave, self.master)
+    }
 }
 
 /// A boundary reference "body:surface", split.
@@ -171,8 +194,12 @@ impl Case {
             if !names.insert(b.name.as_str()) {
                 bail!("body \"{}\" is defined twice", b.name);
             }
-            if b.name.contains(':') || b.name.is_empty() {
-                bail!("body name \"{}\" must be non-empty and without ':'", b.name);
+            if b.name.is_empty() || b.name.contains([':', '/', '\\']) || b.name.starts_with('.') {
+                bail!(
+                    "body name \"{}\" must be non-empty, not start with '.' and hold no ':', '/' or '\\' \
+                     (it names the output file)",
+                    b.name
+                );
             }
             if !(b.young.is_finite() && b.young > 0.0) {
                 bail!("body \"{}\": young = {} must be positive", b.name, b.young);
@@ -199,6 +226,7 @@ impl Case {
                 )
             }
         };
+        let mut slaves = BTreeMap::new();
         for (i, f) in self.interfaces.iter().enumerate() {
             let what = format!("interface {}", i + 1);
             let (m, s) = (SurfaceRef::parse(&f.master, &what)?, SurfaceRef::parse(&f.slave, &what)?);
@@ -206,6 +234,9 @@ impl Case {
             known(&s, &what)?;
             if m.body == s.body {
                 bail!("{what}: master and slave belong to the same body \"{}\"", m.body);
+            }
+            if let Some(j) = slaves.insert((s.body.clone(), s.surface.clone()), i) {
+                bail!("{what}: {} is already the slave side of interface {}", f.slave, j + 1);
             }
             if f.kind == InterfaceKind::Contact {
                 bail!("{what}: kind = \"contact\" is not supported yet (only \"glue\")");

@@ -11,6 +11,7 @@ use std::path::Path;
 pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
     match args.name {
         ExampleName::Operator => operator(args),
+        ExampleName::WarpedGlue => crate::warped_glue::run(args),
     }
 }
 

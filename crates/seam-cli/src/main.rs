@@ -1,7 +1,8 @@
 //! The `seam` command-line tool: argument parsing and glue around the `seam`
 //! library (the maths) and `seam-io` (the files).
 //!
-//! Exit codes: 0 = success; 1 = ran, but the meshes do not couple (no overlap);
+//! Exit codes: 0 = success; 1 = ran, but the meshes do not couple (no overlap;
+//! for `solve`, an interface whose surfaces do not meet);
 //! 2 = error (bad input, unwritable output, …); 3 = `check --strict` found
 //! incomplete coverage or a violated invariant. Errors are one line on stderr.
 #![forbid(unsafe_code)]
@@ -9,13 +10,15 @@
 mod args;
 mod assemble;
 mod bench;
-#[allow(dead_code)] // read by `seam solve`, which comes with the elasticity solver
 mod case;
 mod check;
 mod example;
 mod input;
 mod output;
+mod render;
+mod solve;
 mod transfer;
+mod warped_glue;
 
 use args::{Cli, Command};
 use clap::Parser;
@@ -56,6 +59,7 @@ fn main() -> ExitCode {
         Command::Assemble(a) => assemble::run(&a).map(|_| ()),
         Command::Transfer(t) => transfer::run(&t),
         Command::Check(c) => check::run(&c),
+        Command::Solve(s) => solve::run(&s),
         Command::Example(e) => example::run(&e),
         Command::Bench(b) => bench::run(&b),
         Command::BenchCase(c) => bench::run_case(&c),

@@ -1,17 +1,12 @@
 //! The `seam` binary, run as a user would: in a temporary directory, checking
 //! exit codes, stderr and the files it leaves.
 
+mod common;
+
+use common::{json, seam, stderr};
 use seam_io::read_matrix_market_str;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn seam(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_seam"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the seam binary runs")
-}
+use std::process::Output;
 
 fn fixture(name: &str) -> String {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../seam-io/tests/data").join(name);
@@ -19,12 +14,8 @@ fn fixture(name: &str) -> String {
     p.to_string_lossy().into_owned()
 }
 
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
 fn summary(dir: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+    json(&dir.join("summary.json"))
 }
 
 fn matrix(path: &Path) -> seam::CsrMatrix {
@@ -252,6 +243,7 @@ fn every_command_has_help() {
         vec!["assemble", "--help"],
         vec!["transfer", "--help"],
         vec!["check", "--help"],
+        vec!["solve", "--help"],
         vec!["example", "--help"],
         vec!["bench", "--help"],
     ] {

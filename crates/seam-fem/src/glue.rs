@@ -22,14 +22,19 @@
 //! points), which keeps C of full row rank.
 //!
 //! # Solvers
-//! - [`Solver::Direct`] with dual or lumped multipliers: every row of C
+//! - Elimination (paper (3)₂): with dual or lumped multipliers every row of C
 //!   eliminates its own slave dof, C = [C_S C_R] with C_S diagonal, so
-//!   u_S = T u_R with T = −C_S⁻¹C_R (paper (3)₂) and u = P u_R, P = [I; T]. The
-//!   reduced system PᵀKP u_R = Pᵀf is symmetric positive definite and solved by
-//!   sparse Cholesky ([`solve`](crate::solve::solve)).
-//! - [`Solver::Direct`] with standard multipliers (C_S is the slave mass matrix,
-//!   so T is dense): the saddle point itself, by sparse LU with two steps of
-//!   iterative refinement.
+//!   u_S = T u_R with T = −C_S⁻¹C_R and u = P u_R, P = [I; T]. The reduced
+//!   system PᵀKP u_R = Pᵀf is symmetric positive definite.
+//! - [`Solver::Direct`]: the reduced system by sparse Cholesky
+//!   ([`crate::solve::solve`]) for dual and lumped multipliers, unless T
+//!   would fill PᵀKP in (a slave side much coarser than the master side); with
+//!   standard multipliers (C_S is the slave mass matrix, T is dense), or on
+//!   fill-in, the saddle point itself by sparse LDLᵀ with iterative refinement
+//!   ([`crate::saddle`]). [`GlueReport::method`] says which ran.
+//! - [`Solver::Pcg`]: the reduced system by preconditioned conjugate
+//!   gradients, matrix-free for any multiplier: P x needs C_S⁻¹, one sparse LU
+//!   solve on the interface.
 //!
 //! # Multipliers and tractions
 //! The slave rows of the saddle point read (K u)_S + C_Sᵀ λ = f_S, so
@@ -37,6 +42,8 @@
 //! (force per area); the resultant on the slave is −Σ_p (D λ)_p.
 
 use crate::material::Material;
+use crate::pcg::{par_mul, pcg, BlockJacobi, PcgOptions};
+use crate::saddle::solve_saddle;
 use crate::solve::{solve, Dirichlet, SolveError};
 use crate::{stiffness, AssemblyError};
 use faer::linalg::solvers::Solve;
@@ -80,6 +87,9 @@ pub enum Solver {
     /// Sparse Cholesky of the reduced system (dual, lumped) or sparse LU of the
     /// saddle point (standard).
     Direct,
+    /// Preconditioned conjugate gradients on the reduced system PᵀKP (explicit
+    /// for dual and lumped multipliers, matrix-free for standard ones).
+    Pcg(PcgOptions),
 }
 
 /// Why a glued problem could not be solved.
@@ -231,8 +241,11 @@ pub fn solve_glued(
 
     let diagonal = constraints.eliminated_block_is_diagonal();
     let solved = match solver {
-        Solver::Direct if diagonal => eliminated_direct(&k, &f, &dirichlet, &constraints, &mut seconds)?,
+        Solver::Direct if diagonal && !constraints.elimination_fills_in(&k) => {
+            eliminated(&k, &f, &dirichlet, &constraints, &mut seconds)?
+        }
         Solver::Direct => saddle_point(&k, &f, &dirichlet, &constraints, &mut seconds)?,
+        Solver::Pcg(options) => matrix_free(&k, &f, &dirichlet, &constraints, &options, &mut seconds)?,
     };
     let (u, lambda, method, iterations) = solved;
 
@@ -365,6 +378,19 @@ impl Constraints {
         Constraints { c, rows, row_of }
     }
 
+    /// True when eliminating u_S = T u_R would fill PᵀKP in:
+    /// Σ_rows nnz(T row)² (the entries of TᵀK_SST from the diagonal of K_SS)
+    /// exceeds nnz(K)/16. This happens when the slave side is coarser than the
+    /// master side (a slave node then couples (2 h_s/h_m + 1)² master nodes);
+    /// the saddle point is then the cheaper factorisation. Measured on the
+    /// warped-glue problem (`examples/glue_bench.rs`), 110k dofs,
+    /// h_s/h_m = 4 (fill ≈ nnz(K)/4): reduced Cholesky 50 s, LDLᵀ 10 s;
+    /// 116k dofs, h_s/h_m = 8: 82 s against 3 s.
+    fn elimination_fills_in(&self, k: &CsrMatrix) -> bool {
+        let fill: usize = (0..self.rows.len()).map(|r| (self.c.row(r).0.len() - 1).pow(2)).sum();
+        16 * fill > k.nnz()
+    }
+
     /// True when each row touches no eliminated dof but its own: C_S is diagonal.
     fn eliminated_block_is_diagonal(&self) -> bool {
         self.rows.iter().enumerate().all(|(r, row)| {
@@ -377,8 +403,9 @@ impl Constraints {
 /// (u, λ, method, iterations) of a solver.
 type Solved = (Vec<f64>, Vec<f64>, &'static str, usize);
 
-/// Dual or lumped multipliers: u = P u_R, PᵀKP u_R = Pᵀf by sparse Cholesky.
-fn eliminated_direct(
+/// Diagonal C_S (dual, lumped): u = P u_R with PᵀKP u_R = Pᵀf, by sparse
+/// Cholesky.
+fn eliminated(
     k: &CsrMatrix,
     f: &[f64],
     dirichlet: &Dirichlet,
@@ -412,18 +439,24 @@ fn eliminated_direct(
     Ok((u, lambda, "reduced Cholesky (u_s = T u_m)", 0))
 }
 
-/// P = [I; −C_S⁻¹C_R] (n × n_R) for diagonal C_S, and the index in R of each
-/// retained dof (`NONE` for eliminated ones).
-fn prolongation(constraints: &Constraints) -> (CsrMatrix, Vec<usize>) {
-    let n = constraints.row_of.len();
-    let mut retained = vec![NONE; n];
+/// The index in R of each retained dof (`NONE` for eliminated ones), and n_R.
+fn retained_numbering(constraints: &Constraints) -> (Vec<usize>, usize) {
+    let mut retained = vec![NONE; constraints.row_of.len()];
     let mut n_r = 0;
-    for (dof, r) in retained.iter_mut().enumerate() {
-        if constraints.row_of[dof] == NONE {
+    for (r, &row) in retained.iter_mut().zip(&constraints.row_of) {
+        if row == NONE {
             *r = n_r;
             n_r += 1;
         }
     }
+    (retained, n_r)
+}
+
+/// P = [I; −C_S⁻¹C_R] (n × n_R) for diagonal C_S, and the index in R of each
+/// retained dof (`NONE` for eliminated ones).
+fn prolongation(constraints: &Constraints) -> (CsrMatrix, Vec<usize>) {
+    let n = constraints.row_of.len();
+    let (retained, n_r) = retained_numbering(constraints);
     let mut p = CsrMatrix::zeros(0, n_r);
     for dof in 0..n {
         match constraints.row_of[dof] {
@@ -482,8 +515,8 @@ fn triple_product(p: &CsrMatrix, k: &CsrMatrix) -> CsrMatrix {
 }
 
 /// Standard multipliers: the saddle point over the free dofs F,
-/// [K_FF C_Fᵀ; C_F 0] [u_F; λ] = [f_F − K_FD ū; −C_D ū], by sparse LU and two
-/// steps of iterative refinement.
+/// [K_FF C_Fᵀ; C_F 0] [u_F; λ] = [f_F − K_FD ū; −C_D ū], by sparse LDLᵀ
+/// with each multiplier ordered after its slave point ([`solve_saddle`]).
 fn saddle_point(
     k: &CsrMatrix,
     f: &[f64],
@@ -538,37 +571,33 @@ fn saddle_point(
         a.nrows += 1;
         rhs[m + r] = b;
     }
+    // Ordering groups: the points, each multiplier with the slave point it constrains.
+    let mut group_of_point = vec![NONE; n / 3 + 1];
+    let mut n_groups = 0;
+    let mut group = |dof: usize| {
+        let g = &mut group_of_point[dof / 3];
+        if *g == NONE {
+            *g = n_groups;
+            n_groups += 1;
+        }
+        *g
+    };
+    let dofs: Vec<usize> = free.iter().copied().chain(constraints.rows.iter().map(|row| row.dof)).collect();
+    let groups: Vec<usize> = dofs.into_iter().map(&mut group).collect();
+    let signs: Vec<i8> = (0..m + nc).map(|i| if i < m { 1 } else { -1 }).collect();
     seconds.setup += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    // A is symmetric: its CSR arrays are its CSC arrays.
-    let lu = transposed_view(&a).sp_lu().map_err(|_| SolveError::Singular)?;
+    let (x, report) = solve_saddle(&a, &rhs, &signs, &groups)?;
     seconds.factorization += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let solve_with = |b: &[f64]| -> Vec<f64> {
-        let mut x = Mat::<f64>::from_fn(b.len(), 1, |i, _| b[i]);
-        lu.solve_in_place(x.as_mut());
-        (0..b.len()).map(|i| x[(i, 0)]).collect()
-    };
-    let mut x = solve_with(&rhs);
-    const REFINEMENTS: usize = 2;
-    for _ in 0..REFINEMENTS {
-        let ax = a.mul_vec(&x, 1);
-        let r: Vec<f64> = rhs.iter().zip(&ax).map(|(b, y)| b - y).collect();
-        for (xi, d) in x.iter_mut().zip(solve_with(&r)) {
-            *xi += d;
-        }
-    }
-    if x.iter().any(|v| !v.is_finite()) {
-        return Err(SolveError::Singular.into());
-    }
     for (r, &i) in free.iter().enumerate() {
         u[i] = x[r];
     }
     let lambda = x[m..].to_vec();
     seconds.solve += clock.elapsed().as_secs_f64();
-    Ok((u, lambda, "saddle-point sparse LU", REFINEMENTS))
+    Ok((u, lambda, "saddle-point LDLᵀ", report.refinements))
 }
 
 /// max(‖(f − Ku − Cᵀλ)_F‖ / ‖f_F‖, ‖Cu‖ / (‖C‖ ‖u‖)) in the max norm, F the free dofs.
@@ -626,4 +655,191 @@ fn interface_solutions(
         s.force[row.component] -= l * row_sums[row.interface][row.point];
     }
     out
+}
+
+/// PCG on PᵀKP, matrix-free (any multiplier): P x = [x; −C_S⁻¹C_R x] and
+/// Pᵀy = y_R − C_Rᵀ C_S⁻ᵀ y_S with one sparse LU of C_S (interface-sized). The
+/// Dirichlet dofs are eliminated as in [`solve_pcg`] (identity rows, zero
+/// right-hand side), the preconditioner is K's point-block Jacobi.
+fn matrix_free(
+    k: &CsrMatrix,
+    f: &[f64],
+    dirichlet: &Dirichlet,
+    constraints: &Constraints,
+    options: &PcgOptions,
+    seconds: &mut Timings,
+) -> Result<Solved, GlueError> {
+    let clock = Instant::now();
+    let n = k.nrows;
+    let (retained, n_r) = retained_numbering(constraints);
+    let reduction = Reduction::new(constraints, &retained, n_r)?;
+    let mut active_r = vec![true; n_r];
+    let mut lift = vec![0.0; n_r];
+    for (dof, v) in dirichlet.iter() {
+        active_r[retained[dof]] = false;
+        lift[retained[dof]] = v;
+    }
+    let active: Vec<bool> =
+        (0..n).map(|i| dirichlet.value(i).is_none() && k.indptr[i + 1] > k.indptr[i]).collect();
+    // b = Pᵀ(f − K P ū) on the free retained dofs.
+    let mut ku = vec![0.0; n];
+    par_mul(k, &reduction.apply_p(&lift), &mut ku);
+    let residual: Vec<f64> = f.iter().zip(&ku).map(|(a, b)| a - b).collect();
+    let mut b = reduction.apply_pt(&residual);
+    for (bi, &a) in b.iter_mut().zip(&active_r) {
+        if !a {
+            *bi = 0.0;
+        }
+    }
+    let jacobi = BlockJacobi::new(k, &active, if n % 3 == 0 { 3 } else { 1 });
+    seconds.setup += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let apply_a = |x: &[f64], y: &mut [f64]| {
+        let mut kx = vec![0.0; n];
+        par_mul(k, &reduction.apply_p(x), &mut kx);
+        y.copy_from_slice(&reduction.apply_pt(&kx));
+        for ((yi, xi), &a) in y.iter_mut().zip(x).zip(&active_r) {
+            if !a {
+                *yi = *xi;
+            }
+        }
+    };
+    let apply_m = |r: &[f64], z: &mut [f64]| {
+        let mut full = vec![0.0; n];
+        for (dof, &i) in retained.iter().enumerate() {
+            if i != NONE {
+                full[dof] = r[i];
+            }
+        }
+        let mut out = vec![0.0; n];
+        jacobi.apply(&full, &mut out);
+        for (dof, &i) in retained.iter().enumerate() {
+            if i != NONE {
+                z[i] = out[dof];
+            }
+        }
+    };
+    let mut x = vec![0.0; n_r];
+    let report = pcg(apply_a, apply_m, &b, &mut x, options.rtol, options.max_iter);
+    if report.breakdown {
+        return Err(SolveError::Singular.into());
+    }
+    if !report.converged {
+        let (iterations, relative_residual) = (report.iterations, report.relative_residual);
+        return Err(SolveError::NotConverged { iterations, relative_residual }.into());
+    }
+    seconds.factorization += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    for ((xi, l), &a) in x.iter_mut().zip(&lift).zip(&active_r) {
+        if !a {
+            *xi = *l;
+        }
+    }
+    let u = reduction.apply_p(&x);
+    let mut ku = vec![0.0; n];
+    par_mul(k, &u, &mut ku);
+    let rest: Vec<f64> = constraints.rows.iter().map(|row| f[row.dof] - ku[row.dof]).collect();
+    let lambda = reduction.solve_cs(&rest, true);
+    seconds.solve += clock.elapsed().as_secs_f64();
+    Ok((u, lambda, "reduced PCG, matrix-free (u_s = T u_m)", report.iterations))
+}
+
+/// C = [C_S C_R] split by eliminated (S) and retained (R) dofs, C_S factored.
+struct Reduction<'a> {
+    constraints: &'a Constraints,
+    retained: &'a [usize],
+    c_r: CsrMatrix,
+    c_r_t: CsrMatrix,
+    lu: faer::sparse::linalg::solvers::Lu<usize, f64>,
+}
+
+impl<'a> Reduction<'a> {
+    fn new(constraints: &'a Constraints, retained: &'a [usize], n_r: usize) -> Result<Self, GlueError> {
+        let nc = constraints.rows.len();
+        let mut c_s = CsrMatrix::zeros(0, nc);
+        let mut c_r = CsrMatrix::zeros(0, n_r);
+        for r in 0..nc {
+            let (cols, vals) = constraints.c.row(r);
+            for (&j, &v) in cols.iter().zip(vals) {
+                match constraints.row_of[j] {
+                    NONE => {
+                        c_r.indices.push(retained[j]);
+                        c_r.values.push(v);
+                    }
+                    l => {
+                        c_s.indices.push(l);
+                        c_s.values.push(v);
+                    }
+                }
+            }
+            for m in [&mut c_s, &mut c_r] {
+                m.indptr.push(m.indices.len());
+                m.nrows += 1;
+            }
+        }
+        // Columns of C_S follow the row order of their eliminated dofs, which
+        // increases with the dof within an interface; sort to be safe.
+        for i in 0..c_s.nrows {
+            let range = c_s.indptr[i]..c_s.indptr[i + 1];
+            let mut pairs: Vec<(usize, f64)> = c_s.indices[range.clone()]
+                .iter()
+                .copied()
+                .zip(c_s.values[range.clone()].iter().copied())
+                .collect();
+            pairs.sort_unstable_by_key(|p| p.0);
+            for (k, (j, v)) in range.zip(pairs) {
+                c_s.indices[k] = j;
+                c_s.values[k] = v;
+            }
+        }
+        let c_s_t = c_s.transpose();
+        let lu = transposed_view(&c_s_t).sp_lu().map_err(|_| SolveError::Singular)?;
+        let c_r_t = c_r.transpose();
+        Ok(Reduction { constraints, retained, c_r, c_r_t, lu })
+    }
+
+    /// C_S⁻¹ w, or C_S⁻ᵀ w.
+    fn solve_cs(&self, w: &[f64], transpose: bool) -> Vec<f64> {
+        let mut x = Mat::<f64>::from_fn(w.len(), 1, |i, _| w[i]);
+        if transpose {
+            self.lu.solve_transpose_in_place(x.as_mut());
+        } else {
+            self.lu.solve_in_place(x.as_mut());
+        }
+        (0..w.len()).map(|i| x[(i, 0)]).collect()
+    }
+
+    /// u = P x.
+    fn apply_p(&self, x: &[f64]) -> Vec<f64> {
+        let mut u = vec![0.0; self.retained.len()];
+        for (ui, &i) in u.iter_mut().zip(self.retained) {
+            if i != NONE {
+                *ui = x[i];
+            }
+        }
+        let s = self.solve_cs(&self.c_r.mul_vec(x, 1), false);
+        for (row, si) in self.constraints.rows.iter().zip(s) {
+            u[row.dof] = -si;
+        }
+        u
+    }
+
+    /// z = Pᵀ y.
+    fn apply_pt(&self, y: &[f64]) -> Vec<f64> {
+        let y_s: Vec<f64> = self.constraints.rows.iter().map(|row| y[row.dof]).collect();
+        let t = self.solve_cs(&y_s, true);
+        let correction = self.c_r_t.mul_vec(&t, 1);
+        let mut z = vec![0.0; self.c_r.ncols];
+        for (&i, &yi) in self.retained.iter().zip(y) {
+            if i != NONE {
+                z[i] = yi;
+            }
+        }
+        for (zi, c) in z.iter_mut().zip(correction) {
+            *zi -= c;
+        }
+        z
+    }
 }

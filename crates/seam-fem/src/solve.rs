@@ -7,8 +7,17 @@
 //! ```
 //!
 //! K_FF is symmetric positive definite when the prescribed dofs remove every
-//! rigid-body motion of every connected body; it is factored as LLᵀ by faer's
-//! sparse Cholesky (with its fill-reducing ordering).
+//! rigid-body motion of every connected body; it is factored as P K_FF Pᵀ = LLᵀ:
+//!
+//! - P is a fill-reducing ordering ([`FillOrdering`], [`crate::ordering`]); by
+//!   default nested dissection on the graph of the points (the 3 dofs of a
+//!   point stay together), whose factor costs O(n²) flops on 3D meshes against
+//!   the faster growth of minimum degree.
+//! - The symbolic and numeric factorisations (supernodal) and the triangular
+//!   solves are faer's.
+//!
+//! For large problems where the factor does not fit, [`crate::pcg`] offers
+//! preconditioned conjugate gradients.
 //!
 //! # Singularity
 //! K_FF is singular (or numerically so) when a body can move without deforming.
@@ -19,11 +28,19 @@
 //! detects singular systems and rejects only those with a condition number
 //! beyond ~10¹⁰.
 
-use faer::linalg::solvers::Solve;
+use crate::ordering::{self, Graph};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Mat, Side};
+use faer::{Conj, Mat, Par, Side};
+use rayon::prelude::*;
 use seam::CsrMatrix;
 use std::collections::BTreeMap;
+use std::time::Instant;
 
 /// Largest relative error of the self-check solve (module doc) before the system
 /// counts as singular.
@@ -58,6 +75,18 @@ pub enum SolveError {
     NonFiniteValue {
         /// The dof.
         dof: usize,
+    },
+    /// The Cholesky factor (or its workspace) could not be allocated.
+    #[error("out of memory for the sparse Cholesky factor")]
+    OutOfMemory,
+    /// The conjugate gradient iteration reached its iteration cap with
+    /// ‖r‖ > rtol ‖b‖.
+    #[error("conjugate gradients did not converge: relative residual {relative_residual:e} after {iterations} iterations")]
+    NotConverged {
+        /// Iterations done.
+        iterations: usize,
+        /// ‖r‖ / ‖b‖ at the end.
+        relative_residual: f64,
     },
 }
 
@@ -137,60 +166,221 @@ impl Dirichlet {
 /// row of K has no stored entry (points that no cell uses) are not unknowns:
 /// they get u = 0, or their prescribed value.
 ///
+/// Uses [`DirectOptions::default`]; see [`solve_direct`].
+///
 /// # Errors
 /// [`SolveError::Singular`] when K is (numerically) singular on the free dofs;
 /// [`SolveError::Dimension`], [`SolveError::DofOutOfRange`],
-/// [`SolveError::NonFiniteValue`] for inconsistent input.
+/// [`SolveError::NonFiniteValue`] for inconsistent input;
+/// [`SolveError::OutOfMemory`] when the factor does not fit.
 pub fn solve(k: &CsrMatrix, f: &[f64], dirichlet: &Dirichlet) -> Result<Vec<f64>, SolveError> {
-    let n = k.nrows;
-    if k.ncols != n || f.len() != n {
-        return Err(SolveError::Dimension { nrows: k.nrows, ncols: k.ncols, f_len: f.len() });
-    }
-    let mut u = vec![0.0; n];
-    let mut fixed = vec![false; n];
-    for (dof, v) in dirichlet.iter() {
-        if dof >= n {
-            return Err(SolveError::DofOutOfRange { dof, n_dofs: n });
+    solve_direct(k, f, dirichlet, &DirectOptions::default()).map(|(u, _)| u)
+}
+
+/// The fill-reducing ordering of the direct solver ([`crate::ordering`]).
+///
+/// The point variants order the graph of the points (the dof graph compressed
+/// by the triples `dof = 3·point + component`) and number the free dofs of each
+/// point consecutively; they are used when K has that 3 × 3 block pattern
+/// (every point's three rows have the same columns, in whole triples), and
+/// fall back to the dof graph otherwise.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FillOrdering {
+    /// faer's approximate minimum degree on the dof graph.
+    DofAmd,
+    /// Approximate minimum degree on the point graph.
+    PointAmd,
+    /// Nested dissection on the point graph.
+    #[default]
+    NestedDissection,
+}
+
+/// Options of [`solve_direct`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DirectOptions {
+    /// The fill-reducing ordering.
+    pub ordering: FillOrdering,
+}
+
+/// What [`solve_direct`] did, and how long it took.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DirectReport {
+    /// Number of unknowns (free dofs with a stored row).
+    pub n_free: usize,
+    /// True when the ordering ran on the point graph (3 × 3 blocks detected).
+    pub point_blocks: bool,
+    /// Seconds spent in the fill-reducing ordering (0 for
+    /// [`FillOrdering::DofAmd`], which runs inside the symbolic phase).
+    pub ordering_seconds: f64,
+    /// Seconds of the symbolic factorisation (elimination tree, column counts,
+    /// supernodes).
+    pub symbolic_seconds: f64,
+    /// Seconds of the numeric factorisation K_FF = L Lᵀ.
+    pub numeric_seconds: f64,
+    /// Seconds of the two triangular solves (right-hand side and probe).
+    pub solve_seconds: f64,
+    /// Stored entries of L.
+    pub nnz_l: usize,
+    /// True when faer chose its supernodal (blocked, BLAS-3) factorisation.
+    pub supernodal: bool,
+    /// Floating-point operations of the factorisation, Σ_j c_j² over the
+    /// column counts c_j of L (diagonal included).
+    pub flops: f64,
+    /// Columns of the largest supernode (1 when simplicial).
+    pub largest_supernode: usize,
+}
+
+/// The Dirichlet elimination: u holds the prescribed values, `free` the
+/// unknown dofs in increasing order, `local[dof]` their reduced number.
+struct Reduced {
+    u: Vec<f64>,
+    fixed: Vec<bool>,
+    free: Vec<usize>,
+    local: Vec<usize>,
+}
+
+impl Reduced {
+    fn new(k: &CsrMatrix, f: &[f64], dirichlet: &Dirichlet) -> Result<Reduced, SolveError> {
+        let n = k.nrows;
+        if k.ncols != n || f.len() != n {
+            return Err(SolveError::Dimension { nrows: k.nrows, ncols: k.ncols, f_len: f.len() });
         }
-        if !v.is_finite() {
-            return Err(SolveError::NonFiniteValue { dof });
+        let mut u = vec![0.0; n];
+        let mut fixed = vec![false; n];
+        for (dof, v) in dirichlet.iter() {
+            if dof >= n {
+                return Err(SolveError::DofOutOfRange { dof, n_dofs: n });
+            }
+            if !v.is_finite() {
+                return Err(SolveError::NonFiniteValue { dof });
+            }
+            u[dof] = v;
+            fixed[dof] = true;
         }
-        u[dof] = v;
-        fixed[dof] = true;
-    }
-    // Reduced numbering of the free dofs.
-    let mut local = vec![usize::MAX; n];
-    let mut free = Vec::new();
-    for i in 0..n {
-        if !fixed[i] && k.indptr[i + 1] > k.indptr[i] {
-            local[i] = free.len();
-            free.push(i);
+        let mut local = vec![usize::MAX; n];
+        let mut free = Vec::new();
+        for i in 0..n {
+            if !fixed[i] && k.indptr[i + 1] > k.indptr[i] {
+                local[i] = free.len();
+                free.push(i);
+            }
         }
+        Ok(Reduced { u, fixed, free, local })
     }
+
+    /// r_F = f_F − K_FD ū_D, by reduced number.
+    fn rhs(&self, k: &CsrMatrix, f: &[f64]) -> Vec<f64> {
+        self.free
+            .iter()
+            .map(|&i| {
+                let (cols, values) = k.row(i);
+                let mut b = f[i];
+                for (&j, &v) in cols.iter().zip(values) {
+                    if self.fixed[j] {
+                        b -= v * self.u[j];
+                    }
+                }
+                b
+            })
+            .collect()
+    }
+}
+
+/// True when K is made of 3 × 3 blocks: every point's three rows have the same
+/// columns, which come in whole triples (3q, 3q+1, 3q+2).
+fn has_point_blocks(k: &CsrMatrix) -> bool {
+    if k.nrows % 3 != 0 || k.ncols != k.nrows {
+        return false;
+    }
+    (0..k.nrows / 3).all(|p| {
+        let cols = k.row(3 * p).0;
+        cols.len() % 3 == 0
+            && k.row(3 * p + 1).0 == cols
+            && k.row(3 * p + 2).0 == cols
+            && cols.chunks_exact(3).all(|t| t[0] % 3 == 0 && t[1] == t[0] + 1 && t[2] == t[0] + 2)
+    })
+}
+
+/// The fill-reducing permutation of the reduced system (`perm[new] = old`, by
+/// reduced number), and whether it was computed on points.
+fn reduced_ordering(k: &CsrMatrix, red: &Reduced, method: FillOrdering) -> (Vec<usize>, bool) {
+    let m = red.free.len();
+    let blocks = has_point_blocks(k);
+    // Groups of consecutive reduced dofs: the free dofs of a point, or single dofs.
+    let mut group = Vec::with_capacity(m);
+    let mut starts = Vec::new();
+    for (r, &i) in red.free.iter().enumerate() {
+        if r == 0 || !blocks || red.free[r - 1] / 3 != i / 3 {
+            starts.push(r);
+        }
+        group.push(starts.len() - 1);
+    }
+    let n_groups = starts.len();
+    starts.push(m);
+    let rows: Vec<Vec<usize>> = (0..n_groups)
+        .into_par_iter()
+        .map(|g| {
+            let mut row: Vec<usize> = (starts[g]..starts[g + 1])
+                .flat_map(|r| k.row(red.free[r]).0.iter())
+                .map(|&j| red.local[j])
+                .filter(|&l| l != usize::MAX)
+                .map(|l| group[l])
+                .collect();
+            row.sort_unstable();
+            row.dedup();
+            row
+        })
+        .collect();
+    let graph = Graph::from_rows(n_groups, |g| &rows[g]);
+    drop(rows);
+    let group_perm = match method {
+        FillOrdering::NestedDissection => ordering::nested_dissection(&graph),
+        _ => ordering::amd(&graph),
+    };
+    let perm = group_perm.iter().flat_map(|&g| starts[g]..starts[g + 1]).collect();
+    (perm, blocks)
+}
+
+/// [`solve`] with a choice of ordering, reporting the phases (module doc).
+///
+/// The numeric factorisation and the solves run on the current rayon pool
+/// (faer's `Par::rayon`); the ordering is deterministic, so the factor has the
+/// same pattern whatever the number of threads.
+///
+/// # Errors
+/// As [`solve`].
+pub fn solve_direct(
+    k: &CsrMatrix,
+    f: &[f64],
+    dirichlet: &Dirichlet,
+    options: &DirectOptions,
+) -> Result<(Vec<f64>, DirectReport), SolveError> {
+    let red = Reduced::new(k, f, dirichlet)?;
+    let (free, local) = (&red.free, &red.local);
     let m = free.len();
+    let mut report = DirectReport { n_free: m, ..DirectReport::default() };
     if m == 0 {
-        return Ok(u);
+        return Ok((red.u, report));
     }
     // Lower triangle of K_FF in CSC (column r = row free[r] of the symmetric K,
     // entries at or below the diagonal), and r_F = f_F − K_FD ū_D.
     let mut col_ptr = Vec::with_capacity(m + 1);
     let mut row_idx = Vec::new();
     let mut vals = Vec::new();
-    let mut rhs = Mat::<f64>::zeros(m, 2);
     col_ptr.push(0usize);
     for (r, &i) in free.iter().enumerate() {
         let (cols, values) = k.row(i);
-        let mut b = f[i];
         for (&j, &v) in cols.iter().zip(values) {
-            if fixed[j] {
-                b -= v * u[j];
-            } else if local[j] != usize::MAX && local[j] >= r {
+            if local[j] != usize::MAX && local[j] >= r {
                 row_idx.push(local[j]);
                 vals.push(v);
             }
         }
-        rhs[(r, 0)] = b;
         col_ptr.push(row_idx.len());
+    }
+    let mut rhs = Mat::<f64>::zeros(m, 2);
+    for (r, b) in red.rhs(k, f).into_iter().enumerate() {
+        rhs[(r, 0)] = b;
     }
     // The probe z and K_FF z (second column), from the full rows of K.
     let z: Vec<f64> = (0..m).map(probe).collect();
@@ -205,8 +395,57 @@ pub fn solve(k: &CsrMatrix, f: &[f64], dirichlet: &Dirichlet) -> Result<Vec<f64>
     }
     let symbolic = SymbolicSparseColMatRef::new_checked(m, m, &col_ptr, None, &row_idx);
     let kff = SparseColMatRef::new(symbolic, &vals);
-    let llt = kff.sp_cholesky(Side::Lower).map_err(|_| SolveError::Singular)?;
-    llt.solve_in_place(rhs.as_mut());
+
+    let clock = Instant::now();
+    let custom = match options.ordering {
+        FillOrdering::DofAmd => None,
+        method => {
+            let (perm, blocks) = reduced_ordering(k, &red, method);
+            report.point_blocks = blocks;
+            let inv = ordering::inverse(&perm);
+            Some((perm, inv))
+        }
+    };
+    report.ordering_seconds = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let ord = match &custom {
+        None => SymmetricOrdering::Amd,
+        Some((fwd, inv)) => SymmetricOrdering::Custom(PermRef::new_checked(fwd, inv, m)),
+    };
+    let sym = factorize_symbolic_cholesky(symbolic, Side::Lower, ord, CholeskySymbolicParams::default())
+        .map_err(|_| SolveError::OutOfMemory)?;
+    drop(custom);
+    report.symbolic_seconds = clock.elapsed().as_secs_f64();
+    report.nnz_l = sym.len_val();
+    (report.flops, report.largest_supernode) = factor_flops(&sym);
+    report.supernodal = matches!(sym.raw(), SymbolicCholeskyRaw::Supernodal(_));
+
+    let clock = Instant::now();
+    let par = if rayon::current_num_threads() > 1 { Par::rayon(0) } else { Par::Seq };
+    let mut l_values = Vec::new();
+    l_values.try_reserve_exact(sym.len_val()).map_err(|_| SolveError::OutOfMemory)?;
+    l_values.resize(sym.len_val(), 0.0f64);
+    let scratch = sym
+        .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+        .or(sym.solve_in_place_scratch::<f64>(2, par));
+    let mut mem = MemBuffer::try_new(scratch).map_err(|_| SolveError::OutOfMemory)?;
+    let stack = MemStack::new(&mut mem);
+    let llt = sym
+        .factorize_numeric_llt(
+            &mut l_values,
+            kff,
+            Side::Lower,
+            Default::default(),
+            par,
+            stack,
+            Default::default(),
+        )
+        .map_err(|_| SolveError::Singular)?;
+    report.numeric_seconds = clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    llt.solve_in_place_with_conj(Conj::No, rhs.as_mut(), par, stack);
+    report.solve_seconds = clock.elapsed().as_secs_f64();
     let (mut err, mut size) = (0.0f64, 0.0f64);
     for r in 0..m {
         err = err.max((rhs[(r, 1)] - z[r]).abs());
@@ -216,13 +455,36 @@ pub fn solve(k: &CsrMatrix, f: &[f64], dirichlet: &Dirichlet) -> Result<Vec<f64>
     if err.is_nan() || err > SINGULAR_PROBE_RTOL * size {
         return Err(SolveError::Singular);
     }
+    let mut u = red.u;
     for (r, &i) in free.iter().enumerate() {
         u[i] = rhs[(r, 0)];
     }
     if u.iter().any(|v| !v.is_finite()) {
         return Err(SolveError::Singular);
     }
-    Ok(u)
+    Ok((u, report))
+}
+
+/// Σ_j c_j² over the column counts of L, and the widest supernode.
+fn factor_flops(sym: &SymbolicCholesky<usize>) -> (f64, usize) {
+    match sym.raw() {
+        SymbolicCholeskyRaw::Supernodal(s) => {
+            let mut flops = 0.0;
+            let mut widest = 0;
+            for k in 0..s.n_supernodes() {
+                let cols = s.supernode_end()[k] - s.supernode_begin()[k];
+                let below = s.supernode(k).pattern().len();
+                widest = widest.max(cols);
+                for j in 0..cols {
+                    flops += ((cols - j + below) as f64).powi(2);
+                }
+            }
+            (flops, widest)
+        }
+        SymbolicCholeskyRaw::Simplicial(s) => {
+            (s.col_ptr().windows(2).map(|w| ((w[1] - w[0]) as f64).powi(2)).sum(), 1)
+        }
+    }
 }
 
 /// A fixed pseudo-random entry in \[1, 2) (SplitMix64 of the index).
@@ -279,6 +541,64 @@ mod tests {
         d.fix_dof(6, 0.0);
         assert_eq!(solve(&k, &[0.0; 6], &d), Err(SolveError::DofOutOfRange { dof: 6, n_dofs: 6 }));
         assert!(matches!(solve(&k, &[0.0; 5], &d), Err(SolveError::Dimension { .. })));
+    }
+
+    /// A clamped Hex8 block with a load, and a few single prescribed components.
+    fn block_problem(n: usize) -> (CsrMatrix, Vec<f64>, Dirichlet) {
+        use crate::generate::{block, BlockKind, Grid, Side};
+        let mesh = block(n, n + 1, n, |u, v, w| [u, v + 0.1 * u * u, w], BlockKind::Hex);
+        let grid = Grid::new(n, n + 1, n);
+        let k = crate::stiffness(&mesh, &crate::Material::new(1000.0, 0.3).unwrap()).unwrap();
+        let f = crate::traction(&grid.side_faces(&mesh, Side::XMax).unwrap(), |_, _| [1.0, 0.5, -0.2]);
+        let mut bc = Dirichlet::new();
+        bc.clamp(grid.side_points(Side::XMin));
+        bc.fix(grid.point(n, 0, 0), [None, Some(0.01), None]);
+        bc.fix(grid.point(n, n + 1, n), [Some(-0.02), None, Some(0.0)]);
+        (k, f, bc)
+    }
+
+    #[test]
+    fn orderings_give_the_same_solution() {
+        let (k, f, bc) = block_problem(7);
+        let solve_with = |ordering| solve_direct(&k, &f, &bc, &DirectOptions { ordering }).unwrap();
+        let (reference, r0) = solve_with(FillOrdering::DofAmd);
+        assert!(!r0.point_blocks);
+        let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for ordering in [FillOrdering::PointAmd, FillOrdering::NestedDissection] {
+            let (u, report) = solve_with(ordering);
+            assert!(report.point_blocks && report.supernodal, "{report:?}");
+            assert!(report.nnz_l > 0 && report.flops > 0.0, "{report:?}");
+            let err = u.iter().zip(&reference).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(err <= 1e-12 * scale, "{ordering:?}: {err:e} vs {scale:e}");
+        }
+        // The default is nested dissection, and the prescribed values are kept.
+        let u = solve(&k, &f, &bc).unwrap();
+        for (dof, v) in bc.iter() {
+            assert_eq!(u[dof], v);
+        }
+    }
+
+    #[test]
+    fn point_blocks_are_detected() {
+        let (k, _, _) = block_problem(2);
+        assert!(has_point_blocks(&k));
+        assert!(!has_point_blocks(&chain(6)));
+        // A pattern with a lone entry in one row of a point is not blocked, and
+        // still solves (dof-level ordering).
+        let base = chain(6);
+        let mut rows: Vec<(Vec<usize>, Vec<f64>)> = (0..6)
+            .map(|i| {
+                let (c, v) = base.row(i);
+                (c.to_vec(), v.to_vec())
+            })
+            .collect();
+        rows[0].1[0] += 1.0;
+        let k = CsrMatrix::from_rows(6, rows.iter().map(|(c, v)| (c.as_slice(), v.as_slice())));
+        assert!(!has_point_blocks(&k));
+        let (u, report) = solve_direct(&k, &[1.0; 6], &Dirichlet::new(), &DirectOptions::default()).unwrap();
+        assert!(!report.point_blocks);
+        let ku = k.mul_vec(&u, 1);
+        assert!(ku.iter().all(|v| (v - 1.0).abs() < 1e-12), "{ku:?}");
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //!
 //! | format | versions | read | write |
 //! |---|---|---|---|
-//! | [Gmsh MSH](https://gmsh.info/doc/texinfo/gmsh.html#MSH-file-format) | 4.1 and 2.2, ASCII and binary | [`read_msh`], [`read_surface_file`], [`read_volume_file`] | 4.1 ASCII surfaces: [`write_msh`] |
+//! | [Gmsh MSH](https://gmsh.info/doc/texinfo/gmsh.html#MSH-file-format) | 4.1 and 2.2, ASCII and binary | [`read_msh`], [`read_surface_file`], [`read_volume_file`] | 4.1 ASCII: surfaces [`write_msh`], volumes with named boundaries [`write_volume_msh`] |
 //! | [Matrix Market](https://math.nist.gov/MatrixMarket/formats.html) | coordinate real general, 1-based | [`read_matrix_market_str`] | [`write_matrix_market`] |
 //! | [VTU](https://docs.vtk.org/en/latest/design_documents/VTKFileFormats.html#unstructuredgrid) (VTK XML UnstructuredGrid) | ASCII, binary, appended (base64 or raw), compressed or not; triangles and quads | [`read_vtu_file`], [`read_vtu`] | inline base64, uncompressed: [`write_vtu`], [`write_vtu_file`] |
 //!
@@ -23,9 +23,9 @@ pub mod mtx;
 pub mod vtu;
 
 pub use msh::{
-    read_msh, read_msh_file, read_surface_file, read_volume_file, write_msh, write_msh_file, Degeneracy,
-    GroupId, Location, Msh, MshElement, MshError, MshErrorKind, MshFormat, MshVersion, NodeData,
-    PhysicalName,
+    read_msh, read_msh_file, read_surface_file, read_volume_file, write_msh, write_msh_file,
+    write_volume_msh, write_volume_msh_file, Degeneracy, GroupId, Location, Msh, MshElement, MshError,
+    MshErrorKind, MshFormat, MshVersion, NodeData, PhysicalName,
 };
 pub use mtx::{read_matrix_market_str, write_matrix_market, write_matrix_market_file, MatrixMarketError};
 pub use vtu::{

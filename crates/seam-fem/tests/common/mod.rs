@@ -1,9 +1,11 @@
 //! Shared helpers of the integration tests.
 #![allow(dead_code)]
 
-use seam::{Cell, Point3, VolumeMesh};
+use seam::{Cell, Facing, MortarOptions, Multiplier, Point3, SurfaceMesh, VolumeMesh};
+use seam_fem::assembly::{geometry, map_point};
 use seam_fem::generate::{block, BlockKind, Grid};
-use seam_fem::Material;
+use seam_fem::glue::{solve_glued, Body, GluedSolution, Interface, Solver};
+use seam_fem::{ElementKind, Material};
 
 /// A smooth, non-affine map of the unit cube (positive Jacobian).
 pub fn warp(u: f64, v: f64, w: f64) -> Point3 {
@@ -58,12 +60,44 @@ pub const A: [[f64; 3]; 3] = [[1e-3, 2e-4, -3e-4], [-1e-4, -5e-4, 4e-4], [3e-4, 
 pub const C: [f64; 3] = [1e-3, -2e-3, 5e-4];
 
 pub fn affine(x: Point3) -> [f64; 3] {
-    std::array::from_fn(|i| C[i] + A[i][0] * x[0] + A[i][1] * x[1] + A[i][2] * x[2])
+    Affine::PATCH.at(x)
 }
 
 /// The constant stress of the affine field (Voigt xx yy zz yz xz xy).
 pub fn affine_stress(m: &Material) -> [f64; 6] {
-    m.stress([A[0][0], A[1][1], A[2][2], A[1][2] + A[2][1], A[0][2] + A[2][0], A[0][1] + A[1][0]])
+    Affine::PATCH.stress(m)
+}
+
+/// An affine displacement u = a x + c: constant strain and stress.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Affine {
+    /// The gradient ∇u.
+    pub a: [[f64; 3]; 3],
+    /// The translation.
+    pub c: [f64; 3],
+}
+
+impl Affine {
+    /// The field of the patch tests, u = A x + C.
+    pub const PATCH: Affine = Affine { a: A, c: C };
+
+    /// u(x).
+    pub fn at(&self, x: Point3) -> [f64; 3] {
+        let (a, c) = (&self.a, &self.c);
+        std::array::from_fn(|i| c[i] + a[i][0] * x[0] + a[i][1] * x[1] + a[i][2] * x[2])
+    }
+
+    /// Its constant stress (Voigt xx yy zz yz xz xy).
+    pub fn stress(&self, m: &Material) -> [f64; 6] {
+        let a = &self.a;
+        m.stress([a[0][0], a[1][1], a[2][2], a[1][2] + a[2][1], a[0][2] + a[2][0], a[0][1] + a[1][0]])
+    }
+}
+
+/// The traction σ n of a Voigt stress.
+pub fn stress_vector(s: &[f64; 6], n: Point3) -> [f64; 3] {
+    let t = tensor(s);
+    std::array::from_fn(|i| t[i][0] * n[0] + t[i][1] * n[1] + t[i][2] * n[2])
 }
 
 /// σ as a 3×3 tensor from Voigt.
@@ -91,4 +125,163 @@ pub const KINDS: [BlockKind; 4] = [BlockKind::Hex, BlockKind::Tet, BlockKind::Pr
 pub fn hybrid() -> VolumeMesh {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../seam-io/tests/data/hybrid_pyramid.v41.ascii.msh");
     seam_io::read_volume_file(path, None).unwrap()
+}
+
+/// The manufactured smooth solution of the convergence tests
+///
+/// ```text
+/// u = s (sin x, z cos y, x y z),   b = −div σ(u) = −s [μ Δu + (λ+μ) ∇(div u)]
+/// div u = s (cos x − z sin y + x y),   Δu = s (−sin x, −z cos y, 0)
+/// ```
+pub mod manufactured {
+    use seam::Point3;
+    use seam_fem::Material;
+
+    /// The scale s.
+    pub const S: f64 = 1e-2;
+
+    /// u(x).
+    pub fn exact(x: Point3) -> [f64; 3] {
+        [S * x[0].sin(), S * x[2] * x[1].cos(), S * x[0] * x[1] * x[2]]
+    }
+
+    /// ∇u: g[a][k] = ∂u_a/∂x_k.
+    pub fn gradient(x: Point3) -> [[f64; 3]; 3] {
+        let [a, b, c] = x;
+        [[S * a.cos(), 0.0, 0.0], [0.0, -S * c * b.sin(), S * b.cos()], [S * b * c, S * a * c, S * a * b]]
+    }
+
+    /// σ(u) at x (Voigt xx yy zz yz xz xy).
+    pub fn stress(m: &Material, x: Point3) -> [f64; 6] {
+        let g = gradient(x);
+        m.stress([g[0][0], g[1][1], g[2][2], g[1][2] + g[2][1], g[0][2] + g[2][0], g[0][1] + g[1][0]])
+    }
+
+    /// The body force b = −div σ(u).
+    pub fn load(m: &Material) -> impl Fn(Point3) -> [f64; 3] + Sync {
+        let (l, mu) = m.lame();
+        move |x| {
+            let [a, b, c] = x;
+            let grad_div = [-a.sin() + b, -c * b.cos() + a, -b.sin()];
+            let lap = [-a.sin(), -c * b.cos(), 0.0];
+            std::array::from_fn(|i| -S * (mu * lap[i] + (l + mu) * grad_div[i]))
+        }
+    }
+}
+
+/// Squared errors and squared norms of a discrete field against an exact one,
+/// summed over cells (of one or several meshes): L2, H1 seminorm, energy.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ErrorSums {
+    /// ∫ |u − u_h|² and ∫ |u|².
+    pub l2: [f64; 2],
+    /// ∫ |∇(u − u_h)|² and ∫ |∇u|².
+    pub h1: [f64; 2],
+    /// ∫ ε(u − u_h):C:ε(u − u_h) and ∫ ε(u):C:ε(u).
+    pub energy: [f64; 2],
+}
+
+/// Relative errors.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Errors {
+    /// ‖u − u_h‖_L2 / ‖u‖_L2.
+    pub l2: f64,
+    /// |u − u_h|_H1 / |u|_H1.
+    pub h1: f64,
+    /// ‖u − u_h‖_energy / ‖u‖_energy.
+    pub energy: f64,
+}
+
+impl ErrorSums {
+    /// The sums of both.
+    pub fn plus(self, o: ErrorSums) -> ErrorSums {
+        let add = |a: [f64; 2], b: [f64; 2]| [a[0] + b[0], a[1] + b[1]];
+        ErrorSums { l2: add(self.l2, o.l2), h1: add(self.h1, o.h1), energy: add(self.energy, o.energy) }
+    }
+
+    /// The relative errors.
+    pub fn relative(&self) -> Errors {
+        let r = |a: [f64; 2]| (a[0] / a[1]).sqrt();
+        Errors { l2: r(self.l2), h1: r(self.h1), energy: r(self.energy) }
+    }
+}
+
+/// [`ErrorSums`] of u_h (3 dofs per point of `mesh`) against `exact` with
+/// gradient `gradient`, by the volume rules of degree 5.
+pub fn error_sums(
+    mesh: &VolumeMesh,
+    m: &Material,
+    u: &[f64],
+    exact: impl Fn(Point3) -> [f64; 3],
+    gradient: impl Fn(Point3) -> [[f64; 3]; 3],
+) -> ErrorSums {
+    let (l, mu) = m.lame();
+    let rules = ElementKind::ALL.map(|k| k.rule(5));
+    let mut s = ErrorSums::default();
+    let energy = |g: &[[f64; 3]; 3]| {
+        let eps: [[f64; 3]; 3] = std::array::from_fn(|a| std::array::from_fn(|k| 0.5 * (g[a][k] + g[k][a])));
+        let tr = eps[0][0] + eps[1][1] + eps[2][2];
+        let dd: f64 =
+            (0..3).flat_map(|a| (0..3).map(move |k| (a, k))).map(|(a, k)| eps[a][k] * eps[a][k]).sum();
+        l * tr * tr + 2.0 * mu * dd
+    };
+    for cell in mesh.cells() {
+        let kind = ElementKind::of(cell);
+        let x: Vec<Point3> = cell.nodes().iter().map(|&p| mesh.points()[p]).collect();
+        let rule = &rules[kind as usize];
+        for (xi, w) in rule.iter() {
+            let geo = geometry(kind, &x, xi).unwrap();
+            let wd = w * geo.det.abs();
+            let n = kind.shape(xi);
+            let y = map_point(kind, &x, xi);
+            let (ue, ge) = (exact(y), gradient(y));
+            let mut uh = [0.0; 3];
+            let mut gh = [[0.0; 3]; 3];
+            for (i, &p) in cell.nodes().iter().enumerate() {
+                for a in 0..3 {
+                    uh[a] += n[i] * u[3 * p + a];
+                    for k in 0..3 {
+                        gh[a][k] += geo.grads[i][k] * u[3 * p + a];
+                    }
+                }
+            }
+            let ge_minus: [[f64; 3]; 3] =
+                std::array::from_fn(|a| std::array::from_fn(|k| ge[a][k] - gh[a][k]));
+            for a in 0..3 {
+                s.l2[0] += wd * (ue[a] - uh[a]).powi(2);
+                s.l2[1] += wd * ue[a].powi(2);
+                for k in 0..3 {
+                    s.h1[0] += wd * ge_minus[a][k].powi(2);
+                    s.h1[1] += wd * ge[a][k].powi(2);
+                }
+            }
+            s.energy[0] += wd * energy(&ge_minus);
+            s.energy[1] += wd * energy(&ge);
+        }
+    }
+    s
+}
+
+/// The least-squares slope of log e against log h: the fitted convergence rate.
+pub fn fitted_rate(h: &[f64], e: &[f64]) -> f64 {
+    assert!(h.len() == e.len() && h.len() >= 2, "a rate needs two or more (h, e) pairs");
+    let (x, y): (Vec<f64>, Vec<f64>) = h.iter().zip(e).map(|(h, e)| (h.ln(), e.ln())).unzip();
+    let n = x.len() as f64;
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
+    sxy / sxx
+}
+
+/// Solves two glued bodies, master `bodies[0]` and slave `bodies[1]`, on one
+/// interface of facing surfaces, with the direct solver.
+pub fn solve_two(
+    bodies: &[Body],
+    master_surface: &SurfaceMesh,
+    slave_surface: &SurfaceMesh,
+    multiplier: Multiplier,
+) -> GluedSolution {
+    let options = MortarOptions { multiplier, facing: Facing::Opposite, ..MortarOptions::default() };
+    let interfaces = [Interface { master: 0, master_surface, slave: 1, slave_surface, options }];
+    solve_glued(bodies, &interfaces, Solver::Direct).unwrap()
 }

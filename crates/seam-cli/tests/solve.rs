@@ -1,0 +1,292 @@
+//! `seam solve CASE.toml` and `seam example warped-glue`, run as a user would:
+//! meshes written with seam-io's MSH writer, a case file, the binary.
+
+use seam_fem::generate::{block, BlockKind, Grid, Side};
+use std::path::Path;
+use std::process::{Command, Output};
+use vtkio::model::{Attribute, DataSet, Piece};
+
+fn seam(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_seam"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the seam binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Writes an nx × ny × nz hexahedral block mapped by `map` with the named sides.
+fn write_block(path: &Path, n: [usize; 3], map: impl Fn(f64, f64, f64) -> [f64; 3], sides: &[(&str, Side)]) {
+    let mesh = block(n[0], n[1], n[2], map, BlockKind::Hex);
+    let grid = Grid::new(n[0], n[1], n[2]);
+    let surfaces: Vec<(&str, seam::SurfaceMesh)> =
+        sides.iter().map(|&(name, side)| (name, grid.side_faces(&mesh, side).unwrap())).collect();
+    let refs: Vec<(&str, &seam::SurfaceMesh)> = surfaces.iter().map(|(n, s)| (*n, s)).collect();
+    seam_io::write_volume_msh_file(path, &mesh, "body", &refs).unwrap();
+}
+
+const E: f64 = 1000.0;
+const NU: f64 = 0.25;
+const P: f64 = 2.0;
+
+/// Two blocks stacked at the flat interface z = 1/2, meshed 3×3×2 (lower,
+/// master) and 2×2×2 with graded x (upper, slave), on rollers at x = 0, y = 0
+/// and z = 0, pressed by P on top: uniaxial stress σ_zz = −P, whose
+/// displacement u = (νPx, νPy, −Pz)/E is linear, so exact for Hex8 and mortar.
+fn patch_case(dir: &Path, multiplier: &str) {
+    let lower_sides =
+        [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("ymin", Side::YMin)];
+    write_block(&dir.join("lower.msh"), [3, 3, 2], |u, v, w| [u, v, 0.5 * w], &lower_sides);
+    let upper_sides = [("bottom", Side::ZMin), ("top", Side::ZMax)];
+    write_block(
+        &dir.join("upper.msh"),
+        [2, 2, 2],
+        |u, v, w| [0.7 * u + 0.3 * u * u, v, 0.5 + 0.5 * w],
+        &upper_sides,
+    );
+    let case = format!(
+        r#"
+[[body]]
+name = "lower"
+mesh = "lower.msh"
+young = {E:?}
+poisson = {NU}
+
+[[body]]
+name = "upper"
+mesh = "upper.msh"
+young = {E:?}
+poisson = {NU}
+
+[[interface]]
+master = "lower:top"
+slave = "upper:bottom"
+kind = "glue"
+multiplier = "{multiplier}"
+
+[[dirichlet]]
+boundary = "lower:bottom"
+uz = 0.0
+
+[[dirichlet]]
+boundary = "lower:xmin"
+ux = 0.0
+
+[[dirichlet]]
+boundary = "lower:ymin"
+uy = 0.0
+
+[[traction]]
+boundary = "upper:top"
+t = [0.0, 0.0, -{P:?}]
+
+[output]
+dir = "out"
+"#
+    );
+    std::fs::write(dir.join("case.toml"), case).unwrap();
+}
+
+/// Points and the named point (or cell) field of a VTU file, through vtkio.
+fn vtu_field(path: &Path, name: &str, cell: bool) -> (Vec<[f64; 3]>, Vec<f64>) {
+    let vtk = vtkio::Vtk::import(path).unwrap();
+    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else { panic!("not an unstructured grid") };
+    let Piece::Inline(piece) = pieces.into_iter().next().unwrap() else { panic!("not inline") };
+    let points: Vec<f64> = piece.points.cast_into().unwrap();
+    let attributes = if cell { &piece.data.cell } else { &piece.data.point };
+    let values = attributes
+        .iter()
+        .find_map(|a| match a {
+            Attribute::DataArray(d) if d.name == name => Some(d.data.cast_into::<f64>().unwrap()),
+            _ => None,
+        })
+        .unwrap_or_else(|| panic!("{} has no field {name}", path.display()));
+    (points.chunks(3).map(|c| [c[0], c[1], c[2]]).collect(), values)
+}
+
+#[test]
+fn a_glued_patch_test_is_exact_and_balanced() {
+    for (multiplier, solver) in
+        [("standard", "direct"), ("dual", "direct"), ("standard", "pcg"), ("dual", "pcg")]
+    {
+        let tmp = tempfile::tempdir().unwrap();
+        patch_case(tmp.path(), multiplier);
+        let o = seam(&["solve", "case.toml", "--solver", solver, "--rtol", "1e-14"], tmp.path());
+        assert!(o.status.success(), "{multiplier}: {}", stderr(&o));
+        let report = String::from_utf8_lossy(&o.stdout);
+        assert!(report.contains("balance    upper"), "{report}");
+        let out = tmp.path().join("out");
+        for body in ["lower", "upper"] {
+            let (points, u) = vtu_field(&out.join(format!("{body}.vtu")), "displacement", false);
+            for (x, u) in points.iter().zip(u.chunks(3)) {
+                let exact = [NU * P * x[0] / E, NU * P * x[1] / E, -P * x[2] / E];
+                for k in 0..3 {
+                    assert!(
+                        (u[k] - exact[k]).abs() < 1e-12 * P / E,
+                        "{multiplier} {body} at {x:?}: {u:?} vs {exact:?}"
+                    );
+                }
+            }
+            let (_, stress) = vtu_field(&out.join(format!("{body}.vtu")), "stress", true);
+            for s in stress.chunks(6) {
+                let exact = [0.0, 0.0, -P, 0.0, 0.0, 0.0];
+                assert!(
+                    s.iter().zip(exact).all(|(a, b)| (a - b).abs() < 1e-10),
+                    "{multiplier} {body}: σ = {s:?}"
+                );
+            }
+            let (_, vm) = vtu_field(&out.join(format!("{body}.vtu")), "von_mises", true);
+            assert!(vm.iter().all(|v| (v - P).abs() < 1e-10));
+        }
+        // The interface: uniform compression P, no shear.
+        let f = seam_io::read_vtu_file(out.join("upper_bottom_interface.vtu")).unwrap();
+        assert_eq!(f.mesh.n_points(), 9, "the slave surface's own points");
+        let tn = f.point_field("normal_traction").unwrap();
+        assert!(tn.values.iter().all(|v| (v + P).abs() < 1e-10), "{multiplier}: {:?}", tn.values);
+        let tt = f.point_field("tangential_traction").unwrap();
+        assert!(tt.values.iter().all(|v| v.abs() < 1e-10));
+        assert!(f.point_field("constrained").unwrap().values.iter().all(|&c| c == 1.0));
+        for name in ["traction", "normal", "displacement", "body_point"] {
+            assert!(f.point_field(name).is_some(), "{name}");
+        }
+        // summary.json: the force through the interface is the load on the upper body.
+        let s = json(&out.join("summary.json"));
+        for key in [
+            "dofs",
+            "constraints",
+            "multiplier",
+            "solver",
+            "method",
+            "iterations",
+            "residual",
+            "applied_load",
+            "bodies",
+            "interfaces",
+            "seconds",
+        ] {
+            assert!(s.get(key).is_some(), "summary.json lacks {key}");
+        }
+        for phase in
+            ["read", "assembly", "mortar", "setup", "factorization", "solve", "stresses", "output", "total"]
+        {
+            assert!(s["seconds"][phase].as_f64().unwrap() >= 0.0, "{phase}");
+        }
+        assert_eq!(s["multiplier"], multiplier);
+        assert_eq!(s["solver"], solver);
+        assert_eq!(s["dofs"], 3 * (4 * 4 * 3 + 3 * 3 * 3));
+        assert!(s["residual"].as_f64().unwrap() < 1e-10);
+        let force: Vec<f64> = (0..3).map(|k| s["interfaces"][0]["force"][k].as_f64().unwrap()).collect();
+        let load: Vec<f64> = (0..3).map(|k| s["bodies"][1]["applied_load"][k].as_f64().unwrap()).collect();
+        assert!((load[2] + P).abs() < 1e-12, "P over the unit square: {load:?}");
+        for k in 0..3 {
+            assert!((force[k] + load[k]).abs() <= 1e-10 * P, "{multiplier}: force {force:?}, load {load:?}");
+        }
+        assert_eq!(s["interfaces"][0]["mortar"]["slave_nodes"], 9);
+        assert_eq!(s["interfaces"][0]["slave"], "upper:bottom");
+    }
+}
+
+#[test]
+fn input_errors_fail_with_one_line_before_any_work() {
+    let tmp = tempfile::tempdir().unwrap();
+    patch_case(tmp.path(), "standard");
+    let good = std::fs::read_to_string(tmp.path().join("case.toml")).unwrap();
+    let cases = [
+        (good.replace("slave = \"upper:bottom\"", "slave = \"middle:bottom\""), "no body named \"middle\""),
+        (good.replace("slave = \"upper:bottom\"", "slave = \"upper:bottm\""), "\"bottm\""),
+        (good.replace("mesh = \"upper.msh\"", "mesh = \"nowhere.msh\""), "nowhere.msh does not exist"),
+        (good.replacen(&format!("young = {E:?}"), "young = -5.0", 1), "young = -5 must be positive"),
+        (
+            good.replacen(&format!("poisson = {NU}"), "poisson = 0.5", 1),
+            "poisson = 0.5 must lie in (-1, 0.5)",
+        ),
+        (good.replace("uz = 0.0", "ux = 0.0"), "can move freely along z"),
+        (good.replace("kind = \"glue\"", "kind = \"contact\""), "not supported yet"),
+        (good.replace("young", "youngs"), "unknown field `youngs`"),
+        (good.replace("mesh = \"upper.msh\"", "mesh = \"case.toml\""), "not a Gmsh MSH file"),
+    ];
+    for (text, problem) in cases {
+        std::fs::write(tmp.path().join("bad.toml"), &text).unwrap();
+        let o = seam(&["solve", "bad.toml"], tmp.path());
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{problem}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+        assert!(err.contains("bad.toml"), "names the case file: {err}");
+        assert!(err.contains(problem), "expected '{problem}' in: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(!tmp.path().join("out").exists(), "{problem}: nothing written");
+    }
+    // An unknown surface names the body and the mesh, and lists the surfaces there are.
+    std::fs::write(tmp.path().join("bad.toml"), good.replace("upper:top", "upper:lid")).unwrap();
+    let err = stderr(&seam(&["solve", "bad.toml"], tmp.path()));
+    for part in ["body \"upper\"", "upper.msh", "\"lid\"", "bottom", "top"] {
+        assert!(err.contains(part), "'{part}' in: {err}");
+    }
+    let o = seam(&["solve", "missing.toml"], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("missing.toml"));
+}
+
+#[test]
+fn results_are_not_overwritten_without_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    patch_case(tmp.path(), "dual");
+    assert!(seam(&["solve", "case.toml"], tmp.path()).status.success());
+    let summary = tmp.path().join("out/summary.json");
+    let before = std::fs::read(&summary).unwrap();
+    let o = seam(&["solve", "case.toml"], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("already exists; pass --force"), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&summary).unwrap(), before);
+    let o = seam(&["solve", "case.toml", "--force", "--solver", "direct", "--threads", "1"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(json(&summary)["threads"], 1);
+}
+
+#[test]
+fn the_warped_glue_example_writes_a_case_that_solve_reruns() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = seam(&["example", "warped-glue", "-o", "ex", "--ratio", "2"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = String::from_utf8_lossy(&o.stdout);
+    for part in ["h_s/h_m = 2", "81 nodes", "balance    upper", "max |u|", "seconds", "warped-glue.png"] {
+        assert!(report.contains(part), "'{part}' in:\n{report}");
+    }
+    let ex = tmp.path().join("ex");
+    for file in [
+        "lower.msh",
+        "upper.msh",
+        "case.toml",
+        "out/lower.vtu",
+        "out/upper.vtu",
+        "out/upper_bottom_interface.vtu",
+    ] {
+        assert!(ex.join(file).is_file(), "{file}");
+    }
+    let png = std::fs::read(ex.join("warped-glue.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let first = json(&ex.join("out/summary.json"));
+    assert_eq!(first["interfaces"][0]["mortar"]["slave_nodes"], 81);
+    let force = &first["interfaces"][0]["force"];
+    let load = &first["bodies"][1]["applied_load"];
+    for k in 0..3 {
+        let (f, l) = (force[k].as_f64().unwrap(), load[k].as_f64().unwrap());
+        assert!((f + l).abs() <= 1e-10 * 1.02, "component {k}: force {f}, load {l}");
+    }
+    // Not again without --force; `seam solve` on its case gives the same result.
+    let o = seam(&["example", "warped-glue", "-o", "ex", "--ratio", "2"], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("already exists"));
+    let o = seam(&["solve", "ex/case.toml", "--force"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let again = json(&ex.join("out/summary.json"));
+    assert_eq!(again["dofs"], first["dofs"]);
+    assert_eq!(again["interfaces"][0]["force"], first["interfaces"][0]["force"]);
+}

@@ -1,0 +1,104 @@
+//! Glued-elasticity benchmark: the warped-glue problem (paper Fig. 2 geometry,
+//! `seam_fem::scene`) at growing sizes, h_s/h_m = 4, slave s × s × s hexes,
+//! master 4s × 4s × 2s (graded towards the interface).
+//!
+//! ```text
+//! cargo run --release -p seam-fem --example glue_bench                          # default table
+//! cargo run --release -p seam-fem --example glue_bench -- --sizes 6,8 --solvers standard-direct
+//! ```
+//!
+//! Solvers: `standard-direct` (saddle-point LDLᵀ), `dual-direct` (reduced
+//! Cholesky, or LDLᵀ when the elimination fills in), `standard-pcg`,
+//! `dual-pcg` (matrix-free PCG, rtol 1e-8). Every row runs in a fresh process
+//! (`--row s solver`), so the peak memory (VmHWM) is its own.
+
+mod common;
+
+use common::peak_mb;
+use seam::Multiplier;
+use seam_fem::glue::Solver;
+use seam_fem::pcg::PcgOptions;
+use seam_fem::scene::{warped_glue, WarpedGlue};
+use std::process::Command;
+use std::time::Instant;
+
+fn row(s: usize, solver: &str) {
+    let (multiplier, method) = solver.split_once('-').expect("solver is multiplier-method");
+    let multiplier = match multiplier {
+        "standard" => Multiplier::Standard,
+        "dual" => Multiplier::Dual,
+        other => panic!("unknown multiplier {other}"),
+    };
+    let solver = match method {
+        "direct" => Solver::Direct,
+        "pcg" => Solver::Pcg(PcgOptions { rtol: 1e-8, ..PcgOptions::default() }),
+        other => panic!("unknown method {other}"),
+    };
+    let clock = Instant::now();
+    let params = WarpedGlue {
+        slave_cells: s,
+        ratio: 4,
+        slave_layers: s,
+        master_layers: 2 * s,
+        multiplier,
+        ..WarpedGlue::default()
+    };
+    let problem = warped_glue(&params).expect("valid scene");
+    let meshing = clock.elapsed().as_secs_f64();
+    let solution = problem.solve(solver).expect("solvable");
+    let total = clock.elapsed().as_secs_f64();
+    let r = &solution.report;
+    let t = &r.seconds;
+    println!(
+        "| {} | {} | {:.2} | {:.2} | {:.3} | {:.2} | {:.2} | {:.2} | {:.1} | {} | {:.0e} | {:.0} | {} |",
+        r.dofs,
+        r.constraints,
+        meshing,
+        t.assembly,
+        t.mortar,
+        t.setup,
+        t.factorization,
+        t.solve,
+        total,
+        r.iterations,
+        r.residual,
+        peak_mb(),
+        r.method
+    );
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if args.len() == 4 && args[1] == "--row" {
+        row(args[2].parse().expect("size"), &args[3]);
+        return;
+    }
+    let value = |flag: &str, default: &str| {
+        args.iter()
+            .position(|a| a == flag)
+            .and_then(|i| args.get(i + 1))
+            .map_or(default.to_string(), |v| v.clone())
+    };
+    let sizes: Vec<usize> =
+        value("--sizes", "6,8,10,12,15").split(',').map(|s| s.parse().expect("sizes are integers")).collect();
+    let solvers = value("--solvers", "standard-direct,dual-direct,standard-pcg,dual-pcg");
+    println!(
+        "| solver | dofs | constraints | meshing s | K s | mortar s | setup s | factor/PCG s | solve s | total s | iterations | residual | peak MB | method |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let exe = std::env::current_exe().expect("own path");
+    for &s in &sizes {
+        for solver in solvers.split(',') {
+            let out = Command::new(&exe).args(["--row", &s.to_string(), solver]).output().expect("run a row");
+            let line = String::from_utf8_lossy(&out.stdout);
+            if out.status.success() {
+                println!("| {solver} {}", line.trim().trim_start_matches('|').trim_start());
+            } else {
+                println!(
+                    "| {solver} | s = {s} failed: {} |",
+                    String::from_utf8_lossy(&out.stderr).lines().last().unwrap_or("")
+                );
+            }
+        }
+    }
+}
