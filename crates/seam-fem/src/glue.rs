@@ -514,7 +514,8 @@ fn triple_product(p: &CsrMatrix, k: &CsrMatrix) -> CsrMatrix {
     from_transposed(a)
 }
 
-/// Standard multipliers: the saddle point over the free dofs F,
+/// The saddle point over the free dofs F (standard multipliers, or dual and
+/// lumped ones whose elimination fills in),
 /// [K_FF C_Fᵀ; C_F 0] [u_F; λ] = [f_F − K_FD ū; −C_D ū], by sparse LDLᵀ
 /// with each multiplier ordered after its slave point ([`solve_saddle`]).
 fn saddle_point(
@@ -532,20 +533,18 @@ fn saddle_point(
     for (dof, v) in dirichlet.iter() {
         u[dof] = v;
     }
-    for i in 0..n {
-        if dirichlet.value(i).is_none() && k.indptr[i + 1] > k.indptr[i] {
-            local[i] = free.len();
-            free.push(i);
-        }
+    for (i, _) in free_dofs(k, dirichlet).iter().enumerate().filter(|(_, &is_free)| is_free) {
+        local[i] = free.len();
+        free.push(i);
     }
     let (m, nc) = (free.len(), constraints.rows.len());
     let ct = constraints.c.transpose();
     let mut a = CsrMatrix::zeros(0, m + nc);
     let mut rhs = vec![0.0; m + nc];
-    let push = |a: &mut CsrMatrix, cols: &[usize], vals: &[f64], shift: usize, b: &mut f64| {
+    let push = |a: &mut CsrMatrix, cols: &[usize], vals: &[f64], b: &mut f64| {
         for (&j, &v) in cols.iter().zip(vals) {
             if local[j] != NONE {
-                a.indices.push(local[j] + shift);
+                a.indices.push(local[j]);
                 a.values.push(v);
             } else {
                 *b -= v * u[j];
@@ -555,7 +554,7 @@ fn saddle_point(
     for (r, &i) in free.iter().enumerate() {
         let mut b = f[i];
         let (cols, vals) = k.row(i);
-        push(&mut a, cols, vals, 0, &mut b);
+        push(&mut a, cols, vals, &mut b);
         let (rows, vals) = ct.row(i);
         a.indices.extend(rows.iter().map(|&l| m + l));
         a.values.extend_from_slice(vals);
@@ -566,7 +565,7 @@ fn saddle_point(
     for r in 0..nc {
         let (cols, vals) = constraints.c.row(r);
         let mut b = 0.0;
-        push(&mut a, cols, vals, 0, &mut b);
+        push(&mut a, cols, vals, &mut b);
         a.indptr.push(a.indices.len());
         a.nrows += 1;
         rhs[m + r] = b;
@@ -600,6 +599,15 @@ fn saddle_point(
     Ok((u, lambda, "saddle-point LDLᵀ", report.refinements))
 }
 
+/// Per dof: an unknown, i.e. not prescribed and used by some cell.
+fn free_dofs(k: &CsrMatrix, dirichlet: &Dirichlet) -> Vec<bool> {
+    let mut free: Vec<bool> = (0..k.nrows).map(|i| k.indptr[i + 1] > k.indptr[i]).collect();
+    for (dof, _) in dirichlet.iter() {
+        free[dof] = false;
+    }
+    free
+}
+
 /// max(‖(f − Ku − Cᵀλ)_F‖ / ‖f_F‖, ‖Cu‖ / (‖C‖ ‖u‖)) in the max norm, F the free dofs.
 fn residual(
     k: &CsrMatrix,
@@ -611,9 +619,9 @@ fn residual(
 ) -> f64 {
     let ku = k.mul_vec(u, 1);
     let ctl = constraints.c.transpose_mul_vec(lambda, 1);
-    let free = |i: &usize| dirichlet.value(*i).is_none() && k.indptr[i + 1] > k.indptr[*i];
+    let free = free_dofs(k, dirichlet);
     let (mut r, mut scale) = (0.0f64, 0.0f64);
-    for i in (0..k.nrows).filter(free) {
+    for i in (0..k.nrows).filter(|&i| free[i]) {
         r = r.max((f[i] - ku[i] - ctl[i]).abs());
         scale = scale.max(f[i].abs()).max(ku[i].abs());
     }
@@ -679,8 +687,7 @@ fn matrix_free(
         active_r[retained[dof]] = false;
         lift[retained[dof]] = v;
     }
-    let active: Vec<bool> =
-        (0..n).map(|i| dirichlet.value(i).is_none() && k.indptr[i + 1] > k.indptr[i]).collect();
+    let active = free_dofs(k, dirichlet);
     // b = Pᵀ(f − K P ū) on the free retained dofs.
     let mut ku = vec![0.0; n];
     par_mul(k, &reduction.apply_p(&lift), &mut ku);
