@@ -130,6 +130,9 @@ pub enum GlueError {
     /// The linear solve failed.
     #[error(transparent)]
     Solve(#[from] SolveError),
+    /// The contact iteration failed (a singular step, or no convergence).
+    #[error("contact: {0}")]
+    Contact(String),
 }
 
 /// Wall-clock seconds per phase.
@@ -202,6 +205,57 @@ pub fn solve_glued(
 ) -> Result<GluedSolution, GlueError> {
     check_input(bodies, interfaces)?;
     let mut seconds = Timings::default();
+    let System { k, f, dirichlet, offsets, mortars } = assemble_system(bodies, interfaces, &mut seconds)?;
+    let clock = Instant::now();
+    let constraints = Constraints::new(interfaces, &mortars, &offsets, &dirichlet);
+    seconds.setup += clock.elapsed().as_secs_f64();
+
+    let diagonal = constraints.eliminated_block_is_diagonal();
+    let solved = match solver {
+        Solver::Direct if diagonal && !constraints.elimination_fills_in(&k) => {
+            eliminated(&k, &f, &dirichlet, &constraints, &mut seconds)?
+        }
+        Solver::Direct => saddle_point(&k, &f, &dirichlet, &constraints, &mut seconds)?,
+        Solver::Pcg(options) => matrix_free(&k, &f, &dirichlet, &constraints, &options, &mut seconds)?,
+    };
+    let (u, lambda, method, iterations) = solved;
+
+    let residual = residual(&k, &f, &dirichlet, &constraints, &u, &lambda);
+    let displacement = (0..bodies.len()).map(|b| u[offsets[b]..offsets[b + 1]].to_vec()).collect();
+    let interfaces = interface_solutions(interfaces, mortars, &constraints, bodies, &lambda);
+    let report = GlueReport {
+        dofs: k.nrows,
+        constraints: constraints.rows.len(),
+        method,
+        iterations,
+        residual,
+        seconds,
+    };
+    Ok(GluedSolution { displacement, interfaces, report })
+}
+
+/// The bodies' stiffness and loads as one system, and the interfaces' mortar
+/// operators.
+pub(crate) struct System {
+    /// diag(K_1, …, K_N).
+    pub k: CsrMatrix,
+    /// The loads, one after the other.
+    pub f: Vec<f64>,
+    /// All prescribed dofs, in global numbering.
+    pub dirichlet: Dirichlet,
+    /// offsets[b] = first dof of body b; the last entry is the number of dofs.
+    pub offsets: Vec<usize>,
+    /// Per interface.
+    pub mortars: Vec<Mortar>,
+}
+
+/// Assembles K_b per body (timed as `assembly`), the mortar operator per
+/// interface (`mortar`), and joins them into one [`System`] (`setup`).
+pub(crate) fn assemble_system(
+    bodies: &[Body],
+    interfaces: &[Interface],
+    seconds: &mut Timings,
+) -> Result<System, GlueError> {
     let clock = Instant::now();
     let stiffnesses = bodies
         .iter()
@@ -236,28 +290,11 @@ pub fn solve_glued(
             dirichlet.fix_dof(offsets[b] + dof, v);
         }
     }
-    let constraints = Constraints::new(interfaces, &mortars, &offsets, &dirichlet);
     seconds.setup = clock.elapsed().as_secs_f64();
-
-    let diagonal = constraints.eliminated_block_is_diagonal();
-    let solved = match solver {
-        Solver::Direct if diagonal && !constraints.elimination_fills_in(&k) => {
-            eliminated(&k, &f, &dirichlet, &constraints, &mut seconds)?
-        }
-        Solver::Direct => saddle_point(&k, &f, &dirichlet, &constraints, &mut seconds)?,
-        Solver::Pcg(options) => matrix_free(&k, &f, &dirichlet, &constraints, &options, &mut seconds)?,
-    };
-    let (u, lambda, method, iterations) = solved;
-
-    let residual = residual(&k, &f, &dirichlet, &constraints, &u, &lambda);
-    let displacement = (0..bodies.len()).map(|b| u[offsets[b]..offsets[b + 1]].to_vec()).collect();
-    let interfaces = interface_solutions(interfaces, mortars, &constraints, bodies, &lambda);
-    let report =
-        GlueReport { dofs: n, constraints: constraints.rows.len(), method, iterations, residual, seconds };
-    Ok(GluedSolution { displacement, interfaces, report })
+    Ok(System { k, f, dirichlet, offsets, mortars })
 }
 
-fn check_input(bodies: &[Body], interfaces: &[Interface]) -> Result<(), GlueError> {
+pub(crate) fn check_input(bodies: &[Body], interfaces: &[Interface]) -> Result<(), GlueError> {
     for (b, body) in bodies.iter().enumerate() {
         let n = 3 * body.mesh.points().len();
         if body.load.len() != n {
@@ -495,7 +532,7 @@ fn from_transposed(x: SparseColMat<usize, f64>) -> CsrMatrix {
 }
 
 /// PᵀKP for a symmetric K, by two sparse products (faer, sorted output).
-fn triple_product(p: &CsrMatrix, k: &CsrMatrix) -> CsrMatrix {
+pub(crate) fn triple_product(p: &CsrMatrix, k: &CsrMatrix) -> CsrMatrix {
     let par = Par::rayon(0);
     // As CSC: view(P) = Pᵀ, view(K) = K, so Pᵀ·K is (KP)ᵀ, i.e. KP in CSR.
     let kp =
@@ -600,7 +637,7 @@ fn saddle_point(
 }
 
 /// Per dof: an unknown, i.e. not prescribed and used by some cell.
-fn free_dofs(k: &CsrMatrix, dirichlet: &Dirichlet) -> Vec<bool> {
+pub(crate) fn free_dofs(k: &CsrMatrix, dirichlet: &Dirichlet) -> Vec<bool> {
     let mut free: Vec<bool> = (0..k.nrows).map(|i| k.indptr[i + 1] > k.indptr[i]).collect();
     for (dof, _) in dirichlet.iter() {
         free[dof] = false;

@@ -41,6 +41,7 @@
 #![deny(missing_docs)]
 
 pub mod assembly;
+pub mod contact;
 pub mod element;
 pub mod generate;
 pub mod glue;
@@ -52,6 +53,7 @@ pub mod solve;
 pub mod stress;
 
 pub use assembly::{body_force, cell_volumes, rigid_body_modes, stiffness, traction, AssemblyError};
+pub use contact::{solve_contact, ContactOptions, ContactSolution};
 pub use element::{ElementKind, VolumeRule};
 pub use glue::{solve_glued, Body, GlueError, GluedSolution, Interface, Solver};
 pub use material::{Material, MaterialError};

@@ -1,0 +1,565 @@
+//! Frictionless two-body contact with the mortar operator (the paper's second
+//! application), solved by a primal-dual active set method.
+//!
+//! # The discrete problem
+//! Each contact interface pairs a master and a slave surface of two bodies. Its
+//! mortar matrices have a diagonal D (lumped or dual multipliers), so
+//! T = D⁻¹B acts node by node. With n_p the slave's outward unit nodal normal,
+//! the non-penetration condition at a slave point p is (paper §2, a variational
+//! inequality with "ordinary inequality constraints")
+//!
+//! ```text
+//! w_p := n_p·(u_s − T u_m)_p  ≤  g_p := n_p·(T x_m − x_s)_p ,
+//! ```
+//!
+//! the weighted initial gap g_p (negative for an initial overlap). The weighted
+//! row d_p w_p ≤ d_p g_p has the multiplier d_p λ_p, λ_p ≥ 0 the contact
+//! pressure; the master pushes the slave with −λ_p n_p per area. Only the normal
+//! direction is coupled.
+//!
+//! # Constraints as boxes
+//! Per contact point the Cartesian dofs of u_s,p are replaced by (w_p, v₁, v₂)
+//! in the nodal frame (n_p, t₁, t₂) (the nodal rotation of Krause & Sander):
+//!
+//! ```text
+//! u_s,p = n_p (w_p + n_p·(T u_m)_p) + t₁ v₁ + t₂ v₂ ,      u = P x ,
+//! ```
+//!
+//! so the constraints become boxes w_p ≤ g_p and the energy
+//! ½ xᵀ(PᵀKP)x − (Pᵀf)ᵀx keeps one fixed sparsity pattern. Components
+//! prescribed at a contact point must be tangential (a symmetry plane): the
+//! normal is projected onto their complement and t₁, t₂ include those axes.
+//!
+//! # Primal-dual active set (Hüeber & Wohlmuth)
+//! Starting from A₀ = {p : g_p ≤ 0} (touching or overlapping points), each
+//! step solves the linear problem with w_p = g_p on A_k and no constraint
+//! elsewhere, computes μ_p = (Pᵀf − PᵀKP x)_{w_p} (= d_p λ_p), and sets
+//!
+//! ```text
+//! A_{k+1} = {p : μ_p + c (w_p − g_p) > 0} ,
+//! ```
+//!
+//! a semismooth Newton step for the nonlinear complementarity function. When
+//! A_{k+1} = A_k the iterate satisfies the KKT conditions exactly (up to the
+//! linear solve): μ > 0 on A, w ≤ g off A. The iteration is capped
+//! ([`ContactOptions::max_iterations`]).
+
+use crate::glue::{assemble_system, check_input, free_dofs, triple_product, Body, GlueError, Interface};
+use crate::glue::{Solver, Timings};
+use crate::pcg::solve_pcg;
+use crate::solve::{solve, Dirichlet, SolveError};
+use seam::{nodal_normals, CsrMatrix, Mortar, Multiplier, Point3};
+use std::time::Instant;
+
+/// Options of [`solve_contact`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactOptions {
+    /// The linear solver of each active-set step.
+    pub solver: Solver,
+    /// Iteration cap of the active-set method.
+    pub max_iterations: usize,
+}
+
+impl Default for ContactOptions {
+    /// Direct solves, at most 50 active-set steps.
+    fn default() -> Self {
+        ContactOptions { solver: Solver::Direct, max_iterations: 50 }
+    }
+}
+
+/// One active-set step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ActiveSetStep {
+    /// Active points during the step's solve.
+    pub active: usize,
+    /// Points that become active after it.
+    pub added: usize,
+    /// Points that become inactive after it.
+    pub removed: usize,
+    /// PCG iterations of the step (0 for a direct solve).
+    pub linear_iterations: usize,
+}
+
+/// How well the solution meets the discrete KKT conditions, each relative.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Kkt {
+    /// ‖(f − Ku − Cᵀλ)_F‖∞ over the free dofs F, relative to the size of the
+    /// terms, max(‖f_F‖∞, max_i Σ_j |K_ij u_j|).
+    pub equilibrium: f64,
+    /// max_p (−λ_p)⁺ / max_p |λ_p|: negative pressure.
+    pub pressure: f64,
+    /// max_p (w_p − g_p)⁺ / max(‖u‖∞, max |g|): penetration.
+    pub penetration: f64,
+    /// max_p |λ_p (g_p − w_p)| / (max |λ| · max(‖u‖∞, max |g|)).
+    pub complementarity: f64,
+}
+
+impl Kkt {
+    /// The largest of the four.
+    pub fn max(&self) -> f64 {
+        self.equilibrium.max(self.pressure).max(self.penetration).max(self.complementarity)
+    }
+}
+
+/// What the contact solve did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactReport {
+    /// Displacement unknowns, 3 per point of all bodies.
+    pub dofs: usize,
+    /// Contact points (slave points with a constraint), all interfaces.
+    pub contact_points: usize,
+    /// Active points at the solution, all interfaces.
+    pub active: usize,
+    /// The active-set steps; their number is the iteration count.
+    pub steps: Vec<ActiveSetStep>,
+    /// The linear solver, e.g. "sparse Cholesky".
+    pub method: &'static str,
+    /// KKT residuals of the solution.
+    pub kkt: Kkt,
+    /// Seconds per phase (`factorization` sums all steps' solves).
+    pub seconds: Timings,
+}
+
+/// The solution on one contact interface, per slave body point (zero, or
+/// false, at points that are not contact points).
+#[derive(Clone, Debug)]
+pub struct ContactInterfaceSolution {
+    /// The mortar operator of the interface.
+    pub mortar: Mortar,
+    /// Has a contact constraint.
+    pub contact: Vec<bool>,
+    /// The outward unit normal n_p used by the constraint.
+    pub normal: Vec<Point3>,
+    /// The initial weighted gap g_p.
+    pub initial_gap: Vec<f64>,
+    /// The gap after deformation, g_p − w_p (≥ 0).
+    pub gap: Vec<f64>,
+    /// The contact pressure λ_p (≥ 0, force per area).
+    pub pressure: Vec<f64>,
+    /// In the final active set.
+    pub active: Vec<bool>,
+    /// Resultant force of the master on the slave, −Σ_p d_p λ_p n_p.
+    pub force: [f64; 3],
+}
+
+/// The solution of a contact problem.
+#[derive(Clone, Debug)]
+pub struct ContactSolution {
+    /// Per body: displacements, 3 per mesh point.
+    pub displacement: Vec<Vec<f64>>,
+    /// Per interface.
+    pub interfaces: Vec<ContactInterfaceSolution>,
+    /// Sizes, iterations, KKT residuals and timings.
+    pub report: ContactReport,
+}
+
+/// A contact point: slave point `point` of interface `interface`, its dofs
+/// `dofs` (x, y, z in the global numbering), reinterpreted as (w, v₁, v₂).
+#[derive(Clone, Debug)]
+struct ContactPoint {
+    interface: usize,
+    point: usize,
+    first_dof: usize,
+    /// n, t₁, t₂.
+    frame: [Point3; 3],
+    /// d_p.
+    d: f64,
+    /// g_p.
+    gap: f64,
+    /// (global master dof of component 0, T_pq).
+    t_row: Vec<(usize, f64)>,
+}
+
+/// Solves the frictionless contact problem (module doc) for bodies coupled by
+/// contact `interfaces` (lumped or dual multipliers).
+///
+/// # Errors
+/// [`GlueError`] for inconsistent input (standard multipliers, a point that is
+/// slave of one interface and master of another), a failed assembly, a
+/// singular step (a body held by nothing), or no convergence within
+/// [`ContactOptions::max_iterations`].
+pub fn solve_contact(
+    bodies: &[Body],
+    interfaces: &[Interface],
+    options: &ContactOptions,
+) -> Result<ContactSolution, GlueError> {
+    check_input(bodies, interfaces)?;
+    for (i, f) in interfaces.iter().enumerate() {
+        if f.options.multiplier == Multiplier::Standard {
+            let what = "contact needs a diagonal D: multiplier \"lumped\" (the default) or \"dual\"".into();
+            return Err(GlueError::BadInterface { interface: i, what });
+        }
+    }
+    let mut seconds = Timings::default();
+    let system = assemble_system(bodies, interfaces, &mut seconds)?;
+    let (k, f, dirichlet, offsets) = (&system.k, &system.f, &system.dirichlet, &system.offsets);
+
+    let clock = Instant::now();
+    let points = contact_points(bodies, interfaces, &system.mortars, offsets, dirichlet)?;
+    let p = rotation(k.nrows, &points);
+    let a = triple_product(&p, k);
+    let b = p.transpose_mul_vec(f, 1);
+    let prescribed = rotated_dirichlet(dirichlet, &points);
+    seconds.setup += clock.elapsed().as_secs_f64();
+
+    let scale = length_scale(bodies);
+    let mut active: Vec<bool> = points.iter().map(|c| c.gap <= 1e-9 * scale).collect();
+    let mut steps = Vec::new();
+    let (x, mu) = loop {
+        let mut fixed = prescribed.clone();
+        for c in points.iter().zip(&active).filter(|(_, &on)| on).map(|(c, _)| c) {
+            fixed.fix_dof(c.first_dof, c.gap);
+        }
+        let clock = Instant::now();
+        let n_active = active.iter().filter(|&&on| on).count();
+        let (x, linear_iterations) = solve_step(&a, &b, &fixed, &options.solver).map_err(|e| match e {
+            SolveError::Singular => GlueError::Contact(format!(
+                "active-set step {}: the system is singular with {n_active} active contact points; \
+                 every body must be held by its supports, or touch (gap ≤ 0) another body from the start",
+                steps.len() + 1
+            )),
+            e => GlueError::Solve(e),
+        })?;
+        seconds.factorization += clock.elapsed().as_secs_f64();
+
+        let r = residual_at_normals(&a, &b, &x, &points);
+        let mu: Vec<f64> = r.iter().zip(&active).map(|(&r, &on)| if on { r } else { 0.0 }).collect();
+        let next = next_active_set(&points, &active, &x, &mu, scale);
+        let added = next.iter().zip(&active).filter(|(&n, &o)| n && !o).count();
+        let removed = next.iter().zip(&active).filter(|(&n, &o)| !n && o).count();
+        steps.push(ActiveSetStep { active: n_active, added, removed, linear_iterations });
+        if added + removed == 0 {
+            break (x, mu);
+        }
+        if steps.len() == options.max_iterations {
+            return Err(GlueError::Contact(format!(
+                "the active set did not settle in {} steps (last step: {added} points added, {removed} removed); \
+                 raise the iteration cap or check the load and the supports",
+                steps.len()
+            )));
+        }
+        active = next;
+    };
+
+    let clock = Instant::now();
+    let u = p.mul_vec(&x, 1);
+    let kkt = kkt(k, f, dirichlet, &points, (&u, &x), &mu);
+    let displacement = (0..bodies.len()).map(|b| u[offsets[b]..offsets[b + 1]].to_vec()).collect();
+    let n_active = active.iter().filter(|&&on| on).count();
+    let solutions = interface_solutions(bodies, interfaces, system.mortars, &points, &x, &mu, &active);
+    seconds.solve += clock.elapsed().as_secs_f64();
+    let method = match options.solver {
+        Solver::Direct => "sparse Cholesky per active-set step",
+        Solver::Pcg(_) => "PCG per active-set step",
+    };
+    let report = ContactReport {
+        dofs: k.nrows,
+        contact_points: points.len(),
+        active: n_active,
+        steps,
+        method,
+        kkt,
+        seconds,
+    };
+    Ok(ContactSolution { displacement, interfaces: solutions, report })
+}
+
+/// A length of the problem: the largest bounding-box diagonal of the bodies.
+fn length_scale(bodies: &[Body]) -> f64 {
+    let diagonal = |points: &[Point3]| {
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for x in points {
+            for c in 0..3 {
+                lo[c] = lo[c].min(x[c]);
+                hi[c] = hi[c].max(x[c]);
+            }
+        }
+        (0..3).map(|c| (hi[c] - lo[c]).powi(2)).sum::<f64>().sqrt()
+    };
+    bodies.iter().map(|b| diagonal(b.mesh.points())).fold(0.0, f64::max)
+}
+
+/// The contact points of all interfaces, in interface and point order: covered
+/// slave points not claimed by an earlier interface whose normal is not
+/// prescribed.
+fn contact_points(
+    bodies: &[Body],
+    interfaces: &[Interface],
+    mortars: &[Mortar],
+    offsets: &[usize],
+    dirichlet: &Dirichlet,
+) -> Result<Vec<ContactPoint>, GlueError> {
+    let n = *offsets.last().unwrap();
+    let mut claimed = vec![false; n / 3];
+    let mut points = Vec::new();
+    for (i, (f, m)) in interfaces.iter().zip(mortars).enumerate() {
+        let (os, om) = (offsets[f.slave], offsets[f.master]);
+        let normals = nodal_normals(f.slave_surface);
+        let (xs, xm) = (bodies[f.slave].mesh.points(), bodies[f.master].mesh.points());
+        for p in (0..m.covered.len()).filter(|&p| m.covered[p]) {
+            let first_dof = os + 3 * p;
+            if claimed[first_dof / 3] {
+                continue;
+            }
+            let fixed: [bool; 3] = std::array::from_fn(|c| dirichlet.value(first_dof + c).is_some());
+            let Some(frame) = frame(normals[p], fixed) else { continue };
+            claimed[first_dof / 3] = true;
+            let d = m.d.get(p, p);
+            let (cols, vals) = m.b.row(p);
+            let t_row: Vec<(usize, f64)> =
+                cols.iter().zip(vals).map(|(&q, &b)| (om + 3 * q, b / d)).collect();
+            let txm: Point3 =
+                std::array::from_fn(|c| cols.iter().zip(vals).map(|(&q, &b)| b / d * xm[q][c]).sum());
+            let gap = dot(frame[0], sub(txm, xs[p]));
+            points.push(ContactPoint { interface: i, point: p, first_dof, frame, d, gap, t_row });
+        }
+    }
+    let slave_point: Vec<bool> = {
+        let mut s = vec![false; n / 3];
+        points.iter().for_each(|c| s[c.first_dof / 3] = true);
+        s
+    };
+    for c in &points {
+        if let Some(&(q, _)) = c.t_row.iter().find(|(q, _)| slave_point[q / 3]) {
+            let what = format!(
+                "master point {} is also a contact point of another interface; chains of contact \
+                 through one point are not supported",
+                (q - offsets[interfaces[c.interface].master]) / 3
+            );
+            return Err(GlueError::BadInterface { interface: c.interface, what });
+        }
+    }
+    Ok(points)
+}
+
+/// The nodal frame (n, t₁, t₂): n the normal with its prescribed components
+/// removed, t₁, t₂ an orthonormal basis of n⊥ containing the prescribed axes.
+/// None when the normal is (nearly) prescribed: the point cannot move along it.
+fn frame(normal: Point3, fixed: [bool; 3]) -> Option<[Point3; 3]> {
+    let mut n = normal;
+    for c in (0..3).filter(|&c| fixed[c]) {
+        n[c] = 0.0;
+    }
+    let length = dot(n, n).sqrt();
+    if length < 0.5 || length.is_nan() {
+        return None;
+    }
+    n = n.map(|v| v / length);
+    let axis = |c: usize| std::array::from_fn(|i| if i == c { 1.0 } else { 0.0 });
+    // t₁: a prescribed axis if any, else the axis most orthogonal to n, made orthogonal.
+    let t1 = match (0..3).find(|&c| fixed[c]) {
+        Some(c) => axis(c),
+        None => {
+            let c = (0..3).min_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs())).unwrap();
+            let e: Point3 = axis(c);
+            let t = sub(e, n.map(|v| v * n[c]));
+            let l = dot(t, t).sqrt();
+            t.map(|v| v / l)
+        }
+    };
+    Some([n, t1, cross(n, t1)])
+}
+
+fn dot(a: Point3, b: Point3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn sub(a: Point3, b: Point3) -> Point3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: Point3, b: Point3) -> Point3 {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+/// P (n × n): the identity except at contact points, whose rows read
+/// u_s,p = n (w + Σ_q T_pq n·u_m,q) + t₁ v₁ + t₂ v₂ (module doc).
+fn rotation(n: usize, points: &[ContactPoint]) -> CsrMatrix {
+    let mut at = vec![usize::MAX; n / 3];
+    for (i, c) in points.iter().enumerate() {
+        at[c.first_dof / 3] = i;
+    }
+    let mut p = CsrMatrix::zeros(0, n);
+    let mut row: Vec<(usize, f64)> = Vec::new();
+    for dof in 0..n {
+        row.clear();
+        match at[dof / 3] {
+            usize::MAX => row.push((dof, 1.0)),
+            i => {
+                let c = &points[i];
+                let comp = dof % 3;
+                let [nn, t1, t2] = c.frame;
+                row.extend([
+                    (c.first_dof, nn[comp]),
+                    (c.first_dof + 1, t1[comp]),
+                    (c.first_dof + 2, t2[comp]),
+                ]);
+                for &(q, t) in &c.t_row {
+                    row.extend((0..3).map(|k| (q + k, nn[comp] * t * nn[k])));
+                }
+                row.sort_unstable_by_key(|e| e.0);
+                row.retain(|e| e.1 != 0.0);
+            }
+        }
+        p.indices.extend(row.iter().map(|e| e.0));
+        p.values.extend(row.iter().map(|e| e.1));
+        p.indptr.push(p.indices.len());
+        p.nrows += 1;
+    }
+    p
+}
+
+/// The Dirichlet conditions in x: unchanged off the contact points; at a
+/// contact point a prescribed axis is t₁ or t₂ (see [`frame`]), so the value
+/// moves to v₁ or v₂.
+fn rotated_dirichlet(dirichlet: &Dirichlet, points: &[ContactPoint]) -> Dirichlet {
+    let mut at = std::collections::HashMap::new();
+    for c in points {
+        at.insert(c.first_dof / 3, c);
+    }
+    let mut out = Dirichlet::new();
+    for (dof, v) in dirichlet.iter() {
+        match at.get(&(dof / 3)) {
+            None => out.fix_dof(dof, v),
+            Some(c) => {
+                let axis = dof % 3;
+                let k =
+                    (1..3).find(|&k| c.frame[k][axis].abs() == 1.0).expect("prescribed axes are tangents");
+                out.fix_dof(c.first_dof + k, v)
+            }
+        };
+    }
+    out
+}
+
+/// One linear solve; returns x and the PCG iterations.
+fn solve_step(
+    a: &CsrMatrix,
+    b: &[f64],
+    fixed: &Dirichlet,
+    solver: &Solver,
+) -> Result<(Vec<f64>, usize), SolveError> {
+    match solver {
+        Solver::Direct => Ok((solve(a, b, fixed)?, 0)),
+        Solver::Pcg(options) => solve_pcg(a, b, fixed, options).map(|(x, r)| (x, r.iterations)),
+    }
+}
+
+/// (b − A x) at each contact point's w dof: μ_p where active.
+fn residual_at_normals(a: &CsrMatrix, b: &[f64], x: &[f64], points: &[ContactPoint]) -> Vec<f64> {
+    points
+        .iter()
+        .map(|c| {
+            let (cols, vals) = a.row(c.first_dof);
+            b[c.first_dof] - cols.iter().zip(vals).map(|(&j, &v)| v * x[j]).sum::<f64>()
+        })
+        .collect()
+}
+
+/// A_{k+1} = {μ + c(w − g) > 0}: an active point stays unless μ_p < 0, an
+/// inactive one enters when w_p > g_p, each beyond a round-off margin
+/// (10⁻¹² of the largest |μ|, resp. of the length scale) so that a point with
+/// zero pressure and zero gap does not flip back and forth.
+fn next_active_set(points: &[ContactPoint], active: &[bool], x: &[f64], mu: &[f64], scale: f64) -> Vec<bool> {
+    let mu_margin = 1e-12 * mu.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let gap_margin = 1e-12 * scale;
+    points
+        .iter()
+        .zip(active)
+        .zip(mu)
+        .map(|((c, &on), &mu)| if on { mu >= -mu_margin } else { x[c.first_dof] - c.gap > gap_margin })
+        .collect()
+}
+
+/// The KKT residuals (see [`Kkt`]) in Cartesian dofs: Cᵀλ puts d_p λ_p n_p on
+/// u_s,p and −d_p λ_p T_pq n_p on u_m,q.
+fn kkt(
+    k: &CsrMatrix,
+    f: &[f64],
+    dirichlet: &Dirichlet,
+    points: &[ContactPoint],
+    (u, x): (&[f64], &[f64]),
+    mu: &[f64],
+) -> Kkt {
+    let ku = k.mul_vec(u, 1);
+    let mut r: Vec<f64> = f.iter().zip(&ku).map(|(f, ku)| f - ku).collect();
+    for (c, &m) in points.iter().zip(mu) {
+        let n = c.frame[0];
+        for comp in 0..3 {
+            r[c.first_dof + comp] -= m * n[comp];
+            for &(q, t) in &c.t_row {
+                r[q + comp] += m * t * n[comp];
+            }
+        }
+    }
+    let free = free_dofs(k, dirichlet);
+    let max_free = |v: &[f64]| (0..v.len()).filter(|&i| free[i]).fold(0.0f64, |m, i| m.max(v[i].abs()));
+    let max_abs = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, v| m.max(v.abs()));
+    let relative = |v: f64, s: f64| if s > 0.0 { v / s } else { v };
+    let pressure: Vec<f64> = points.iter().zip(mu).map(|(c, &m)| m / c.d).collect();
+    let p_max = max_abs(&mut pressure.iter().copied());
+    let u_max = max_abs(&mut u.iter().copied().chain(points.iter().map(|c| c.gap)));
+    let slack: Vec<f64> = points.iter().map(|c| c.gap - x[c.first_dof]).collect();
+    Kkt {
+        equilibrium: relative(max_free(&r), max_free(f).max(max_free(&magnitudes(k, u)))),
+        pressure: relative(pressure.iter().fold(0.0f64, |m, &l| m.max(-l)), p_max),
+        penetration: relative(slack.iter().fold(0.0f64, |m, &s| m.max(-s)), u_max),
+        complementarity: relative(
+            max_abs(&mut pressure.iter().zip(&slack).map(|(l, s)| l * s)),
+            p_max * u_max,
+        ),
+    }
+}
+
+/// Σ_j |K_ij u_j| per row.
+fn magnitudes(k: &CsrMatrix, u: &[f64]) -> Vec<f64> {
+    (0..k.nrows)
+        .map(|i| {
+            let (cols, vals) = k.row(i);
+            cols.iter().zip(vals).map(|(&j, v)| (v * u[j]).abs()).sum()
+        })
+        .collect()
+}
+
+/// Per interface: the constraint data and the solution per slave body point.
+fn interface_solutions(
+    bodies: &[Body],
+    interfaces: &[Interface],
+    mortars: Vec<Mortar>,
+    points: &[ContactPoint],
+    x: &[f64],
+    mu: &[f64],
+    active: &[bool],
+) -> Vec<ContactInterfaceSolution> {
+    let mut out: Vec<ContactInterfaceSolution> = interfaces
+        .iter()
+        .zip(mortars)
+        .map(|(f, mortar)| {
+            let n = bodies[f.slave].mesh.points().len();
+            ContactInterfaceSolution {
+                mortar,
+                contact: vec![false; n],
+                normal: vec![[0.0; 3]; n],
+                initial_gap: vec![0.0; n],
+                gap: vec![0.0; n],
+                pressure: vec![0.0; n],
+                active: vec![false; n],
+                force: [0.0; 3],
+            }
+        })
+        .collect();
+    for ((c, &m), &on) in points.iter().zip(mu).zip(active) {
+        let s = &mut out[c.interface];
+        let p = c.point;
+        s.contact[p] = true;
+        s.normal[p] = c.frame[0];
+        s.initial_gap[p] = c.gap;
+        s.gap[p] = c.gap - x[c.first_dof];
+        s.pressure[p] = m / c.d;
+        s.active[p] = on;
+        for comp in 0..3 {
+            s.force[comp] -= m * c.frame[0][comp];
+        }
+    }
+    out
+}

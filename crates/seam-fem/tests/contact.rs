@@ -1,0 +1,213 @@
+//! Frictionless contact of two stacked blocks: the contact patch test,
+//! separation, initial overlap, and the KKT conditions of every solve.
+//!
+//! The lower block [0,1]² × [0, ½] (master, E₁ = 1000, ν₁ = 0.3) and the upper
+//! block [0,1]² × [½ + δ, 1 + δ] (slave, E₂ = 300, ν₂ = 0.2) are meshed
+//! independently (hexahedra, tetrahedra or prisms, non-matching). Rollers hold
+//! the planes x = 0 and y = 0 of both blocks and the bottom of the lower one;
+//! the upper block is held only by contact, or by a prescribed u_z on its top.
+//! All such problems have a homogeneous uniaxial solution, σ = −p e₃⊗e₃:
+//!
+//! - pressed by a traction p on top: contact pressure p at every slave point,
+//!   u = (ν x, ν y, −z) p/E per body plus the rigid shift of the upper one;
+//! - with an initial overlap −δ and the top held: the overlap is pushed out,
+//!   p = −δ / (½/E₁ + (½ + δ)/E₂) (springs in series).
+//!
+//! Measured (`cargo test -p seam-fem --test contact -- --nocapture`): see the
+//! printed lines; everything asserted to 1e-8 relative.
+use seam::{Multiplier, Point3, SurfaceMesh, VolumeMesh};
+use seam_fem::contact::{solve_contact, ContactOptions, ContactSolution};
+use seam_fem::generate::{block, BlockKind, Grid, Side};
+use seam_fem::glue::{Body, Interface, Solver};
+use seam_fem::pcg::PcgOptions;
+use seam_fem::{traction, Dirichlet, Material};
+
+const RTOL: f64 = 1e-8;
+
+struct Stack {
+    lower: (VolumeMesh, Grid),
+    upper: (VolumeMesh, Grid),
+    delta: f64,
+    materials: [Material; 2],
+}
+
+impl Stack {
+    /// Lower `nl` cells across of `kl`, upper `nu` of `ku`; upper block shifted up by δ.
+    fn new(nl: usize, kl: BlockKind, nu: usize, ku: BlockKind, delta: f64) -> Stack {
+        let lower = block(nl, nl, 2, |u, v, w| [u, v, 0.5 * w], kl);
+        let upper = block(nu, nu, 3, |u, v, w| [u, v, 0.5 + delta + 0.5 * w], ku);
+        let materials = [Material::new(1000.0, 0.3).unwrap(), Material::new(300.0, 0.2).unwrap()];
+        Stack { lower: (lower, Grid::new(nl, nl, 2)), upper: (upper, Grid::new(nu, nu, 3)), delta, materials }
+    }
+
+    fn surfaces(&self) -> (SurfaceMesh, SurfaceMesh) {
+        let top = self.lower.1.side_faces(&self.lower.0, Side::ZMax).unwrap();
+        let bottom = self.upper.1.side_faces(&self.upper.0, Side::ZMin).unwrap();
+        (top, bottom)
+    }
+
+    /// Rollers on x = 0 and y = 0; the lower bottom on u_z = 0; the upper top
+    /// loaded by −p e₃, or held at u_z = `top` when given.
+    fn solve(&self, p: f64, top: Option<f64>, multiplier: Multiplier, solver: Solver) -> ContactSolution {
+        let rollers = |grid: &Grid, d: &mut Dirichlet| {
+            for q in grid.side_points(Side::XMin) {
+                d.fix(q, [Some(0.0), None, None]);
+            }
+            for q in grid.side_points(Side::YMin) {
+                d.fix(q, [None, Some(0.0), None]);
+            }
+        };
+        let mut dl = Dirichlet::new();
+        rollers(&self.lower.1, &mut dl);
+        for q in self.lower.1.side_points(Side::ZMin) {
+            dl.fix(q, [None, None, Some(0.0)]);
+        }
+        let mut du = Dirichlet::new();
+        rollers(&self.upper.1, &mut du);
+        if let Some(v) = top {
+            for q in self.upper.1.side_points(Side::ZMax) {
+                du.fix(q, [None, None, Some(v)]);
+            }
+        }
+        let load =
+            traction(&self.upper.1.side_faces(&self.upper.0, Side::ZMax).unwrap(), |_, _| [0.0, 0.0, -p]);
+        let (master, slave) = self.surfaces();
+        let bodies = [
+            Body {
+                mesh: &self.lower.0,
+                material: self.materials[0],
+                load: vec![0.0; 3 * self.lower.0.points().len()],
+                dirichlet: dl,
+            },
+            Body { mesh: &self.upper.0, material: self.materials[1], load, dirichlet: du },
+        ];
+        let options =
+            seam::MortarOptions { multiplier, facing: seam::Facing::Opposite, ..Default::default() };
+        let interfaces =
+            [Interface { master: 0, master_surface: &master, slave: 1, slave_surface: &slave, options }];
+        let solution =
+            solve_contact(&bodies, &interfaces, &ContactOptions { solver, ..Default::default() }).unwrap();
+        let kkt = solution.report.kkt;
+        println!("    KKT {kkt:?}, steps {:?}", solution.report.steps);
+        assert!(kkt.max() <= RTOL, "KKT conditions violated: {kkt:?}");
+        solution
+    }
+
+    /// max |u − u_exact| / max |u_exact| for the uniaxial solution with
+    /// pressure p, the upper body shifted rigidly by `shift` in z.
+    fn displacement_error(&self, s: &ContactSolution, p: f64, shift: f64) -> f64 {
+        let exact = |x: Point3, m: &Material, base: f64| -> Point3 {
+            let (e, nu) = (m.young(), m.poisson());
+            [nu * p / e * x[0], nu * p / e * x[1], -p / e * (x[2] - base)]
+        };
+        let mut err = 0.0f64;
+        let mut size = 0.0f64;
+        let lower_top = -0.5 * p / self.materials[0].young();
+        let bodies = [(&self.lower.0, 0.0, 0.0), (&self.upper.0, 0.5 + self.delta, lower_top + shift)];
+        for (b, (mesh, base, offset)) in bodies.iter().enumerate() {
+            for (q, x) in mesh.points().iter().enumerate() {
+                let mut e = exact(*x, &self.materials[b], *base);
+                e[2] += offset;
+                for c in 0..3 {
+                    err = err.max((s.displacement[b][3 * q + c] - e[c]).abs());
+                    size = size.max(e[c].abs());
+                }
+            }
+        }
+        err / size
+    }
+}
+
+fn cases() -> Vec<(&'static str, Stack)> {
+    vec![
+        ("hex 5 | hex 3", Stack::new(5, BlockKind::Hex, 3, BlockKind::Hex, 0.0)),
+        ("tet 4 | hex 7", Stack::new(4, BlockKind::Tet, 7, BlockKind::Hex, 0.0)),
+        ("hex 3 | prism 5", Stack::new(3, BlockKind::Hex, 5, BlockKind::Prism, 0.0)),
+    ]
+}
+
+#[test]
+fn contact_patch_test_reproduces_the_uniform_pressure() {
+    let p = 2.0;
+    for multiplier in [Multiplier::Lumped, Multiplier::Dual] {
+        for (name, stack) in cases() {
+            let s = stack.solve(p, None, multiplier, Solver::Direct);
+            let i = &s.interfaces[0];
+            let points: Vec<usize> = (0..i.contact.len()).filter(|&q| i.contact[q]).collect();
+            assert_eq!(points.len(), i.mortar.covered.iter().filter(|&&c| c).count());
+            assert!(points.iter().all(|&q| i.active[q]), "{name}: every slave point is in contact");
+            let pressure = points.iter().fold(0.0f64, |m, &q| m.max((i.pressure[q] - p).abs())) / p;
+            // The upper body floats: its shift follows from the contact, u_z(top of lower) is continuous.
+            let u = stack.displacement_error(&s, p, 0.0);
+            let force = (i.force[2] - p).abs() / p;
+            println!(
+                "{name} {multiplier:?}: pressure {pressure:.1e}, displacement {u:.1e}, force {force:.1e}"
+            );
+            assert!(pressure <= RTOL, "{name} {multiplier:?}: pressure error {pressure:e}");
+            assert!(u <= RTOL, "{name} {multiplier:?}: displacement error {u:e}");
+            assert!(force <= RTOL, "{name} {multiplier:?}: resultant {:?} against the load {p}", i.force);
+            assert!(i.gap.iter().all(|g| g.abs() <= 1e-12), "{name}: closed gap");
+        }
+    }
+}
+
+#[test]
+fn contact_patch_test_with_pcg() {
+    let stack = Stack::new(4, BlockKind::Tet, 7, BlockKind::Hex, 0.0);
+    let pcg = Solver::Pcg(PcgOptions { rtol: 1e-13, ..Default::default() });
+    let s = stack.solve(2.0, None, Multiplier::Lumped, pcg);
+    let u = stack.displacement_error(&s, 2.0, 0.0);
+    assert!(u <= RTOL, "displacement error {u:e}");
+}
+
+#[test]
+fn bodies_apart_stay_apart_without_pressure() {
+    let stack = Stack::new(5, BlockKind::Hex, 3, BlockKind::Hex, 0.01);
+    let s = stack.solve(0.0, Some(-0.005), Multiplier::Lumped, Solver::Direct);
+    let i = &s.interfaces[0];
+    assert_eq!(s.report.active, 0);
+    assert!(i.pressure.iter().all(|&l| l == 0.0));
+    assert!(i.force == [0.0; 3]);
+    // Rigid motion of the upper block: the gap closes by 0.005 everywhere.
+    let gap_error = (0..i.contact.len())
+        .filter(|&q| i.contact[q])
+        .fold(0.0f64, |m, q| m.max((i.gap[q] - 0.005).abs()).max((i.initial_gap[q] - 0.01).abs()));
+    assert!(gap_error <= 1e-12, "gap error {gap_error:e}");
+}
+
+#[test]
+fn pressing_beyond_the_gap_closes_it() {
+    let (delta, push) = (0.01, -0.03);
+    let stack = Stack::new(5, BlockKind::Hex, 3, BlockKind::Hex, delta);
+    let s = stack.solve(0.0, Some(push), Multiplier::Lumped, Solver::Direct);
+    // Springs in series: the upper top moves by −0.03, the gap takes 0.01.
+    let [e1, e2] = stack.materials.map(|m| m.young());
+    let p = (-push - delta) / (0.5 / e1 + 0.5 / e2);
+    check_uniform_pressure(&s, &stack, p, delta);
+}
+
+#[test]
+fn initial_overlaps_are_pushed_out() {
+    let delta = -0.01;
+    for multiplier in [Multiplier::Lumped, Multiplier::Dual] {
+        let stack = Stack::new(4, BlockKind::Tet, 7, BlockKind::Hex, delta);
+        let s = stack.solve(0.0, Some(0.0), multiplier, Solver::Direct);
+        let [e1, e2] = stack.materials.map(|m| m.young());
+        let p = -delta / (0.5 / e1 + 0.5 / e2);
+        check_uniform_pressure(&s, &stack, p, delta);
+    }
+}
+
+/// Every slave point active with pressure p, the initial gap δ closed, and the
+/// uniaxial displacement with the upper block shifted by the gap.
+fn check_uniform_pressure(s: &ContactSolution, stack: &Stack, p: f64, delta: f64) {
+    let i = &s.interfaces[0];
+    let points: Vec<usize> = (0..i.contact.len()).filter(|&q| i.contact[q]).collect();
+    assert!(points.iter().all(|&q| i.active[q] && i.gap[q].abs() <= 1e-12));
+    assert!(points.iter().all(|&q| (i.initial_gap[q] - delta).abs() <= 1e-12));
+    let pressure = points.iter().fold(0.0f64, |m, &q| m.max((i.pressure[q] - p).abs())) / p;
+    let u = stack.displacement_error(s, p, -delta);
+    println!("p = {p:.4}: pressure error {pressure:.1e}, displacement error {u:.1e}");
+    assert!(pressure <= RTOL, "pressure error {pressure:e}");
+    assert!(u <= RTOL, "displacement error {u:e}");
+}
