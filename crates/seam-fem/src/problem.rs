@@ -7,6 +7,7 @@
 //! hands them to [`solve_glued`].
 
 use crate::assembly::{body_force, traction};
+use crate::contact::{solve_contact, ContactOptions, ContactSolution};
 use crate::glue::{solve_glued, Body, GlueError, GluedSolution, Interface, Solver};
 use crate::material::Material;
 use crate::solve::Dirichlet;
@@ -72,6 +73,8 @@ pub struct Problem {
     pub bodies: Vec<ProblemBody>,
     /// The glued interfaces.
     pub interfaces: Vec<ProblemInterface>,
+    /// The contact interfaces (frictionless, [`crate::contact`]).
+    pub contacts: Vec<ProblemInterface>,
     /// Dirichlet conditions, applied in order (a later one overrides an earlier
     /// one on shared points).
     pub supports: Vec<Support>,
@@ -142,18 +145,48 @@ impl Problem {
     /// Assembles and solves the glued problem.
     ///
     /// # Errors
-    /// See [`solve_glued`].
+    /// See [`solve_glued`]; [`GlueError::BadInterface`] when the problem has
+    /// contact interfaces (use [`Problem::solve_contact`]).
     pub fn solve(&self, solver: Solver) -> Result<GluedSolution, GlueError> {
+        if !self.contacts.is_empty() {
+            let what = "the problem has contact interfaces: solve it with Problem::solve_contact".into();
+            return Err(GlueError::BadInterface { interface: 0, what });
+        }
         let prepared = self.loads_and_supports()?;
-        let bodies: Vec<Body> = self
-            .bodies
+        solve_glued(&self.bodies(&prepared), &self.coupled(&self.interfaces), solver)
+    }
+
+    /// Assembles and solves the contact problem.
+    ///
+    /// # Errors
+    /// See [`solve_contact`]; [`GlueError::BadInterface`] when the problem
+    /// also has glued interfaces (not supported together yet).
+    pub fn solve_contact(&self, options: &ContactOptions) -> Result<ContactSolution, GlueError> {
+        if !self.interfaces.is_empty() {
+            let what = "glued and contact interfaces in one problem are not supported yet".into();
+            return Err(GlueError::BadInterface { interface: 0, what });
+        }
+        let prepared = self.loads_and_supports()?;
+        solve_contact(&self.bodies(&prepared), &self.coupled(&self.contacts), options)
+    }
+
+    /// The solver's view of the bodies with their loads and supports.
+    fn bodies(&self, prepared: &[(Vec<f64>, Dirichlet)]) -> Vec<Body<'_>> {
+        self.bodies
             .iter()
             .zip(prepared)
-            .map(|(b, (load, dirichlet))| Body { mesh: &b.mesh, material: b.material, load, dirichlet })
-            .collect();
-        let interfaces: Vec<Interface> = self
-            .interfaces
-            .iter()
+            .map(|(b, (load, dirichlet))| Body {
+                mesh: &b.mesh,
+                material: b.material,
+                load: load.clone(),
+                dirichlet: dirichlet.clone(),
+            })
+            .collect()
+    }
+
+    /// The solver's view of the interfaces `list`.
+    fn coupled(&self, list: &[ProblemInterface]) -> Vec<Interface<'_>> {
+        list.iter()
             .map(|f| Interface {
                 master: f.master.body,
                 master_surface: self.surface(f.master),
@@ -161,7 +194,6 @@ impl Problem {
                 slave_surface: self.surface(f.slave),
                 options: f.options,
             })
-            .collect();
-        solve_glued(&bodies, &interfaces, solver)
+            .collect()
     }
 }

@@ -1,10 +1,4 @@
-//! Built-in problems that make their own meshes.
-//!
-//! [`warped_glue`] is the paper's first example (Fig. 2): the unit cube cut by
-//! the warped surface z = s(x, y) into two bodies meshed independently with
-//! hexahedra, the upper (slave) side `ratio` times coarser than the lower
-//! (master) side, glued by mortar; clamped at the bottom, loaded at the top by a
-//! traction with a shear part.
+//! The paper's first example (Fig. 2), glued.
 
 use crate::generate::{block, BlockKind, Grid, Side};
 use crate::material::Material;
@@ -115,5 +109,6 @@ pub fn warped_glue(p: &WarpedGlue) -> Result<Problem, MeshError> {
         }],
         supports: vec![Support { boundary: SurfaceId { body: 0, surface: bottom }, values: [Some(0.0); 3] }],
         loads: vec![Load { boundary: SurfaceId { body: 1, surface: top }, t: p.traction }],
+        contacts: vec![],
     })
 }
