@@ -31,7 +31,9 @@
 //! normal is projected onto their complement and t₁, t₂ include those axes.
 //!
 //! # Primal-dual active set (Hüeber & Wohlmuth)
-//! Starting from A₀ = {p : g_p ≤ 0} (touching or overlapping points), each
+//! Starting from A₀ = {p : g_p ≤ 0} and the closest points of each interface
+//! (touching, overlapping, or nearest points: a force-controlled body is held
+//! from the start), each
 //! step solves the linear problem with w_p = g_p on A_k and no constraint
 //! elsewhere, computes μ_p = (Pᵀf − PᵀKP x)_{w_p} (= d_p λ_p), and sets
 //!
@@ -47,7 +49,8 @@
 use crate::glue::{assemble_system, check_input, free_dofs, triple_product, Body, GlueError, Interface};
 use crate::glue::{Solver, Timings};
 use crate::pcg::solve_pcg;
-use crate::solve::{solve, Dirichlet, SolveError};
+use crate::pcg::PcgOptions;
+use crate::solve::{CholeskyAnalysis, DirectOptions, Dirichlet, SolveError};
 use seam::{nodal_normals, CsrMatrix, Mortar, Multiplier, Point3};
 use std::time::Instant;
 
@@ -202,8 +205,11 @@ pub fn solve_contact(
     let prescribed = rotated_dirichlet(dirichlet, &points);
     seconds.setup += clock.elapsed().as_secs_f64();
 
+    let clock = Instant::now();
+    let step_solver = StepSolver::new(&a, &prescribed, &options.solver)?;
+    seconds.factorization += clock.elapsed().as_secs_f64();
     let scale = length_scale(bodies);
-    let mut active: Vec<bool> = points.iter().map(|c| c.gap <= 1e-9 * scale).collect();
+    let mut active = initial_active_set(&points, interfaces.len(), 1e-9 * scale);
     let mut steps = Vec::new();
     let (x, mu) = loop {
         let mut fixed = prescribed.clone();
@@ -212,7 +218,7 @@ pub fn solve_contact(
         }
         let clock = Instant::now();
         let n_active = active.iter().filter(|&&on| on).count();
-        let (x, linear_iterations) = solve_step(&a, &b, &fixed, &options.solver).map_err(|e| match e {
+        let (x, linear_iterations) = step_solver.solve(&a, &b, &fixed).map_err(|e| match e {
             SolveError::Singular => GlueError::Contact(format!(
                 "active-set step {}: the system is singular with {n_active} active contact points; \
                  every body must be held by its supports, or touch (gap ≤ 0) another body from the start",
@@ -262,6 +268,18 @@ pub fn solve_contact(
         seconds,
     };
     Ok(ContactSolution { displacement, interfaces: solutions, report })
+}
+
+/// A₀: the points with g_p ≤ 0, and on each interface the points closest to
+/// the master (g_p within `tolerance` of the smallest gap), so that a body held
+/// only by the contact (force control) is held from the first step. A
+/// point activated wrongly gets μ_p < 0 and leaves in the next step.
+fn initial_active_set(points: &[ContactPoint], interfaces: usize, tolerance: f64) -> Vec<bool> {
+    let mut closest = vec![f64::INFINITY; interfaces];
+    for c in points {
+        closest[c.interface] = closest[c.interface].min(c.gap);
+    }
+    points.iter().map(|c| c.gap <= tolerance.max(closest[c.interface] + tolerance)).collect()
 }
 
 /// A length of the problem: the largest bounding-box diagonal of the bodies.
@@ -397,8 +415,8 @@ fn rotation(n: usize, points: &[ContactPoint]) -> CsrMatrix {
                 for &(q, t) in &c.t_row {
                     row.extend((0..3).map(|k| (q + k, nn[comp] * t * nn[k])));
                 }
+                // Zeros stay: whole 3 × 3 blocks keep the point graph for the ordering.
                 row.sort_unstable_by_key(|e| e.0);
-                row.retain(|e| e.1 != 0.0);
             }
         }
         p.indices.extend(row.iter().map(|e| e.0));
@@ -432,16 +450,29 @@ fn rotated_dirichlet(dirichlet: &Dirichlet, points: &[ContactPoint]) -> Dirichle
     out
 }
 
-/// One linear solve; returns x and the PCG iterations.
-fn solve_step(
-    a: &CsrMatrix,
-    b: &[f64],
-    fixed: &Dirichlet,
-    solver: &Solver,
-) -> Result<(Vec<f64>, usize), SolveError> {
-    match solver {
-        Solver::Direct => Ok((solve(a, b, fixed)?, 0)),
-        Solver::Pcg(options) => solve_pcg(a, b, fixed, options).map(|(x, r)| (x, r.iterations)),
+/// The linear solver of the active-set steps: one Cholesky analysis of PᵀKP
+/// for all steps (the active points' w_p enter as identity rows), or PCG.
+enum StepSolver {
+    Direct(Box<CholeskyAnalysis>),
+    Pcg(PcgOptions),
+}
+
+impl StepSolver {
+    fn new(a: &CsrMatrix, prescribed: &Dirichlet, solver: &Solver) -> Result<StepSolver, SolveError> {
+        Ok(match solver {
+            Solver::Direct => {
+                StepSolver::Direct(Box::new(CholeskyAnalysis::new(a, prescribed, &DirectOptions::default())?))
+            }
+            Solver::Pcg(options) => StepSolver::Pcg(*options),
+        })
+    }
+
+    /// x with the prescribed dofs of `fixed`, and the PCG iterations.
+    fn solve(&self, a: &CsrMatrix, b: &[f64], fixed: &Dirichlet) -> Result<(Vec<f64>, usize), SolveError> {
+        match self {
+            StepSolver::Direct(analysis) => Ok((analysis.solve(a, b, fixed)?.0, 0)),
+            StepSolver::Pcg(options) => solve_pcg(a, b, fixed, options).map(|(x, r)| (x, r.iterations)),
+        }
     }
 }
 

@@ -76,6 +76,10 @@ pub enum SolveError {
         /// The dof.
         dof: usize,
     },
+    /// A solve with a [`CholeskyAnalysis`] got another pattern of K, or left
+    /// an analysed prescribed dof free.
+    #[error("the matrix or the prescribed dofs do not match the analysed pattern")]
+    PatternChanged,
     /// The Cholesky factor (or its workspace) could not be allocated.
     #[error("out of memory for the sparse Cholesky factor")]
     OutOfMemory,
@@ -355,114 +359,185 @@ pub fn solve_direct(
     dirichlet: &Dirichlet,
     options: &DirectOptions,
 ) -> Result<(Vec<f64>, DirectReport), SolveError> {
-    let red = Reduced::new(k, f, dirichlet)?;
-    let (free, local) = (&red.free, &red.local);
-    let m = free.len();
-    let mut report = DirectReport { n_free: m, ..DirectReport::default() };
-    if m == 0 {
-        return Ok((red.u, report));
+    if k.ncols != k.nrows || f.len() != k.nrows {
+        return Err(SolveError::Dimension { nrows: k.nrows, ncols: k.ncols, f_len: f.len() });
     }
-    // Lower triangle of K_FF in CSC (column r = row free[r] of the symmetric K,
-    // entries at or below the diagonal), and r_F = f_F − K_FD ū_D.
-    let mut col_ptr = Vec::with_capacity(m + 1);
-    let mut row_idx = Vec::new();
-    let mut vals = Vec::new();
-    col_ptr.push(0usize);
-    for (r, &i) in free.iter().enumerate() {
-        let (cols, values) = k.row(i);
-        for (&j, &v) in cols.iter().zip(values) {
-            if local[j] != usize::MAX && local[j] >= r {
-                row_idx.push(local[j]);
-                vals.push(v);
+    CholeskyAnalysis::new(k, dirichlet, options)?.solve(k, f, dirichlet)
+}
+
+/// The ordering and symbolic factorisation of K_FF for one sparsity pattern of
+/// K and one set of prescribed dofs D, reusable for a sequence of solves with
+/// other values on that pattern and more prescribed dofs E ⊇ D (an active set):
+/// a dof of E \ D keeps its place in the pattern with an identity row and
+/// column (u_i = ū_i), so only the numeric factorisation is repeated.
+pub struct CholeskyAnalysis {
+    /// Rows of K.
+    n: usize,
+    /// Stored entries of K (the pattern must not change).
+    nnz: usize,
+    /// D.
+    fixed: Vec<bool>,
+    /// F = the dofs not in D with a stored row, ascending, and their reduced numbers.
+    free: Vec<usize>,
+    local: Vec<usize>,
+    /// Lower triangle of K_FF in CSC.
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    sym: SymbolicCholesky<usize>,
+    report: DirectReport,
+}
+
+impl CholeskyAnalysis {
+    /// Orders and analyses K_FF for the prescribed dofs of `dirichlet` (D).
+    ///
+    /// # Errors
+    /// [`SolveError::DofOutOfRange`], [`SolveError::NonFiniteValue`] for bad
+    /// conditions, [`SolveError::OutOfMemory`].
+    pub fn new(k: &CsrMatrix, dirichlet: &Dirichlet, options: &DirectOptions) -> Result<Self, SolveError> {
+        let red = Reduced::new(k, &vec![0.0; k.nrows], dirichlet)?;
+        let m = red.free.len();
+        let mut col_ptr = Vec::with_capacity(m + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0usize);
+        for (r, &i) in red.free.iter().enumerate() {
+            let (cols, _) = k.row(i);
+            row_idx.extend(cols.iter().map(|&j| red.local[j]).filter(|&l| l != usize::MAX && l >= r));
+            col_ptr.push(row_idx.len());
+        }
+        let mut report = DirectReport { n_free: m, ..DirectReport::default() };
+        let clock = Instant::now();
+        let custom = match options.ordering {
+            FillOrdering::DofAmd => None,
+            method if m > 0 => {
+                let (perm, blocks) = reduced_ordering(k, &red, method);
+                report.point_blocks = blocks;
+                let inv = ordering::inverse(&perm);
+                Some((perm, inv))
+            }
+            _ => None,
+        };
+        report.ordering_seconds = clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        let ord = match &custom {
+            None => SymmetricOrdering::Amd,
+            Some((fwd, inv)) => SymmetricOrdering::Custom(PermRef::new_checked(fwd, inv, m)),
+        };
+        let symbolic = SymbolicSparseColMatRef::new_checked(m, m, &col_ptr, None, &row_idx);
+        let sym = factorize_symbolic_cholesky(symbolic, Side::Lower, ord, CholeskySymbolicParams::default())
+            .map_err(|_| SolveError::OutOfMemory)?;
+        drop(custom);
+        report.symbolic_seconds = clock.elapsed().as_secs_f64();
+        report.nnz_l = sym.len_val();
+        (report.flops, report.largest_supernode) = factor_flops(&sym);
+        report.supernodal = matches!(sym.raw(), SymbolicCholeskyRaw::Supernodal(_));
+        let Reduced { fixed, free, local, .. } = red;
+        Ok(CholeskyAnalysis { n: k.nrows, nnz: k.nnz(), fixed, free, local, col_ptr, row_idx, sym, report })
+    }
+
+    /// Solves K u = f with the prescribed dofs of `dirichlet` (E ⊇ D), K with
+    /// the analysed pattern; the report includes the analysis phases.
+    ///
+    /// # Errors
+    /// [`SolveError::PatternChanged`] when K does not have the analysed pattern,
+    /// or a dof of D is not prescribed; otherwise as [`solve`].
+    pub fn solve(
+        &self,
+        k: &CsrMatrix,
+        f: &[f64],
+        dirichlet: &Dirichlet,
+    ) -> Result<(Vec<f64>, DirectReport), SolveError> {
+        let red = Reduced::new(k, f, dirichlet)?;
+        if k.nrows != self.n || k.nnz() != self.nnz || (0..self.n).any(|i| self.fixed[i] && !red.fixed[i]) {
+            return Err(SolveError::PatternChanged);
+        }
+        let (free, local) = (&self.free, &self.local);
+        let m = free.len();
+        let mut report = self.report.clone();
+        if m == 0 {
+            return Ok((red.u, report));
+        }
+        // Extra prescribed dofs (E \ D) get identity rows and columns.
+        let extra = |i: usize| red.fixed[i];
+        let mut vals = Vec::with_capacity(self.row_idx.len());
+        for (r, &i) in free.iter().enumerate() {
+            let (cols, values) = k.row(i);
+            for (&j, &v) in cols.iter().zip(values) {
+                if local[j] != usize::MAX && local[j] >= r {
+                    vals.push(match (extra(i), extra(j)) {
+                        (false, false) => v,
+                        _ if i == j => 1.0,
+                        _ => 0.0,
+                    });
+                }
             }
         }
-        col_ptr.push(row_idx.len());
-    }
-    let mut rhs = Mat::<f64>::zeros(m, 2);
-    for (r, b) in red.rhs(k, f).into_iter().enumerate() {
-        rhs[(r, 0)] = b;
-    }
-    // The probe z and K_FF z (second column), from the full rows of K.
-    let z: Vec<f64> = (0..m).map(probe).collect();
-    for (r, &i) in free.iter().enumerate() {
-        let (cols, values) = k.row(i);
-        rhs[(r, 1)] = cols
-            .iter()
-            .zip(values)
-            .filter(|(&j, _)| local[j] != usize::MAX)
-            .map(|(&j, &v)| v * z[local[j]])
-            .sum();
-    }
-    let symbolic = SymbolicSparseColMatRef::new_checked(m, m, &col_ptr, None, &row_idx);
-    let kff = SparseColMatRef::new(symbolic, &vals);
-
-    let clock = Instant::now();
-    let custom = match options.ordering {
-        FillOrdering::DofAmd => None,
-        method => {
-            let (perm, blocks) = reduced_ordering(k, &red, method);
-            report.point_blocks = blocks;
-            let inv = ordering::inverse(&perm);
-            Some((perm, inv))
+        debug_assert_eq!(vals.len(), self.row_idx.len());
+        let mut rhs = Mat::<f64>::zeros(m, 2);
+        let b = red.rhs(k, f);
+        // The probe z and A z (second column), A the modified K_FF.
+        let z: Vec<f64> = (0..m).map(probe).collect();
+        for (r, &i) in free.iter().enumerate() {
+            if extra(i) {
+                (rhs[(r, 0)], rhs[(r, 1)]) = (red.u[i], z[r]);
+                continue;
+            }
+            rhs[(r, 0)] = b[red.local[i]];
+            let (cols, values) = k.row(i);
+            rhs[(r, 1)] = cols
+                .iter()
+                .zip(values)
+                .filter(|(&j, _)| local[j] != usize::MAX && !extra(j))
+                .map(|(&j, &v)| v * z[local[j]])
+                .sum();
         }
-    };
-    report.ordering_seconds = clock.elapsed().as_secs_f64();
-    let clock = Instant::now();
-    let ord = match &custom {
-        None => SymmetricOrdering::Amd,
-        Some((fwd, inv)) => SymmetricOrdering::Custom(PermRef::new_checked(fwd, inv, m)),
-    };
-    let sym = factorize_symbolic_cholesky(symbolic, Side::Lower, ord, CholeskySymbolicParams::default())
-        .map_err(|_| SolveError::OutOfMemory)?;
-    drop(custom);
-    report.symbolic_seconds = clock.elapsed().as_secs_f64();
-    report.nnz_l = sym.len_val();
-    (report.flops, report.largest_supernode) = factor_flops(&sym);
-    report.supernodal = matches!(sym.raw(), SymbolicCholeskyRaw::Supernodal(_));
+        let symbolic = SymbolicSparseColMatRef::new_checked(m, m, &self.col_ptr, None, &self.row_idx);
+        let kff = SparseColMatRef::new(symbolic, &vals);
 
-    let clock = Instant::now();
-    let par = if rayon::current_num_threads() > 1 { Par::rayon(0) } else { Par::Seq };
-    let mut l_values = Vec::new();
-    l_values.try_reserve_exact(sym.len_val()).map_err(|_| SolveError::OutOfMemory)?;
-    l_values.resize(sym.len_val(), 0.0f64);
-    let scratch = sym
-        .factorize_numeric_llt_scratch::<f64>(par, Default::default())
-        .or(sym.solve_in_place_scratch::<f64>(2, par));
-    let mut mem = MemBuffer::try_new(scratch).map_err(|_| SolveError::OutOfMemory)?;
-    let stack = MemStack::new(&mut mem);
-    let llt = sym
-        .factorize_numeric_llt(
-            &mut l_values,
-            kff,
-            Side::Lower,
-            Default::default(),
-            par,
-            stack,
-            Default::default(),
-        )
-        .map_err(|_| SolveError::Singular)?;
-    report.numeric_seconds = clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        let par = if rayon::current_num_threads() > 1 { Par::rayon(0) } else { Par::Seq };
+        let sym = &self.sym;
+        let mut l_values = Vec::new();
+        l_values.try_reserve_exact(sym.len_val()).map_err(|_| SolveError::OutOfMemory)?;
+        l_values.resize(sym.len_val(), 0.0f64);
+        let scratch = sym
+            .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+            .or(sym.solve_in_place_scratch::<f64>(2, par));
+        let mut mem = MemBuffer::try_new(scratch).map_err(|_| SolveError::OutOfMemory)?;
+        let stack = MemStack::new(&mut mem);
+        let llt = sym
+            .factorize_numeric_llt(
+                &mut l_values,
+                kff,
+                Side::Lower,
+                Default::default(),
+                par,
+                stack,
+                Default::default(),
+            )
+            .map_err(|_| SolveError::Singular)?;
+        report.numeric_seconds = clock.elapsed().as_secs_f64();
 
-    let clock = Instant::now();
-    llt.solve_in_place_with_conj(Conj::No, rhs.as_mut(), par, stack);
-    report.solve_seconds = clock.elapsed().as_secs_f64();
-    let (mut err, mut size) = (0.0f64, 0.0f64);
-    for r in 0..m {
-        err = err.max((rhs[(r, 1)] - z[r]).abs());
-        size = size.max(z[r].abs());
+        let clock = Instant::now();
+        llt.solve_in_place_with_conj(Conj::No, rhs.as_mut(), par, stack);
+        report.solve_seconds = clock.elapsed().as_secs_f64();
+        let (mut err, mut size) = (0.0f64, 0.0f64);
+        for r in 0..m {
+            err = err.max((rhs[(r, 1)] - z[r]).abs());
+            size = size.max(z[r].abs());
+        }
+        // NaN (a failed factorisation) counts as singular too.
+        if err.is_nan() || err > SINGULAR_PROBE_RTOL * size {
+            return Err(SolveError::Singular);
+        }
+        let mut u = red.u;
+        for (r, &i) in free.iter().enumerate() {
+            u[i] = rhs[(r, 0)];
+        }
+        if u.iter().any(|v| !v.is_finite()) {
+            return Err(SolveError::Singular);
+        }
+        Ok((u, report))
     }
-    // NaN (a failed factorisation) counts as singular too.
-    if err.is_nan() || err > SINGULAR_PROBE_RTOL * size {
-        return Err(SolveError::Singular);
-    }
-    let mut u = red.u;
-    for (r, &i) in free.iter().enumerate() {
-        u[i] = rhs[(r, 0)];
-    }
-    if u.iter().any(|v| !v.is_finite()) {
-        return Err(SolveError::Singular);
-    }
-    Ok((u, report))
 }
 
 /// Σ_j c_j² over the column counts of L, and the widest supernode.
@@ -555,6 +630,25 @@ mod tests {
         bc.fix(grid.point(n, 0, 0), [None, Some(0.01), None]);
         bc.fix(grid.point(n, n + 1, n), [Some(-0.02), None, Some(0.0)]);
         (k, f, bc)
+    }
+
+    #[test]
+    fn one_analysis_serves_more_prescribed_dofs_and_new_values() {
+        let (mut k, f, bc) = block_problem(5);
+        let analysis = CholeskyAnalysis::new(&k, &bc, &DirectOptions::default()).unwrap();
+        let mut more = bc.clone();
+        more.fix(40, [Some(0.003), None, Some(-0.001)]).fix(77, [None, Some(0.002), None]);
+        for v in k.values.iter_mut() {
+            *v *= 1.5;
+        }
+        let (u, _) = analysis.solve(&k, &f, &more).unwrap();
+        let reference = solve(&k, &f, &more).unwrap();
+        let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let err = u.iter().zip(&reference).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(err <= 1e-12 * scale, "{err:e} vs {scale:e}");
+        // A dof of the analysed set must stay prescribed.
+        let fewer = Dirichlet::new();
+        assert_eq!(analysis.solve(&k, &f, &fewer).unwrap_err(), SolveError::PatternChanged);
     }
 
     #[test]

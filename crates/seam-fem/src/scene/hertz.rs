@@ -1,0 +1,242 @@
+//! Hertz contact: an elastic indenter with a spherical face pressed on an
+//! elastic block, force-controlled, against the analytic solution.
+
+use crate::generate::{block, BlockKind, Grid, Side};
+use crate::material::Material;
+use crate::problem::{Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
+use seam::{Facing, MaxGap, MeshError, MortarOptions, Multiplier, Point3, VolumeMesh};
+
+/// Parameters of [`hertz`]. Lengths in units of the sphere radius R.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hertz {
+    /// R.
+    pub radius: f64,
+    /// The analytic contact radius a; the force is F = 4E*a³/(3R).
+    pub contact_radius: f64,
+    /// Slave (block) cells across the fine zone [0, 1.5a] of each symmetry
+    /// axis: the slave element size near the contact is 1.5a / `fine_cells`.
+    pub fine_cells: usize,
+    /// Master (indenter) cells across its fine zone, relative to the slave's
+    /// (non-matching meshes).
+    pub master_ratio: f64,
+    /// The indenter's material.
+    pub indenter: Material,
+    /// The block's material.
+    pub block: Material,
+    /// The multiplier (lumped or dual).
+    pub multiplier: Multiplier,
+}
+
+impl Default for Hertz {
+    /// R = 1, a = 0.08 R, 8 slave cells across 1.5a, the master 1.3× finer;
+    /// indenter E = 2000, ν = 0.3 on a block E = 1000, ν = 0.25; lumped D.
+    fn default() -> Self {
+        Hertz {
+            radius: 1.0,
+            contact_radius: 0.08,
+            fine_cells: 8,
+            master_ratio: 1.3,
+            indenter: Material::new(2000.0, 0.3).expect("valid constants"),
+            block: Material::new(1000.0, 0.25).expect("valid constants"),
+            multiplier: Multiplier::Lumped,
+        }
+    }
+}
+
+impl Hertz {
+    /// 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂.
+    pub fn effective_modulus(&self) -> f64 {
+        let compliance = |m: &Material| (1.0 - m.poisson().powi(2)) / m.young();
+        1.0 / (compliance(&self.indenter) + compliance(&self.block))
+    }
+
+    /// The total force F = 4E*a³/(3R) (a³ = 3FR/(4E*)); the quarter model
+    /// carries F/4.
+    pub fn force(&self) -> f64 {
+        4.0 * self.effective_modulus() * self.contact_radius.powi(3) / (3.0 * self.radius)
+    }
+
+    /// The peak pressure p₀ = 3F/(2πa²).
+    pub fn peak_pressure(&self) -> f64 {
+        3.0 * self.force() / (2.0 * std::f64::consts::PI * self.contact_radius.powi(2))
+    }
+
+    /// Hertz's pressure p(r) = p₀ √(1 − r²/a²) (zero beyond a).
+    pub fn pressure(&self, r: f64) -> f64 {
+        let s = 1.0 - (r / self.contact_radius).powi(2);
+        if s > 0.0 {
+            self.peak_pressure() * s.sqrt()
+        } else {
+            0.0
+        }
+    }
+
+    /// The block's half-width and depth, W = H = 12.5a (≥ 10a).
+    pub fn block_size(&self) -> f64 {
+        12.5 * self.contact_radius
+    }
+
+    /// The indenter's half-width L = R/2 and height 0.6R above the pole.
+    fn indenter_size(&self) -> (f64, f64) {
+        (0.5 * self.radius, 0.6 * self.radius)
+    }
+
+    /// The slave element size in the fine zone, 1.5a / `fine_cells`.
+    pub fn slave_size(&self) -> f64 {
+        1.5 * self.contact_radius / self.fine_cells as f64
+    }
+
+    /// The spherical face z = R − √(R² − x² − y²).
+    fn sphere(&self, x: f64, y: f64) -> f64 {
+        self.radius - (self.radius.powi(2) - x * x - y * y).sqrt()
+    }
+}
+
+/// Grid coordinates on [0, length]: `fine` equal cells of size h on
+/// [0, fine_len], then cells growing geometrically from h to fill the rest
+/// (the ratio chosen so the sizes never shrink and stay below 1.25×).
+fn graded(length: f64, fine_len: f64, fine: usize) -> Vec<f64> {
+    let h = fine_len / fine as f64;
+    let mut x: Vec<f64> = (0..=fine).map(|i| i as f64 * h).collect();
+    let rest = length - fine_len;
+    // The fewest cells k with ratio q ≤ 1.25: h (q^k − 1)/(q − 1) = rest.
+    let k = ((1.0 + rest * 0.25 / h).ln() / 1.25f64.ln()).ceil().max(1.0) as usize;
+    let sum = |q: f64| h * (1..=k).map(|i| q.powi(i as i32)).sum::<f64>();
+    let (mut lo, mut hi) = (1.0, 1.25);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if sum(mid) < rest {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let q = 0.5 * (lo + hi);
+    let mut step = h;
+    for _ in 0..k {
+        step *= q;
+        x.push(x.last().unwrap() + step);
+    }
+    *x.last_mut().unwrap() = length;
+    x
+}
+
+/// A structured hex block on the tensor grid `xs × ys × ws` (ws on [0, 1]),
+/// each grid point mapped by `map(x, y, w)`.
+fn tensor_block(xs: &[f64], ws: &[f64], map: impl Fn(f64, f64, f64) -> Point3) -> (VolumeMesh, Grid) {
+    let (n, nz) = (xs.len() - 1, ws.len() - 1);
+    let at = |coords: &[f64], t: f64, cells: usize| coords[(t * cells as f64).round() as usize];
+    let mesh = block(n, n, nz, |u, v, w| map(at(xs, u, n), at(xs, v, n), at(ws, w, nz)), BlockKind::Hex);
+    (mesh, Grid::new(n, n, nz))
+}
+
+/// The named sides of a quarter-model body: bottom, top, and the symmetry
+/// planes x0 (x = 0) and y0 (y = 0).
+fn sides(mesh: &VolumeMesh, grid: &Grid) -> Result<Vec<(String, seam::SurfaceMesh)>, MeshError> {
+    [("bottom", Side::ZMin), ("top", Side::ZMax), ("x0", Side::XMin), ("y0", Side::YMin)]
+        .into_iter()
+        .map(|(name, side)| Ok((name.to_string(), grid.side_faces(mesh, side)?)))
+        .collect()
+}
+
+/// The Hertz problem, a quarter model (symmetry planes x = 0 and y = 0):
+///
+/// - body "indenter" (master, surfaces "bottom" = the sphere
+///   z = R − √(R² − x² − y²), "top" at z = 0.6R, "x0", "y0") over
+///   [0, R/2]², loaded on top by the uniform traction −F/(4 (R/2)²) e₃ and held
+///   only by the contact (and the symmetry planes);
+/// - body "block" (slave, "top" at z = 0, "bottom" at z = −W, "x0", "y0") over
+///   [0, W]² × [−W, 0], W = 12.5a, clamped at the bottom;
+/// - both meshed with hexahedra, uniform on [0, 1.5a] in x, y and z near
+///   the pole and geometrically coarser beyond; the meshes do not match.
+///
+/// The block's top is the slave side: its normals are exact, and the contact
+/// pressure lives on it.
+///
+/// # Errors
+/// [`MeshError`] only for degenerate parameters.
+pub fn hertz(p: &Hertz) -> Result<Problem, MeshError> {
+    let a = p.contact_radius;
+    let w = p.block_size();
+    let xs = graded(w, 1.5 * a, p.fine_cells);
+    let depth: Vec<f64> = graded(w, 1.5 * a, p.fine_cells).iter().rev().map(|z| 1.0 - z / w).collect();
+    let (slab, slab_grid) = tensor_block(&xs, &depth, |x, y, t| [x, y, -w * (1.0 - t)]);
+
+    let (l, h) = p.indenter_size();
+    let fine = ((p.fine_cells as f64) * p.master_ratio).round() as usize;
+    let xm = graded(l, 1.5 * a, fine);
+    let up: Vec<f64> = graded(h, 1.5 * a, fine).iter().map(|z| z / h).collect();
+    let (ball, ball_grid) = tensor_block(&xm, &up, |x, y, t| {
+        let z = p.sphere(x, y);
+        [x, y, z + (h - z) * t]
+    });
+
+    let bodies = vec![
+        ProblemBody {
+            name: "indenter".into(),
+            surfaces: sides(&ball, &ball_grid)?,
+            mesh: ball,
+            material: p.indenter,
+            body_force: [0.0; 3],
+        },
+        ProblemBody {
+            name: "block".into(),
+            surfaces: sides(&slab, &slab_grid)?,
+            mesh: slab,
+            material: p.block,
+            body_force: [0.0; 3],
+        },
+    ];
+    let id = |body, surface| SurfaceId { body, surface };
+    let (bottom, top, x0, y0) = (0, 1, 2, 3);
+    let (indenter, slab) = (0, 1);
+    let options = MortarOptions {
+        multiplier: p.multiplier,
+        facing: Facing::Opposite,
+        max_gap: MaxGap::Absolute(a),
+        ..MortarOptions::default()
+    };
+    let mut supports = vec![Support { boundary: id(slab, bottom), values: [Some(0.0); 3] }];
+    for body in [indenter, slab] {
+        supports.push(Support { boundary: id(body, x0), values: [Some(0.0), None, None] });
+        supports.push(Support { boundary: id(body, y0), values: [None, Some(0.0), None] });
+    }
+    let pressure = p.force() / (4.0 * l * l);
+    Ok(Problem {
+        bodies,
+        interfaces: vec![],
+        contacts: vec![ProblemInterface { master: id(indenter, bottom), slave: id(slab, top), options }],
+        supports,
+        loads: vec![Load { boundary: id(indenter, top), t: [0.0, 0.0, -pressure] }],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn graded_coordinates_are_uniform_then_growing() {
+        let x = graded(1.0, 0.12, 8);
+        assert_eq!(x[0], 0.0);
+        assert_eq!(*x.last().unwrap(), 1.0);
+        let h: Vec<f64> = x.windows(2).map(|s| s[1] - s[0]).collect();
+        assert!(h[..8].iter().all(|&d| (d - 0.015).abs() < 1e-15));
+        assert!(h.windows(2).all(|s| s[1] >= s[0] * (1.0 - 1e-12) && s[1] <= 1.25 * s[0] * (1.0 + 1e-12)));
+    }
+
+    #[test]
+    fn analytic_values_satisfy_hertz() {
+        let p = Hertz::default();
+        let a = (3.0 * p.force() * p.radius / (4.0 * p.effective_modulus())).cbrt();
+        assert!((a - p.contact_radius).abs() < 1e-15);
+        // ∫ p dA = F.
+        let n = 20000;
+        let dr = p.contact_radius / n as f64;
+        let total: f64 = (0..n)
+            .map(|i| (i as f64 + 0.5) * dr)
+            .map(|r| p.pressure(r) * 2.0 * std::f64::consts::PI * r * dr)
+            .sum();
+        assert!((total / p.force() - 1.0).abs() < 1e-6);
+    }
+}
