@@ -1,5 +1,5 @@
 //! Case files of `seam solve CASE.toml`: several linear-elastic bodies, glued
-//! (or, later, in contact) through interfaces, with Dirichlet conditions and
+//! or in frictionless contact through interfaces, with Dirichlet conditions and
 //! tractions on named boundaries.
 //!
 //! ```toml
@@ -14,9 +14,15 @@
 //! [[interface]]         # surfaces are named "body:physical-surface"
 //! master = "lower:top"
 //! slave = "upper:bottom"
-//! kind = "glue"
-//! multiplier = "standard"        # or "dual", "lumped"
-//! max_gap = 0.01                 # optional (default: half the diameter of each slave face)
+//! kind = "glue"                  # or "contact" (frictionless, no penetration)
+//! multiplier = "standard"        # or "dual", "lumped"; default "standard" for glue,
+//!                                # "lumped" for contact (which takes "lumped" or "dual")
+//! max_gap = 0.01                 # optional (default: half the diameter of each slave face);
+//!                                # for contact, slave points farther from the master than
+//!                                # this are never checked for contact
+//!
+//! [contact]             # optional: the active-set method of contact cases
+//! max_iterations = 50   # the default: the most active-set steps before giving up
 //!
 //! [[dirichlet]]         # any subset of ux, uy, uz
 //! boundary = "lower:bottom"
@@ -30,9 +36,13 @@
 //! dir = "out"           # the default
 //! ```
 //!
-//! Everything that can be checked without solving is checked by [`Case::read`],
-//! before any heavy work: names, references, material ranges, and that every
-//! body is held by a Dirichlet condition, directly or through glued neighbours.
+//! The interfaces of a case are all glue or all contact (mixing them is not
+//! supported yet). Everything that can be checked without solving is checked by
+//! [`Case::read`], before any heavy work: names, references, material ranges,
+//! multipliers, and that every body is held by a Dirichlet condition, directly or
+//! through its interfaces (glued or in contact: a body held only by contact is
+//! legitimate, e.g. a loaded indenter; if nothing presses it on, the contact
+//! solve reports a singular step).
 
 use anyhow::{anyhow, bail, Context, Result};
 use serde::Deserialize;
@@ -53,6 +63,9 @@ pub struct Case {
     pub traction: Vec<Traction>,
     #[serde(default)]
     pub output: Output,
+    /// Settings of the contact solve (used when the case has contact interfaces).
+    #[serde(default)]
+    pub contact: ContactSettings,
     /// The directory of the case file: meshes and outputs are relative to it.
     #[serde(skip)]
     pub base: PathBuf,
@@ -78,10 +91,9 @@ pub enum InterfaceKind {
     Contact,
 }
 
-#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum CaseMultiplier {
-    #[default]
     Standard,
     Dual,
     Lumped,
@@ -93,8 +105,9 @@ pub struct Interface {
     pub master: String,
     pub slave: String,
     pub kind: InterfaceKind,
-    #[serde(default)]
-    pub multiplier: CaseMultiplier,
+    /// As written; [`Interface::multiplier`] applies the default of the kind.
+    #[serde(rename = "multiplier")]
+    pub multiplier_given: Option<CaseMultiplier>,
     /// Largest normal distance between paired points (default: half a slave face).
     pub max_gap: Option<f64>,
 }
@@ -139,10 +152,37 @@ impl Default for Output {
     }
 }
 
+/// The `[contact]` table.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSettings {
+    /// The most active-set steps.
+    #[serde(default = "default_max_iterations")]
+    pub max_iterations: usize,
+}
+
+fn default_max_iterations() -> usize {
+    seam_fem::contact::ContactOptions::default().max_iterations
+}
+
+impl Default for ContactSettings {
+    fn default() -> Self {
+        ContactSettings { max_iterations: default_max_iterations() }
+    }
+}
+
 impl Interface {
     /// The interface's name in messages: "slave → master".
     pub fn describe(&self, index: usize) -> String {
         format!("interface {} ({} → {})", index + 1, self.slave, self.master)
+    }
+
+    /// The multiplier: as written, else "standard" for glue and "lumped" for contact.
+    pub fn multiplier(&self) -> CaseMultiplier {
+        self.multiplier_given.unwrap_or(match self.kind {
+            InterfaceKind::Glue => CaseMultiplier::Standard,
+            InterfaceKind::Contact => CaseMultiplier::Lumped,
+        })
     }
 }
 
@@ -174,6 +214,11 @@ impl Case {
         case.base = path.parent().map(Path::to_path_buf).unwrap_or_default();
         case.check().map_err(|e| anyhow!("{}: {e:#}", path.display()))?;
         Ok(case)
+    }
+
+    /// Whether the interfaces are contact interfaces (a case does not mix kinds).
+    pub fn is_contact(&self) -> bool {
+        self.interfaces.iter().any(|f| f.kind == InterfaceKind::Contact)
     }
 
     /// A path of the case (relative to the case file's directory).
@@ -238,14 +283,20 @@ impl Case {
             if let Some(j) = slaves.insert((s.body.clone(), s.surface.clone()), i) {
                 bail!("{what}: {} is already the slave side of interface {}", f.slave, j + 1);
             }
-            if f.kind == InterfaceKind::Contact {
-                bail!("{what}: kind = \"contact\" is not supported yet (only \"glue\")");
+            if f.kind == InterfaceKind::Contact && f.multiplier() == CaseMultiplier::Standard {
+                bail!("{}: contact needs multiplier \"lumped\" (the default) or \"dual\"", f.describe(i));
             }
             if let Some(g) = f.max_gap {
                 if !(g.is_finite() && g >= 0.0) {
                     bail!("{what}: max_gap = {g} must be a non-negative length");
                 }
             }
+        }
+        if self.is_contact() && self.interfaces.iter().any(|f| f.kind == InterfaceKind::Glue) {
+            bail!("glued and contact interfaces in one case are not supported yet");
+        }
+        if self.contact.max_iterations == 0 {
+            bail!("[contact]: max_iterations must be at least 1");
         }
         for (i, d) in self.dirichlet.iter().enumerate() {
             let what = format!("dirichlet {}", i + 1);
@@ -267,9 +318,10 @@ impl Case {
         self.check_held()
     }
 
-    /// Every body must be held against rigid motion: some body of its glued
-    /// group needs a Dirichlet condition on all three components (a necessary
-    /// condition; the factorisation detects the rest).
+    /// Every body must be held against rigid motion: some body of its group
+    /// (bodies connected by interfaces, glued or in contact) needs a Dirichlet
+    /// condition on each of the three components (a necessary condition; the
+    /// factorisation detects the rest, for contact in each active-set step).
     fn check_held(&self) -> Result<()> {
         let index: BTreeMap<&str, usize> =
             self.bodies.iter().enumerate().map(|(i, b)| (b.name.as_str(), i)).collect();
@@ -293,11 +345,12 @@ impl Case {
                 held[r][k] = true;
             }
         }
+        let neighbour = if self.is_contact() { "in contact with it" } else { "glued to it" };
         for (i, b) in self.bodies.iter().enumerate() {
             let r = root(&mut group, i);
             if let Some(k) = (0..3).find(|&k| !held[r][k]) {
                 bail!(
-                    "body \"{}\" can move freely along {} (no Dirichlet condition on {} in it or in a body glued to it): \
+                    "body \"{}\" can move freely along {} (no Dirichlet condition on {} in it or in a body {neighbour}): \
                      the problem is singular",
                     b.name,
                     ["x", "y", "z"][k],
@@ -359,7 +412,9 @@ dir = "out"
         let tmp = tempfile::tempdir().unwrap();
         let c = case(tmp.path(), GOOD).unwrap();
         assert_eq!(c.bodies.len(), 2);
-        assert_eq!(c.interfaces[0].multiplier, CaseMultiplier::Dual);
+        assert_eq!(c.interfaces[0].multiplier(), CaseMultiplier::Dual);
+        assert!(!c.is_contact());
+        assert_eq!(c.contact.max_iterations, 50);
         assert_eq!(c.dirichlet[0].components(), vec![(0, 0.0), (1, 0.0), (2, 0.0)]);
         assert_eq!(c.resolve(Path::new("a.msh")), tmp.path().join("a.msh"));
     }
@@ -378,11 +433,44 @@ dir = "out"
             (GOOD.replace("kind = \"glue\"", "kind = \"weld\""), "unknown variant `weld`"),
             (GOOD.replace("young = 1.0e3", "youngs = 1.0e3"), "unknown field `youngs`"),
             (GOOD.replace("name = \"upper\"", "name = \"lower\""), "body \"lower\" is defined twice"),
+            (
+                GOOD.replace("kind = \"glue\"\nmultiplier = \"dual\"", "kind = \"contact\"\nmultiplier = \"standard\""),
+                "interface 1 (upper:bottom → lower:top): contact needs multiplier \"lumped\" (the default) or \"dual\"",
+            ),
+            (
+                GOOD.replace("kind = \"glue\"", "kind = \"contact\"").replace(
+                    "[output]",
+                    "[[interface]]\nmaster = \"lower:side\"\nslave = \"upper:side\"\nkind = \"glue\"\n\n[output]",
+                ),
+                "glued and contact interfaces in one case are not supported yet",
+            ),
+            (GOOD.replace("[output]", "[contact]\nmax_iteration = 5\n\n[output]"), "unknown field `max_iteration`"),
+            (GOOD.replace("[output]", "[contact]\nmax_iterations = 0\n\n[output]"), "max_iterations must be at least 1"),
+            (
+                GOOD.replace("kind = \"glue\"", "kind = \"contact\"").replace("ux = 0.0\n", ""),
+                "(no Dirichlet condition on ux in it or in a body in contact with it)",
+            ),
         ];
         for (text, message) in cases {
             let err = format!("{:#}", case(tmp.path(), &text).unwrap_err());
             assert!(err.contains(message), "expected '{message}' in: {err}");
             assert!(err.contains("case.toml"), "the error names the file: {err}");
         }
+    }
+
+    #[test]
+    fn contact_defaults_to_lumped_and_reads_its_table() {
+        let tmp = tempfile::tempdir().unwrap();
+        let text = GOOD
+            .replace("kind = \"glue\"\nmultiplier = \"dual\"", "kind = \"contact\"")
+            .replace("[output]", "[contact]\nmax_iterations = 7\n\n[output]");
+        // The upper body has no Dirichlet condition: it is held through the contact.
+        let c = case(tmp.path(), &text).unwrap();
+        assert!(c.is_contact());
+        assert_eq!(c.interfaces[0].multiplier(), CaseMultiplier::Lumped);
+        assert_eq!(c.contact.max_iterations, 7);
+        // Glue keeps its default.
+        let c = case(tmp.path(), &GOOD.replace("multiplier = \"dual\"\n", "")).unwrap();
+        assert_eq!(c.interfaces[0].multiplier(), CaseMultiplier::Standard);
     }
 }

@@ -1,5 +1,6 @@
 //! `seam solve CASE.toml`: linear-elastic bodies glued by mortar across
-//! non-matching interfaces (the case schema is in [`crate::case`]).
+//! non-matching interfaces, or in frictionless contact through them (the case
+//! schema is in [`crate::case`]).
 //!
 //! Order of work: the case is read and checked ([`Case::read`]); the output
 //! files are checked (none exists unless `--force`, the directory is
@@ -17,23 +18,31 @@
 //!   n the slave's outward nodal normal: negative is compression),
 //!   `tangential_traction` (3, t − (t·n)n), `normal` (3), `displacement` (3),
 //!   `constrained` (1 where the interface constrains the point, else 0) and
-//!   `body_point` (the point's 0-based index in the body's mesh).
-//! - `<dir>/summary.json` (written last).
+//!   `body_point` (the point's 0-based index in the body's mesh). For a
+//!   contact interface `traction` is −λ n, `normal` the normal of the contact
+//!   constraint, `constrained` 1 at the contact points, and there are also
+//!   `contact_pressure` (λ ≥ 0), `gap` (after deformation, ≥ 0), `initial_gap`
+//!   (both NaN where the point is no contact point) and `active` (1 where the
+//!   point is in contact at the solution, else 0).
+//! - `<dir>/summary.json` (written last); for a contact case with a `contact`
+//!   object: active-set steps, active points, forces, KKT residuals.
 //!
 //! Names in file names keep letters, digits, `-`, `_` and `.`; any other
 //! character becomes `_`.
 
 use crate::args::{SolveArgs, SolverArg};
-use crate::case::{Case, CaseMultiplier, SurfaceRef};
+use crate::case::{Case, CaseMultiplier, InterfaceKind, SurfaceRef};
 use crate::output::Staged;
 use crate::Failure;
 use anyhow::{anyhow, Context};
 use rayon::prelude::*;
-use seam::{Face, Facing, MaxGap, MortarOptions, MortarSummary, Multiplier, Point3, SurfaceMesh};
+use seam::{Face, Facing, MaxGap, Mortar, MortarOptions, MortarSummary, Multiplier, Point3, SurfaceMesh};
+use seam_fem::contact::{ContactInterfaceSolution, ContactOptions, ContactReport};
+use seam_fem::glue::{GlueReport, InterfaceSolution, Timings};
 use seam_fem::pcg::PcgOptions;
 use seam_fem::{
-    recover_stresses, GlueError, GluedSolution, Load, Material, Problem, ProblemBody, ProblemInterface,
-    Solver, Stresses, Support, SurfaceId,
+    recover_stresses, GlueError, Load, Material, Problem, ProblemBody, ProblemInterface, Solver, Stresses,
+    Support, SurfaceId,
 };
 use seam_io::Field;
 use serde::Serialize;
@@ -48,11 +57,71 @@ pub struct Solved {
     /// The bodies, interfaces, supports and loads, as read.
     pub problem: Problem,
     /// Displacements, multipliers and the solver's report.
-    pub solution: GluedSolution,
+    pub solution: Solution,
     /// Per interface: the slave surface and its tractions.
     pub interfaces: Vec<InterfaceResult>,
     /// What `summary.json` holds.
     pub summary: Summary,
+}
+
+/// The solution of a case, glued or contact.
+pub struct Solution {
+    /// Per body: displacements, 3 per mesh point.
+    pub displacement: Vec<Vec<f64>>,
+    /// The interfaces' solution and the solver's report.
+    pub coupling: Coupling,
+}
+
+/// What the interfaces of a case carry: all glue or all contact.
+pub enum Coupling {
+    /// Glued interfaces ([`seam_fem::solve_glued`]).
+    Glue { interfaces: Vec<InterfaceSolution>, report: GlueReport },
+    /// Contact interfaces ([`seam_fem::solve_contact`]).
+    Contact { interfaces: Vec<ContactInterfaceSolution>, report: ContactReport },
+}
+
+impl Solution {
+    /// Solves `problem` (its glued or its contact interfaces, per `case`).
+    fn of(problem: &Problem, case: &Case, solver: Solver) -> Result<Solution, GlueError> {
+        if case.is_contact() {
+            let options = ContactOptions { solver, max_iterations: case.contact.max_iterations };
+            let s = problem.solve_contact(&options)?;
+            let coupling = Coupling::Contact { interfaces: s.interfaces, report: s.report };
+            Ok(Solution { displacement: s.displacement, coupling })
+        } else {
+            let s = problem.solve(solver)?;
+            let coupling = Coupling::Glue { interfaces: s.interfaces, report: s.report };
+            Ok(Solution { displacement: s.displacement, coupling })
+        }
+    }
+
+    /// Seconds per phase of the solver.
+    fn timings(&self) -> Timings {
+        match &self.coupling {
+            Coupling::Glue { report, .. } => report.seconds,
+            Coupling::Contact { report, .. } => report.seconds,
+        }
+    }
+
+    /// Interface `i`'s mortar operator, the resultant force of the master on
+    /// the slave, and its constrained (or contact) slave points.
+    fn interface(&self, i: usize) -> (&Mortar, [f64; 3], usize) {
+        match &self.coupling {
+            Coupling::Glue { interfaces, .. } => {
+                let s = &interfaces[i];
+                (&s.mortar, s.force, s.constrained.iter().filter(|c| c.iter().any(|&x| x)).count())
+            }
+            Coupling::Contact { interfaces, .. } => {
+                let s = &interfaces[i];
+                (&s.mortar, s.force, s.contact.iter().filter(|&&c| c).count())
+            }
+        }
+    }
+}
+
+/// The interfaces of a problem in case order (a case does not mix kinds).
+fn case_interfaces(problem: &Problem) -> Vec<&ProblemInterface> {
+    problem.interfaces.iter().chain(&problem.contacts).collect()
 }
 
 /// One interface's result on its slave surface, on the surface's own points.
@@ -61,9 +130,11 @@ pub struct InterfaceResult {
     pub mesh: SurfaceMesh,
     /// Index of each compacted point in the slave body's mesh.
     pub body_point: Vec<usize>,
-    /// Per point: traction exerted by the master on the slave (−λ).
+    /// Per point: traction exerted by the master on the slave (−λ; for
+    /// contact −λ n).
     pub traction: Vec<[f64; 3]>,
-    /// Per point: the slave's outward unit normal.
+    /// Per point: the slave's outward unit normal (for contact, at a contact
+    /// point, the normal of its constraint).
     pub normal: Vec<Point3>,
     /// Per point: t·n.
     pub normal_traction: Vec<f64>,
@@ -71,11 +142,27 @@ pub struct InterfaceResult {
     pub tangential_traction: Vec<[f64; 3]>,
     /// Per point: the slave body's displacement.
     pub displacement: Vec<[f64; 3]>,
-    /// Per point: 1 when this interface constrains it, else 0.
+    /// Per point: 1 when this interface constrains it (is a contact point), else 0.
     pub constrained: Vec<f64>,
+    /// The contact fields of a contact interface.
+    pub contact: Option<ContactFields>,
 }
 
-/// `summary.json`.
+/// A contact interface's fields, per point of [`InterfaceResult::mesh`].
+pub struct ContactFields {
+    /// The contact pressure λ ≥ 0.
+    pub pressure: Vec<f64>,
+    /// The gap after deformation (NaN off the contact points).
+    pub gap: Vec<f64>,
+    /// The initial gap (NaN off the contact points).
+    pub initial_gap: Vec<f64>,
+    /// 1 in the final active set, else 0.
+    pub active: Vec<f64>,
+}
+
+/// `summary.json`. For a contact case `constraints` counts the contact
+/// points, `iterations` the active-set steps and `residual` is the largest KKT
+/// residual; `contact` has the details.
 #[derive(Serialize)]
 pub struct Summary {
     pub case: String,
@@ -94,9 +181,69 @@ pub struct Summary {
     pub applied_load: [f64; 3],
     pub bodies: Vec<BodySummary>,
     pub interfaces: Vec<InterfaceSummary>,
+    /// Contact cases only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactSummary>,
     pub seconds: Seconds,
     pub threads: usize,
     pub seam_version: &'static str,
+}
+
+/// The `contact` object of `summary.json`.
+#[derive(Serialize)]
+pub struct ContactSummary {
+    /// The linear solver of the steps.
+    pub method: &'static str,
+    /// Active-set steps, the last one confirming the active set.
+    pub iterations: usize,
+    /// The cap (`[contact] max_iterations`).
+    pub max_iterations: usize,
+    pub steps: Vec<StepSummary>,
+    /// Slave points with a contact constraint, all interfaces.
+    pub contact_points: usize,
+    /// Of those, the points in contact at the solution.
+    pub active_points: usize,
+    pub kkt: KktSummary,
+    pub interfaces: Vec<ContactInterfaceSummary>,
+}
+
+/// One active-set step.
+#[derive(Serialize)]
+pub struct StepSummary {
+    /// Active points during the step's solve.
+    pub active: usize,
+    /// Points that become active after it.
+    pub added: usize,
+    /// Points that become inactive after it.
+    pub removed: usize,
+    /// PCG iterations (0 for a direct solve).
+    pub linear_iterations: usize,
+}
+
+/// The relative KKT residuals of the contact solution.
+#[derive(Serialize)]
+pub struct KktSummary {
+    pub equilibrium: f64,
+    pub pressure: f64,
+    pub penetration: f64,
+    pub complementarity: f64,
+    /// The largest of the four.
+    pub max: f64,
+}
+
+/// One contact interface.
+#[derive(Serialize)]
+pub struct ContactInterfaceSummary {
+    pub master: String,
+    pub slave: String,
+    pub contact_points: usize,
+    pub active_points: usize,
+    /// Resultant contact force of the master on the slave, −Σ_p d_p λ_p n_p.
+    pub force: [f64; 3],
+    /// Its magnitude.
+    pub force_magnitude: f64,
+    /// The largest contact pressure.
+    pub max_pressure: f64,
 }
 
 #[derive(Serialize)]
@@ -179,8 +326,10 @@ pub fn solve(args: &SolveArgs) -> Result<Solved, Failure> {
         SolverArg::Direct => Solver::Direct,
         SolverArg::Pcg => Solver::Pcg(PcgOptions { rtol: args.rtol, ..PcgOptions::default() }),
     };
-    let solution = pool.install(|| problem.solve(solver)).map_err(|e| glue_failure(e, &case, &args.case))?;
-    let t = solution.report.seconds;
+    let solution = pool
+        .install(|| Solution::of(&problem, &case, solver))
+        .map_err(|e| glue_failure(e, &case, &args.case))?;
+    let t = solution.timings();
     (seconds.assembly, seconds.mortar, seconds.setup, seconds.factorization, seconds.solve) =
         (t.assembly, t.mortar, t.setup, t.factorization, t.solve);
 
@@ -198,7 +347,7 @@ pub fn solve(args: &SolveArgs) -> Result<Solved, Failure> {
         })
         .context("stress recovery")?;
     let interfaces: Vec<InterfaceResult> =
-        (0..problem.interfaces.len()).map(|i| interface_result(&problem, &solution, i)).collect();
+        (0..case.interfaces.len()).map(|i| interface_result(&problem, &solution, i)).collect();
     seconds.stresses = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
@@ -313,13 +462,17 @@ fn build_problem(case: &Case) -> anyhow::Result<Problem> {
     for f in &case.interfaces {
         let max_gap = f.max_gap.map_or(MaxGap::DEFAULT, MaxGap::Absolute);
         let options = MortarOptions {
-            multiplier: multiplier(f.multiplier),
+            multiplier: multiplier(f.multiplier()),
             facing: Facing::Opposite,
             max_gap,
             ..MortarOptions::default()
         };
         let (master, slave) = (id(&problem, &f.master)?, id(&problem, &f.slave)?);
-        problem.interfaces.push(ProblemInterface { master, slave, options });
+        let list = match f.kind {
+            InterfaceKind::Glue => &mut problem.interfaces,
+            InterfaceKind::Contact => &mut problem.contacts,
+        };
+        list.push(ProblemInterface { master, slave, options });
     }
     for d in &case.dirichlet {
         let boundary = id(&problem, &d.boundary)?;
@@ -354,6 +507,9 @@ fn glue_failure(e: GlueError, case: &Case, path: &Path) -> Failure {
                 e => Failure::Error(anyhow!("{file}: {what}: {e}")),
             }
         }
+        GlueError::BadInterface { interface, what } if interface < case.interfaces.len() => {
+            Failure::Error(anyhow!("{file}: {}: {what}", case.interfaces[interface].describe(interface)))
+        }
         GlueError::Assembly { body, source } => {
             let b = &case.bodies[body];
             Failure::Error(anyhow!(
@@ -366,11 +522,9 @@ fn glue_failure(e: GlueError, case: &Case, path: &Path) -> Failure {
     }
 }
 
-/// Interface `i`'s tractions on its slave surface's points.
-fn interface_result(problem: &Problem, solution: &GluedSolution, i: usize) -> InterfaceResult {
-    let f = &problem.interfaces[i];
-    let s = &solution.interfaces[i];
-    let surface = problem.surface(f.slave);
+/// `surface` on its own points: the compacted mesh and, per point, its index
+/// in the body's mesh.
+fn own_points(surface: &SurfaceMesh) -> (SurfaceMesh, Vec<usize>) {
     let used = surface.used_points();
     let body_point: Vec<usize> = (0..used.len()).filter(|&p| used[p]).collect();
     let mut index = vec![usize::MAX; used.len()];
@@ -384,27 +538,63 @@ fn interface_result(problem: &Problem, solution: &GluedSolution, i: usize) -> In
         .map(|face| Face::from_nodes(&face.nodes().iter().map(|&p| index[p]).collect::<Vec<_>>()))
         .collect();
     let mesh = SurfaceMesh::new(points, faces).expect("a valid surface stays valid on its own points");
-    let normals = seam::nodal_normals(surface);
+    (mesh, body_point)
+}
+
+/// Interface `i`'s tractions (and contact fields) on its slave surface's points.
+fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> InterfaceResult {
+    let f = case_interfaces(problem)[i];
+    let surface = problem.surface(f.slave);
+    let (mesh, body_point) = own_points(surface);
+    let nodal = seam::nodal_normals(surface);
+    // Per body point: traction, normal, constrained.
+    let at: Box<dyn Fn(usize) -> ([f64; 3], Point3, bool)> = match &solution.coupling {
+        Coupling::Glue { interfaces, .. } => {
+            let s = &interfaces[i];
+            Box::new(move |p| (s.traction[p], nodal[p], s.constrained[p].iter().any(|&c| c)))
+        }
+        Coupling::Contact { interfaces, .. } => {
+            let s = &interfaces[i];
+            Box::new(move |p| {
+                let n = if s.contact[p] { s.normal[p] } else { nodal[p] };
+                (n.map(|v| -s.pressure[p] * v), n, s.contact[p])
+            })
+        }
+    };
     let u = &solution.displacement[f.slave.body];
+    let n = body_point.len();
     let mut r = InterfaceResult {
         mesh,
-        traction: Vec::with_capacity(body_point.len()),
-        normal: Vec::with_capacity(body_point.len()),
-        normal_traction: Vec::with_capacity(body_point.len()),
-        tangential_traction: Vec::with_capacity(body_point.len()),
-        displacement: Vec::with_capacity(body_point.len()),
-        constrained: Vec::with_capacity(body_point.len()),
+        traction: Vec::with_capacity(n),
+        normal: Vec::with_capacity(n),
+        normal_traction: Vec::with_capacity(n),
+        tangential_traction: Vec::with_capacity(n),
+        displacement: Vec::with_capacity(n),
+        constrained: Vec::with_capacity(n),
+        contact: None,
         body_point: Vec::new(),
     };
     for &p in &body_point {
-        let (t, n) = (s.traction[p], normals[p]);
+        let (t, n, constrained) = at(p);
         let tn = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
         r.traction.push(t);
         r.normal.push(n);
         r.normal_traction.push(tn);
         r.tangential_traction.push([t[0] - tn * n[0], t[1] - tn * n[1], t[2] - tn * n[2]]);
         r.displacement.push([u[3 * p], u[3 * p + 1], u[3 * p + 2]]);
-        r.constrained.push(if s.constrained[p].iter().any(|&c| c) { 1.0 } else { 0.0 });
+        r.constrained.push(if constrained { 1.0 } else { 0.0 });
+    }
+    if let Coupling::Contact { interfaces, .. } = &solution.coupling {
+        let s = &interfaces[i];
+        let at_contact = |v: &[f64]| -> Vec<f64> {
+            body_point.iter().map(|&p| if s.contact[p] { v[p] } else { f64::NAN }).collect()
+        };
+        r.contact = Some(ContactFields {
+            pressure: body_point.iter().map(|&p| s.pressure[p]).collect(),
+            gap: at_contact(&s.gap),
+            initial_gap: at_contact(&s.initial_gap),
+            active: body_point.iter().map(|&p| if s.active[p] { 1.0 } else { 0.0 }).collect(),
+        });
     }
     r.body_point = body_point;
     r
@@ -423,17 +613,27 @@ fn body_fields(u: &[f64], s: &Stresses) -> (Vec<Field>, Vec<Field>) {
     (point, cell)
 }
 
-/// Point fields of an interface's VTU file.
+/// Point fields of an interface's VTU file (for contact, the pressure is the
+/// first scalar field: the one ParaView shows first).
 fn interface_fields(r: &InterfaceResult) -> Vec<Field> {
-    vec![
-        Field::vectors("traction", &r.traction),
+    let mut fields = vec![Field::vectors("traction", &r.traction)];
+    if let Some(c) = &r.contact {
+        fields.extend([
+            Field::scalars("contact_pressure", c.pressure.clone()),
+            Field::scalars("gap", c.gap.clone()),
+            Field::scalars("initial_gap", c.initial_gap.clone()),
+            Field::scalars("active", c.active.clone()),
+        ]);
+    }
+    fields.extend([
         Field::scalars("normal_traction", r.normal_traction.clone()),
         Field::vectors("tangential_traction", &r.tangential_traction),
         Field::vectors("normal", &r.normal),
         Field::vectors("displacement", &r.displacement),
         Field::scalars("constrained", r.constrained.clone()),
         Field::scalars("body_point", r.body_point.iter().map(|&p| p as f64).collect()),
-    ]
+    ]);
+    fields
 }
 
 fn sum3(v: &[f64]) -> [f64; 3] {
@@ -461,7 +661,7 @@ fn summary(
     args: &SolveArgs,
     names: &OutputNames,
     problem: &Problem,
-    solution: &GluedSolution,
+    solution: &Solution,
     stresses: &[Stresses],
     seconds: Seconds,
     pool: &rayon::ThreadPool,
@@ -469,6 +669,7 @@ fn summary(
     let path = args.case.as_path();
     let loads = problem.loads_and_supports().map_err(|e| anyhow!("{}: {e}", path.display()))?;
     let file_name = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let coupled = case_interfaces(problem);
     let mut applied_load = [0.0; 3];
     let bodies = problem
         .bodies
@@ -477,13 +678,14 @@ fn summary(
         .map(|(b, body)| {
             let load = sum3(&loads[b].0);
             let mut interface_force = [0.0; 3];
-            for (f, s) in problem.interfaces.iter().zip(&solution.interfaces) {
+            for (i, f) in coupled.iter().enumerate() {
+                let (_, force, _) = solution.interface(i);
                 for k in 0..3 {
                     if f.slave.body == b {
-                        interface_force[k] += s.force[k];
+                        interface_force[k] += force[k];
                     }
                     if f.master.body == b {
-                        interface_force[k] -= s.force[k];
+                        interface_force[k] -= force[k];
                     }
                 }
             }
@@ -507,20 +709,21 @@ fn summary(
             }
         })
         .collect();
-    let interfaces: Vec<InterfaceSummary> = problem
-        .interfaces
+    let interfaces: Vec<InterfaceSummary> = coupled
         .iter()
-        .zip(&solution.interfaces)
         .enumerate()
-        .map(|(i, (f, s))| InterfaceSummary {
-            master: problem.surface_name(f.master),
-            slave: problem.surface_name(f.slave),
-            file: file_name(&names.interfaces[i]),
-            multiplier: multiplier_name(f.options.multiplier),
-            constrained_nodes: s.constrained.iter().filter(|c| c.iter().any(|&x| x)).count(),
-            force: s.force,
-            covered_fraction: s.mortar.summary.covered_area / s.mortar.summary.slave_area,
-            mortar: s.mortar.summary.clone(),
+        .map(|(i, f)| {
+            let (mortar, force, constrained_nodes) = solution.interface(i);
+            InterfaceSummary {
+                master: problem.surface_name(f.master),
+                slave: problem.surface_name(f.slave),
+                file: file_name(&names.interfaces[i]),
+                multiplier: multiplier_name(f.options.multiplier),
+                constrained_nodes,
+                force,
+                covered_fraction: mortar.summary.covered_area / mortar.summary.slave_area,
+                mortar: mortar.summary.clone(),
+            }
         })
         .collect();
     let kinds: BTreeSet<&str> = interfaces.iter().map(|f| f.multiplier.as_str()).collect();
@@ -529,24 +732,82 @@ fn summary(
         1 => kinds.first().map(|k| k.to_string()).unwrap_or_default(),
         _ => "mixed".to_string(),
     };
-    let r = &solution.report;
+    let (method, dofs, constraints, iterations, residual, contact) = match &solution.coupling {
+        Coupling::Glue { report: r, .. } => (r.method, r.dofs, r.constraints, r.iterations, r.residual, None),
+        Coupling::Contact { interfaces: solved, report: r } => {
+            let contact = contact_summary(problem, &coupled, solved, r, case.contact.max_iterations);
+            (r.method, r.dofs, r.contact_points, r.steps.len(), r.kkt.max(), Some(contact))
+        }
+    };
     Ok(Summary {
         case: path.display().to_string(),
         output_dir: case.resolve(&case.output.dir).display().to_string(),
         solver: args.solver.name(),
-        method: r.method,
+        method,
         multiplier,
-        dofs: r.dofs,
-        constraints: r.constraints,
-        iterations: r.iterations,
-        residual: r.residual,
+        dofs,
+        constraints,
+        iterations,
+        residual,
         applied_load,
         bodies,
         interfaces,
+        contact,
         seconds,
         threads: pool.current_num_threads(),
         seam_version: env!("CARGO_PKG_VERSION"),
     })
+}
+
+/// The `contact` object of `summary.json`.
+fn contact_summary(
+    problem: &Problem,
+    coupled: &[&ProblemInterface],
+    solved: &[ContactInterfaceSolution],
+    r: &ContactReport,
+    max_iterations: usize,
+) -> ContactSummary {
+    let count = |v: &[bool]| v.iter().filter(|&&x| x).count();
+    let interfaces = coupled
+        .iter()
+        .zip(solved)
+        .map(|(f, s)| ContactInterfaceSummary {
+            master: problem.surface_name(f.master),
+            slave: problem.surface_name(f.slave),
+            contact_points: count(&s.contact),
+            active_points: count(&s.active),
+            force: s.force,
+            force_magnitude: norm3(s.force),
+            max_pressure: s.pressure.iter().copied().fold(0.0, f64::max),
+        })
+        .collect();
+    let steps = r
+        .steps
+        .iter()
+        .map(|s| StepSummary {
+            active: s.active,
+            added: s.added,
+            removed: s.removed,
+            linear_iterations: s.linear_iterations,
+        })
+        .collect();
+    let k = &r.kkt;
+    ContactSummary {
+        method: r.method,
+        iterations: r.steps.len(),
+        max_iterations,
+        steps,
+        contact_points: r.contact_points,
+        active_points: r.active,
+        kkt: KktSummary {
+            equilibrium: k.equilibrium,
+            pressure: k.pressure,
+            penetration: k.penetration,
+            complementarity: k.complementarity,
+            max: k.max(),
+        },
+        interfaces,
+    }
 }
 
 /// A vector as "(x, y, z)", 4 significant digits.
@@ -571,7 +832,8 @@ pub fn report(s: &Solved) -> Vec<String> {
             body.poisson
         ));
     }
-    for f in &m.interfaces {
+    let contact = m.contact.as_ref();
+    for (i, f) in m.interfaces.iter().enumerate() {
         lines.push(format!(
             "interface  {} (slave: {} faces, {} nodes) → {} (master: {} faces, {} nodes)",
             f.slave,
@@ -589,12 +851,41 @@ pub fn report(s: &Solved) -> Vec<String> {
             f.mortar.max_gap,
             f.mortar.max_overlap
         ));
+        if let Some(c) = contact.map(|c| &c.interfaces[i]) {
+            lines.push(format!(
+                "           contact: {} of {} points active, force {}, max pressure {}",
+                c.active_points,
+                c.contact_points,
+                vector(c.force),
+                crate::render::label(c.max_pressure)
+            ));
+        }
     }
-    let steps = if m.method.contains("CG") { "iterations" } else { "refinement steps" };
-    lines.push(format!(
-        "system     {} dofs, {} constraints; {}, {} {steps}, residual {:.1e}",
-        m.dofs, m.constraints, m.method, m.iterations, m.residual
-    ));
+    match contact {
+        None => {
+            let steps = if m.method.contains("CG") { "iterations" } else { "refinement steps" };
+            lines.push(format!(
+                "system     {} dofs, {} constraints; {}, {} {steps}, residual {:.1e}",
+                m.dofs, m.constraints, m.method, m.iterations, m.residual
+            ));
+        }
+        Some(c) => {
+            let per_step: Vec<String> = c.steps.iter().map(|s| s.active.to_string()).collect();
+            lines.push(format!(
+                "system     {} dofs, {} contact points; {}",
+                m.dofs, c.contact_points, c.method
+            ));
+            lines.push(format!(
+                "contact    {} active-set step{} (active points per step: {}), {} of {} points active, KKT max {:.1e}",
+                c.iterations,
+                if c.iterations == 1 { "" } else { "s" },
+                per_step.join(", "),
+                c.active_points,
+                c.contact_points,
+                c.kkt.max
+            ));
+        }
+    }
     for body in m.bodies.iter().filter(|b| !b.supported && norm3(b.applied_load) > 0.0) {
         let balance: [f64; 3] = std::array::from_fn(|k| body.applied_load[k] + body.interface_force[k]);
         lines.push(format!(

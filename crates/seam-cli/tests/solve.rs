@@ -1,36 +1,11 @@
 //! `seam solve CASE.toml` and `seam example warped-glue`, run as a user would:
 //! meshes written with seam-io's MSH writer, a case file, the binary.
 
-use seam_fem::generate::{block, BlockKind, Grid, Side};
+mod common;
+
+use common::{assert_rejected, json, seam, stacked_case, stderr, vtu_field, write_block};
+use seam_fem::generate::Side;
 use std::path::Path;
-use std::process::{Command, Output};
-use vtkio::model::{Attribute, DataSet, Piece};
-
-fn seam(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_seam"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the seam binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-/// Writes an nx × ny × nz hexahedral block mapped by `map` with the named sides.
-fn write_block(path: &Path, n: [usize; 3], map: impl Fn(f64, f64, f64) -> [f64; 3], sides: &[(&str, Side)]) {
-    let mesh = block(n[0], n[1], n[2], map, BlockKind::Hex);
-    let grid = Grid::new(n[0], n[1], n[2]);
-    let surfaces: Vec<(&str, seam::SurfaceMesh)> =
-        sides.iter().map(|&(name, side)| (name, grid.side_faces(&mesh, side).unwrap())).collect();
-    let refs: Vec<(&str, &seam::SurfaceMesh)> = surfaces.iter().map(|(n, s)| (*n, s)).collect();
-    seam_io::write_volume_msh_file(path, &mesh, "body", &refs).unwrap();
-}
 
 const E: f64 = 1000.0;
 const NU: f64 = 0.25;
@@ -51,64 +26,12 @@ fn patch_case(dir: &Path, multiplier: &str) {
         |u, v, w| [0.7 * u + 0.3 * u * u, v, 0.5 + 0.5 * w],
         &upper_sides,
     );
-    let case = format!(
-        r#"
-[[body]]
-name = "lower"
-mesh = "lower.msh"
-young = {E:?}
-poisson = {NU}
-
-[[body]]
-name = "upper"
-mesh = "upper.msh"
-young = {E:?}
-poisson = {NU}
-
-[[interface]]
-master = "lower:top"
-slave = "upper:bottom"
-kind = "glue"
-multiplier = "{multiplier}"
-
-[[dirichlet]]
-boundary = "lower:bottom"
-uz = 0.0
-
-[[dirichlet]]
-boundary = "lower:xmin"
-ux = 0.0
-
-[[dirichlet]]
-boundary = "lower:ymin"
-uy = 0.0
-
-[[traction]]
-boundary = "upper:top"
-t = [0.0, 0.0, -{P:?}]
-
-[output]
-dir = "out"
-"#
+    let interface = format!("kind = \"glue\"\nmultiplier = \"{multiplier}\"");
+    let rest = format!(
+        "[[traction]]\nboundary = \"upper:top\"\nt = [0.0, 0.0, -{P:?}]\n\n[output]\ndir = \"out\"\n"
     );
+    let case = stacked_case((E, NU), (E, NU), &interface, &rest);
     std::fs::write(dir.join("case.toml"), case).unwrap();
-}
-
-/// Points and the named point (or cell) field of a VTU file, through vtkio.
-fn vtu_field(path: &Path, name: &str, cell: bool) -> (Vec<[f64; 3]>, Vec<f64>) {
-    let vtk = vtkio::Vtk::import(path).unwrap();
-    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else { panic!("not an unstructured grid") };
-    let Piece::Inline(piece) = pieces.into_iter().next().unwrap() else { panic!("not inline") };
-    let points: Vec<f64> = piece.points.cast_into().unwrap();
-    let attributes = if cell { &piece.data.cell } else { &piece.data.point };
-    let values = attributes
-        .iter()
-        .find_map(|a| match a {
-            Attribute::DataArray(d) if d.name == name => Some(d.data.cast_into::<f64>().unwrap()),
-            _ => None,
-        })
-        .unwrap_or_else(|| panic!("{} has no field {name}", path.display()));
-    (points.chunks(3).map(|c| [c[0], c[1], c[2]]).collect(), values)
 }
 
 #[test]
@@ -208,21 +131,14 @@ fn input_errors_fail_with_one_line_before_any_work() {
             "poisson = 0.5 must lie in (-1, 0.5)",
         ),
         (good.replace("uz = 0.0", "ux = 0.0"), "can move freely along z"),
-        (good.replace("kind = \"glue\"", "kind = \"contact\""), "not supported yet"),
+        (
+            good.replace("kind = \"glue\"", "kind = \"contact\""),
+            "interface 1 (upper:bottom → lower:top): contact needs multiplier \"lumped\" (the default) or \"dual\"",
+        ),
         (good.replace("young", "youngs"), "unknown field `youngs`"),
         (good.replace("mesh = \"upper.msh\"", "mesh = \"case.toml\""), "not a Gmsh MSH file"),
     ];
-    for (text, problem) in cases {
-        std::fs::write(tmp.path().join("bad.toml"), &text).unwrap();
-        let o = seam(&["solve", "bad.toml"], tmp.path());
-        let err = stderr(&o);
-        assert_eq!(o.status.code(), Some(2), "{problem}: {err}");
-        assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
-        assert!(err.contains("bad.toml"), "names the case file: {err}");
-        assert!(err.contains(problem), "expected '{problem}' in: {err}");
-        assert!(!err.contains("panicked"), "{err}");
-        assert!(!tmp.path().join("out").exists(), "{problem}: nothing written");
-    }
+    assert_rejected(tmp.path(), &cases);
     // An unknown surface names the body and the mesh, and lists the surfaces there are.
     std::fs::write(tmp.path().join("bad.toml"), good.replace("upper:top", "upper:lid")).unwrap();
     let err = stderr(&seam(&["solve", "bad.toml"], tmp.path()));

@@ -14,7 +14,7 @@
 
 mod common;
 
-use common::peak_mb;
+use common::{flag_sizes, flag_value, peak_mb};
 use seam::Multiplier;
 use seam_fem::glue::Solver;
 use seam_fem::pcg::PcgOptions;
@@ -73,15 +73,8 @@ fn main() {
         row(args[2].parse().expect("size"), &args[3]);
         return;
     }
-    let value = |flag: &str, default: &str| {
-        args.iter()
-            .position(|a| a == flag)
-            .and_then(|i| args.get(i + 1))
-            .map_or(default.to_string(), |v| v.clone())
-    };
-    let sizes: Vec<usize> =
-        value("--sizes", "6,8,10,12,15").split(',').map(|s| s.parse().expect("sizes are integers")).collect();
-    let solvers = value("--solvers", "standard-direct,dual-direct,standard-pcg,dual-pcg");
+    let sizes = flag_sizes(&args, "--sizes", "6,8,10,12,15");
+    let solvers = flag_value(&args, "--solvers", "standard-direct,dual-direct,standard-pcg,dual-pcg");
     println!(
         "| solver | dofs | constraints | meshing s | K s | mortar s | setup s | factor/PCG s | solve s | total s | iterations | residual | peak MB | method |"
     );

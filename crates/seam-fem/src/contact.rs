@@ -48,7 +48,7 @@
 
 use crate::glue::{assemble_system, check_input, free_dofs, triple_product, Body, GlueError, Interface};
 use crate::glue::{Solver, Timings};
-use crate::pcg::solve_pcg;
+use crate::pcg::solve_pcg_from;
 use crate::pcg::PcgOptions;
 use crate::solve::{CholeskyAnalysis, DirectOptions, Dirichlet, SolveError};
 use seam::{nodal_normals, CsrMatrix, Mortar, Multiplier, Point3};
@@ -211,6 +211,7 @@ pub fn solve_contact(
     let scale = length_scale(bodies);
     let mut active = initial_active_set(&points, interfaces.len(), 1e-9 * scale);
     let mut steps = Vec::new();
+    let mut previous: Option<Vec<f64>> = None;
     let (x, mu) = loop {
         let mut fixed = prescribed.clone();
         for c in points.iter().zip(&active).filter(|(_, &on)| on).map(|(c, _)| c) {
@@ -218,14 +219,15 @@ pub fn solve_contact(
         }
         let clock = Instant::now();
         let n_active = active.iter().filter(|&&on| on).count();
-        let (x, linear_iterations) = step_solver.solve(&a, &b, &fixed).map_err(|e| match e {
-            SolveError::Singular => GlueError::Contact(format!(
-                "active-set step {}: the system is singular with {n_active} active contact points; \
+        let (x, linear_iterations) =
+            step_solver.solve(&a, &b, &fixed, previous.as_deref()).map_err(|e| match e {
+                SolveError::Singular => GlueError::Contact(format!(
+                    "active-set step {}: the system is singular with {n_active} active contact points; \
                  every body must be held by its supports, or touch (gap ≤ 0) another body from the start",
-                steps.len() + 1
-            )),
-            e => GlueError::Solve(e),
-        })?;
+                    steps.len() + 1
+                )),
+                e => GlueError::Solve(e),
+            })?;
         seconds.factorization += clock.elapsed().as_secs_f64();
 
         let r = residual_at_normals(&a, &b, &x, &points);
@@ -245,6 +247,7 @@ pub fn solve_contact(
             )));
         }
         active = next;
+        previous = Some(x);
     };
 
     let clock = Instant::now();
@@ -467,11 +470,20 @@ impl StepSolver {
         })
     }
 
-    /// x with the prescribed dofs of `fixed`, and the PCG iterations.
-    fn solve(&self, a: &CsrMatrix, b: &[f64], fixed: &Dirichlet) -> Result<(Vec<f64>, usize), SolveError> {
+    /// x with the prescribed dofs of `fixed`, and the PCG iterations (PCG
+    /// starts from the previous step's x).
+    fn solve(
+        &self,
+        a: &CsrMatrix,
+        b: &[f64],
+        fixed: &Dirichlet,
+        start: Option<&[f64]>,
+    ) -> Result<(Vec<f64>, usize), SolveError> {
         match self {
             StepSolver::Direct(analysis) => Ok((analysis.solve(a, b, fixed)?.0, 0)),
-            StepSolver::Pcg(options) => solve_pcg(a, b, fixed, options).map(|(x, r)| (x, r.iterations)),
+            StepSolver::Pcg(options) => {
+                solve_pcg_from(a, b, fixed, options, start).map(|(x, r)| (x, r.iterations))
+            }
         }
     }
 }

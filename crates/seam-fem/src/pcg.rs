@@ -318,7 +318,26 @@ pub fn solve_pcg(
     dirichlet: &Dirichlet,
     options: &PcgOptions,
 ) -> Result<(Vec<f64>, PcgReport), SolveError> {
+    solve_pcg_from(k, f, dirichlet, options, None)
+}
+
+/// [`solve_pcg`] from the initial guess `start` (a full u; its prescribed
+/// entries are ignored), e.g. the previous solution of a sequence of nearby
+/// problems. The tolerance stays relative to ‖f_F − K_FD ū_D‖₂.
+///
+/// # Errors
+/// As [`solve_pcg`]; [`SolveError::Dimension`] when `start` has another length.
+pub fn solve_pcg_from(
+    k: &CsrMatrix,
+    f: &[f64],
+    dirichlet: &Dirichlet,
+    options: &PcgOptions,
+    start: Option<&[f64]>,
+) -> Result<(Vec<f64>, PcgReport), SolveError> {
     let n = k.nrows;
+    if start.is_some_and(|s| s.len() != n) {
+        return Err(SolveError::Dimension { nrows: k.nrows, ncols: k.ncols, f_len: f.len() });
+    }
     if k.ncols != n || f.len() != n {
         return Err(SolveError::Dimension { nrows: k.nrows, ncols: k.ncols, f_len: f.len() });
     }
@@ -361,7 +380,10 @@ pub fn solve_pcg(
         Some(m) => m.apply(r, z),
         None => z.copy_from_slice(r),
     };
-    let mut u = vec![0.0; n];
+    let mut u: Vec<f64> = match start {
+        Some(s) => s.iter().zip(&active).map(|(&v, &a)| if a { v } else { 0.0 }).collect(),
+        None => vec![0.0; n],
+    };
     let report = pcg(apply_a, apply_m, &b, &mut u, options.rtol, options.max_iter);
     if report.breakdown {
         return Err(SolveError::Singular);

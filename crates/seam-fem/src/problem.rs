@@ -153,7 +153,7 @@ impl Problem {
             return Err(GlueError::BadInterface { interface: 0, what });
         }
         let prepared = self.loads_and_supports()?;
-        solve_glued(&self.bodies(&prepared), &self.coupled(&self.interfaces), solver)
+        solve_glued(&self.solver_bodies(&prepared), &self.coupled(&self.interfaces), solver)
     }
 
     /// Assembles and solves the contact problem.
@@ -167,11 +167,11 @@ impl Problem {
             return Err(GlueError::BadInterface { interface: 0, what });
         }
         let prepared = self.loads_and_supports()?;
-        solve_contact(&self.bodies(&prepared), &self.coupled(&self.contacts), options)
+        solve_contact(&self.solver_bodies(&prepared), &self.coupled(&self.contacts), options)
     }
 
     /// The solver's view of the bodies with their loads and supports.
-    fn bodies(&self, prepared: &[(Vec<f64>, Dirichlet)]) -> Vec<Body<'_>> {
+    fn solver_bodies(&self, prepared: &[(Vec<f64>, Dirichlet)]) -> Vec<Body<'_>> {
         self.bodies
             .iter()
             .zip(prepared)

@@ -22,3 +22,101 @@ pub fn stderr(o: &Output) -> String {
 pub fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
+
+/// Writes an nx × ny × nz hexahedral block mapped by `map` (from the unit cube)
+/// as a Gmsh file with the named sides as physical surfaces.
+#[allow(dead_code)] // not every test crate writes meshes
+pub fn write_block(
+    path: &Path,
+    n: [usize; 3],
+    map: impl Fn(f64, f64, f64) -> [f64; 3],
+    sides: &[(&str, seam_fem::generate::Side)],
+) {
+    use seam_fem::generate::{block, BlockKind, Grid};
+    let mesh = block(n[0], n[1], n[2], map, BlockKind::Hex);
+    let grid = Grid::new(n[0], n[1], n[2]);
+    let surfaces: Vec<(&str, seam::SurfaceMesh)> =
+        sides.iter().map(|&(name, side)| (name, grid.side_faces(&mesh, side).unwrap())).collect();
+    let refs: Vec<(&str, &seam::SurfaceMesh)> = surfaces.iter().map(|(n, s)| (*n, s)).collect();
+    seam_io::write_volume_msh_file(path, &mesh, "body", &refs).unwrap();
+}
+
+/// Points and the named point (or cell) field of a VTU file, through vtkio.
+#[allow(dead_code)] // not every test crate reads VTU files
+pub fn vtu_field(path: &Path, name: &str, cell: bool) -> (Vec<[f64; 3]>, Vec<f64>) {
+    use vtkio::model::{Attribute, DataSet, Piece};
+    let vtk = vtkio::Vtk::import(path).unwrap();
+    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else { panic!("not an unstructured grid") };
+    let Piece::Inline(piece) = pieces.into_iter().next().unwrap() else { panic!("not inline") };
+    let points: Vec<f64> = piece.points.cast_into().unwrap();
+    let attributes = if cell { &piece.data.cell } else { &piece.data.point };
+    let values = attributes
+        .iter()
+        .find_map(|a| match a {
+            Attribute::DataArray(d) if d.name == name => Some(d.data.cast_into::<f64>().unwrap()),
+            _ => None,
+        })
+        .unwrap_or_else(|| panic!("{} has no field {name}", path.display()));
+    (points.chunks(3).map(|c| [c[0], c[1], c[2]]).collect(), values)
+}
+
+/// A case file's text for two blocks, "lower" (lower.msh) and "upper"
+/// (upper.msh), with materials (E, ν), coupled at lower:top (master) and
+/// upper:bottom (slave) by an interface with the keys `interface` (kind,
+/// multiplier), the lower block on rollers at lower:bottom (uz), lower:xmin
+/// (ux) and lower:ymin (uy), and then `rest`.
+#[allow(dead_code)] // not every test crate solves cases
+pub fn stacked_case(lower: (f64, f64), upper: (f64, f64), interface: &str, rest: &str) -> String {
+    let ((e1, nu1), (e2, nu2)) = (lower, upper);
+    format!(
+        r#"
+[[body]]
+name = "lower"
+mesh = "lower.msh"
+young = {e1:?}
+poisson = {nu1:?}
+
+[[body]]
+name = "upper"
+mesh = "upper.msh"
+young = {e2:?}
+poisson = {nu2:?}
+
+[[interface]]
+master = "lower:top"
+slave = "upper:bottom"
+{interface}
+
+[[dirichlet]]
+boundary = "lower:bottom"
+uz = 0.0
+
+[[dirichlet]]
+boundary = "lower:xmin"
+ux = 0.0
+
+[[dirichlet]]
+boundary = "lower:ymin"
+uy = 0.0
+
+{rest}"#
+    )
+}
+
+/// Each (case text, message): `seam solve` on it, as bad.toml in `dir`, exits
+/// with code 2 and one line on stderr that names the file and holds the
+/// message, and writes no output directory.
+#[allow(dead_code)] // not every test crate solves cases
+pub fn assert_rejected(dir: &Path, cases: &[(String, &str)]) {
+    for (text, problem) in cases {
+        std::fs::write(dir.join("bad.toml"), text).unwrap();
+        let o = seam(&["solve", "bad.toml"], dir);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{problem}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+        assert!(err.contains("bad.toml"), "names the case file: {err}");
+        assert!(err.contains(problem), "expected '{problem}' in: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(!dir.join("out").exists(), "{problem}: nothing written");
+    }
+}

@@ -10,3 +10,22 @@ pub fn peak_mb() -> f64 {
         .and_then(|kb| kb.parse::<f64>().ok())
         .map_or(f64::NAN, |kb| kb / 1024.0)
 }
+
+/// The value after `flag` on the command line, or `default`.
+#[allow(dead_code)]
+pub fn flag_value(args: &[String], flag: &str, default: &str) -> String {
+    args.iter()
+        .position(|a| a == flag)
+        .and_then(|i| args.get(i + 1))
+        .map_or(default.to_string(), |v| v.clone())
+}
+
+/// The comma-separated sizes after `flag`, or `default`.
+#[allow(dead_code)]
+pub fn flag_sizes(args: &[String], flag: &str, default: &str) -> Vec<usize> {
+    flag_value(args, flag, default)
+        .split(',')
+        .filter(|s| !s.is_empty())
+        .map(|s| s.parse().expect("sizes are integers"))
+        .collect()
+}

@@ -5,7 +5,21 @@
 //! hexahedra, the upper (slave) side `ratio` times coarser than the lower
 //! (master) side, glued by mortar; clamped at the bottom, loaded at the top by a
 //! traction with a shear part.
+//!
+//! [`bulging_contact`] is the paper's second example (Fig. 3): two hexahedral
+//! blocks whose facing sides bulge towards each other with off-centre bulges of
+//! different shapes, touching at one point, meshed independently (the master
+//! `ratio` times finer); the lower bottom clamped, the upper top pressed down
+//! and sheared by a prescribed displacement; frictionless contact with lumped
+//! multipliers.
+//!
+//! [`hertz`] validates contact: an elastic indenter with a spherical face
+//! pressed on an elastic block, against Hertz's contact radius and pressure.
 
+mod bulging;
+mod hertz;
 mod warped_glue;
 
+pub use bulging::{bulging_contact, Bulge, BulgingContact};
+pub use hertz::{hertz, Hertz};
 pub use warped_glue::{warped_glue, WarpedGlue};
