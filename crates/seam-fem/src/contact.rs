@@ -45,12 +45,23 @@
 //! A_{k+1} = A_k the iterate satisfies the KKT conditions exactly (up to the
 //! linear solve): μ > 0 on A, w ≤ g off A. The iteration is capped
 //! ([`ContactOptions::max_iterations`]).
+//!
+//! # Linear solves
+//! - [`Solver::Direct`]: the system is condensed on the contact normals W
+//!   once (one sparse Cholesky factorisation of the other unknowns, |W|
+//!   solves for the dense Schur complement S on W); each step is then a dense
+//!   Cholesky solve on the inactive points, and one last sparse solve
+//!   recovers u. Suits |W| up to a few thousand points.
+//! - [`Solver::Pcg`]: every step solves the whole system by PCG, warm-started
+//!   from the previous step.
 
 use crate::glue::{assemble_system, check_input, free_dofs, triple_product, Body, GlueError, Interface};
 use crate::glue::{Solver, Timings};
 use crate::pcg::solve_pcg_from;
-use crate::pcg::PcgOptions;
-use crate::solve::{CholeskyAnalysis, DirectOptions, Dirichlet, SolveError};
+use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
+use faer::linalg::solvers::Solve;
+use faer::{Mat, Side};
+use rayon::prelude::*;
 use seam::{nodal_normals, CsrMatrix, Mortar, Multiplier, Point3};
 use std::time::Instant;
 
@@ -205,49 +216,64 @@ pub fn solve_contact(
     let prescribed = rotated_dirichlet(dirichlet, &points);
     seconds.setup += clock.elapsed().as_secs_f64();
 
-    let clock = Instant::now();
-    let step_solver = StepSolver::new(&a, &prescribed, &options.solver)?;
-    seconds.factorization += clock.elapsed().as_secs_f64();
     let scale = length_scale(bodies);
-    let mut active = initial_active_set(&points, interfaces.len(), 1e-9 * scale);
-    let mut steps = Vec::new();
-    let mut previous: Option<Vec<f64>> = None;
-    let (x, mu) = loop {
-        let mut fixed = prescribed.clone();
-        for c in points.iter().zip(&active).filter(|(_, &on)| on).map(|(c, _)| c) {
-            fixed.fix_dof(c.first_dof, c.gap);
-        }
-        let clock = Instant::now();
-        let n_active = active.iter().filter(|&&on| on).count();
-        let (x, linear_iterations) =
-            step_solver.solve(&a, &b, &fixed, previous.as_deref()).map_err(|e| match e {
-                SolveError::Singular => GlueError::Contact(format!(
-                    "active-set step {}: the system is singular with {n_active} active contact points; \
-                 every body must be held by its supports, or touch (gap ≤ 0) another body from the start",
-                    steps.len() + 1
-                )),
+    let active = initial_active_set(&points, interfaces.len(), 1e-9 * scale);
+    let singular = |steps: usize, active: usize| {
+        GlueError::Contact(format!(
+            "active-set step {steps}: the system is singular with {active} active contact points; every body \
+             must be held by its supports, or touch (gap ≤ 0) another body from the start"
+        ))
+    };
+    let (x, active, mu, steps) = match options.solver {
+        Solver::Direct => {
+            let clock = Instant::now();
+            let mut tied = prescribed.clone();
+            for c in &points {
+                tied.fix_dof(c.first_dof, 0.0);
+            }
+            let analysis = CholeskyAnalysis::new(&a, &tied, &DirectOptions::default())?;
+            let condensed = Condensed::new(&analysis, &a, &b, &tied, &points).map_err(|e| match e {
+                SolveError::Singular => singular(0, points.len()),
                 e => GlueError::Solve(e),
             })?;
-        seconds.factorization += clock.elapsed().as_secs_f64();
-
-        let r = residual_at_normals(&a, &b, &x, &points);
-        let mu: Vec<f64> = r.iter().zip(&active).map(|(&r, &on)| if on { r } else { 0.0 }).collect();
-        let next = next_active_set(&points, &active, &x, &mu, scale);
-        let added = next.iter().zip(&active).filter(|(&n, &o)| n && !o).count();
-        let removed = next.iter().zip(&active).filter(|(&n, &o)| !n && o).count();
-        steps.push(ActiveSetStep { active: n_active, added, removed, linear_iterations });
-        if added + removed == 0 {
-            break (x, mu);
+            seconds.factorization += clock.elapsed().as_secs_f64();
+            let clock = Instant::now();
+            let (active, w, mu, steps) =
+                active_set_method(&points, active, scale, options.max_iterations, |active, step| {
+                    let n_active = active.iter().filter(|&&on| on).count();
+                    let (w, mu) = condensed.step(&points, active).ok_or_else(|| singular(step, n_active))?;
+                    Ok((w, mu, 0))
+                })?;
+            seconds.solve += clock.elapsed().as_secs_f64();
+            let clock = Instant::now();
+            let x = condensed.expand(&a, &points, &w);
+            seconds.solve += clock.elapsed().as_secs_f64();
+            (x, active, mu, steps)
         }
-        if steps.len() == options.max_iterations {
-            return Err(GlueError::Contact(format!(
-                "the active set did not settle in {} steps (last step: {added} points added, {removed} removed); \
-                 raise the iteration cap or check the load and the supports",
-                steps.len()
-            )));
+        Solver::Pcg(pcg) => {
+            let clock = Instant::now();
+            let mut previous: Option<Vec<f64>> = None;
+            let (active, _, mu, steps) =
+                active_set_method(&points, active, scale, options.max_iterations, |active, step| {
+                    let mut fixed = prescribed.clone();
+                    for c in points.iter().zip(active).filter(|(_, &on)| on).map(|(c, _)| c) {
+                        fixed.fix_dof(c.first_dof, c.gap);
+                    }
+                    let n_active = active.iter().filter(|&&on| on).count();
+                    let (x, report) =
+                        solve_pcg_from(&a, &b, &fixed, &pcg, previous.as_deref()).map_err(|e| match e {
+                            SolveError::Singular => singular(step, n_active),
+                            e => GlueError::Solve(e),
+                        })?;
+                    let r = residual_at_normals(&a, &b, &x, &points);
+                    let mu = r.iter().zip(active).map(|(&r, &on)| if on { r } else { 0.0 }).collect();
+                    let w = points.iter().map(|c| x[c.first_dof]).collect();
+                    previous = Some(x);
+                    Ok((w, mu, report.iterations))
+                })?;
+            seconds.factorization += clock.elapsed().as_secs_f64();
+            (previous.expect("at least one step"), active, mu, steps)
         }
-        active = next;
-        previous = Some(x);
     };
 
     let clock = Instant::now();
@@ -258,7 +284,7 @@ pub fn solve_contact(
     let solutions = interface_solutions(bodies, interfaces, system.mortars, &points, &x, &mu, &active);
     seconds.solve += clock.elapsed().as_secs_f64();
     let method = match options.solver {
-        Solver::Direct => "sparse Cholesky per active-set step",
+        Solver::Direct => "sparse Cholesky, active set on the condensed contact normals",
         Solver::Pcg(_) => "PCG per active-set step",
     };
     let report = ContactReport {
@@ -453,39 +479,201 @@ fn rotated_dirichlet(dirichlet: &Dirichlet, points: &[ContactPoint]) -> Dirichle
     out
 }
 
-/// The linear solver of the active-set steps: one Cholesky analysis of PᵀKP
-/// for all steps (the active points' w_p enter as identity rows), or PCG.
-enum StepSolver {
-    Direct(Box<CholeskyAnalysis>),
-    Pcg(PcgOptions),
+/// The primal-dual active set iteration (module doc) around `step`, which
+/// returns, for an active set and the step number, (w, μ, linear
+/// iterations) per contact point. Returns the final active set, w, μ and the
+/// steps.
+#[allow(clippy::type_complexity)]
+fn active_set_method(
+    points: &[ContactPoint],
+    mut active: Vec<bool>,
+    scale: f64,
+    max_iterations: usize,
+    mut step: impl FnMut(&[bool], usize) -> Result<(Vec<f64>, Vec<f64>, usize), GlueError>,
+) -> Result<(Vec<bool>, Vec<f64>, Vec<f64>, Vec<ActiveSetStep>), GlueError> {
+    let mut steps = Vec::new();
+    loop {
+        let n_active = active.iter().filter(|&&on| on).count();
+        let (w, mu, linear_iterations) = step(&active, steps.len() + 1)?;
+        let next = next_active_set(points, &active, &w, &mu, scale);
+        let added = next.iter().zip(&active).filter(|(&n, &o)| n && !o).count();
+        let removed = next.iter().zip(&active).filter(|(&n, &o)| !n && o).count();
+        steps.push(ActiveSetStep { active: n_active, added, removed, linear_iterations });
+        if added + removed == 0 {
+            return Ok((active, w, mu, steps));
+        }
+        if steps.len() >= max_iterations {
+            return Err(GlueError::Contact(format!(
+                "the active set did not settle in {} steps (last step: {added} points added, {removed} \
+                 removed); raise the iteration cap or check the load and the supports",
+                steps.len()
+            )));
+        }
+        active = next;
+    }
 }
 
-impl StepSolver {
-    fn new(a: &CsrMatrix, prescribed: &Dirichlet, solver: &Solver) -> Result<StepSolver, SolveError> {
-        Ok(match solver {
-            Solver::Direct => {
-                StepSolver::Direct(Box::new(CholeskyAnalysis::new(a, prescribed, &DirectOptions::default())?))
-            }
-            Solver::Pcg(options) => StepSolver::Pcg(*options),
-        })
-    }
+/// The problem condensed on the contact normals W = {w_p}: with
+/// A_OO = (PᵀKP) on all other unknowns O factored once (every w_p held at 0),
+///
+/// ```text
+/// x(w) = x₀ + Σ_p Z_p w_p,   Z_p = −A_OO⁻¹ A_O,w_p ,
+/// μ(w) = c − S w,           S = A_WW + A_WO Z,   c = (b − A x₀)_W ,
+/// ```
+///
+/// so an active-set step is a dense solve S_II w_I = c_I − S_IA g_A on the
+/// inactive points I (w_A = g_A), and the sparse factorisation is done once.
+struct Condensed<'a> {
+    factor: CholeskyFactor<'a>,
+    x0: Vec<f64>,
+    s: Mat<f64>,
+    c: Vec<f64>,
+}
 
-    /// x with the prescribed dofs of `fixed`, and the PCG iterations (PCG
-    /// starts from the previous step's x).
-    fn solve(
-        &self,
+impl<'a> Condensed<'a> {
+    /// Columns of Z computed together.
+    const BLOCK: usize = 64;
+
+    /// Factors A_OO (`analysis` of A with every w_p prescribed, in `tied`),
+    /// and forms x₀, S and c.
+    fn new(
+        analysis: &'a CholeskyAnalysis,
         a: &CsrMatrix,
         b: &[f64],
-        fixed: &Dirichlet,
-        start: Option<&[f64]>,
-    ) -> Result<(Vec<f64>, usize), SolveError> {
-        match self {
-            StepSolver::Direct(analysis) => Ok((analysis.solve(a, b, fixed)?.0, 0)),
-            StepSolver::Pcg(options) => {
-                solve_pcg_from(a, b, fixed, options, start).map(|(x, r)| (x, r.iterations))
+        tied: &Dirichlet,
+        points: &[ContactPoint],
+    ) -> Result<Condensed<'a>, SolveError> {
+        let factor = analysis.factor(a)?;
+        let (free, local) = (analysis.free(), analysis.local());
+        let m = free.len();
+        // x₀: the prescribed values, w = 0, A_OO x_O = (b − A ū)_O.
+        let mut x0 = vec![0.0; a.nrows];
+        for (dof, v) in tied.iter() {
+            x0[dof] = v;
+        }
+        let r = residual(a, b, &x0);
+        let mut rhs = Mat::<f64>::from_fn(m, 1, |i, _| r[free[i]]);
+        factor.solve_in_place(rhs.as_mut());
+        for (i, &dof) in free.iter().enumerate() {
+            x0[dof] = rhs[(i, 0)];
+        }
+        let r = residual(a, b, &x0);
+        let c = points.iter().map(|p| r[p.first_dof]).collect();
+        // S = A_WW + A_WO Z, Z in blocks of columns.
+        let nw = points.len();
+        let mut point_of = vec![usize::MAX; a.nrows];
+        for (j, p) in points.iter().enumerate() {
+            point_of[p.first_dof] = j;
+        }
+        let mut s = Mat::<f64>::zeros(nw, nw);
+        for start in (0..nw).step_by(Self::BLOCK) {
+            let cols = start..(start + Self::BLOCK).min(nw);
+            let mut z = Mat::<f64>::zeros(m, cols.len());
+            for (jj, j) in cols.clone().enumerate() {
+                let (idx, vals) = a.row(points[j].first_dof);
+                for (&q, &v) in idx.iter().zip(vals) {
+                    if local[q] != usize::MAX {
+                        z[(local[q], jj)] = -v;
+                    }
+                }
+            }
+            factor.solve_in_place(z.as_mut());
+            let rows: Vec<Vec<f64>> = (0..nw)
+                .into_par_iter()
+                .map(|i| {
+                    let (idx, vals) = a.row(points[i].first_dof);
+                    cols.clone()
+                        .enumerate()
+                        .map(|(jj, j)| {
+                            idx.iter()
+                                .zip(vals)
+                                .map(|(&q, &v)| match (local[q], point_of[q]) {
+                                    (l, _) if l != usize::MAX => v * z[(l, jj)],
+                                    (_, p) if p == j => v,
+                                    _ => 0.0,
+                                })
+                                .sum()
+                        })
+                        .collect()
+                })
+                .collect();
+            for (i, row) in rows.iter().enumerate() {
+                for (jj, &v) in row.iter().enumerate() {
+                    s[(i, start + jj)] = v;
+                }
             }
         }
+        Ok(Condensed { factor, x0, s, c })
     }
+
+    /// One active-set step: w_A = g_A, S_II w_I = c_I − S_IA g_A, and
+    /// μ_A = (c − S w)_A, μ_I = 0. None when S_II is (numerically) singular.
+    fn step(&self, points: &[ContactPoint], active: &[bool]) -> Option<(Vec<f64>, Vec<f64>)> {
+        let nw = points.len();
+        let mut w: Vec<f64> =
+            points.iter().zip(active).map(|(p, &on)| if on { p.gap } else { 0.0 }).collect();
+        let inactive: Vec<usize> = (0..nw).filter(|&i| !active[i]).collect();
+        if !inactive.is_empty() {
+            let s_ii = Mat::<f64>::from_fn(inactive.len(), inactive.len(), |i, j| {
+                self.s[(inactive[i], inactive[j])]
+            });
+            let mut rhs = Mat::<f64>::from_fn(inactive.len(), 1, |i, _| {
+                let r = inactive[i];
+                self.c[r] - (0..nw).filter(|&j| active[j]).map(|j| self.s[(r, j)] * w[j]).sum::<f64>()
+            });
+            let llt = s_ii.as_ref().llt(Side::Lower).ok()?;
+            let l = llt.L();
+            let diagonal = (0..inactive.len()).map(|i| l[(i, i)]);
+            let (lo, hi) = diagonal.fold((f64::INFINITY, 0.0f64), |(lo, hi), d| (lo.min(d), hi.max(d)));
+            if lo.is_nan() || lo <= 1e-7 * hi {
+                return None;
+            }
+            llt.solve_in_place(rhs.as_mut());
+            for (i, &r) in inactive.iter().enumerate() {
+                w[r] = rhs[(i, 0)];
+            }
+        }
+        let mu = (0..nw)
+            .map(|i| {
+                if active[i] {
+                    self.c[i] - (0..nw).map(|j| self.s[(i, j)] * w[j]).sum::<f64>()
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        Some((w, mu))
+    }
+
+    /// x(w) = x₀ + Z w: one more solve with A_OO.
+    fn expand(&self, a: &CsrMatrix, points: &[ContactPoint], w: &[f64]) -> Vec<f64> {
+        let analysis = self.factor.analysis();
+        let (free, local) = (analysis.free(), analysis.local());
+        let mut rhs = Mat::<f64>::zeros(free.len(), 1);
+        for (p, &wp) in points.iter().zip(w) {
+            let (idx, vals) = a.row(p.first_dof);
+            for (&q, &v) in idx.iter().zip(vals) {
+                if local[q] != usize::MAX {
+                    rhs[(local[q], 0)] -= v * wp;
+                }
+            }
+        }
+        self.factor.solve_in_place(rhs.as_mut());
+        let mut x = self.x0.clone();
+        for (i, &dof) in free.iter().enumerate() {
+            x[dof] += rhs[(i, 0)];
+        }
+        for (p, &wp) in points.iter().zip(w) {
+            x[p.first_dof] = wp;
+        }
+        x
+    }
+}
+
+/// b − A x.
+fn residual(a: &CsrMatrix, b: &[f64], x: &[f64]) -> Vec<f64> {
+    let ax = a.mul_vec(x, 1);
+    b.iter().zip(ax).map(|(b, ax)| b - ax).collect()
 }
 
 /// (b − A x) at each contact point's w dof: μ_p where active.
@@ -503,14 +691,15 @@ fn residual_at_normals(a: &CsrMatrix, b: &[f64], x: &[f64], points: &[ContactPoi
 /// inactive one enters when w_p > g_p, each beyond a round-off margin
 /// (10⁻¹² of the largest |μ|, resp. of the length scale) so that a point with
 /// zero pressure and zero gap does not flip back and forth.
-fn next_active_set(points: &[ContactPoint], active: &[bool], x: &[f64], mu: &[f64], scale: f64) -> Vec<bool> {
+fn next_active_set(points: &[ContactPoint], active: &[bool], w: &[f64], mu: &[f64], scale: f64) -> Vec<bool> {
     let mu_margin = 1e-12 * mu.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let gap_margin = 1e-12 * scale;
     points
         .iter()
         .zip(active)
         .zip(mu)
-        .map(|((c, &on), &mu)| if on { mu >= -mu_margin } else { x[c.first_dof] - c.gap > gap_margin })
+        .zip(w)
+        .map(|(((c, &on), &mu), &w)| if on { mu >= -mu_margin } else { w - c.gap > gap_margin })
         .collect()
 }
 

@@ -32,7 +32,7 @@ use crate::ordering::{self, Graph};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
     SymmetricOrdering,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -434,6 +434,28 @@ impl CholeskyAnalysis {
         Ok(CholeskyAnalysis { n: k.nrows, nnz: k.nnz(), fixed, free, local, col_ptr, row_idx, sym, report })
     }
 
+    /// The unknowns F (ascending): reduced number r is dof `free()[r]`.
+    pub fn free(&self) -> &[usize] {
+        &self.free
+    }
+
+    /// The reduced number of each dof (`usize::MAX` for the dofs of D).
+    pub fn local(&self) -> &[usize] {
+        &self.local
+    }
+
+    /// Factors K_FF (D as analysed).
+    ///
+    /// # Errors
+    /// [`SolveError::PatternChanged`] for another pattern of K;
+    /// [`SolveError::Singular`]; [`SolveError::OutOfMemory`].
+    pub fn factor(&self, k: &CsrMatrix) -> Result<CholeskyFactor<'_>, SolveError> {
+        if k.nrows != self.n || k.nnz() != self.nnz {
+            return Err(SolveError::PatternChanged);
+        }
+        self.factor_values(&self.lower_values(k, |_| false))
+    }
+
     /// Solves K u = f with the prescribed dofs of `dirichlet` (E ⊇ D), K with
     /// the analysed pattern; the report includes the analysis phases.
     ///
@@ -450,19 +472,44 @@ impl CholeskyAnalysis {
         if k.nrows != self.n || k.nnz() != self.nnz || (0..self.n).any(|i| self.fixed[i] && !red.fixed[i]) {
             return Err(SolveError::PatternChanged);
         }
-        let (free, local) = (&self.free, &self.local);
-        let m = free.len();
         let mut report = self.report.clone();
+        let m = self.free.len();
         if m == 0 {
             return Ok((red.u, report));
         }
         // Extra prescribed dofs (E \ D) get identity rows and columns.
-        let extra = |i: usize| red.fixed[i];
+        let factor = self.factor_values(&self.lower_values(k, |i| red.fixed[i]))?;
+        report.numeric_seconds = factor.numeric_seconds;
+        let b = red.rhs(k, f);
+        let mut rhs = Mat::<f64>::from_fn(m, 1, |r, _| {
+            let i = self.free[r];
+            if red.fixed[i] {
+                red.u[i]
+            } else {
+                b[red.local[i]]
+            }
+        });
+        let clock = Instant::now();
+        factor.solve_in_place(rhs.as_mut());
+        report.solve_seconds = clock.elapsed().as_secs_f64();
+        let mut u = red.u;
+        for (r, &i) in self.free.iter().enumerate() {
+            u[i] = rhs[(r, 0)];
+        }
+        if u.iter().any(|v| !v.is_finite()) {
+            return Err(SolveError::Singular);
+        }
+        Ok((u, report))
+    }
+
+    /// The lower triangle of K_FF on the analysed pattern, with identity rows
+    /// and columns for the dofs where `extra` holds.
+    fn lower_values(&self, k: &CsrMatrix, extra: impl Fn(usize) -> bool) -> Vec<f64> {
         let mut vals = Vec::with_capacity(self.row_idx.len());
-        for (r, &i) in free.iter().enumerate() {
+        for (r, &i) in self.free.iter().enumerate() {
             let (cols, values) = k.row(i);
             for (&j, &v) in cols.iter().zip(values) {
-                if local[j] != usize::MAX && local[j] >= r {
+                if self.local[j] != usize::MAX && self.local[j] >= r {
                     vals.push(match (extra(i), extra(j)) {
                         (false, false) => v,
                         _ if i == j => 1.0,
@@ -472,71 +519,97 @@ impl CholeskyAnalysis {
             }
         }
         debug_assert_eq!(vals.len(), self.row_idx.len());
-        let mut rhs = Mat::<f64>::zeros(m, 2);
-        let b = red.rhs(k, f);
-        // The probe z and A z (second column), A the modified K_FF.
-        let z: Vec<f64> = (0..m).map(probe).collect();
-        for (r, &i) in free.iter().enumerate() {
-            if extra(i) {
-                (rhs[(r, 0)], rhs[(r, 1)]) = (red.u[i], z[r]);
-                continue;
-            }
-            rhs[(r, 0)] = b[red.local[i]];
-            let (cols, values) = k.row(i);
-            rhs[(r, 1)] = cols
-                .iter()
-                .zip(values)
-                .filter(|(&j, _)| local[j] != usize::MAX && !extra(j))
-                .map(|(&j, &v)| v * z[local[j]])
-                .sum();
-        }
-        let symbolic = SymbolicSparseColMatRef::new_checked(m, m, &self.col_ptr, None, &self.row_idx);
-        let kff = SparseColMatRef::new(symbolic, &vals);
+        vals
+    }
 
+    /// The numeric factorisation of the matrix with lower triangle `vals`,
+    /// checked by the probe solve (module doc).
+    fn factor_values(&self, vals: &[f64]) -> Result<CholeskyFactor<'_>, SolveError> {
+        let m = self.free.len();
+        let symbolic = SymbolicSparseColMatRef::new_checked(m, m, &self.col_ptr, None, &self.row_idx);
+        let kff = SparseColMatRef::new(symbolic, vals);
         let clock = Instant::now();
-        let par = if rayon::current_num_threads() > 1 { Par::rayon(0) } else { Par::Seq };
+        let par = parallelism();
         let sym = &self.sym;
         let mut l_values = Vec::new();
         l_values.try_reserve_exact(sym.len_val()).map_err(|_| SolveError::OutOfMemory)?;
         l_values.resize(sym.len_val(), 0.0f64);
-        let scratch = sym
-            .factorize_numeric_llt_scratch::<f64>(par, Default::default())
-            .or(sym.solve_in_place_scratch::<f64>(2, par));
+        let scratch = sym.factorize_numeric_llt_scratch::<f64>(par, Default::default());
         let mut mem = MemBuffer::try_new(scratch).map_err(|_| SolveError::OutOfMemory)?;
-        let stack = MemStack::new(&mut mem);
-        let llt = sym
-            .factorize_numeric_llt(
-                &mut l_values,
-                kff,
-                Side::Lower,
-                Default::default(),
-                par,
-                stack,
-                Default::default(),
-            )
-            .map_err(|_| SolveError::Singular)?;
-        report.numeric_seconds = clock.elapsed().as_secs_f64();
-
-        let clock = Instant::now();
-        llt.solve_in_place_with_conj(Conj::No, rhs.as_mut(), par, stack);
-        report.solve_seconds = clock.elapsed().as_secs_f64();
+        sym.factorize_numeric_llt(
+            &mut l_values,
+            kff,
+            Side::Lower,
+            Default::default(),
+            par,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+        .map_err(|_| SolveError::Singular)?;
+        let factor =
+            CholeskyFactor { analysis: self, l_values, numeric_seconds: clock.elapsed().as_secs_f64() };
+        // The probe: solve A x = A z and compare with z.
+        let z: Vec<f64> = (0..m).map(probe).collect();
+        let mut az = Mat::<f64>::zeros(m, 1);
+        for c in 0..m {
+            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                let (r, v) = (self.row_idx[p], vals[p]);
+                az[(r, 0)] += v * z[c];
+                if r != c {
+                    az[(c, 0)] += v * z[r];
+                }
+            }
+        }
+        factor.solve_in_place(az.as_mut());
         let (mut err, mut size) = (0.0f64, 0.0f64);
         for r in 0..m {
-            err = err.max((rhs[(r, 1)] - z[r]).abs());
+            err = err.max((az[(r, 0)] - z[r]).abs());
             size = size.max(z[r].abs());
         }
         // NaN (a failed factorisation) counts as singular too.
         if err.is_nan() || err > SINGULAR_PROBE_RTOL * size {
             return Err(SolveError::Singular);
         }
-        let mut u = red.u;
-        for (r, &i) in free.iter().enumerate() {
-            u[i] = rhs[(r, 0)];
-        }
-        if u.iter().any(|v| !v.is_finite()) {
-            return Err(SolveError::Singular);
-        }
-        Ok((u, report))
+        Ok(factor)
+    }
+}
+
+/// The numeric Cholesky factor of K_FF from a [`CholeskyAnalysis`].
+pub struct CholeskyFactor<'a> {
+    analysis: &'a CholeskyAnalysis,
+    l_values: Vec<f64>,
+    /// Seconds of the numeric factorisation.
+    pub numeric_seconds: f64,
+}
+
+impl<'a> CholeskyFactor<'a> {
+    /// The analysis it was factored with.
+    pub fn analysis(&self) -> &'a CholeskyAnalysis {
+        self.analysis
+    }
+
+    /// X ← K_FF⁻¹ X for the columns of `rhs`, rows in reduced numbering
+    /// ([`CholeskyAnalysis::free`]).
+    ///
+    /// # Panics
+    /// If `rhs` does not have one row per unknown.
+    pub fn solve_in_place(&self, rhs: faer::MatMut<'_, f64>) {
+        let sym = &self.analysis.sym;
+        assert_eq!(rhs.nrows(), self.analysis.free.len(), "one row per unknown");
+        let par = parallelism();
+        let llt = LltRef::new(sym, &self.l_values);
+        let scratch = sym.solve_in_place_scratch::<f64>(rhs.ncols(), par);
+        let mut mem = MemBuffer::new(scratch);
+        llt.solve_in_place_with_conj(Conj::No, rhs, par, MemStack::new(&mut mem));
+    }
+}
+
+/// faer's parallelism on the current rayon pool.
+fn parallelism() -> Par {
+    if rayon::current_num_threads() > 1 {
+        Par::rayon(0)
+    } else {
+        Par::Seq
     }
 }
 

@@ -20,6 +20,7 @@ use seam_fem::contact::{solve_contact, ContactOptions, ContactSolution};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
 use seam_fem::glue::{Body, Interface, Solver};
 use seam_fem::pcg::PcgOptions;
+use seam_fem::scene::{bulging_contact, BulgingContact};
 use seam_fem::{traction, Dirichlet, Material};
 
 const RTOL: f64 = 1e-8;
@@ -210,4 +211,25 @@ fn check_uniform_pressure(s: &ContactSolution, stack: &Stack, p: f64, delta: f64
     println!("p = {p:.4}: pressure error {pressure:.1e}, displacement error {u:.1e}");
     assert!(pressure <= RTOL, "pressure error {pressure:e}");
     assert!(u <= RTOL, "displacement error {u:e}");
+}
+
+#[test]
+fn the_iteration_cap_stops_with_a_clear_message() {
+    // Bulges touching at one point: the contact zone needs several steps.
+    let problem =
+        bulging_contact(&BulgingContact { cells: 8, layers: 4, ..BulgingContact::default() }).unwrap();
+    let capped = ContactOptions { max_iterations: 1, ..Default::default() };
+    let error = problem.solve_contact(&capped).unwrap_err().to_string();
+    assert!(error.contains("did not settle in 1 steps"), "{error}");
+    let solved = problem.solve_contact(&ContactOptions::default()).unwrap();
+    assert!(solved.report.steps.len() >= 2 && solved.report.kkt.max() <= RTOL);
+    // Direct (condensed on the contact normals) and PCG (full system per step) agree.
+    let pcg = Solver::Pcg(PcgOptions { rtol: 1e-13, ..Default::default() });
+    let other = problem.solve_contact(&ContactOptions { solver: pcg, ..Default::default() }).unwrap();
+    assert_eq!(other.report.steps.len(), solved.report.steps.len());
+    let (a, b) = (&solved.interfaces[0].pressure, &other.interfaces[0].pressure);
+    let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    println!("direct vs PCG pressure: {:.1e} of the peak", diff / scale);
+    assert!(diff <= 1e-8 * scale, "direct and PCG pressures differ by {diff:e} (scale {scale:e})");
 }
