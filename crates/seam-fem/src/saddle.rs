@@ -24,7 +24,7 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, SymmetricOrdering,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, Mat, Par, Side};
+use faer::{Conj, Mat, Side};
 use seam::CsrMatrix;
 
 /// Largest number of refinement steps.
@@ -78,7 +78,7 @@ pub fn solve_saddle(
     let ord = SymmetricOrdering::Custom(PermRef::new_checked(&perm, &inv, n));
     let sym = factorize_symbolic_cholesky(symbolic, Side::Lower, ord, CholeskySymbolicParams::default())
         .map_err(|_| SolveError::OutOfMemory)?;
-    let par = if rayon::current_num_threads() > 1 { Par::rayon(0) } else { Par::Seq };
+    let par = crate::solve::parallelism();
     let scale = m.values.iter().fold(0.0f64, |s, v| s.max(v.abs()));
     let regularization = LdltRegularization {
         dynamic_regularization_signs: Some(signs),

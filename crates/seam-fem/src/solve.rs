@@ -14,7 +14,8 @@
 //!   point stay together), whose factor costs O(n²) flops on 3D meshes against
 //!   the faster growth of minimum degree.
 //! - The symbolic and numeric factorisations (supernodal) and the triangular
-//!   solves are faer's.
+//!   solves are faer's, run as a fixed number of tasks (8) on the current
+//!   rayon pool: the same bits on any number of threads.
 //!
 //! For large problems where the factor does not fit, [`crate::pcg`] offers
 //! preconditioned conjugate gradients.
@@ -604,14 +605,15 @@ impl<'a> CholeskyFactor<'a> {
     }
 }
 
-/// faer's parallelism on the current rayon pool.
-fn parallelism() -> Par {
-    if rayon::current_num_threads() > 1 {
-        Par::rayon(0)
-    } else {
-        Par::Seq
-    }
+/// faer's parallelism: a fixed number of tasks on the current rayon pool, so
+/// that the factorisation's arithmetic, and hence its bits, do not depend on
+/// the number of threads.
+pub(crate) fn parallelism() -> Par {
+    Par::rayon(FACTOR_TASKS)
 }
+
+/// Tasks of faer's parallel factorisations and solves (module doc).
+const FACTOR_TASKS: usize = 8;
 
 /// Σ_j c_j² over the column counts of L, and the widest supernode.
 fn factor_flops(sym: &SymbolicCholesky<usize>) -> (f64, usize) {

@@ -233,3 +233,16 @@ fn the_iteration_cap_stops_with_a_clear_message() {
     println!("direct vs PCG pressure: {:.1e} of the peak", diff / scale);
     assert!(diff <= 1e-8 * scale, "direct and PCG pressures differ by {diff:e} (scale {scale:e})");
 }
+
+#[test]
+fn contact_solutions_are_identical_on_one_and_two_threads() {
+    let problem =
+        bulging_contact(&BulgingContact { cells: 8, layers: 4, ..BulgingContact::default() }).unwrap();
+    let solve = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| problem.solve_contact(&ContactOptions::default()).unwrap())
+    };
+    let (one, two) = (solve(1), solve(2));
+    assert_eq!(one.displacement, two.displacement);
+    assert_eq!(one.interfaces[0].pressure, two.interfaces[0].pressure);
+}

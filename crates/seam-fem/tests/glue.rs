@@ -371,3 +371,26 @@ fn lumped_multipliers_break_the_linear_patch_test() {
         }
     }
 }
+
+#[test]
+fn glued_solutions_are_identical_on_one_and_two_threads() {
+    use seam_fem::scene::{warped_glue, WarpedGlue};
+    use seam_fem::Solver;
+    for multiplier in [Multiplier::Standard, Multiplier::Dual] {
+        let p = WarpedGlue {
+            slave_cells: 3,
+            ratio: 2,
+            slave_layers: 2,
+            master_layers: 3,
+            multiplier,
+            ..Default::default()
+        };
+        let problem = warped_glue(&p).unwrap();
+        let solve = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| problem.solve(Solver::Direct).unwrap())
+        };
+        let (one, two) = (solve(1), solve(2));
+        assert_eq!(one.displacement, two.displacement, "{multiplier:?}");
+    }
+}
