@@ -21,8 +21,9 @@ pub enum Command {
     /// Report on how two surfaces meet: coverage, gaps, orientation, face
     /// quality and the invariants of the assembled operator.
     Check(CheckArgs),
-    /// Solve a glued linear-elasticity problem described by a case file (TOML):
-    /// bodies, interfaces, Dirichlet conditions and tractions.
+    /// Solve a linear-elasticity problem described by a case file (TOML):
+    /// bodies glued or in frictionless contact through their interfaces,
+    /// Dirichlet conditions and tractions.
     Solve(SolveArgs),
     /// Run a built-in example that makes its own meshes.
     Example(ExampleArgs),
@@ -190,7 +191,7 @@ pub struct CheckArgs {
     pub force: bool,
 }
 
-/// How the glued system is solved.
+/// How the linear systems (glued, or each active-set step of contact) are solved.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 pub enum SolverArg {
     /// Sparse direct: Cholesky of the reduced system (dual, lumped
@@ -218,7 +219,7 @@ pub struct SolveArgs {
     /// The case file (TOML; schema in the README). Meshes and the output
     /// directory are relative to its directory.
     pub case: PathBuf,
-    /// How the glued system is solved.
+    /// How the linear systems (glued, or each active-set step of contact) are solved.
     #[arg(long, value_enum, default_value_t)]
     pub solver: SolverArg,
     /// PCG: stop when ‖r‖₂ ≤ RTOL ‖b‖₂.
@@ -243,6 +244,18 @@ pub enum ExampleName {
     /// (the paper's Fig. 2): writes the meshes and a case file, solves it as
     /// `seam solve` does, and draws the result as a PNG picture.
     WarpedGlue,
+    /// Two hexahedral blocks with Gaussian bulges on their facing sides,
+    /// touching at one point, pressed together and sheared by a prescribed
+    /// displacement of the upper top: frictionless contact with lumped
+    /// multipliers (the paper's Fig. 3). Writes the meshes and a case file,
+    /// solves it as `seam solve` does, and draws the initial geometry, von
+    /// Mises stress on two cuts and the contact pressure as a PNG picture.
+    BulgingContact,
+    /// A quarter model of an elastic indenter with a spherical face (R = 1)
+    /// pressed by a force on an elastic block: solves the contact case as
+    /// `seam solve` does and compares the contact radius, peak pressure and
+    /// force with Hertz's solution (hertz.md, hertz.csv, hertz.png).
+    Hertz,
 }
 
 #[derive(Args, Debug)]
@@ -263,7 +276,8 @@ pub struct ExampleArgs {
     /// slave (upper) side's (for tests and quick runs).
     #[arg(long, hide = true, value_name = "N")]
     pub ratio: Option<usize>,
-    /// warped-glue: slave cells across x and y.
+    /// warped-glue, bulging-contact: slave cells across x and y; hertz: slave
+    /// cells across the uniform zone [0, 1.5a] (for tests and quick runs).
     #[arg(long, hide = true, value_name = "N")]
     pub slave_cells: Option<usize>,
 }

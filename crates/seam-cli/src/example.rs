@@ -12,6 +12,8 @@ pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
     match args.name {
         ExampleName::Operator => operator(args),
         ExampleName::WarpedGlue => crate::warped_glue::run(args),
+        ExampleName::BulgingContact => crate::bulging_contact::run(args),
+        ExampleName::Hertz => crate::hertz::run(args),
     }
 }
 

@@ -10,12 +10,15 @@
 mod args;
 mod assemble;
 mod bench;
+mod bulging_contact;
 mod case;
 mod check;
 mod example;
+mod hertz;
 mod input;
 mod output;
 mod render;
+mod scene_case;
 mod solve;
 mod transfer;
 mod warped_glue;

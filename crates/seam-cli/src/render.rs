@@ -9,13 +9,19 @@
 //! - [`viridis`]: the perceptually uniform colormap of matplotlib.
 //! - [`Plot`] and [`Image::plot`]: a titled panel that fits 2D triangles with
 //!   nodal values into a rectangle (equal scales on both axes), draws mesh
-//!   edges over them and a colour bar with the minimum and maximum below.
+//!   edges over them and a colour bar with the minimum and maximum below;
+//!   [`Plot::add_polygon`] and [`add_cut`] fill it from mesh faces and from a
+//!   planar cut through a volume mesh.
+//! - [`Chart`] and [`Image::chart`]: a titled x–y chart with ticked, labelled
+//!   axes, curves, markers and a legend.
 //!
 //! Pixel (x, y) covers [x, x+1) × [y, y+1), y downwards; a triangle colours
 //! the pixels whose centres it contains (closed edges: shared edges are drawn
 //! by both sides, with equal values).
 
 use font8x8::{UnicodeFonts, BASIC_FONTS, GREEK_FONTS, LATIN_FONTS};
+use seam::VolumeMesh;
+use std::collections::BTreeSet;
 use std::io::{self, Write};
 
 /// An RGB colour.
@@ -145,6 +151,16 @@ impl Image {
         writer.write_image_data(&self.rgb).map_err(io::Error::other)?;
         writer.finish().map_err(io::Error::other)
     }
+
+    /// The picture as PNG bytes ([`Image::write_png`]).
+    ///
+    /// # Errors
+    /// Only if the encoder fails.
+    pub fn png(&self) -> io::Result<Vec<u8>> {
+        let mut bytes = Vec::new();
+        self.write_png(&mut bytes)?;
+        Ok(bytes)
+    }
 }
 
 /// Twice the signed area of (a, b, c).
@@ -217,6 +233,84 @@ impl Plot {
         } else {
             (lo, hi)
         }
+    }
+}
+
+impl Plot {
+    /// Adds a face (a triangle or a polygon with nodal values) and its edges:
+    /// a polygon as triangles around its centre, which carries the mean value
+    /// (no diagonal stands out).
+    pub fn add_polygon(&mut self, corners: &[P2], values: &[f64]) {
+        if corners.len() == 3 {
+            self.triangles.push(([corners[0], corners[1], corners[2]], [values[0], values[1], values[2]]));
+        } else {
+            let n = corners.len() as f64;
+            let centre = [0, 1].map(|k| corners.iter().map(|c| c[k]).sum::<f64>() / n);
+            let mean = values.iter().sum::<f64>() / n;
+            for k in 0..corners.len() {
+                let l = (k + 1) % corners.len();
+                self.triangles.push(([corners[k], corners[l], centre], [values[k], values[l], mean]));
+            }
+        }
+        for k in 0..corners.len() {
+            self.edges.push((corners[k], corners[(k + 1) % corners.len()]));
+        }
+    }
+}
+
+/// The faces of `mesh`'s cells that lie in the plane x_`axis` = `at` (every
+/// corner within `tol`), each once.
+pub fn faces_in_plane(mesh: &VolumeMesh, axis: usize, at: f64, tol: f64) -> Vec<Vec<usize>> {
+    let on = |p: usize| (mesh.points()[p][axis] - at).abs() <= tol;
+    let mut seen = BTreeSet::new();
+    let mut faces = Vec::new();
+    for cell in mesh.cells() {
+        for face in cell.faces() {
+            if face.nodes().iter().all(|&p| on(p)) {
+                let mut key = face.nodes().to_vec();
+                key.sort_unstable();
+                if seen.insert(key) {
+                    faces.push(face.nodes().to_vec());
+                }
+            }
+        }
+    }
+    faces
+}
+
+/// Adds the cut x_`axis` = `at` through `mesh` (the cell faces in that plane,
+/// [`faces_in_plane`] to 1e-9) to `plot`, point p drawn at `place(p)` with the
+/// value `value(p)`. Returns the number of faces added (0: the plane is no
+/// grid plane of the mesh).
+pub fn add_cut(
+    plot: &mut Plot,
+    mesh: &VolumeMesh,
+    axis: usize,
+    at: f64,
+    place: impl Fn(usize) -> P2,
+    value: impl Fn(usize) -> f64,
+) -> usize {
+    let faces = faces_in_plane(mesh, axis, at, 1e-9);
+    for face in &faces {
+        let corners: Vec<P2> = face.iter().map(|&p| place(p)).collect();
+        let values: Vec<f64> = face.iter().map(|&p| value(p)).collect();
+        plot.add_polygon(&corners, &values);
+    }
+    faces.len()
+}
+
+/// 1, 2 or 5 times a power of ten, the largest not above `x`.
+pub fn nice_below(x: f64) -> f64 {
+    let p = 10f64.powf(x.log10().floor());
+    [5.0, 2.0, 1.0].into_iter().map(|m| m * p).find(|&v| v <= x).unwrap_or(p)
+}
+
+/// A magnification for a title: "50", "2000", "0.5".
+pub fn label_factor(m: f64) -> String {
+    if m >= 1.0 {
+        format!("{m:.0}")
+    } else {
+        format!("{m}")
     }
 }
 
@@ -296,6 +390,156 @@ impl Image {
     }
 }
 
+/// A named series of points of a [`Chart`].
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// The legend's text.
+    pub label: String,
+    /// Its colour.
+    pub color: Rgb,
+    /// The points, in world units.
+    pub points: Vec<P2>,
+}
+
+/// An x–y chart: curves (polylines, 2 pixels wide) and markers (discs) over
+/// ticked axes, with a legend in the upper right corner of the plot area.
+#[derive(Clone, Debug, Default)]
+pub struct Chart {
+    /// Title lines.
+    pub title: Vec<String>,
+    /// The x axis: its label and range.
+    pub x: (String, f64, f64),
+    /// The y axis: its label and range.
+    pub y: (String, f64, f64),
+    /// Polylines.
+    pub curves: Vec<Series>,
+    /// Points drawn as discs.
+    pub markers: Vec<Series>,
+}
+
+/// Tick values on [lo, hi]: multiples of a step of 1, 2 or 5 times a power of
+/// ten giving at most `n` intervals.
+pub fn ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
+        return vec![lo];
+    }
+    // The smallest step m · 10^e (m = 1, 2, 5) not below (hi − lo)/n; tick k
+    // is k·m · 10^e, computed in one rounding (0.6, not 3 × 0.2).
+    let wanted = (hi - lo) / n.max(1) as f64;
+    let mut e = wanted.log10().floor() as i32;
+    let scaled = |k: f64, e: i32| if e >= 0 { k * 10f64.powi(e) } else { k / 10f64.powi(-e) };
+    let m = match [1.0, 2.0, 5.0].into_iter().find(|&m| scaled(m, e) >= wanted * (1.0 - 1e-9)) {
+        Some(m) => m,
+        None => {
+            e += 1;
+            1.0
+        }
+    };
+    let step = scaled(m, e);
+    let first = (lo / step - 1e-9).ceil() as i64;
+    let last = (hi / step + 1e-9).floor() as i64;
+    (first..=last).map(|k| scaled(k as f64 * m, e)).collect()
+}
+
+impl Image {
+    /// A filled disc of radius `r` pixels centred at `c`.
+    pub fn disc(&mut self, c: P2, r: f64, color: Rgb) {
+        let (x0, x1) = ((c[0] - r).floor() as i64, (c[0] + r).ceil() as i64);
+        let (y0, y1) = ((c[1] - r).floor() as i64, (c[1] + r).ceil() as i64);
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                let (dx, dy) = (x as f64 + 0.5 - c[0], y as f64 + 0.5 - c[1]);
+                if dx * dx + dy * dy <= r * r {
+                    self.blend(x, y, color, 1.0);
+                }
+            }
+        }
+    }
+
+    /// Draws `chart` into the pixel rectangle (x, y, w, h): the title lines at
+    /// the top (font scale 2), the axes with ticks and their labels (scale 2),
+    /// the curves and markers clipped to the axes' ranges, and the legend.
+    pub fn chart(&mut self, x: i64, y: i64, w: i64, h: i64, chart: &Chart) {
+        for (k, t) in chart.title.iter().enumerate() {
+            let scale = if 16 * t.chars().count() as i64 + 20 <= w { 2 } else { 1 };
+            self.text(x + 10, y + 6 + k as i64 * 20, t, scale, INK);
+        }
+        let (x_ticks, y_ticks) = (ticks(chart.x.1, chart.x.2, 10), ticks(chart.y.1, chart.y.2, 6));
+        let widest = y_ticks.iter().map(|&v| label(v).chars().count()).max().unwrap_or(1) as i64;
+        // The plot area: left of it the y tick labels and the y axis label
+        // (written above the axis), below it the x tick labels and the x label.
+        let left = x + 30 + 16 * widest;
+        let top = y + 24 + 20 * chart.title.len() as i64 + 20;
+        let (right, bottom) = (x + w - 30, y + h - 70);
+        let (sx, sy) = (
+            (right - left) as f64 / (chart.x.2 - chart.x.1).max(1e-300),
+            (bottom - top) as f64 / (chart.y.2 - chart.y.1).max(1e-300),
+        );
+        let to_pixel =
+            |p: P2| [left as f64 + sx * (p[0] - chart.x.1), bottom as f64 - sy * (p[1] - chart.y.1)];
+        let grey = [225, 225, 225];
+        for &v in &x_ticks {
+            let px = to_pixel([v, chart.y.1])[0];
+            self.line([px, top as f64], [px, bottom as f64], grey, 1.0);
+            let text = label(v);
+            let half = 8 * text.chars().count() as i64;
+            self.text(px.round() as i64 - half, bottom + 10, &text, 2, INK);
+        }
+        for &v in &y_ticks {
+            let py = to_pixel([chart.x.1, v])[1];
+            self.line([left as f64, py], [right as f64, py], grey, 1.0);
+            let text = label(v);
+            self.text(left - 10 - 16 * text.chars().count() as i64, py.round() as i64 - 8, &text, 2, INK);
+        }
+        self.rect(left, top, 2, bottom - top + 2, INK);
+        self.rect(left, bottom, right - left, 2, INK);
+        let x_label = &chart.x.0;
+        self.text((left + right) / 2 - 8 * x_label.chars().count() as i64, bottom + 36, x_label, 2, INK);
+        self.text(x + 10, top - 28, &chart.y.0, 2, INK);
+        let inside =
+            |p: P2| (chart.x.1..=chart.x.2).contains(&p[0]) && (chart.y.1..=chart.y.2).contains(&p[1]);
+        for s in &chart.curves {
+            for pair in s.points.windows(2) {
+                if inside(pair[0]) && inside(pair[1]) {
+                    let (a, b) = (to_pixel(pair[0]), to_pixel(pair[1]));
+                    for d in [[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]] {
+                        self.line([a[0] + d[0], a[1] + d[1]], [b[0] + d[0], b[1] + d[1]], s.color, 1.0);
+                    }
+                }
+            }
+        }
+        // Each series of markers smaller than the one before, so that
+        // coinciding points stay visible.
+        let radius = |k: usize| (7.5 - 2.5 * k as f64).max(2.5);
+        for (k, s) in chart.markers.iter().enumerate() {
+            for &p in s.points.iter().filter(|&&p| inside(p)) {
+                self.disc(to_pixel(p), radius(k) + 1.5, INK);
+                self.disc(to_pixel(p), radius(k), s.color);
+            }
+        }
+        // The legend.
+        let entries = chart
+            .curves
+            .iter()
+            .map(|s| (s, None))
+            .chain(chart.markers.iter().enumerate().map(|(k, s)| (s, Some(k))));
+        let longest = entries.clone().map(|(s, _)| s.label.chars().count()).max().unwrap_or(0) as i64;
+        let (lx, mut ly) = (right - 60 - 16 * longest, top + 14);
+        for (s, marker) in entries {
+            let centre = [lx as f64 + 20.0, ly as f64 + 8.0];
+            match marker {
+                None => self.rect(lx, ly + 7, 40, 3, s.color),
+                Some(k) => {
+                    self.disc(centre, radius(k) + 1.5, INK);
+                    self.disc(centre, radius(k), s.color);
+                }
+            }
+            self.text(lx + 50, ly, &s.label, 2, INK);
+            ly += 26;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -349,6 +593,37 @@ mod tests {
         image.write_png(&mut bytes).unwrap();
         assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
         assert_eq!(glyph('ν'), GREEK_FONTS.get('ν').unwrap());
+    }
+
+    #[test]
+    fn ticks_are_round_and_cover_the_range() {
+        assert_eq!(ticks(0.0, 1.0, 6), vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0]);
+        assert_eq!(ticks(0.0, 1.6, 8), vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6]);
+        assert_eq!(ticks(-3.0, 12.0, 4), vec![0.0, 5.0, 10.0]);
+        assert_eq!(ticks(1.0, 1.0, 4), vec![1.0]);
+        assert_eq!(ticks(0.0, 2.0, 8), vec![0.0, 0.5, 1.0, 1.5, 2.0]);
+        assert_eq!(ticks(0.0, 1.2, 6), vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2]);
+    }
+
+    #[test]
+    fn a_chart_draws_its_curves_and_markers_where_they_belong() {
+        let mut image = Image::new(400, 300, [255, 255, 255]);
+        let red = [200, 0, 0];
+        let chart = Chart {
+            title: vec!["t".into()],
+            x: ("x".into(), 0.0, 1.0),
+            y: ("y".into(), 0.0, 1.0),
+            curves: vec![Series { label: "c".into(), color: red, points: vec![[0.0, 0.0], [1.0, 1.0]] }],
+            markers: vec![Series { label: "m".into(), color: [0, 0, 200], points: vec![[1.0, 0.0]] }],
+        };
+        image.chart(0, 0, 400, 300, &chart);
+        let all = (0..300).flat_map(|y| (0..400).map(move |x| (x, y)));
+        let count = |c: Rgb| all.clone().filter(|&(x, y)| image.get(x, y) == c).count();
+        assert!(count(red) > 200, "the diagonal is drawn");
+        // The marker sits in the lower right corner of the plot area.
+        let blue: Vec<(usize, usize)> =
+            all.clone().filter(|&(x, y)| image.get(x, y) == [0, 0, 200]).collect();
+        assert!(blue.iter().any(|&(x, y)| x > 300 && y > 200), "{blue:?}");
     }
 
     #[test]

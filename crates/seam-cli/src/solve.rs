@@ -60,6 +60,8 @@ pub struct Solved {
     pub solution: Solution,
     /// Per interface: the slave surface and its tractions.
     pub interfaces: Vec<InterfaceResult>,
+    /// Per body: the recovered stresses.
+    pub stresses: Vec<Stresses>,
     /// What `summary.json` holds.
     pub summary: Summary,
 }
@@ -368,7 +370,7 @@ pub fn solve(args: &SolveArgs) -> Result<Solved, Failure> {
     let json = serde_json::to_string_pretty(&summary).context("summary")?;
     out.write(&names.summary, |p| std::fs::write(p, json + "\n"))?;
     out.commit(&[])?;
-    Ok(Solved { out_dir, problem, solution, interfaces, summary })
+    Ok(Solved { out_dir, problem, solution, interfaces, stresses, summary })
 }
 
 /// The output files of a case.

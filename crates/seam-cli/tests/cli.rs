@@ -266,6 +266,26 @@ fn every_command_has_help() {
     }
 }
 
+#[test]
+fn example_help_lists_every_example_and_solve_help_mentions_contact() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = seam(&["example", "--help"], tmp.path());
+    let help = String::from_utf8_lossy(&o.stdout);
+    for name in ["operator", "warped-glue", "bulging-contact", "hertz"] {
+        assert!(help.contains(name), "example --help lacks {name}:\n{help}");
+    }
+    assert!(!help.contains("--slave-cells"), "the test-size flags stay hidden:\n{help}");
+    let o = seam(&["example", "no-such-example", "-o", "x"], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    for name in ["bulging-contact", "hertz"] {
+        assert!(stderr(&o).contains(name), "the error lists {name}: {}", stderr(&o));
+    }
+    let o = seam(&["solve", "--help"], tmp.path());
+    let help = String::from_utf8_lossy(&o.stdout).split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(help.contains("glued or in frictionless contact"), "{help}");
+    assert!(!tmp.path().join("x").exists());
+}
+
 fn vtu(path: &Path) -> seam_io::VtuMesh {
     seam_io::read_vtu_file(path).unwrap()
 }

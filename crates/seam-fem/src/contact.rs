@@ -233,7 +233,11 @@ pub fn solve_contact(
             }
             let analysis = CholeskyAnalysis::new(&a, &tied, &DirectOptions::default())?;
             let condensed = Condensed::new(&analysis, &a, &b, &tied, &points).map_err(|e| match e {
-                SolveError::Singular => singular(0, points.len()),
+                SolveError::Singular => GlueError::Contact(format!(
+                    "the system is singular even with all {} contact points closed: a body can move \
+                     without deforming (frictionless contact holds only the normal direction; add supports)",
+                    points.len()
+                )),
                 e => GlueError::Solve(e),
             })?;
             seconds.factorization += clock.elapsed().as_secs_f64();

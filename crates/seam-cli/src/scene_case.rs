@@ -1,0 +1,321 @@
+//! Built-in examples as case files: a [`Problem`] made in memory (a scene of
+//! `seam_fem::scene`) is written as one Gmsh mesh per body and a `case.toml`
+//! ([`write_problem_case`]), and that case is solved exactly as `seam solve`
+//! solves it ([`solve_example`]), so the example's results are `seam solve`'s
+//! and `seam solve DIR/case.toml --force` reruns it.
+//!
+//! What a case file can say is less than what a [`Problem`] can: the writer
+//! refuses (with an error naming the item) interfaces whose options a case
+//! cannot express (facing other than opposite, an angle limit other than 45°,
+//! a relative gap limit other than the default, a fixed quadrature degree),
+//! glued and contact interfaces together, standard multipliers for contact,
+//! and names that are not plain (letters, digits, `-`, `_`, `.`).
+
+use crate::args::{ExampleArgs, SolveArgs, SolverArg};
+use crate::output::Staged;
+use crate::solve::{self, Solved};
+use crate::Failure;
+use anyhow::{anyhow, bail, Result};
+use seam::{Facing, MaxGap, MortarOptions, Multiplier};
+use seam_fem::{Problem, ProblemInterface};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The case's output directory, relative to the case file.
+pub const OUTPUT_DIR: &str = "out";
+
+/// The files an example writes for `problem` in `dir`: the inputs (one
+/// `<body>.msh` per body, `case.toml`) and the results of `seam solve` in
+/// `dir/out` (`<body>.vtu`, `<slave body>_<surface>_interface.vtu`,
+/// `summary.json`).
+pub struct CaseFiles {
+    /// `<body>.msh`, in body order.
+    pub meshes: Vec<PathBuf>,
+    /// `case.toml`.
+    pub case: PathBuf,
+    /// The results, as `seam solve` names them.
+    pub results: Vec<PathBuf>,
+}
+
+impl CaseFiles {
+    /// The files of `problem` in `dir`.
+    pub fn of(problem: &Problem, dir: &Path) -> CaseFiles {
+        let out = dir.join(OUTPUT_DIR);
+        let mut results: Vec<PathBuf> =
+            problem.bodies.iter().map(|b| out.join(format!("{}.vtu", b.name))).collect();
+        for f in coupled(problem) {
+            let body = &problem.bodies[f.slave.body];
+            let surface = &body.surfaces[f.slave.surface].0;
+            results.push(out.join(format!("{}_{surface}_interface.vtu", body.name)));
+        }
+        results.push(out.join("summary.json"));
+        CaseFiles {
+            meshes: problem.bodies.iter().map(|b| dir.join(format!("{}.msh", b.name))).collect(),
+            case: dir.join("case.toml"),
+            results,
+        }
+    }
+
+    /// Every file, inputs first.
+    pub fn all(&self) -> impl Iterator<Item = &PathBuf> {
+        self.meshes.iter().chain([&self.case]).chain(&self.results)
+    }
+}
+
+/// The glued and the contact interfaces (a case holds one kind only).
+fn coupled(problem: &Problem) -> impl Iterator<Item = &ProblemInterface> {
+    problem.interfaces.iter().chain(&problem.contacts)
+}
+
+/// Writes `problem` into `dir` as a case: each body's mesh as `<body>.msh`
+/// (Gmsh 4.1, the body's cells as the physical volume `<body>`, its named
+/// surfaces as physical surfaces) and `case.toml` (module doc), which starts
+/// with the comment lines `about`. All-or-nothing; existing files are only
+/// replaced with `force`. Returns the case file's path.
+///
+/// # Errors
+/// A problem a case file cannot express (module doc), an existing file
+/// without `force`, or an I/O error.
+pub fn write_problem_case(problem: &Problem, dir: &Path, about: &[String], force: bool) -> Result<PathBuf> {
+    let text = case_toml(problem, about)?;
+    let files = CaseFiles::of(problem, dir);
+    let inputs: Vec<PathBuf> = files.meshes.iter().chain([&files.case]).cloned().collect();
+    let mut staged = Staged::prepare(&inputs, force)?;
+    for (path, body) in files.meshes.iter().zip(&problem.bodies) {
+        let surfaces: Vec<(&str, &seam::SurfaceMesh)> =
+            body.surfaces.iter().map(|(n, s)| (n.as_str(), s)).collect();
+        staged.write(path, |p| seam_io::write_volume_msh_file(p, &body.mesh, &body.name, &surfaces))?;
+    }
+    staged.write(&files.case, |p| std::fs::write(p, &text))?;
+    staged.commit(&[])?;
+    Ok(files.case)
+}
+
+/// Writes `problem` as a case in the example's output directory and solves it
+/// as `seam solve` does. Before anything is written, it checks that none of
+/// the case's files, its results and `extra` (the example's own outputs)
+/// exists, unless `--force`.
+///
+/// # Errors
+/// As [`write_problem_case`] and `seam solve`.
+pub fn solve_example(
+    problem: &Problem,
+    args: &ExampleArgs,
+    about: &[String],
+    extra: &[PathBuf],
+) -> Result<Solved, Failure> {
+    let files = CaseFiles::of(problem, &args.output);
+    if !args.force {
+        if let Some(path) = files.all().chain(extra).find(|p| p.exists()) {
+            return Err(anyhow!("{} already exists; pass --force to overwrite it", path.display()).into());
+        }
+    }
+    let case = write_problem_case(problem, &args.output, about, args.force)?;
+    solve::solve(&SolveArgs {
+        case,
+        solver: SolverArg::Direct,
+        rtol: 1e-10,
+        force: args.force,
+        threads: args.threads,
+    })
+}
+
+/// Writes each (path, bytes) all-or-nothing; existing files are only
+/// replaced with `force`.
+///
+/// # Errors
+/// An existing file without `force`, or an I/O error.
+pub fn write_files(files: &[(PathBuf, Vec<u8>)], force: bool) -> Result<()> {
+    let paths: Vec<PathBuf> = files.iter().map(|f| f.0.clone()).collect();
+    let mut staged = Staged::prepare(&paths, force)?;
+    for (path, bytes) in files {
+        staged.write(path, |p| std::fs::write(p, bytes))?;
+    }
+    staged.commit(&[])
+}
+
+/// A name usable as is in a file name and in TOML quotes.
+fn plain(name: &str) -> bool {
+    !name.is_empty()
+        && !name.starts_with('.')
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+}
+
+/// `case.toml` of `problem` (module doc), starting with the comment lines
+/// `about`.
+///
+/// # Errors
+/// A problem a case file cannot express (module doc).
+pub fn case_toml(problem: &Problem, about: &[String]) -> Result<String> {
+    if !problem.interfaces.is_empty() && !problem.contacts.is_empty() {
+        bail!("glued and contact interfaces in one case are not supported");
+    }
+    let mut t = String::new();
+    for line in about {
+        writeln!(t, "# {line}")?;
+    }
+    writeln!(t, "# Rerun with: seam solve case.toml --force\n")?;
+    let role = |b: usize| {
+        if coupled(problem).any(|f| f.master.body == b) {
+            "master side"
+        } else if coupled(problem).any(|f| f.slave.body == b) {
+            "slave side"
+        } else {
+            ""
+        }
+    };
+    for (b, body) in problem.bodies.iter().enumerate() {
+        for name in [&body.name].into_iter().chain(body.surfaces.iter().map(|s| &s.0)) {
+            if !plain(name) {
+                bail!("body \"{}\": the name \"{name}\" is not plain (letters, digits, -, _, .)", body.name);
+            }
+        }
+        writeln!(t, "{}", commented("[[body]]", role(b)))?;
+        writeln!(t, "name = \"{}\"\nmesh = \"{}.msh\"", body.name, body.name)?;
+        writeln!(t, "young = {:?}\npoisson = {:?}", body.material.young(), body.material.poisson())?;
+        if body.body_force != [0.0; 3] {
+            writeln!(t, "body_force = {}", array(body.body_force))?;
+        }
+        writeln!(t)?;
+    }
+    let kinds =
+        problem.interfaces.iter().map(|f| (f, "glue")).chain(problem.contacts.iter().map(|f| (f, "contact")));
+    for (i, (f, kind)) in kinds.enumerate() {
+        let what = format!(
+            "interface {} ({} → {})",
+            i + 1,
+            problem.surface_name(f.slave),
+            problem.surface_name(f.master)
+        );
+        let multiplier = multiplier(&f.options, kind == "contact").map_err(|e| anyhow!("{what}: {e}"))?;
+        writeln!(t, "[[interface]]")?;
+        writeln!(
+            t,
+            "master = \"{}\"\nslave = \"{}\"",
+            problem.surface_name(f.master),
+            problem.surface_name(f.slave)
+        )?;
+        writeln!(t, "kind = \"{kind}\"\nmultiplier = \"{multiplier}\"")?;
+        match f.options.max_gap {
+            MaxGap::Absolute(g) => writeln!(t, "max_gap = {g:?}")?,
+            g if g == MaxGap::DEFAULT => {}
+            g => bail!("{what}: the gap limit {g:?} is not expressible in a case (a length or the default)"),
+        }
+        writeln!(t)?;
+    }
+    for s in &problem.supports {
+        let clamped = s.values == [Some(0.0); 3];
+        writeln!(t, "{}", commented("[[dirichlet]]", if clamped { "clamped" } else { "" }))?;
+        writeln!(t, "boundary = \"{}\"", problem.surface_name(s.boundary))?;
+        for (name, value) in ["ux", "uy", "uz"].iter().zip(s.values) {
+            if let Some(v) = value {
+                writeln!(t, "{name} = {v:?}")?;
+            }
+        }
+        writeln!(t)?;
+    }
+    for l in &problem.loads {
+        writeln!(
+            t,
+            "[[traction]]\nboundary = \"{}\"\nt = {}\n",
+            problem.surface_name(l.boundary),
+            array(l.t)
+        )?;
+    }
+    writeln!(t, "[output]\ndir = \"{OUTPUT_DIR}\"")?;
+    Ok(t)
+}
+
+/// A table header with a comment in column 19, or alone.
+fn commented(header: &str, comment: &str) -> String {
+    if comment.is_empty() {
+        header.to_string()
+    } else {
+        format!("{header:<17} # {comment}")
+    }
+}
+
+/// "[x, y, z]" in Rust's shortest round-trip form.
+fn array(v: [f64; 3]) -> String {
+    format!("[{:?}, {:?}, {:?}]", v[0], v[1], v[2])
+}
+
+/// The case file's multiplier of an interface with `options`, after checking
+/// that the rest of the options is what a case gives.
+fn multiplier(options: &MortarOptions, contact: bool) -> Result<&'static str> {
+    if options.facing != Facing::Opposite {
+        bail!("a case pairs faces facing each other only (facing {:?})", options.facing);
+    }
+    if options.max_angle_degrees != MortarOptions::default().max_angle_degrees {
+        bail!("a case keeps the angle limit at 45° (not {}°)", options.max_angle_degrees);
+    }
+    if options.warped_quad_degree.is_some() {
+        bail!("a case chooses the quadrature degree of warped quads itself");
+    }
+    Ok(match options.multiplier {
+        Multiplier::Standard if contact => bail!("contact needs lumped or dual multipliers"),
+        Multiplier::Standard => "standard",
+        Multiplier::Dual => "dual",
+        Multiplier::Lumped => "lumped",
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use seam_fem::scene::{bulging_contact, hertz, warped_glue, BulgingContact, Hertz, WarpedGlue};
+
+    #[test]
+    fn the_glue_scene_gives_the_case_of_the_warped_glue_example() {
+        let problem = warped_glue(&WarpedGlue { slave_cells: 2, ratio: 1, ..WarpedGlue::default() }).unwrap();
+        let text = case_toml(&problem, &["a comment".into()]).unwrap();
+        assert!(text.starts_with(
+            "# a comment\n# Rerun with: seam solve case.toml --force\n\n[[body]]          # master side\n"
+        ));
+        for part in [
+            "name = \"lower\"\nmesh = \"lower.msh\"\nyoung = 1000.0\npoisson = 0.3\n",
+            "[[interface]]\nmaster = \"lower:top\"\nslave = \"upper:bottom\"\nkind = \"glue\"\nmultiplier = \"standard\"\n\n",
+            "[[dirichlet]]     # clamped\nboundary = \"lower:bottom\"\nux = 0.0\nuy = 0.0\nuz = 0.0\n",
+            "[[traction]]\nboundary = \"upper:top\"\nt = [0.2, 0.0, -1.0]\n",
+        ] {
+            assert!(text.contains(part), "{part} in\n{text}");
+        }
+        let case: toml::Table = text.parse().unwrap();
+        assert_eq!(case["body"].as_array().unwrap().len(), 2);
+    }
+
+    #[test]
+    fn contact_scenes_keep_their_gap_limits_rollers_and_loads() {
+        let p =
+            bulging_contact(&BulgingContact { cells: 2, layers: 1, ..BulgingContact::default() }).unwrap();
+        let text = case_toml(&p, &[]).unwrap();
+        assert!(text.contains("kind = \"contact\"\nmultiplier = \"lumped\"\nmax_gap = 0.5\n"), "{text}");
+        assert!(text.contains("boundary = \"upper:top\"\nux = 0.02\nuy = -0.01\nuz = -0.08\n"), "{text}");
+        let h = Hertz { fine_cells: 2, ..Hertz::default() };
+        let text = case_toml(&hertz(&h).unwrap(), &[]).unwrap();
+        assert!(text.contains("[[dirichlet]]\nboundary = \"indenter:x0\"\nux = 0.0\n\n"), "{text}");
+        assert!(text.contains("boundary = \"block:y0\"\nuy = 0.0\n\n"), "{text}");
+        let case: toml::Table = text.parse().unwrap();
+        let t = case["traction"][0]["t"].as_array().unwrap()[2].as_float().unwrap();
+        assert_eq!(-t, h.force() / (4.0 * 0.5 * 0.5), "the traction round-trips");
+    }
+
+    #[test]
+    fn what_a_case_cannot_say_is_refused() {
+        let mut p = warped_glue(&WarpedGlue { slave_cells: 2, ratio: 1, ..WarpedGlue::default() }).unwrap();
+        p.interfaces[0].options.facing = Facing::Any;
+        assert!(case_toml(&p, &[]).unwrap_err().to_string().contains("facing"));
+        p.interfaces[0].options.facing = Facing::Opposite;
+        p.interfaces[0].options.max_gap = MaxGap::Relative(0.1);
+        assert!(case_toml(&p, &[])
+            .unwrap_err()
+            .to_string()
+            .contains("interface 1 (upper:bottom → lower:top)"));
+        p.interfaces[0].options.max_gap = MaxGap::DEFAULT;
+        p.bodies[0].name = "lo wer".into();
+        assert!(case_toml(&p, &[]).unwrap_err().to_string().contains("not plain"));
+        p.bodies[0].name = "lower".into();
+        p.contacts = p.interfaces.clone();
+        assert!(case_toml(&p, &[]).is_err());
+    }
+}
