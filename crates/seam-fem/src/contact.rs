@@ -62,6 +62,7 @@ use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, S
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use rayon::prelude::*;
+use seam::vec3::{cross, dot, norm, sub};
 use seam::{nodal_normals, CsrMatrix, Mortar, Multiplier, Point3};
 use std::time::Instant;
 
@@ -213,7 +214,7 @@ pub fn solve_contact(
     let p = rotation(k.nrows, &points);
     let a = triple_product(&p, k);
     let b = p.transpose_mul_vec(f, 1);
-    let prescribed = rotated_dirichlet(dirichlet, &points);
+    let prescribed = rotated_dirichlet(k.nrows, dirichlet, &points);
     seconds.setup += clock.elapsed().as_secs_f64();
 
     let scale = length_scale(bodies);
@@ -391,7 +392,7 @@ fn frame(normal: Point3, fixed: [bool; 3]) -> Option<[Point3; 3]> {
     for c in (0..3).filter(|&c| fixed[c]) {
         n[c] = 0.0;
     }
-    let length = dot(n, n).sqrt();
+    let length = norm(n);
     if length < 0.5 || length.is_nan() {
         return None;
     }
@@ -404,38 +405,35 @@ fn frame(normal: Point3, fixed: [bool; 3]) -> Option<[Point3; 3]> {
             let c = (0..3).min_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs())).unwrap();
             let e: Point3 = axis(c);
             let t = sub(e, n.map(|v| v * n[c]));
-            let l = dot(t, t).sqrt();
+            let l = norm(t);
             t.map(|v| v / l)
         }
     };
     Some([n, t1, cross(n, t1)])
 }
 
-fn dot(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
+/// No contact point.
+const NONE: usize = usize::MAX;
 
-fn sub(a: Point3, b: Point3) -> Point3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: Point3, b: Point3) -> Point3 {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+/// Per mesh point of the n dofs: the index of its contact point, or `NONE`.
+fn point_index(n: usize, points: &[ContactPoint]) -> Vec<usize> {
+    let mut at = vec![NONE; n / 3];
+    for (i, c) in points.iter().enumerate() {
+        at[c.first_dof / 3] = i;
+    }
+    at
 }
 
 /// P (n × n): the identity except at contact points, whose rows read
 /// u_s,p = n (w + Σ_q T_pq n·u_m,q) + t₁ v₁ + t₂ v₂ (module doc).
 fn rotation(n: usize, points: &[ContactPoint]) -> CsrMatrix {
-    let mut at = vec![usize::MAX; n / 3];
-    for (i, c) in points.iter().enumerate() {
-        at[c.first_dof / 3] = i;
-    }
+    let at = point_index(n, points);
     let mut p = CsrMatrix::zeros(0, n);
     let mut row: Vec<(usize, f64)> = Vec::new();
     for dof in 0..n {
         row.clear();
         match at[dof / 3] {
-            usize::MAX => row.push((dof, 1.0)),
+            NONE => row.push((dof, 1.0)),
             i => {
                 let c = &points[i];
                 let comp = dof % 3;
@@ -463,16 +461,14 @@ fn rotation(n: usize, points: &[ContactPoint]) -> CsrMatrix {
 /// The Dirichlet conditions in x: unchanged off the contact points; at a
 /// contact point a prescribed axis is t₁ or t₂ (see [`frame`]), so the value
 /// moves to v₁ or v₂.
-fn rotated_dirichlet(dirichlet: &Dirichlet, points: &[ContactPoint]) -> Dirichlet {
-    let mut at = std::collections::HashMap::new();
-    for c in points {
-        at.insert(c.first_dof / 3, c);
-    }
+fn rotated_dirichlet(n: usize, dirichlet: &Dirichlet, points: &[ContactPoint]) -> Dirichlet {
+    let at = point_index(n, points);
     let mut out = Dirichlet::new();
     for (dof, v) in dirichlet.iter() {
-        match at.get(&(dof / 3)) {
-            None => out.fix_dof(dof, v),
-            Some(c) => {
+        match at[dof / 3] {
+            NONE => out.fix_dof(dof, v),
+            i => {
+                let c = &points[i];
                 let axis = dof % 3;
                 let k =
                     (1..3).find(|&k| c.frame[k][axis].abs() == 1.0).expect("prescribed axes are tangents");
@@ -565,10 +561,7 @@ impl<'a> Condensed<'a> {
         let c = points.iter().map(|p| r[p.first_dof]).collect();
         // S = A_WW + A_WO Z, Z in blocks of columns.
         let nw = points.len();
-        let mut point_of = vec![usize::MAX; a.nrows];
-        for (j, p) in points.iter().enumerate() {
-            point_of[p.first_dof] = j;
-        }
+        let point_of = point_index(a.nrows, points);
         let mut s = Mat::<f64>::zeros(nw, nw);
         for start in (0..nw).step_by(Self::BLOCK) {
             let cols = start..(start + Self::BLOCK).min(nw);
@@ -591,9 +584,9 @@ impl<'a> Condensed<'a> {
                         .map(|(jj, j)| {
                             idx.iter()
                                 .zip(vals)
-                                .map(|(&q, &v)| match (local[q], point_of[q]) {
+                                .map(|(&q, &v)| match (local[q], point_of[q / 3]) {
                                     (l, _) if l != usize::MAX => v * z[(l, jj)],
-                                    (_, p) if p == j => v,
+                                    (_, p) if p == j && q == points[j].first_dof => v,
                                     _ => 0.0,
                                 })
                                 .sum()

@@ -524,23 +524,27 @@ fn norm2(a: [f64; 2]) -> f64 {
     (a[0] * a[0] + a[1] * a[1]).sqrt()
 }
 
+/// a − b.
 #[inline]
-pub(crate) fn sub(a: Point3, b: Point3) -> Point3 {
+pub fn sub(a: Point3, b: Point3) -> Point3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
+/// a · b.
 #[inline]
-pub(crate) fn dot(a: Point3, b: Point3) -> f64 {
+pub fn dot(a: Point3, b: Point3) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// a × b.
 #[inline]
-pub(crate) fn cross(a: Point3, b: Point3) -> Point3 {
+pub fn cross(a: Point3, b: Point3) -> Point3 {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
+/// |a|.
 #[inline]
-pub(crate) fn norm(a: Point3) -> f64 {
+pub fn norm(a: Point3) -> f64 {
     dot(a, a).sqrt()
 }
 

@@ -46,6 +46,10 @@
 
 mod clip;
 mod element;
+/// Small 3-vector operations on [`Point3`].
+pub mod vec3 {
+    pub use crate::element::{cross, dot, norm, sub};
+}
 pub mod generate;
 mod mesh;
 mod mortar;

@@ -43,10 +43,11 @@
 //! ([`MaxGap::Absolute`]) of 1/2, the block height, well above δ, so that
 //! every initially open slave point gets its constraint.
 
-use crate::generate::{block, BlockKind, Grid, Side};
+use super::{block_body, BOTTOM_TOP};
+use crate::generate::{block, BlockKind, Grid};
 use crate::material::Material;
-use crate::problem::{Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
-use seam::{Facing, MaxGap, MeshError, MortarOptions, Multiplier, Point3, VolumeMesh};
+use crate::problem::{Problem, ProblemInterface, Support, SurfaceId};
+use seam::{Facing, MaxGap, MeshError, MortarOptions, Multiplier, Point3};
 
 /// A Gaussian bulge a · exp(−(x − c_x)²/r_x² − (y − c_y)²/r_y²).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -177,15 +178,6 @@ fn scaled(n: usize, ratio: f64) -> usize {
     ((n as f64 * ratio).round() as usize).max(1)
 }
 
-/// A block body named `name` with surfaces "bottom" (ZMin) and "top" (ZMax).
-fn body(name: &str, mesh: VolumeMesh, grid: Grid, material: Material) -> Result<ProblemBody, MeshError> {
-    let surfaces = [("bottom", Side::ZMin), ("top", Side::ZMax)]
-        .into_iter()
-        .map(|(s, side)| Ok((s.to_string(), grid.side_faces(&mesh, side)?)))
-        .collect::<Result<_, MeshError>>()?;
-    Ok(ProblemBody { name: name.into(), mesh, material, body_force: [0.0; 3], surfaces })
-}
-
 /// The bulging-contact problem (module doc): bodies "lower" (master, surfaces
 /// "bottom", "top") and "upper" (slave, "bottom", "top"), E = 1000, ν = 0.3
 /// both; "lower:bottom" clamped, "upper:top" moved by `p.press`; one contact
@@ -211,8 +203,8 @@ pub fn bulging_contact(p: &BulgingContact) -> Result<Problem, MeshError> {
     };
     let upper = block(ns, ns, ls, upper_map, BlockKind::Hex);
     let bodies = vec![
-        body("lower", lower, Grid::new(nm, nm, lm), material)?,
-        body("upper", upper, Grid::new(ns, ns, ls), material)?,
+        block_body("lower", lower, &Grid::new(nm, nm, lm), material, &BOTTOM_TOP)?,
+        block_body("upper", upper, &Grid::new(ns, ns, ls), material, &BOTTOM_TOP)?,
     ];
     let (bottom, top) = (0, 1);
     let options = MortarOptions {

@@ -1,9 +1,10 @@
 //! Hertz contact: an elastic indenter with a spherical face pressed on an
 //! elastic block, force-controlled, against the analytic solution.
 
+use super::block_body;
 use crate::generate::{block, BlockKind, Grid, Side};
 use crate::material::Material;
-use crate::problem::{Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
+use crate::problem::{Load, Problem, ProblemInterface, Support, SurfaceId};
 use seam::{Facing, MaxGap, MeshError, MortarOptions, Multiplier, Point3, VolumeMesh};
 
 /// Parameters of [`hertz`]. Lengths in units of the sphere radius R.
@@ -132,12 +133,8 @@ fn tensor_block(xs: &[f64], ws: &[f64], map: impl Fn(f64, f64, f64) -> Point3) -
 
 /// The named sides of a quarter-model body: bottom, top, and the symmetry
 /// planes x0 (x = 0) and y0 (y = 0).
-fn sides(mesh: &VolumeMesh, grid: &Grid) -> Result<Vec<(String, seam::SurfaceMesh)>, MeshError> {
-    [("bottom", Side::ZMin), ("top", Side::ZMax), ("x0", Side::XMin), ("y0", Side::YMin)]
-        .into_iter()
-        .map(|(name, side)| Ok((name.to_string(), grid.side_faces(mesh, side)?)))
-        .collect()
-}
+const SIDES: [(&str, Side); 4] =
+    [("bottom", Side::ZMin), ("top", Side::ZMax), ("x0", Side::XMin), ("y0", Side::YMin)];
 
 /// The Hertz problem, a quarter model (symmetry planes x = 0 and y = 0):
 ///
@@ -172,20 +169,8 @@ pub fn hertz(p: &Hertz) -> Result<Problem, MeshError> {
     });
 
     let bodies = vec![
-        ProblemBody {
-            name: "indenter".into(),
-            surfaces: sides(&ball, &ball_grid)?,
-            mesh: ball,
-            material: p.indenter,
-            body_force: [0.0; 3],
-        },
-        ProblemBody {
-            name: "block".into(),
-            surfaces: sides(&slab, &slab_grid)?,
-            mesh: slab,
-            material: p.block,
-            body_force: [0.0; 3],
-        },
+        block_body("indenter", ball, &ball_grid, p.indenter, &SIDES)?,
+        block_body("block", slab, &slab_grid, p.block, &SIDES)?,
     ];
     let id = |body, surface| SurfaceId { body, surface };
     let (bottom, top, x0, y0) = (0, 1, 2, 3);

@@ -23,3 +23,27 @@ mod warped_glue;
 pub use bulging::{bulging_contact, Bulge, BulgingContact};
 pub use hertz::{hertz, Hertz};
 pub use warped_glue::{warped_glue, WarpedGlue};
+
+use crate::generate::{Grid, Side};
+use crate::material::Material;
+use crate::problem::ProblemBody;
+use seam::{MeshError, VolumeMesh};
+
+/// A structured block (`mesh` on `grid`) as a body named `name`, without body
+/// force, whose boundary surfaces are the named `sides`.
+fn block_body(
+    name: &str,
+    mesh: VolumeMesh,
+    grid: &Grid,
+    material: Material,
+    sides: &[(&str, Side)],
+) -> Result<ProblemBody, MeshError> {
+    let surfaces = sides
+        .iter()
+        .map(|&(s, side)| Ok((s.to_string(), grid.side_faces(&mesh, side)?)))
+        .collect::<Result<_, MeshError>>()?;
+    Ok(ProblemBody { name: name.into(), mesh, material, body_force: [0.0; 3], surfaces })
+}
+
+/// The sides "bottom" (z-min) and "top" (z-max).
+const BOTTOM_TOP: [(&str, Side); 2] = [("bottom", Side::ZMin), ("top", Side::ZMax)];

@@ -1,8 +1,9 @@
 //! The paper's first example (Fig. 2), glued.
 
-use crate::generate::{block, BlockKind, Grid, Side};
+use super::{block_body, BOTTOM_TOP};
+use crate::generate::{block, BlockKind, Grid};
 use crate::material::Material;
-use crate::problem::{Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
+use crate::problem::{Load, Problem, ProblemInterface, Support, SurfaceId};
 use seam::{Facing, MeshError, MortarOptions, Multiplier, Point3};
 
 /// Parameters of [`warped_glue`].
@@ -75,27 +76,9 @@ pub fn warped_glue(p: &WarpedGlue) -> Result<Problem, MeshError> {
     let ns = p.slave_cells;
     let upper = block(ns, ns, p.slave_layers, |u, v, w| p.upper(u, v, w), BlockKind::Hex);
     let upper_grid = Grid::new(ns, ns, p.slave_layers);
-    let surfaces = |mesh: &seam::VolumeMesh, grid: &Grid| -> Result<Vec<_>, MeshError> {
-        Ok(vec![
-            ("bottom".to_string(), grid.side_faces(mesh, Side::ZMin)?),
-            ("top".to_string(), grid.side_faces(mesh, Side::ZMax)?),
-        ])
-    };
     let bodies = vec![
-        ProblemBody {
-            name: "lower".into(),
-            surfaces: surfaces(&lower, &lower_grid)?,
-            mesh: lower,
-            material,
-            body_force: [0.0; 3],
-        },
-        ProblemBody {
-            name: "upper".into(),
-            surfaces: surfaces(&upper, &upper_grid)?,
-            mesh: upper,
-            material,
-            body_force: [0.0; 3],
-        },
+        block_body("lower", lower, &lower_grid, material, &BOTTOM_TOP)?,
+        block_body("upper", upper, &upper_grid, material, &BOTTOM_TOP)?,
     ];
     let (bottom, top) = (0, 1);
     let options =
