@@ -181,11 +181,28 @@ pub fn nodal_values_from(
         }
     };
     let array = as_f64(&array, what)?;
-    let values = match k {
+    let values: Vec<f64> = match k {
         None => array.cast_into::<PyArray1<f64>>()?.readonly().as_array().iter().copied().collect(),
         Some(_) => array.cast_into::<PyArray2<f64>>()?.readonly().as_array().iter().copied().collect(),
     };
+    finite(&values, what, k, per)?;
     Ok((values, k))
+}
+
+/// `Ok` if every value is finite; else a ValueError naming the first other
+/// one by its row (a `per`) and column: nothing non-finite is transferred or
+/// returned.
+pub fn finite(values: &[f64], what: &str, k: Option<usize>, per: &str) -> PyResult<()> {
+    let Some(i) = values.iter().position(|v| !v.is_finite()) else { return Ok(()) };
+    let at = match k {
+        None => format!("{what}[{i}]"),
+        Some(k) => format!("{what}[{}, {}]", i / k.max(1), i % k.max(1)),
+    };
+    Err(PyValueError::new_err(format!(
+        "{at} is {} ({per} {}): only finite values can be used",
+        values[i],
+        i / k.unwrap_or(1).max(1)
+    )))
 }
 
 /// Row-major nodal values as a NumPy array of shape (rows,) or (rows, k).

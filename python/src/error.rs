@@ -8,6 +8,7 @@
 //! | `MortarError::InvalidOption` | `seam.InvalidOptionError` (a `seam.MortarError`, a `ValueError`) |
 //! | `MortarError::NoOverlap` | `seam.NoOverlapError` (idem) |
 //! | `MortarError::Factorization` | `seam.FactorizationError` (idem) |
+//! | `MortarError::NonFinite` | `seam.MortarError` |
 //!
 //! Messages are the Rust `Display` text, unchanged.
 
@@ -61,6 +62,7 @@ pub fn mortar_error(e: CoreMortarError) -> PyErr {
         CoreMortarError::InvalidOption(_) => InvalidOptionError::new_err(message),
         CoreMortarError::NoOverlap { .. } => NoOverlapError::new_err(message),
         CoreMortarError::Factorization(_) => FactorizationError::new_err(message),
+        CoreMortarError::NonFinite { .. } => MortarError::new_err(message),
     }
 }
 

@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use seam::{Facing, MaxGap, MortarOptions, Multiplier, Transfer};
 
-use crate::convert::{csr_matrix, nodal_values_from, nodal_values_into, short};
+use crate::convert::{csr_matrix, finite, nodal_values_from, nodal_values_into, short};
 use crate::error::mortar_error;
 use crate::mesh::MeshArg;
 
@@ -72,7 +72,7 @@ fn parse_facing(name: &str) -> PyResult<Facing> {
 ///         None for half the local slave face diameter.
 ///     facing: "any" (either normal orientation) or "opposite" (the faces face
 ///         each other, as outward normals of two bodies do).
-///     threads: Worker threads; None uses all cores.
+///     threads: Worker threads (at most 4 per core); None uses all cores.
 ///     max_angle: Largest angle between slave and master normals, in degrees.
 ///     warped_quad_degree: Triangle-rule degree (1 to 20) on warped slave quads;
 ///         None chooses it per face.
@@ -85,7 +85,8 @@ fn parse_facing(name: &str) -> PyResult<Facing> {
 ///     InvalidOptionError: An option out of range (negative gap, angle outside
 ///         (0, 90), degree outside 1..20).
 ///     MeshError: A (points, faces) tuple that is not a valid mesh.
-///     ValueError: An unknown multiplier or facing, threads < 1, wrong shapes.
+///     ValueError: An unknown multiplier or facing, threads < 1 or more than
+///         4 per core, wrong shapes.
 ///     TypeError: master or slave of another type.
 #[pyfunction]
 #[pyo3(signature = (master, slave, multiplier = "standard", max_gap = None, facing = "any", threads = None, *, max_angle = 45.0, warped_quad_degree = None))]
@@ -113,13 +114,19 @@ pub fn assemble(
     let slave = MeshArg::extract(slave, "slave")?;
     let pool = match threads {
         None => None,
-        Some(n) if n >= 1 => Some(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n as usize)
-                .build()
-                .map_err(|e| PyOSError::new_err(format!("cannot start {n} worker threads: {e}")))?,
-        ),
-        Some(n) => return Err(PyValueError::new_err(format!("threads must be at least 1, got {n}"))),
+        Some(n) => {
+            let n = match usize::try_from(n) {
+                Ok(n) if n >= 1 => seam_case::threads::check_threads(n)
+                    .map_err(|e| PyValueError::new_err(format!("threads={n}: {e}")))?,
+                _ => return Err(PyValueError::new_err(format!("threads must be at least 1, got {n}"))),
+            };
+            Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .map_err(|e| PyOSError::new_err(format!("cannot start {n} worker threads: {e}")))?,
+            )
+        }
     };
     let (m, s) = (master.get(), slave.get());
     let mortar = py
@@ -203,7 +210,7 @@ impl PyMortar {
     ///     float64 array of shape (n_slave_points,) or (n_slave_points, k).
     ///
     /// Raises:
-    ///     ValueError: values of the wrong shape.
+    ///     ValueError: values of the wrong shape, or not finite (NaN, inf).
     ///     FactorizationError: D on the covered points is not positive definite.
     fn transfer<'py>(&self, py: Python<'py>, values: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let (rows, cols) = (self.inner.b.nrows, self.inner.b.ncols);
@@ -211,6 +218,7 @@ impl PyMortar {
         let t = self.transfer_operator(py)?;
         let width = k.unwrap_or(1);
         let out = if width == 0 { Vec::new() } else { py.detach(|| t.apply(&v, width)) };
+        finite(&out, "the result", k, "slave point")?;
         nodal_values_into(py, out, rows, k)
     }
 
@@ -225,7 +233,7 @@ impl PyMortar {
     ///     float64 array of shape (n_master_points,) or (n_master_points, k).
     ///
     /// Raises:
-    ///     ValueError: loads of the wrong shape.
+    ///     ValueError: loads of the wrong shape, or not finite (NaN, inf).
     ///     FactorizationError: D on the covered points is not positive definite.
     fn transfer_conservative<'py>(
         &self,
@@ -237,6 +245,7 @@ impl PyMortar {
         let t = self.transfer_operator(py)?;
         let width = k.unwrap_or(1);
         let out = if width == 0 { Vec::new() } else { py.detach(|| t.apply_transpose(&f, width)) };
+        finite(&out, "the result", k, "master point")?;
         nodal_values_into(py, out, cols, k)
     }
 

@@ -104,6 +104,14 @@ def test_non_finite_point(value):
     raises_in_mesh_and_assemble(seam.MeshError, "node 4 has a non-finite coordinate", points=points)
 
 
+def test_coordinates_out_of_range():
+    points = POINTS.copy()
+    points[4, 2] = 1e300
+    raises_in_mesh_and_assemble(
+        seam.MeshError, re.escape("node 4 has coordinate 1e300, out of range (|x| ≤ 1e50)"), points=points
+    )
+
+
 def test_degenerate_faces():
     faces = TRIS.copy()
     faces[2] = [0, 1, 0]
@@ -139,6 +147,7 @@ def test_non_overlapping_meshes():
         ({"warped_quad_degree": 0}, seam.InvalidOptionError, "the quadrature degree must lie in 1..=20, got 0"),
         ({"threads": 0}, ValueError, "threads must be at least 1, got 0"),
         ({"threads": -3}, ValueError, "threads must be at least 1, got -3"),
+        ({"threads": 100000}, ValueError, r"threads=100000: 100000 worker threads are more than 4 per core \(this machine has \d+ cores?: at most \d+\)"),
     ],
 )
 def test_bad_options(kwargs, exc, pattern):
@@ -168,6 +177,20 @@ def test_transfer_input_shapes():
         op.transfer(np.ones(n_master, dtype=complex))
     with pytest.raises(ValueError, match=re.escape("loads must have shape (9,) or (9, k), one row per slave point, got shape (16,)")):
         op.transfer_conservative(np.ones(n_master))
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_non_finite_values_are_refused_not_transferred(bad):
+    op = seam.assemble(MASTER, square(), "dual")
+    n_slave, n_master = op.shape
+    values = np.ones(n_master)
+    values[7] = bad
+    with pytest.raises(ValueError, match=re.escape(f"values[7] is {bad} (master point 7): only finite values can be used").replace("nan", "NaN")):
+        op.transfer(values)
+    vectors = np.ones((n_slave, 2))
+    vectors[3, 1] = bad
+    with pytest.raises(ValueError, match=re.escape(f"loads[3, 1] is {bad} (slave point 3)").replace("nan", "NaN")):
+        op.transfer_conservative(vectors)
 
 
 def test_mesh_properties_are_read_only():

@@ -67,21 +67,21 @@ pub struct CouplingArgs {
     pub multiplier: MultiplierArg,
     /// Largest normal distance between paired points, as a length
     /// [default: half the diameter of each slave face].
-    #[arg(long, value_name = "X")]
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
     pub max_gap: Option<f64>,
     /// Which normal orientations may be paired.
     #[arg(long, value_enum, default_value_t)]
     pub facing: FacingArg,
     /// Largest angle between slave and master face normals, in degrees.
-    #[arg(long, value_name = "DEG", default_value_t = 45.0)]
+    #[arg(long, value_name = "DEG", default_value_t = 45.0, allow_negative_numbers = true)]
     pub max_angle: f64,
     /// Triangle-rule degree on warped slave quads (1..=20) [default: chosen per
     /// face so that its integrals agree with degree 20 to 1e-13]. Triangles and
     /// planar quads always use exact rules.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub quad_order: Option<usize>,
-    /// Worker threads [default: all cores].
-    #[arg(long, value_name = "N")]
+    /// Worker threads, at most 4 per core [default: all cores].
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub threads: Option<usize>,
 }
 
@@ -223,13 +223,13 @@ pub struct SolveArgs {
     #[arg(long, value_enum, default_value_t)]
     pub solver: SolverArg,
     /// PCG: stop when ‖r‖₂ ≤ RTOL ‖b‖₂.
-    #[arg(long, default_value_t = 1e-10, value_name = "RTOL")]
+    #[arg(long, default_value_t = 1e-10, value_name = "RTOL", allow_negative_numbers = true)]
     pub rtol: f64,
     /// Overwrite output files that already exist.
     #[arg(long)]
     pub force: bool,
-    /// Worker threads [default: all cores].
-    #[arg(long, value_name = "N")]
+    /// Worker threads, at most 4 per core [default: all cores].
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub threads: Option<usize>,
 }
 
@@ -269,8 +269,8 @@ pub struct ExampleArgs {
     /// Overwrite output files that already exist in DIR.
     #[arg(long)]
     pub force: bool,
-    /// Worker threads [default: all cores].
-    #[arg(long, value_name = "N")]
+    /// Worker threads, at most 4 per core [default: all cores].
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub threads: Option<usize>,
     /// warped-glue: h_s/h_m, the master (lower) side's refinement over the
     /// slave (upper) side's (for tests and quick runs).

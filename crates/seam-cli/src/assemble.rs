@@ -73,7 +73,8 @@ pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
     let file = |name: &str| args.output.join(name);
     let mut targets = vec![file("B.mtx"), file("D.mtx"), file("T.mtx"), file("summary.json")];
     targets.extend(args.segments.clone());
-    let mut out = Staged::prepare(&targets, args.force)?;
+    let inputs = [args.pair.master.clone(), args.pair.slave.clone()];
+    let mut out = Staged::prepare(&targets, &inputs, args.force)?;
     let mut seconds = Seconds::default();
 
     let t = Instant::now();
@@ -103,6 +104,14 @@ pub fn run(args: &AssembleArgs) -> Result<Assembled, Failure> {
         false => None,
     };
     let t_matrix = transfer.as_ref().and_then(|t| t.matrix());
+    if let Some(row) = t_matrix.and_then(seam::CsrMatrix::first_non_finite_row) {
+        let e = anyhow::anyhow!(
+            "{}: T = D⁻¹B is not finite in row {} (a vanishing D entry): nothing non-finite is written",
+            args.pair.slave.display(),
+            row + 1
+        );
+        return Err(e.into());
+    }
     seconds.assemble = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
@@ -174,10 +183,12 @@ pub fn options(args: &CouplingArgs) -> anyhow::Result<MortarOptions> {
     })
 }
 
+/// The worker threads of a run: `--threads` checked against the cores
+/// ([`seam_case::threads`]), or all cores.
 pub fn thread_pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
     let mut builder = rayon::ThreadPoolBuilder::new();
     if let Some(n) = threads {
-        anyhow::ensure!(n >= 1, "--threads must be at least 1");
+        let n = seam_case::threads::check_threads(n).map_err(|e| anyhow::anyhow!("--threads: {e}"))?;
         builder = builder.num_threads(n);
     }
     builder.build().context("cannot start the worker threads")

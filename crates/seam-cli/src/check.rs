@@ -68,7 +68,8 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     let options = options(&args.coupling)?;
     let pool = thread_pool(args.coupling.threads)?;
     let targets: Vec<PathBuf> = args.vtu.iter().chain(&args.json).cloned().collect();
-    let mut out = Staged::prepare(&targets, args.force)?;
+    let inputs = [args.pair.master.clone(), args.pair.slave.clone()];
+    let mut out = Staged::prepare(&targets, &inputs, args.force)?;
     let pair = &args.pair;
     let master = Surface::read(&pair.master, pair.master_group.as_deref())?.mesh;
     let slave = Surface::read(&pair.slave, pair.slave_group.as_deref())?.mesh;

@@ -2,8 +2,8 @@
 
 use crate::args::{AssembleArgs, CouplingArgs, ExampleArgs, ExampleName, FacingArg, MultiplierArg, PairArgs};
 use crate::assemble::{self, Assembled};
+use crate::output::Staged;
 use crate::Failure;
-use anyhow::Context;
 use seam::generate::{patch, Pattern};
 use seam::{Mortar, Point3, SurfaceMesh};
 use std::path::Path;
@@ -30,20 +30,24 @@ fn barrel(scale: f64) -> impl Fn(f64, f64) -> Point3 {
 
 fn operator(args: &ExampleArgs) -> Result<(), Failure> {
     let dir = &args.output;
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("cannot create output directory {}", dir.display()))?;
     let slave = patch(24, 20, Pattern::Quads, barrel(1.0));
     let master = patch(31, 26, Pattern::JitteredTriangles { amplitude: 0.25, seed: 2026 }, barrel(1.002));
     let (slave_path, master_path) = (dir.join("slave.msh"), dir.join("master.msh"));
-    for (path, mesh) in [(&slave_path, &slave), (&master_path, &master)] {
-        if path.exists() && !args.force {
+    // Every output of the example is checked before the meshes are written.
+    let results = ["B.mtx", "D.mtx", "T.mtx", "summary.json"].map(|f| dir.join(f));
+    if !args.force {
+        if let Some(path) = results.iter().find(|p| p.exists()) {
             return Err(
                 anyhow::anyhow!("{} already exists; pass --force to overwrite it", path.display()).into()
             );
         }
-        seam_io::write_msh_file(path, mesh, "interface")
-            .with_context(|| format!("cannot write {}", path.display()))?;
     }
+    let mut meshes = Staged::prepare(&[slave_path.clone(), master_path.clone()], &[], args.force)?;
+    for (path, mesh) in [(&slave_path, &slave), (&master_path, &master)] {
+        meshes
+            .write(path, |p| seam_io::write_msh_file(p, mesh, "interface").map_err(std::io::Error::other))?;
+    }
+    meshes.commit(&[])?;
     let assembled = assemble::run(&AssembleArgs {
         pair: PairArgs {
             master: master_path,

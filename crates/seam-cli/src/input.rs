@@ -1,16 +1,22 @@
 //! Reading a surface with its point fields from a Gmsh MSH file ($NodeData) or
-//! a VTU file (point data), and evaluating an expression at its points.
+//! a VTU file (point data), and the nodal values to transfer: a field of the
+//! file or an expression evaluated at its nodes, every value checked finite.
 
-use anyhow::{anyhow, bail, Context, Result};
-use exmex::prelude::*;
-use seam::{Point3, SurfaceMesh};
+use anyhow::{anyhow, bail, Result};
+use seam::SurfaceMesh;
+use seam_case::{Expression, ExpressionError};
 use seam_io::Field;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// A surface mesh and the nodal fields its file carries.
+/// A surface mesh, the nodal fields its file carries, and how its file names
+/// its nodes.
 pub struct Surface {
+    pub path: PathBuf,
     pub mesh: SurfaceMesh,
     pub fields: Vec<Field>,
+    /// Gmsh node tags (MSH files); `None` for VTU files, whose points are
+    /// named by their 0-based index, as in ParaView.
+    node_tags: Option<Vec<u64>>,
 }
 
 impl Surface {
@@ -25,7 +31,12 @@ impl Surface {
                 );
             }
             let vtu = seam_io::read_vtu_file(path)?;
-            return Ok(Surface { mesh: vtu.mesh, fields: vtu.point_data });
+            return Ok(Surface {
+                path: path.into(),
+                mesh: vtu.mesh,
+                fields: vtu.point_data,
+                node_tags: None,
+            });
         }
         let msh = seam_io::read_msh_file(path)?;
         let mesh = msh.surface(group).map_err(|e| e.with_path(path))?;
@@ -34,91 +45,70 @@ impl Surface {
             .iter()
             .map(|d| Field::new(d.name.clone(), d.components, d.values.clone()))
             .collect();
-        Ok(Surface { mesh, fields })
+        Ok(Surface { path: path.into(), mesh, fields, node_tags: Some(msh.node_tags) })
+    }
+
+    /// Node `p` (0-based, file order) as the file names it: "node 17" (its Gmsh
+    /// tag) or "point 16" (VTU, 0-based).
+    pub fn node(&self, p: usize) -> String {
+        match self.node_tags.as_ref().and_then(|t| t.get(p)) {
+            Some(tag) => format!("node {tag}"),
+            None => format!("point {p}"),
+        }
     }
 
     /// The field `name`, checked to be finite at every point of the surface.
-    pub fn field(&self, name: &str, path: &Path) -> Result<&Field> {
+    pub fn field(&self, name: &str) -> Result<&Field> {
+        let path = self.path.display();
         let field = self.fields.iter().find(|f| f.name == name).ok_or_else(|| {
             let known: Vec<&str> = self.fields.iter().map(|f| f.name.as_str()).collect();
             let known = if known.is_empty() { "none".to_string() } else { known.join(", ") };
-            anyhow!("{}: no field named '{name}' (fields: {known})", path.display())
+            anyhow!("{path}: no field named '{name}' (fields: {known})")
         })?;
         let k = field.components;
-        if field.values.len() != self.mesh.n_points() * k {
+        if k == 0 || field.values.len() != self.mesh.n_points() * k {
             bail!(
-                "{}: field '{name}' has {} values, but {} points × {k} components were expected",
-                path.display(),
+                "{path}: field '{name}' has {} values, but {} points × {k} components were expected",
                 field.values.len(),
                 self.mesh.n_points()
             );
         }
         let used = self.mesh.used_points();
-        if let Some(p) = (0..used.len())
-            .find(|&p| used[p] && field.values[p * k..(p + 1) * k].iter().any(|v| !v.is_finite()))
+        if let Some((p, v)) = (0..used.len())
+            .filter(|&p| used[p])
+            .find_map(|p| field.entry(p).iter().find(|v| !v.is_finite()).map(|&v| (p, v)))
         {
-            bail!(
-                "{}: field '{name}' has no finite value at node {} (the {}-th node of the file)",
-                path.display(),
-                p + 1,
-                p + 1
-            );
+            bail!("{path}: field '{name}' has no finite value at {} ({v}; only finite values can be transferred)", self.node(p));
         }
         Ok(field)
     }
-}
 
-/// An expression in x, y, z, parsed once.
-pub struct Expression {
-    expr: FlatEx<f64>,
-    /// For each variable of the expression (alphabetical, as exmex orders
-    /// them), the coordinate it stands for.
-    axes: Vec<usize>,
-}
-
-impl Expression {
-    /// Parses `text`; its variables must be among x, y, z.
-    pub fn parse(text: &str) -> Result<Expression> {
-        let expr =
-            exmex::parse::<f64>(text).map_err(|e| anyhow!("the expression '{text}' does not parse: {e}"))?;
-        let axes = expr
-            .var_names()
-            .iter()
-            .map(|v| match v.as_str() {
-                "x" => Ok(0),
-                "y" => Ok(1),
-                "z" => Ok(2),
-                other => Err(anyhow!("the expression '{text}' uses '{other}'; only x, y and z are known")),
-            })
-            .collect::<Result<Vec<usize>>>()?;
-        Ok(Expression { expr, axes })
-    }
-
-    /// The value at `p`.
-    pub fn at(&self, p: Point3) -> Result<f64> {
-        let args: Vec<f64> = self.axes.iter().map(|&k| p[k]).collect();
-        self.expr.eval(&args).context("evaluating the expression")
-    }
-
-    /// The values at all points of `mesh`.
-    pub fn sample(&self, mesh: &SurfaceMesh) -> Result<Vec<f64>> {
-        mesh.points().iter().map(|&p| self.at(p)).collect()
+    /// `e` at every node of the surface (0 at nodes no face uses).
+    pub fn sample(&self, e: &Expression) -> Result<Vec<f64>> {
+        e.sample(self.mesh.points(), &self.mesh.used_points()).map_err(|err| match err {
+            ExpressionError::NotFinite { text, point, value, index: Some(p) } => anyhow!(
+                "{}: the expression '{text}' is {value} at {} ({}, {}, {}); only finite values can be transferred",
+                self.path.display(),
+                self.node(p),
+                point[0],
+                point[1],
+                point[2]
+            ),
+            other => anyhow!("{}: {other}", self.path.display()),
+        })
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn expressions_take_x_y_z_in_any_order_and_subset() {
-        let e = Expression::parse("sin(x)*y + z").unwrap();
-        assert!((e.at([0.5, 2.0, -1.0]).unwrap() - (0.5f64.sin() * 2.0 - 1.0)).abs() < 1e-15);
-        let e = Expression::parse("z - y").unwrap();
-        assert_eq!(e.at([9.0, 2.0, 5.0]).unwrap(), 3.0);
-        assert_eq!(Expression::parse("2.5").unwrap().at([1.0, 1.0, 1.0]).unwrap(), 2.5);
-        assert!(Expression::parse("sin(x").is_err());
-        let err = Expression::parse("x + w").err().unwrap().to_string();
-        assert!(err.contains("'w'"), "{err}");
+/// The first non-finite value of a result `values` (`k` per node), named by
+/// `surface`'s nodes, as an error saying what `what` is; `Ok` if all are finite.
+pub fn check_finite(values: &[f64], k: usize, surface: &Surface, what: &str) -> Result<()> {
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(i) => bail!(
+            "{}: {what} is {} at {}: nothing non-finite is written",
+            surface.path.display(),
+            values[i],
+            surface.node(i / k.max(1))
+        ),
     }
 }

@@ -11,7 +11,6 @@ mod args;
 mod assemble;
 mod bench;
 mod bulging_contact;
-mod case;
 mod check;
 mod example;
 mod hertz;
@@ -57,7 +56,10 @@ impl<E: Into<anyhow::Error>> From<E> for Failure {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(e),
+    };
     let result = match cli.command {
         Command::Assemble(a) => assemble::run(&a).map(|_| ()),
         Command::Transfer(t) => transfer::run(&t),
@@ -82,6 +84,28 @@ fn main() -> ExitCode {
             ExitCode::from(3)
         }
     }
+}
+
+/// Help and version go to stdout as clap prints them (exit 0); a usage error
+/// is one line on stderr, the first of clap's message, with exit code 2.
+fn usage_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+        let _ = e.print();
+        return ExitCode::SUCCESS;
+    }
+    // clap's message without the usage and the pointer to --help, on one line.
+    let text = e.render().to_string();
+    let lines: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
+        .filter(|l| !l.is_empty())
+        .collect();
+    let message = lines.join(" ");
+    let message = message.strip_prefix("error: ").unwrap_or(&message);
+    eprintln!("seam: error: {message} (see seam --help)");
+    ExitCode::from(2)
 }
 
 /// The error and its causes on one line, "context: cause: cause", leaving out a

@@ -80,7 +80,7 @@ pub fn write_problem_case(problem: &Problem, dir: &Path, about: &[String], force
     let text = case_toml(problem, about)?;
     let files = CaseFiles::of(problem, dir);
     let inputs: Vec<PathBuf> = files.meshes.iter().chain([&files.case]).cloned().collect();
-    let mut staged = Staged::prepare(&inputs, force)?;
+    let mut staged = Staged::prepare(&inputs, &[], force)?;
     for (path, body) in files.meshes.iter().zip(&problem.bodies) {
         let surfaces: Vec<(&str, &seam::SurfaceMesh)> =
             body.surfaces.iter().map(|(n, s)| (n.as_str(), s)).collect();
@@ -127,7 +127,7 @@ pub fn solve_example(
 /// An existing file without `force`, or an I/O error.
 pub fn write_files(files: &[(PathBuf, Vec<u8>)], force: bool) -> Result<()> {
     let paths: Vec<PathBuf> = files.iter().map(|f| f.0.clone()).collect();
-    let mut staged = Staged::prepare(&paths, force)?;
+    let mut staged = Staged::prepare(&paths, &[], force)?;
     for (path, bytes) in files {
         staged.write(path, |p| std::fs::write(p, bytes))?;
     }

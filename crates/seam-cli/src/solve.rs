@@ -1,6 +1,6 @@
 //! `seam solve CASE.toml`: linear-elastic bodies glued by mortar across
 //! non-matching interfaces, or in frictionless contact through them (the case
-//! schema is in [`crate::case`]).
+//! schema is in [`seam_case::case`]).
 //!
 //! Order of work: the case is read and checked ([`Case::read`]); the output
 //! files are checked (none exists unless `--force`, the directory is
@@ -31,12 +31,12 @@
 //! character becomes `_`.
 
 use crate::args::{SolveArgs, SolverArg};
-use crate::case::{Case, CaseMultiplier, InterfaceKind, SurfaceRef};
 use crate::output::Staged;
 use crate::Failure;
 use anyhow::{anyhow, Context};
 use rayon::prelude::*;
 use seam::{Face, Facing, MaxGap, Mortar, MortarOptions, MortarSummary, Multiplier, Point3, SurfaceMesh};
+use seam_case::{Case, CaseMultiplier, InterfaceKind, SurfaceRef};
 use seam_fem::contact::{ContactInterfaceSolution, ContactOptions, ContactReport};
 use seam_fem::glue::{GlueReport, InterfaceSolution, Timings};
 use seam_fem::pcg::PcgOptions;
@@ -313,7 +313,9 @@ pub fn solve(args: &SolveArgs) -> Result<Solved, Failure> {
     let pool = crate::assemble::thread_pool(args.threads)?;
     let out_dir = case.resolve(&case.output.dir);
     let names = OutputNames::new(&case, &out_dir).map_err(|e| anyhow!("{}: {e}", args.case.display()))?;
-    let mut out = Staged::prepare(&names.all(), args.force)?;
+    let mut inputs = case.mesh_paths();
+    inputs.push(args.case.clone());
+    let mut out = Staged::prepare(&names.all(), &inputs, args.force)?;
     let mut seconds = Seconds::default();
 
     let clock = Instant::now();
@@ -355,13 +357,17 @@ pub fn solve(args: &SolveArgs) -> Result<Solved, Failure> {
     let clock = Instant::now();
     for (b, body) in problem.bodies.iter().enumerate() {
         let (point, cell) = body_fields(&solution.displacement[b], &stresses[b]);
+        check_results(&point, &names.bodies[b], "point")?;
+        check_results(&cell, &names.bodies[b], "cell")?;
         out.write(&names.bodies[b], |p| {
             seam_io::write_volume_vtu_file(p, &body.mesh, &point, &cell).map_err(std::io::Error::other)
         })?;
     }
     for (i, r) in interfaces.iter().enumerate() {
+        let fields = interface_fields(r);
+        check_results(&fields, &names.interfaces[i], "point")?;
         out.write(&names.interfaces[i], |p| {
-            seam_io::write_vtu_file(p, &r.mesh, &interface_fields(r), &[]).map_err(std::io::Error::other)
+            seam_io::write_vtu_file(p, &r.mesh, &fields, &[]).map_err(std::io::Error::other)
         })?;
     }
     seconds.output = clock.elapsed().as_secs_f64();
@@ -436,11 +442,23 @@ fn referenced_surfaces(case: &Case, name: &str) -> Vec<String> {
 }
 
 /// Reads one body's mesh and the surfaces the case names on it.
-fn read_body(case: &Case, b: &crate::case::Body) -> anyhow::Result<ProblemBody> {
+fn read_body(case: &Case, b: &seam_case::Body) -> anyhow::Result<ProblemBody> {
     let what = || format!("body \"{}\"", b.name);
     let path = case.resolve(&b.mesh);
     let msh = seam_io::read_msh_file(&path).with_context(what)?;
     let mesh = msh.volume(b.volume.as_deref()).map_err(|e| e.with_path(&path)).with_context(what)?;
+    // Degenerate or tangled cells, named by their Gmsh tags, before any work.
+    if let Err(seam_fem::AssemblyError::DegenerateCell { cell }) = seam_fem::cell_volumes(&mesh) {
+        let elements = msh.volume_elements(b.volume.as_deref()).map_err(|e| e.with_path(&path))?;
+        let element = &elements[cell];
+        anyhow::bail!(
+            "{}: {}: element {} ({}) is degenerate or tangled: its Jacobian determinant vanishes or changes sign",
+            what(),
+            path.display(),
+            element.tag,
+            element.type_name()
+        );
+    }
     let surfaces = referenced_surfaces(case, &b.name)
         .into_iter()
         .map(|s| {
@@ -519,6 +537,34 @@ fn glue_failure(e: GlueError, case: &Case, path: &Path) -> Failure {
                 b.name,
                 case.resolve(&b.mesh).display()
             ))
+        }
+        GlueError::NonFiniteSolution { body, dof } => {
+            let b = &case.bodies[body];
+            Failure::Error(anyhow!(
+                "{file}: body \"{}\": the solution is not finite at point {} of {} (component {}): an overflow; \
+                 check the magnitudes of loads, prescribed values and moduli",
+                b.name,
+                dof / 3,
+                case.resolve(&b.mesh).display(),
+                ["x", "y", "z"][dof % 3]
+            ))
+        }
+        GlueError::Solve(e @ seam_fem::SolveError::IllConditioned { .. }) => {
+            // Name the likely cause: a nearly incompressible body.
+            let soft: Vec<String> = case
+                .bodies
+                .iter()
+                .filter(|b| b.poisson > 0.49)
+                .map(|b| format!("body \"{}\" has ν = {}", b.name, b.poisson))
+                .collect();
+            let hint = match soft.is_empty() {
+                true => String::new(),
+                false => format!(
+                    "; {} (close to 0.5: volumetric locking; use a smaller ν, or --solver pcg)",
+                    soft.join(", ")
+                ),
+            };
+            Failure::Error(anyhow!("{file}: {e}{hint}"))
         }
         e => Failure::Error(anyhow!("{file}: {e}")),
     }
@@ -600,6 +646,29 @@ fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> Interfa
     }
     r.body_point = body_point;
     r
+}
+
+/// Fields whose NaN marks "no value here" (off the contact points), as the
+/// README documents; any other non-finite value is an error.
+const NAN_MARKS_NO_VALUE: [&str; 2] = ["gap", "initial_gap"];
+
+/// Nothing non-finite is written as a result (an overflow is reported with the
+/// field and entry instead), apart from [`NAN_MARKS_NO_VALUE`].
+fn check_results(fields: &[Field], file: &Path, entity: &str) -> anyhow::Result<()> {
+    for f in fields {
+        let marks = NAN_MARKS_NO_VALUE.contains(&f.name.as_str());
+        if let Some(i) = f.values.iter().position(|v| !(v.is_finite() || marks && v.is_nan())) {
+            anyhow::bail!(
+                "{}: the {entity} field '{}' is {} at {entity} {} (0-based): an overflow; check the magnitudes \
+                 of loads, prescribed values and moduli (nothing non-finite is written)",
+                file.display(),
+                f.name,
+                f.values[i],
+                i / f.components.max(1)
+            );
+        }
+    }
+    Ok(())
 }
 
 /// Point and cell fields of a body's VTU file.

@@ -3,11 +3,12 @@
 
 use crate::args::{ModeArg, TransferArgs};
 use crate::assemble::{options, thread_pool};
-use crate::input::{Expression, Surface};
+use crate::input::{check_finite, Surface};
 use crate::output::Staged;
 use crate::Failure;
-use anyhow::Context;
+use anyhow::{bail, Context};
 use seam::{assemble, normal_gaps, Mortar, MortarOptions, Multiplier, SurfaceMesh};
+use seam_case::Expression;
 use seam_io::Field;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -43,9 +44,11 @@ struct Summary {
 pub fn run(args: &TransferArgs) -> Result<(), Failure> {
     let start = Instant::now();
     let options = options(&args.coupling)?;
+    let expression = args.expr.as_deref().map(Expression::parse).transpose()?;
     let pool = thread_pool(args.coupling.threads)?;
     let summary_path = args.output.with_extension("json");
-    let mut out = Staged::prepare(&[args.output.clone(), summary_path.clone()], args.force)?;
+    let inputs = [args.source.clone(), args.target.clone()];
+    let mut out = Staged::prepare(&[args.output.clone(), summary_path.clone()], &inputs, args.force)?;
 
     let (source, target) = pool.install(|| {
         rayon::join(
@@ -54,11 +57,10 @@ pub fn run(args: &TransferArgs) -> Result<(), Failure> {
         )
     });
     let (source, target) = (source?, target?);
-    let expression = args.expr.as_deref().map(Expression::parse).transpose()?;
     let (name, k, values) = match (&expression, &args.field) {
-        (Some(e), _) => (args.name.clone(), 1, e.sample(&source.mesh)?),
+        (Some(e), _) => (args.name.clone(), 1, source.sample(e)?),
         (None, Some(field)) => {
-            let f = source.field(field, &args.source)?;
+            let f = source.field(field)?;
             (f.name.clone(), f.components, f.values.clone())
         }
         (None, None) => unreachable!("clap requires --field or --expr"),
@@ -85,11 +87,32 @@ pub fn run(args: &TransferArgs) -> Result<(), Failure> {
     let gaps = normal_gaps(&target.mesh, &source.mesh, &t, &consistent.covered);
     let (l2_error, l2_relative) = match (&expression, args.mode) {
         (Some(e), ModeArg::Consistent) => {
-            let (err, rel) = l2_error(&consistent, &source.mesh, &target.mesh, &options, &transferred, e)?;
+            let (err, rel) = l2_error(&consistent, &source, &target, &options, &transferred, e)?;
             (Some(err), Some(rel))
         }
         _ => (None, None),
     };
+    // Nothing non-finite is written: the transferred values, the coverage, the
+    // gaps where they are defined (NaN marks an uncovered node, documented),
+    // and the numbers of the summary.
+    let (receiver, what) = match args.mode {
+        ModeArg::Consistent => (&target, "the transferred field"),
+        ModeArg::Conservative => (&source, "the transferred load"),
+    };
+    check_finite(&transferred, k, receiver, what)?;
+    check_finite(&consistent.node_coverage, 1, &target, "the coverage")?;
+    let defined: Vec<f64> =
+        gaps.iter().zip(&consistent.covered).map(|(&g, &c)| if c { g } else { 0.0 }).collect();
+    check_finite(&defined, 1, &target, "the normal gap")?;
+    if let Some((before, after)) = &totals {
+        if before.iter().chain(after).any(|t| !t.is_finite()) {
+            let e = anyhow::anyhow!(
+                "{}: the total load overflows (sum of the field '{name}')",
+                args.source.display()
+            );
+            return Err(e.into());
+        }
+    }
 
     let point_data = [
         Field::new(name.clone(), k, transferred),
@@ -137,15 +160,15 @@ fn masked(values: &[f64], k: usize, covered: &[bool]) -> Vec<f64> {
 }
 
 fn totals_of(values: &[f64], k: usize) -> Vec<f64> {
-    (0..k).map(|c| values.iter().skip(c).step_by(k).filter(|v| v.is_finite()).sum()).collect()
+    (0..k).map(|c| values.iter().skip(c).step_by(k).sum()).collect()
 }
 
 /// ‖T f − f‖ on the covered target nodes in the target mass-matrix norm (the
 /// standard D), absolute and relative to ‖f‖ there.
 fn l2_error(
     consistent: &Mortar,
-    source: &SurfaceMesh,
-    target: &SurfaceMesh,
+    source: &Surface,
+    target: &Surface,
     options: &MortarOptions,
     transferred: &[f64],
     e: &Expression,
@@ -154,15 +177,24 @@ fn l2_error(
     let mass = if consistent.multiplier == Multiplier::Standard {
         &consistent.d
     } else {
-        standard = assemble(source, target, &MortarOptions { multiplier: Multiplier::Standard, ..*options })?;
+        let o = MortarOptions { multiplier: Multiplier::Standard, ..*options };
+        standard = assemble(&source.mesh, &target.mesh, &o)?;
         &standard.d
     };
-    let exact = e.sample(target)?;
+    let exact = target.sample(e)?;
     let covered = |p: usize| if consistent.covered[p] { 1.0 } else { 0.0 };
     let err: Vec<f64> = (0..exact.len()).map(|p| covered(p) * (transferred[p] - exact[p])).collect();
     let f: Vec<f64> = (0..exact.len()).map(|p| covered(p) * exact[p]).collect();
-    let norm = |v: &[f64]| v.iter().zip(mass.mul_vec(v, 1)).map(|(a, b)| a * b).sum::<f64>().max(0.0).sqrt();
-    let (a, b) = (norm(&err), norm(&f));
+    // vᵀDv ≥ 0 for the mass matrix D; a tiny negative value is round-off, a
+    // non-finite one an overflow, reported rather than turned into 0.
+    let norm = |v: &[f64], what: &str| -> anyhow::Result<f64> {
+        let squared: f64 = v.iter().zip(mass.mul_vec(v, 1)).map(|(a, b)| a * b).sum();
+        if !squared.is_finite() {
+            bail!("{}: the L2 norm of {what} is not finite (an overflow)", target.path.display());
+        }
+        Ok(squared.max(0.0).sqrt())
+    };
+    let (a, b) = (norm(&err, "the error")?, norm(&f, "the expression")?);
     Ok((a, if b > 0.0 { a / b } else { a }))
 }
 

@@ -125,10 +125,10 @@ fn input_errors_fail_with_one_line_before_any_work() {
         (good.replace("slave = \"upper:bottom\"", "slave = \"middle:bottom\""), "no body named \"middle\""),
         (good.replace("slave = \"upper:bottom\"", "slave = \"upper:bottm\""), "\"bottm\""),
         (good.replace("mesh = \"upper.msh\"", "mesh = \"nowhere.msh\""), "nowhere.msh does not exist"),
-        (good.replacen(&format!("young = {E:?}"), "young = -5.0", 1), "young = -5 must be positive"),
+        (good.replacen(&format!("young = {E:?}"), "young = -5.0", 1), "Young's modulus E = -5.0 must be positive"),
         (
             good.replacen(&format!("poisson = {NU}"), "poisson = 0.5", 1),
-            "poisson = 0.5 must lie in (-1, 0.5)",
+            "Poisson's ratio ν = 0.5 must lie in (-1, 0.5)",
         ),
         (good.replace("uz = 0.0", "ux = 0.0"), "can move freely along z"),
         (

@@ -133,6 +133,15 @@ pub enum GlueError {
     /// The contact iteration failed (a singular step, or no convergence).
     #[error("contact: {0}")]
     Contact(String),
+    /// A displacement of the solution is NaN or infinite: an overflow (nothing
+    /// non-finite passes as a result).
+    #[error("body {body}: the solution is not finite at point {} (component {}): an overflow; check the magnitudes of loads, prescribed values and moduli", dof / 3, dof % 3)]
+    NonFiniteSolution {
+        /// Body index.
+        body: usize,
+        /// The first such dof of the body (`3·point + component`).
+        dof: usize,
+    },
 }
 
 /// Wall-clock seconds per phase.

@@ -12,15 +12,31 @@
 //!     ⎣ 0    0    0   0 0 μ⎦
 //! ```
 
+/// The largest Poisson's ratio: λ/μ = 2ν/(1−2ν) ≤ 5·10⁴. Beyond it these
+/// displacement-based elements lock (the volumetric part of K dominates the
+/// rest by more than the solvers resolve) and K is singular to round-off.
+pub const MAX_POISSON: f64 = 0.49999;
+
+/// The smallest and largest Young's modulus: E and 1/E within
+/// [`seam::MAX_MAGNITUDE`], so that stiffness, stresses and displacements stay
+/// far from overflow.
+pub const YOUNG_RANGE: (f64, f64) = (1e-50, seam::MAX_MAGNITUDE);
+
 /// Why a material is rejected.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum MaterialError {
-    /// Young's modulus is not a positive finite number.
-    #[error("Young's modulus must be positive and finite, got {0}")]
+    /// Young's modulus is not a positive number.
+    #[error("Young's modulus E = {0:?} must be positive")]
     Young(f64),
+    /// Young's modulus is outside [`YOUNG_RANGE`].
+    #[error("Young's modulus E = {0:e} is out of range: seam computes with {lo:e} ≤ E ≤ {hi:e} (in any consistent units)", lo = YOUNG_RANGE.0, hi = YOUNG_RANGE.1)]
+    YoungOutOfRange(f64),
     /// Poisson's ratio is outside (−1, 0.5).
-    #[error("Poisson's ratio must lie in (-1, 0.5), got {0}")]
+    #[error("Poisson's ratio ν = {0:?} must lie in (-1, 0.5)")]
     Poisson(f64),
+    /// Poisson's ratio is above [`MAX_POISSON`].
+    #[error("Poisson's ratio ν = {0:?} is too close to 0.5 (volumetric locking): with these displacement-based elements the stiffness is singular to round-off; use ν ≤ {MAX_POISSON}")]
+    Locking(f64),
 }
 
 /// An isotropic linear elastic material: Young's modulus E and Poisson's ratio ν.
@@ -33,16 +49,23 @@ pub struct Material {
 }
 
 impl Material {
-    /// A material after checking 0 < E < ∞ and −1 < ν < ½.
+    /// A material after checking 0 < E, E within [`YOUNG_RANGE`],
+    /// −1 < ν < ½ and ν ≤ [`MAX_POISSON`].
     ///
     /// # Errors
     /// [`MaterialError`] naming the offending value (NaN included).
     pub fn new(young: f64, poisson: f64) -> Result<Material, MaterialError> {
-        if !(young > 0.0 && young.is_finite()) {
+        if young.is_nan() || young <= 0.0 {
             return Err(MaterialError::Young(young));
+        }
+        if !(YOUNG_RANGE.0..=YOUNG_RANGE.1).contains(&young) {
+            return Err(MaterialError::YoungOutOfRange(young));
         }
         if !(poisson > -1.0 && poisson < 0.5) {
             return Err(MaterialError::Poisson(poisson));
+        }
+        if poisson > MAX_POISSON {
+            return Err(MaterialError::Locking(poisson));
         }
         Ok(Material { young, poisson })
     }
@@ -131,8 +154,23 @@ mod tests {
         assert!(matches!(Material::new(1.0, f64::NAN), Err(MaterialError::Poisson(_))));
         assert_eq!(
             Material::new(1.0, 0.7).unwrap_err().to_string(),
-            "Poisson's ratio must lie in (-1, 0.5), got 0.7"
+            "Poisson's ratio ν = 0.7 must lie in (-1, 0.5)"
         );
         assert!(Material::new(1.0, -0.99).is_ok());
+        // The ranges of issue 10: out of range and locking are their own errors.
+        assert_eq!(Material::new(1e308, 0.3), Err(MaterialError::YoungOutOfRange(1e308)));
+        assert_eq!(Material::new(f64::INFINITY, 0.3), Err(MaterialError::YoungOutOfRange(f64::INFINITY)));
+        assert_eq!(Material::new(1e-300, 0.3), Err(MaterialError::YoungOutOfRange(1e-300)));
+        assert!(Material::new(1e50, 0.3).is_ok() && Material::new(1e-50, 0.3).is_ok());
+        assert_eq!(
+            Material::new(1e308, 0.3).unwrap_err().to_string(),
+            "Young's modulus E = 1e308 is out of range: seam computes with 1e-50 ≤ E ≤ 1e50 (in any consistent units)"
+        );
+        assert_eq!(Material::new(1.0, 0.4999999999), Err(MaterialError::Locking(0.4999999999)));
+        assert!(Material::new(1.0, 0.4999999999).unwrap_err().to_string().starts_with(
+            "Poisson's ratio ν = 0.4999999999 is too close to 0.5 (volumetric locking): with these \
+             displacement-based elements the stiffness is singular to round-off; use ν ≤ 0.49999"
+        ));
+        assert!(Material::new(1.0, MAX_POISSON).is_ok());
     }
 }

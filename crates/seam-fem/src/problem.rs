@@ -146,28 +146,34 @@ impl Problem {
     ///
     /// # Errors
     /// See [`solve_glued`]; [`GlueError::BadInterface`] when the problem has
-    /// contact interfaces (use [`Problem::solve_contact`]).
+    /// contact interfaces (use [`Problem::solve_contact`]);
+    /// [`GlueError::NonFiniteSolution`] after an overflow.
     pub fn solve(&self, solver: Solver) -> Result<GluedSolution, GlueError> {
         if !self.contacts.is_empty() {
             let what = "the problem has contact interfaces: solve it with Problem::solve_contact".into();
             return Err(GlueError::BadInterface { interface: 0, what });
         }
         let prepared = self.loads_and_supports()?;
-        solve_glued(&self.solver_bodies(&prepared), &self.coupled(&self.interfaces), solver)
+        let solution = solve_glued(&self.solver_bodies(&prepared), &self.coupled(&self.interfaces), solver)?;
+        check_finite(&solution.displacement)?;
+        Ok(solution)
     }
 
     /// Assembles and solves the contact problem.
     ///
     /// # Errors
     /// See [`solve_contact`]; [`GlueError::BadInterface`] when the problem
-    /// also has glued interfaces (not supported together yet).
+    /// also has glued interfaces (not supported together yet);
+    /// [`GlueError::NonFiniteSolution`] after an overflow.
     pub fn solve_contact(&self, options: &ContactOptions) -> Result<ContactSolution, GlueError> {
         if !self.interfaces.is_empty() {
             let what = "glued and contact interfaces in one problem are not supported yet".into();
             return Err(GlueError::BadInterface { interface: 0, what });
         }
         let prepared = self.loads_and_supports()?;
-        solve_contact(&self.solver_bodies(&prepared), &self.coupled(&self.contacts), options)
+        let solution = solve_contact(&self.solver_bodies(&prepared), &self.coupled(&self.contacts), options)?;
+        check_finite(&solution.displacement)?;
+        Ok(solution)
     }
 
     /// The solver's view of the bodies with their loads and supports.
@@ -196,4 +202,14 @@ impl Problem {
             })
             .collect()
     }
+}
+
+/// The first non-finite displacement of any body, as an error.
+fn check_finite(displacement: &[Vec<f64>]) -> Result<(), GlueError> {
+    for (body, u) in displacement.iter().enumerate() {
+        if let Some(dof) = u.iter().position(|v| !v.is_finite()) {
+            return Err(GlueError::NonFiniteSolution { body, dof });
+        }
+    }
+    Ok(())
 }

@@ -50,8 +50,9 @@ pub struct SaddleReport {
 /// the ordering group of unknown i (module doc); groups are numbered from 0.
 ///
 /// # Errors
-/// [`SolveError::Singular`] when the factorisation breaks down or refinement
-/// does not reach [`REFINEMENT_RTOL`]·10⁴; [`SolveError::OutOfMemory`].
+/// [`SolveError::Singular`] when the factorisation breaks down or the residual
+/// is not finite; [`SolveError::IllConditioned`] when refinement stalls above
+/// [`REFINEMENT_RTOL`]·10⁴; [`SolveError::OutOfMemory`].
 pub fn solve_saddle(
     m: &CsrMatrix,
     b: &[f64],
@@ -128,7 +129,7 @@ pub fn solve_saddle(
         report.refinements += 1;
     }
     if report.relative_residual > 1e4 * REFINEMENT_RTOL {
-        return Err(SolveError::Singular);
+        return Err(SolveError::IllConditioned { residual: report.relative_residual });
     }
     Ok((x, report))
 }

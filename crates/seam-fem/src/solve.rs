@@ -53,6 +53,15 @@ pub enum SolveError {
     /// K is singular on the free dofs.
     #[error("the problem is singular: the body can move without deforming; add Dirichlet conditions")]
     Singular,
+    /// The factorisation succeeded but iterative refinement stalls above its
+    /// tolerance: the system is too ill-conditioned for the solver, for
+    /// example a nearly incompressible material (ν close to 0.5).
+    #[error("the system is too ill-conditioned to solve accurately: iterative refinement stalls at relative residual {residual:.1e}")]
+    IllConditioned {
+        /// ‖b − M x‖_∞ / ‖b‖_∞ where refinement stalled.
+        residual: f64,
+    },
+
     /// K is not square, or f does not have one entry per row of K.
     #[error("dimension mismatch: K is {nrows}×{ncols} and f has {f_len} entries")]
     Dimension {
@@ -86,7 +95,7 @@ pub enum SolveError {
     OutOfMemory,
     /// The conjugate gradient iteration reached its iteration cap with
     /// ‖r‖ > rtol ‖b‖.
-    #[error("conjugate gradients did not converge: relative residual {relative_residual:e} after {iterations} iterations")]
+    #[error("conjugate gradients did not converge: relative residual {relative_residual:.1e} after {iterations} iterations")]
     NotConverged {
         /// Iterations done.
         iterations: usize,

@@ -74,7 +74,7 @@ fn bad_material_is_an_error() {
     assert_eq!(Material::new(-2.0, 0.3), Err(MaterialError::Young(-2.0)));
     assert_eq!(
         Material::new(1.0, 0.5).unwrap_err().to_string(),
-        "Poisson's ratio must lie in (-1, 0.5), got 0.5"
+        "Poisson's ratio ν = 0.5 must lie in (-1, 0.5)"
     );
 }
 

@@ -22,6 +22,25 @@ pub mod msh;
 pub mod mtx;
 pub mod vtu;
 
+use std::io;
+use std::path::Path;
+
+/// The bytes of the regular file at `path` (symbolic links followed). Anything
+/// else is an error before it is opened: a directory (`IsADirectory`, "is a
+/// directory"), a device or pipe (`InvalidInput`, "is not a regular file"),
+/// which would fail late, never end (`/dev/zero`) or block (a pipe without a
+/// writer).
+pub(crate) fn read_regular_file(path: &Path) -> io::Result<Vec<u8>> {
+    let meta = std::fs::metadata(path)?;
+    if meta.is_dir() {
+        return Err(io::Error::new(io::ErrorKind::IsADirectory, "is a directory"));
+    }
+    if !meta.is_file() {
+        return Err(io::Error::new(io::ErrorKind::InvalidInput, "is not a regular file"));
+    }
+    std::fs::read(path)
+}
+
 pub use msh::{
     read_msh, read_msh_file, read_surface_file, read_volume_file, write_msh, write_msh_file,
     write_volume_msh, write_volume_msh_file, Degeneracy, GroupId, Location, Msh, MshElement, MshError,

@@ -98,6 +98,13 @@ pub struct MshElement {
     pub physical_tags: Vec<i32>,
 }
 
+impl MshElement {
+    /// Its type in words, for messages: "an 8-node hexahedron", "a 3-node triangle".
+    pub fn type_name(&self) -> String {
+        element_types::describe_type(self.gmsh_type)
+    }
+}
+
 /// An entry of `$PhysicalNames`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PhysicalName {
@@ -150,10 +157,12 @@ pub fn read_msh(bytes: &[u8]) -> Result<Msh, MshError> {
 /// Reads an MSH file from disk; every error names the path.
 ///
 /// # Errors
-/// As [`read_msh`], plus I/O errors (see [`MshError::io_kind`]).
+/// As [`read_msh`], plus I/O errors (see [`MshError::io_kind`]), among them a
+/// path that is not a regular file ("is a directory", "is not a regular file").
 pub fn read_msh_file(path: impl AsRef<Path>) -> Result<Msh, MshError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|e| MshError::new(MshErrorKind::Io(e)).with_path(path))?;
+    let bytes =
+        crate::read_regular_file(path).map_err(|e| MshError::new(MshErrorKind::Io(e)).with_path(path))?;
     read_msh(&bytes).map_err(|e| e.with_path(path))
 }
 

@@ -62,7 +62,10 @@ pub use clip::{
     Point2, Polygon, MAX_POLYGON,
 };
 pub use element::{shape, FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
-pub use mesh::{area_vector, Cell, Face, MeshError, Point3, SurfaceMesh, VolumeMesh, ZERO_AREA_RTOL};
+pub use mesh::{
+    area_vector, Cell, Face, MeshError, Point3, SurfaceMesh, VolumeMesh, MAX_MAGNITUDE, MIN_FACE_SIZE,
+    ZERO_AREA_RTOL,
+};
 pub use mortar::{
     assemble, assemble_with_tree, face_integrals, face_quality, nodal_normals, normal_gaps,
     orientation_conflicts, warped_quad_degree, FaceQuality, FaceStats, Facing, MaxGap, Mortar, MortarError,

@@ -86,6 +86,15 @@ pub enum MeshError {
         /// The point index.
         node: usize,
     },
+    /// A point coordinate is finite but beyond [`MAX_MAGNITUDE`]: areas and
+    /// Jacobians computed from it would overflow.
+    #[error("node {node} has coordinate {value:e}, out of range (|x| ≤ {MAX_MAGNITUDE:e})")]
+    CoordinateOutOfRange {
+        /// The point index.
+        node: usize,
+        /// The coordinate.
+        value: f64,
+    },
     /// A face or cell refers to a point that does not exist.
     #[error("{what} {element} corner {corner} refers to node {index}, but there are only {n_nodes} nodes")]
     IndexOutOfRange {
@@ -116,6 +125,26 @@ pub enum MeshError {
         /// The face index.
         face: usize,
     },
+    /// A face is smaller than [`MIN_FACE_SIZE`]: its area and quadrature
+    /// weights would underflow.
+    #[error("face {face} has diameter {diameter:.3e}, below the smallest size seam computes with ({MIN_FACE_SIZE:e})")]
+    TooSmall {
+        /// The face index.
+        face: usize,
+        /// Its diameter (largest corner distance).
+        diameter: f64,
+    },
+    /// A boundary face of a cell (a face no other cell shares) is degenerate or
+    /// too small, so the cell is.
+    #[error("cell {cell} is degenerate: its boundary face {local_face} {why}")]
+    DegenerateCellFace {
+        /// The cell index.
+        cell: usize,
+        /// The face within the cell ([`Cell::local_faces`] order).
+        local_face: usize,
+        /// Why the face is degenerate: "has zero area", "is too small".
+        why: &'static str,
+    },
     /// A mesh has no faces at all.
     #[error("the mesh has no faces")]
     Empty,
@@ -127,8 +156,11 @@ impl MeshError {
         match *self {
             MeshError::IndexOutOfRange { element, .. } => Some(element),
             MeshError::RepeatedNode { element, .. } => Some(element),
-            MeshError::ZeroArea { face } => Some(face),
-            MeshError::NonFiniteCoordinate { .. } | MeshError::Empty => None,
+            MeshError::ZeroArea { face } | MeshError::TooSmall { face, .. } => Some(face),
+            MeshError::DegenerateCellFace { cell, .. } => Some(cell),
+            MeshError::NonFiniteCoordinate { .. }
+            | MeshError::CoordinateOutOfRange { .. }
+            | MeshError::Empty => None,
         }
     }
 }
@@ -136,10 +168,11 @@ impl MeshError {
 /// A surface mesh of Tri3 and Quad4 faces, possibly mixed.
 ///
 /// # Invariants (checked by [`SurfaceMesh::new`])
-/// - every coordinate is finite;
+/// - every coordinate is finite, of magnitude at most [`MAX_MAGNITUDE`];
 /// - every corner index is `< points.len()`;
 /// - no face repeats a corner;
-/// - no face has zero area (relative to its size, see [`ZERO_AREA_RTOL`]);
+/// - no face has zero area (relative to its size, see [`ZERO_AREA_RTOL`]) or a
+///   diameter below [`MIN_FACE_SIZE`];
 /// - at least one face.
 ///
 /// Consistent orientation of neighbouring faces is *not* required.
@@ -151,6 +184,15 @@ pub struct SurfaceMesh {
 
 /// A face counts as zero-area when `area < ZERO_AREA_RTOL · diameter²`.
 pub const ZERO_AREA_RTOL: f64 = 1e-12;
+
+/// The largest coordinate magnitude a mesh may have (and, in `seam-fem`, the
+/// largest modulus, load or prescribed value): products of four such numbers,
+/// as in squared areas and Jacobian determinants, stay far from overflow.
+pub const MAX_MAGNITUDE: f64 = 1e50;
+
+/// The smallest face diameter: squared areas of faces this small stay far
+/// from underflow.
+pub const MIN_FACE_SIZE: f64 = 1e-50;
 
 impl SurfaceMesh {
     /// Builds a mesh after checking the invariants listed on the type.
@@ -174,12 +216,7 @@ impl SurfaceMesh {
         }
         for (f, face) in self.faces.iter().enumerate() {
             check_element("face", f, face.nodes(), self.points.len())?;
-            let c = self.corners(f);
-            let area = face_area_estimate(&c[..face.len()]);
-            let diam = diameter(&c[..face.len()]);
-            if area.is_nan() || area <= ZERO_AREA_RTOL * diam * diam {
-                return Err(MeshError::ZeroArea { face: f });
-            }
+            check_face_shape(&self.corners(f)[..face.len()], f)?;
         }
         Ok(())
     }
@@ -283,7 +320,8 @@ impl Cell {
 /// A volume mesh of Tet4, Hex8, Prism6 and Pyramid5 cells, possibly mixed.
 ///
 /// # Invariants (checked by [`VolumeMesh::new`])
-/// finite coordinates, corner indices in range, no repeated corner in a cell.
+/// finite coordinates of magnitude at most [`MAX_MAGNITUDE`], corner indices in
+/// range, no repeated corner in a cell.
 #[derive(Clone, Debug, PartialEq)]
 pub struct VolumeMesh {
     points: Vec<Point3>,
@@ -317,7 +355,8 @@ impl VolumeMesh {
     /// with its normal pointing out of that cell. Points keep their numbering.
     ///
     /// # Errors
-    /// [`MeshError`] if the boundary is empty or has a degenerate face.
+    /// [`MeshError::Empty`] if the boundary is empty;
+    /// [`MeshError::DegenerateCellFace`] naming the cell of a degenerate face.
     pub fn boundary(&self) -> Result<SurfaceMesh, MeshError> {
         let faces = self.cell_faces();
         let mut boundary: Vec<(usize, usize, Face)> = Vec::new();
@@ -327,6 +366,14 @@ impl VolumeMesh {
             }
         }
         boundary.sort_unstable_by_key(|&(c, l, _)| (c, l));
+        for &(cell, local_face, face) in &boundary {
+            let corners: Vec<Point3> = face.nodes().iter().map(|&i| self.points[i]).collect();
+            if let Err(e) = check_face_shape(&corners, 0) {
+                let why =
+                    if matches!(e, MeshError::TooSmall { .. }) { "is too small" } else { "has zero area" };
+                return Err(MeshError::DegenerateCellFace { cell, local_face, why });
+            }
+        }
         let faces = boundary.into_iter().map(|(c, _, f)| self.outward(f, c)).collect();
         SurfaceMesh::new(self.points.clone(), faces)
     }
@@ -410,10 +457,31 @@ fn face_key(nodes: &[usize]) -> [usize; 4] {
 }
 
 fn check_points(points: &[Point3]) -> Result<(), MeshError> {
-    match points.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
-        Some(node) => Err(MeshError::NonFiniteCoordinate { node }),
-        None => Ok(()),
+    for (node, p) in points.iter().enumerate() {
+        for &value in p {
+            if !value.is_finite() {
+                return Err(MeshError::NonFiniteCoordinate { node });
+            }
+            if value.abs() > MAX_MAGNITUDE {
+                return Err(MeshError::CoordinateOutOfRange { node, value });
+            }
+        }
     }
+    Ok(())
+}
+
+/// A face of corners `c` (3 or 4, finite and in range) is neither too small
+/// nor of zero area; `f` names it in the error.
+fn check_face_shape(c: &[Point3], f: usize) -> Result<(), MeshError> {
+    let diam = diameter(c);
+    if diam < MIN_FACE_SIZE {
+        return Err(MeshError::TooSmall { face: f, diameter: diam });
+    }
+    let area = face_area_estimate(c);
+    if area.is_nan() || area <= ZERO_AREA_RTOL * diam * diam {
+        return Err(MeshError::ZeroArea { face: f });
+    }
+    Ok(())
 }
 
 fn check_element(what: &'static str, e: usize, nodes: &[usize], n_nodes: usize) -> Result<(), MeshError> {
@@ -572,8 +640,38 @@ mod tests {
         assert_eq!(e, MeshError::ZeroArea { face: 0 });
         let mut nan = p;
         nan[2][1] = f64::NAN;
-        let e = SurfaceMesh::new(nan, vec![Face::Tri3([0, 1, 2])]).unwrap_err();
+        let e = SurfaceMesh::new(nan.clone(), vec![Face::Tri3([0, 1, 2])]).unwrap_err();
         assert_eq!(e, MeshError::NonFiniteCoordinate { node: 2 });
         assert_eq!(e.to_string(), "node 2 has a non-finite coordinate");
+        let mut huge = nan;
+        huge[2][1] = -1e300;
+        let e = SurfaceMesh::new(huge, vec![Face::Tri3([0, 1, 2])]).unwrap_err();
+        assert_eq!(e, MeshError::CoordinateOutOfRange { node: 2, value: -1e300 });
+        assert_eq!(e.to_string(), "node 2 has coordinate -1e300, out of range (|x| ≤ 1e50)");
+        let tiny = vec![[0., 0., 0.], [1e-60, 0., 0.], [0., 1e-60, 0.]];
+        let e = SurfaceMesh::new(tiny, vec![Face::Tri3([0, 1, 2])]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "face 0 has diameter 1.414e-60, below the smallest size seam computes with (1e-50)"
+        );
+    }
+
+    #[test]
+    fn meshes_at_extreme_but_valid_scales_are_accepted() {
+        for scale in [1e-45, 1e45] {
+            let p = vec![[scale, 0., 0.], [2.0 * scale, 0., 0.], [scale, scale, 0.]];
+            SurfaceMesh::new(p, vec![Face::Tri3([0, 1, 2])]).unwrap();
+        }
+    }
+
+    #[test]
+    fn a_flat_cell_names_the_cell_of_its_degenerate_boundary_face() {
+        // A tetrahedron whose apex lies in the plane of its base, on the line
+        // between corners 1 and 2: its face 1-2-3 has zero area.
+        let p = vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0.5, 0.5, 0.]];
+        let tet = VolumeMesh::new(p, vec![Cell::Tet4([0, 1, 2, 3])]).unwrap();
+        let e = tet.boundary().unwrap_err();
+        assert!(matches!(e, MeshError::DegenerateCellFace { cell: 0, why: "has zero area", .. }), "{e:?}");
+        assert_eq!(e.element(), Some(0));
     }
 }

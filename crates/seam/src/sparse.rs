@@ -53,6 +53,12 @@ impl CsrMatrix {
         self.values.len()
     }
 
+    /// The first row holding a NaN or infinite value, if any.
+    pub fn first_non_finite_row(&self) -> Option<usize> {
+        let entry = self.values.iter().position(|v| !v.is_finite())?;
+        Some(self.indptr.partition_point(|&start| start <= entry) - 1)
+    }
+
     /// Columns and values of row `i`.
     pub fn row(&self, i: usize) -> (&[usize], &[f64]) {
         let r = self.indptr[i]..self.indptr[i + 1];
@@ -175,6 +181,16 @@ mod tests {
         assert_eq!(a.get(0, 2), 2.0);
         assert_eq!(a.get(1, 1), 0.0);
         assert_eq!(a.row_sums(), vec![3.0, 0.0, 3.0]);
+    }
+
+    #[test]
+    fn the_first_non_finite_row_skips_empty_rows() {
+        let mut a = example();
+        assert_eq!(a.first_non_finite_row(), None);
+        a.values[2] = f64::NAN;
+        assert_eq!(a.first_non_finite_row(), Some(2));
+        a.values[1] = f64::INFINITY;
+        assert_eq!(a.first_non_finite_row(), Some(0));
     }
 
     #[test]

@@ -46,8 +46,8 @@ impl fmt::Display for GroupId {
     }
 }
 
-/// Why a face is degenerate.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// Why a face or cell is degenerate.
+#[derive(Clone, Debug, PartialEq)]
 pub enum Degeneracy {
     /// The element lists the same node twice.
     RepeatedNode {
@@ -56,6 +56,18 @@ pub enum Degeneracy {
     },
     /// The face has (numerically) zero area.
     ZeroArea,
+    /// The face is smaller than [`seam::MIN_FACE_SIZE`].
+    TooSmall {
+        /// Its diameter.
+        diameter: f64,
+    },
+    /// A face of the cell on the boundary of the volume is degenerate.
+    BoundaryFace {
+        /// The face within the cell, in the order of [`seam::Cell::local_faces`].
+        local_face: usize,
+        /// "has zero area" or "is too small".
+        why: &'static str,
+    },
 }
 
 impl fmt::Display for Degeneracy {
@@ -63,6 +75,12 @@ impl fmt::Display for Degeneracy {
         match self {
             Degeneracy::RepeatedNode { node_tag } => write!(f, "node {node_tag} appears twice"),
             Degeneracy::ZeroArea => write!(f, "its area is zero"),
+            Degeneracy::TooSmall { diameter } => write!(
+                f,
+                "its diameter {diameter:.3e} is below the smallest size seam computes with ({:e})",
+                seam::MIN_FACE_SIZE
+            ),
+            Degeneracy::BoundaryFace { local_face, why } => write!(f, "its boundary face {local_face} {why}"),
         }
     }
 }
@@ -113,6 +131,14 @@ pub enum MshErrorKind {
     NonFiniteCoordinate {
         /// The Gmsh node tag.
         node_tag: u64,
+    },
+    /// A node coordinate is finite but beyond [`seam::MAX_MAGNITUDE`].
+    #[error("node {node_tag} has coordinate {value:e}, out of range (|x| ≤ {:e})", seam::MAX_MAGNITUDE)]
+    CoordinateOutOfRange {
+        /// The Gmsh node tag.
+        node_tag: u64,
+        /// The coordinate.
+        value: f64,
     },
     /// Two nodes have the same tag.
     #[error("node {node_tag} is defined twice")]
@@ -167,10 +193,10 @@ pub enum MshErrorKind {
         /// The number of nodes it lists.
         found: usize,
     },
-    /// A face is degenerate.
+    /// A face or cell is degenerate.
     #[error("{} is degenerate: {reason}", element_or_face(*.element_tag))]
     Degenerate {
-        /// The Gmsh element tag, or `None` for a face of a volume boundary.
+        /// The Gmsh element tag (`None` only for an [`Msh`](super::Msh) built by hand).
         element_tag: Option<u64>,
         /// What is degenerate about it.
         reason: Degeneracy,

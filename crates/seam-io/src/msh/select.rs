@@ -30,7 +30,8 @@ impl Msh {
         match group {
             Some(group) => self.group_surface(group),
             None if self.elements.iter().any(|e| e.dim == 3) => {
-                self.volume(None)?.boundary().map_err(|e| self.mesh_error(e, &[]))
+                let tags = tags_of(&self.volume_elements(None)?);
+                self.volume(None)?.boundary().map_err(|e| self.mesh_error(e, &tags))
             }
             None => self.all_faces(),
         }
@@ -43,6 +44,19 @@ impl Msh {
     /// Unknown group, an element other than a 4-node tetrahedron, 8-node
     /// hexahedron, 6-node prism or 5-node pyramid, no cells, or a degenerate cell.
     pub fn volume(&self, group: Option<&str>) -> Result<VolumeMesh, MshError> {
+        let selected = self.volume_elements(group)?;
+        let cells = selected.iter().map(|e| cell_of(e)).collect::<Result<Vec<_>, _>>()?;
+        let tags = tags_of(&selected);
+        VolumeMesh::new(self.nodes.clone(), cells).map_err(|e| self.mesh_error(e, &tags))
+    }
+
+    /// The elements [`Msh::volume`] makes its cells of, in the same order: cell
+    /// `i` of the volume is `volume_elements(group)?[i]`, so its Gmsh tag is
+    /// `.tag` (for messages about cells).
+    ///
+    /// # Errors
+    /// Unknown group, or no cells in the selection.
+    pub fn volume_elements(&self, group: Option<&str>) -> Result<Vec<&MshElement>, MshError> {
         let (selected, selection) = match group {
             Some(group) => {
                 let tag = self.group_tag(3, group)?;
@@ -53,9 +67,7 @@ impl Msh {
         if selected.is_empty() {
             return Err(MshErrorKind::NoCells { selection }.into());
         }
-        let cells = selected.iter().map(|e| cell_of(e)).collect::<Result<Vec<_>, _>>()?;
-        let tags = tags_of(&selected);
-        VolumeMesh::new(self.nodes.clone(), cells).map_err(|e| self.mesh_error(e, &tags))
+        Ok(selected)
     }
 
     /// The physical groups of dimension `dim`: those named in `$PhysicalNames`
@@ -140,6 +152,15 @@ impl Msh {
         let kind = match error {
             MeshError::NonFiniteCoordinate { node } => {
                 MshErrorKind::NonFiniteCoordinate { node_tag: node_tag(node) }
+            }
+            MeshError::CoordinateOutOfRange { node, value } => {
+                MshErrorKind::CoordinateOutOfRange { node_tag: node_tag(node), value }
+            }
+            MeshError::TooSmall { diameter, .. } => {
+                MshErrorKind::Degenerate { element_tag, reason: Degeneracy::TooSmall { diameter } }
+            }
+            MeshError::DegenerateCellFace { local_face, why, .. } => {
+                MshErrorKind::Degenerate { element_tag, reason: Degeneracy::BoundaryFace { local_face, why } }
             }
             MeshError::RepeatedNode { node, .. } => MshErrorKind::Degenerate {
                 element_tag,

@@ -198,6 +198,13 @@ pub enum MortarError {
     /// D restricted to the covered slave nodes could not be factorised.
     #[error("the slave mass matrix D is not positive definite on the covered nodes ({0})")]
     Factorization(String),
+    /// An entry of B or D is NaN or infinite (an overflow in the geometry of
+    /// the faces of that row; nothing non-finite is returned).
+    #[error("the operator is not finite in the row of slave node {row} (0-based): an overflow in the geometry of its faces")]
+    NonFinite {
+        /// The row (slave point index).
+        row: usize,
+    },
 }
 
 /// What one slave face received.
@@ -379,7 +386,11 @@ pub fn assemble_with_tree(
                 .reduce_with(f64::min),
         });
     }
-    Ok(rows::into_mortar(master, slave, blocks, options.multiplier, summary))
+    let mortar = rows::into_mortar(master, slave, blocks, options.multiplier, summary);
+    if let Some(row) = mortar.b.first_non_finite_row().or_else(|| mortar.d.first_non_finite_row()) {
+        return Err(MortarError::NonFinite { row });
+    }
+    Ok(mortar)
 }
 
 fn check_options(o: &MortarOptions) -> Result<(), MortarError> {

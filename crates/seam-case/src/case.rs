@@ -1,0 +1,820 @@
+//! Case files of `seam solve CASE.toml`: several linear-elastic bodies, glued
+//! or in frictionless contact through interfaces, with Dirichlet conditions and
+//! tractions on named boundaries (the schema is in the README).
+//!
+//! ```toml
+//! [[body]]              # one per body
+//! name = "lower"        # also the name of its output file, lower.vtu
+//! mesh = "lower.msh"    # Gmsh volume mesh; its physical surfaces name the boundaries
+//! volume = "steel"      # optional: the cells of this physical volume (default: all cells)
+//! young = 1.0e3
+//! poisson = 0.3
+//! body_force = [0.0, 0.0, 0.0]   # optional, force per volume
+//!
+//! [[interface]]         # surfaces are named "body:physical-surface"
+//! master = "lower:top"
+//! slave = "upper:bottom"
+//! kind = "glue"                  # or "contact" (frictionless, no penetration)
+//! multiplier = "standard"        # or "dual", "lumped"; default "standard" for glue,
+//!                                # "lumped" for contact (which takes "lumped" or "dual")
+//! max_gap = 0.01                 # optional (default: half the diameter of each slave face)
+//!
+//! [contact]             # optional: the active-set method of contact cases
+//! max_iterations = 50   # the default: the most active-set steps before giving up
+//!
+//! [[dirichlet]]         # any subset of ux, uy, uz
+//! boundary = "lower:bottom"
+//! uz = 0.0
+//!
+//! [[traction]]
+//! boundary = "upper:top"
+//! t = [0.0, 0.0, -1.0]
+//!
+//! [output]              # optional
+//! dir = "out"           # the default
+//! ```
+//!
+//! [`Case::read`] checks everything that can be checked without reading the
+//! meshes, before any heavy work: names and references, materials (through
+//! [`seam_fem::Material::new`]: ranges and locking), multipliers, the coupling
+//! graph, that every body is held against rigid motion, and that each mesh is a
+//! regular file. [`Case::from_toml`] does the same without the file system.
+//!
+//! # The coupling graph
+//!
+//! Interfaces are directed edges slave body → master body: the slave side is
+//! constrained by the master side. The graph must not couple the same two
+//! surfaces twice (in either direction: the constraints would be counted twice)
+//! and must have no directed cycle (a body constrained, through a chain of
+//! interfaces, by itself: the elimination u_s = T u_m has no order, and
+//! A → B with B → A over one interface doubles its constraints). Every acyclic
+//! orientation is allowed, so a refused case always has a valid one: swap
+//! master and slave of an interface of the cycle.
+
+use serde::Deserialize;
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A case file that cannot be used: one line naming the file (when read from
+/// one) and the item at fault.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CaseError {
+    path: Option<PathBuf>,
+    message: String,
+}
+
+impl CaseError {
+    fn new(message: impl Into<String>) -> CaseError {
+        CaseError { path: None, message: message.into() }
+    }
+
+    /// The same error, attributed to the case file at `path`.
+    #[must_use]
+    pub fn with_path(mut self, path: impl AsRef<Path>) -> CaseError {
+        self.path = Some(path.as_ref().to_path_buf());
+        self
+    }
+
+    /// The case file, when the error came from one.
+    pub fn path(&self) -> Option<&Path> {
+        self.path.as_deref()
+    }
+
+    /// What is wrong, without the file name.
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+}
+
+impl fmt::Display for CaseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.path {
+            Some(path) => write!(f, "{}: {}", path.display(), self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
+impl std::error::Error for CaseError {}
+
+/// Fails with `message`.
+fn fail<T>(message: impl Into<String>) -> Result<T, CaseError> {
+    Err(CaseError::new(message))
+}
+
+/// A case file, as written (after [`Case::read`] or [`Case::from_toml`]: checked).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Case {
+    /// The `[[body]]` tables.
+    #[serde(rename = "body")]
+    pub bodies: Vec<Body>,
+    /// The `[[interface]]` tables.
+    #[serde(rename = "interface", default)]
+    pub interfaces: Vec<Interface>,
+    /// The `[[dirichlet]]` tables.
+    #[serde(default)]
+    pub dirichlet: Vec<Dirichlet>,
+    /// The `[[traction]]` tables.
+    #[serde(default)]
+    pub traction: Vec<Traction>,
+    /// The `[output]` table.
+    #[serde(default)]
+    pub output: Output,
+    /// Settings of the contact solve (used when the case has contact interfaces).
+    #[serde(default)]
+    pub contact: ContactSettings,
+    /// The directory of the case file: meshes and outputs are relative to it.
+    #[serde(skip)]
+    pub base: PathBuf,
+}
+
+/// A `[[body]]` table.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Body {
+    /// Its name: unique, and the name of its output file.
+    pub name: String,
+    /// Its Gmsh volume mesh, relative to the case file's directory.
+    pub mesh: PathBuf,
+    /// The physical volume (name or number) whose cells make the body.
+    pub volume: Option<String>,
+    /// Young's modulus E.
+    pub young: f64,
+    /// Poisson's ratio ν.
+    pub poisson: f64,
+    /// Force per volume.
+    #[serde(default)]
+    pub body_force: [f64; 3],
+}
+
+/// How an interface couples its two surfaces.
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum InterfaceKind {
+    /// u_slave = T u_master in the mortar sense.
+    Glue,
+    /// Frictionless contact: the normal direction only, in compression only.
+    Contact,
+}
+
+/// The multiplier basis of an interface.
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum CaseMultiplier {
+    /// ψ_p = λ_p.
+    Standard,
+    /// Biorthogonal: D diagonal.
+    Dual,
+    /// D replaced by its row sums.
+    Lumped,
+}
+
+/// An `[[interface]]` table.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Interface {
+    /// The master surface, "body:surface".
+    pub master: String,
+    /// The slave surface, "body:surface", where the multiplier lives.
+    pub slave: String,
+    /// Glue or contact.
+    pub kind: InterfaceKind,
+    /// As written; [`Interface::multiplier`] applies the default of the kind.
+    #[serde(rename = "multiplier")]
+    pub multiplier_given: Option<CaseMultiplier>,
+    /// Largest normal distance between paired points (default: half a slave face).
+    pub max_gap: Option<f64>,
+}
+
+/// A `[[dirichlet]]` table: prescribed displacement components on a boundary.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Dirichlet {
+    /// The boundary, "body:surface".
+    pub boundary: String,
+    /// Prescribed u_x.
+    pub ux: Option<f64>,
+    /// Prescribed u_y.
+    pub uy: Option<f64>,
+    /// Prescribed u_z.
+    pub uz: Option<f64>,
+}
+
+impl Dirichlet {
+    /// The prescribed components as (component, value).
+    pub fn components(&self) -> Vec<(usize, f64)> {
+        [self.ux, self.uy, self.uz].iter().enumerate().filter_map(|(k, v)| v.map(|v| (k, v))).collect()
+    }
+}
+
+/// A `[[traction]]` table: a uniform force per area on a boundary.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Traction {
+    /// The boundary, "body:surface".
+    pub boundary: String,
+    /// The traction vector.
+    pub t: [f64; 3],
+}
+
+/// The `[output]` table.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Output {
+    /// The output directory, relative to the case file's directory.
+    #[serde(default = "default_output_dir")]
+    pub dir: PathBuf,
+}
+
+fn default_output_dir() -> PathBuf {
+    PathBuf::from("out")
+}
+
+impl Default for Output {
+    fn default() -> Self {
+        Output { dir: default_output_dir() }
+    }
+}
+
+/// The `[contact]` table.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSettings {
+    /// The most active-set steps.
+    #[serde(default = "default_max_iterations")]
+    pub max_iterations: usize,
+}
+
+fn default_max_iterations() -> usize {
+    seam_fem::contact::ContactOptions::default().max_iterations
+}
+
+impl Default for ContactSettings {
+    fn default() -> Self {
+        ContactSettings { max_iterations: default_max_iterations() }
+    }
+}
+
+impl Interface {
+    /// The interface's name in messages: "interface 2 (slave → master)", 1-based.
+    pub fn describe(&self, index: usize) -> String {
+        format!("interface {} ({} → {})", index + 1, self.slave, self.master)
+    }
+
+    /// The multiplier: as written, else "standard" for glue and "lumped" for contact.
+    pub fn multiplier(&self) -> CaseMultiplier {
+        self.multiplier_given.unwrap_or(match self.kind {
+            InterfaceKind::Glue => CaseMultiplier::Standard,
+            InterfaceKind::Contact => CaseMultiplier::Lumped,
+        })
+    }
+}
+
+/// A boundary reference "body:surface", split.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct SurfaceRef {
+    /// The body's name.
+    pub body: String,
+    /// The physical surface of its mesh (name or number).
+    pub surface: String,
+}
+
+impl SurfaceRef {
+    /// Splits "body:surface" (spaces around either part are trimmed).
+    ///
+    /// # Errors
+    /// When `text` is not of that form; the message starts with `context`.
+    pub fn parse(text: &str, context: &str) -> Result<SurfaceRef, CaseError> {
+        match text.split_once(':') {
+            Some((b, s)) if !b.trim().is_empty() && !s.trim().is_empty() => {
+                Ok(SurfaceRef { body: b.trim().to_string(), surface: s.trim().to_string() })
+            }
+            _ => fail(format!("{context}: \"{text}\" is not of the form \"body:surface\"")),
+        }
+    }
+}
+
+impl fmt::Display for SurfaceRef {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}", self.body, self.surface)
+    }
+}
+
+impl Case {
+    /// Reads and checks a case file: [`Case::from_toml`], then that every mesh
+    /// is a regular file. Every error names `path`.
+    ///
+    /// # Errors
+    /// A [`CaseError`] naming the file and the item at fault (module doc).
+    pub fn read(path: &Path) -> Result<Case, CaseError> {
+        let text = read_text(path).map_err(|e| e.with_path(path))?;
+        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let case = Case::from_toml(&text, &base).map_err(|e| e.with_path(path))?;
+        case.check_meshes().map_err(|e| e.with_path(path))?;
+        Ok(case)
+    }
+
+    /// Parses and checks the text of a case file whose directory is `base`,
+    /// without touching the file system (the meshes are not looked at).
+    ///
+    /// # Errors
+    /// A [`CaseError`] naming the item at fault.
+    pub fn from_toml(text: &str, base: &Path) -> Result<Case, CaseError> {
+        let mut case: Case = toml::from_str(text).map_err(|e| CaseError::new(one_line(&e.to_string())))?;
+        case.base = base.to_path_buf();
+        case.check()?;
+        Ok(case)
+    }
+
+    /// Whether the case has contact interfaces.
+    pub fn is_contact(&self) -> bool {
+        self.interfaces.iter().any(|f| f.kind == InterfaceKind::Contact)
+    }
+
+    /// A path of the case (relative to the case file's directory).
+    pub fn resolve(&self, p: &Path) -> PathBuf {
+        if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            self.base.join(p)
+        }
+    }
+
+    /// The mesh files of the bodies, resolved.
+    pub fn mesh_paths(&self) -> Vec<PathBuf> {
+        self.bodies.iter().map(|b| self.resolve(&b.mesh)).collect()
+    }
+
+    /// Every mesh is a regular file (a directory, a device or a pipe would fail
+    /// later, or never end).
+    fn check_meshes(&self) -> Result<(), CaseError> {
+        for b in &self.bodies {
+            let mesh = self.resolve(&b.mesh);
+            if let Err(why) = regular_file(&mesh) {
+                return fail(format!("body \"{}\": mesh {} {why}", b.name, mesh.display()));
+            }
+        }
+        Ok(())
+    }
+
+    fn check(&self) -> Result<(), CaseError> {
+        if self.bodies.is_empty() {
+            return fail("no [[body]]");
+        }
+        let mut names = BTreeSet::new();
+        for b in &self.bodies {
+            if !names.insert(b.name.as_str()) {
+                return fail(format!("body \"{}\" is defined twice", b.name));
+            }
+            if b.name.is_empty() || b.name.contains([':', '/', '\\']) || b.name.starts_with('.') {
+                return fail(format!(
+                    "body name \"{}\" must be non-empty, not start with '.' and hold no ':', '/' or '\\' \
+                     (it names the output file)",
+                    b.name
+                ));
+            }
+            if let Err(e) = seam_fem::Material::new(b.young, b.poisson) {
+                return fail(format!("body \"{}\": {e}", b.name));
+            }
+            if b.body_force.iter().any(|v| !v.is_finite()) {
+                return fail(format!("body \"{}\": body_force must be finite", b.name));
+            }
+        }
+        let known = |r: &SurfaceRef, what: &str| -> Result<(), CaseError> {
+            if names.contains(r.body.as_str()) {
+                return Ok(());
+            }
+            let bodies: Vec<&str> = names.iter().copied().collect();
+            fail(format!("{what}: no body named \"{}\" (bodies: {})", r.body, bodies.join(", ")))
+        };
+        let mut slaves = BTreeMap::new();
+        let mut pairs = BTreeMap::new();
+        for (i, f) in self.interfaces.iter().enumerate() {
+            let what = format!("interface {}", i + 1);
+            let (m, s) = (SurfaceRef::parse(&f.master, &what)?, SurfaceRef::parse(&f.slave, &what)?);
+            known(&m, &what)?;
+            known(&s, &what)?;
+            if m.body == s.body {
+                return fail(format!("{what}: master and slave belong to the same body \"{}\"", m.body));
+            }
+            if let Some(j) = slaves.insert(s.clone(), i) {
+                return fail(format!("{what}: {} is already the slave side of interface {}", f.slave, j + 1));
+            }
+            let pair = if m < s { (m, s) } else { (s, m) };
+            if let Some(j) = pairs.insert(pair, i) {
+                return fail(format!(
+                    "{} couples the same two surfaces as {}: each pair of surfaces is coupled once",
+                    f.describe(i),
+                    self.interfaces[j].describe(j)
+                ));
+            }
+            if f.kind == InterfaceKind::Contact && f.multiplier() == CaseMultiplier::Standard {
+                return fail(format!(
+                    "{}: contact needs multiplier \"lumped\" (the default) or \"dual\"",
+                    f.describe(i)
+                ));
+            }
+            if let Some(g) = f.max_gap {
+                if !(g.is_finite() && g >= 0.0) {
+                    return fail(format!("{what}: max_gap = {g} must be a non-negative length"));
+                }
+            }
+        }
+        self.check_acyclic()?;
+        if self.is_contact() && self.interfaces.iter().any(|f| f.kind == InterfaceKind::Glue) {
+            return fail("glued and contact interfaces in one case are not supported yet");
+        }
+        if self.contact.max_iterations == 0 {
+            return fail("[contact]: max_iterations must be at least 1");
+        }
+        for (i, d) in self.dirichlet.iter().enumerate() {
+            let what = format!("dirichlet {}", i + 1);
+            known(&SurfaceRef::parse(&d.boundary, &what)?, &what)?;
+            if d.components().is_empty() {
+                return fail(format!("{what}: give at least one of ux, uy, uz"));
+            }
+            if d.components().iter().any(|(_, v)| !v.is_finite()) {
+                return fail(format!("{what}: values must be finite"));
+            }
+        }
+        for (i, t) in self.traction.iter().enumerate() {
+            let what = format!("traction {}", i + 1);
+            known(&SurfaceRef::parse(&t.boundary, &what)?, &what)?;
+            if t.t.iter().any(|v| !v.is_finite()) {
+                return fail(format!("{what}: t must be finite"));
+            }
+        }
+        self.check_held()
+    }
+
+    /// Index of each body by name (the names are checked unique and every
+    /// reference known before this is used).
+    fn body_index(&self) -> BTreeMap<&str, usize> {
+        self.bodies.iter().enumerate().map(|(i, b)| (b.name.as_str(), i)).collect()
+    }
+
+    /// (slave body, master body) of every interface.
+    fn edges(&self) -> Result<Vec<(usize, usize)>, CaseError> {
+        let index = self.body_index();
+        self.interfaces
+            .iter()
+            .map(|f| {
+                let (m, s) = (SurfaceRef::parse(&f.master, "")?, SurfaceRef::parse(&f.slave, "")?);
+                Ok((index[s.body.as_str()], index[m.body.as_str()]))
+            })
+            .collect()
+    }
+
+    /// No directed cycle slave → master → … → slave (module doc). Depth-first
+    /// search with an explicit stack; the first cycle found is named by its
+    /// interfaces.
+    fn check_acyclic(&self) -> Result<(), CaseError> {
+        let edges = self.edges()?;
+        let n = self.bodies.len();
+        // 0: unvisited, 1: on the current path, 2: done.
+        let mut state = vec![0u8; n];
+        // The interface by which each body on the path was entered.
+        let mut entered_by: Vec<Option<usize>> = vec![None; n];
+        for root in 0..n {
+            if state[root] != 0 {
+                continue;
+            }
+            // (body, next interface to try)
+            let mut stack = vec![(root, 0usize)];
+            state[root] = 1;
+            while let Some(&mut (body, ref mut next)) = stack.last_mut() {
+                match (*next..edges.len()).find(|&i| edges[i].0 == body) {
+                    Some(i) => {
+                        *next = i + 1;
+                        let to = edges[i].1;
+                        match state[to] {
+                            0 => {
+                                state[to] = 1;
+                                entered_by[to] = Some(i);
+                                stack.push((to, 0));
+                            }
+                            1 => return fail(self.describe_cycle(&edges, &stack, &entered_by, i)),
+                            _ => {}
+                        }
+                    }
+                    None => {
+                        state[body] = 2;
+                        stack.pop();
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// "interfaces 1 (a → b) and 2 (b → a) form a cycle a → b → a …" for the
+    /// path `stack` closed by interface `closing`.
+    fn describe_cycle(
+        &self,
+        edges: &[(usize, usize)],
+        stack: &[(usize, usize)],
+        entered_by: &[Option<usize>],
+        closing: usize,
+    ) -> String {
+        let start = edges[closing].1;
+        let at = stack.iter().position(|&(b, _)| b == start).unwrap_or(0);
+        let mut interfaces: Vec<usize> = stack[at + 1..].iter().filter_map(|&(b, _)| entered_by[b]).collect();
+        interfaces.push(closing);
+        let mut bodies: Vec<&str> = stack[at..].iter().map(|&(b, _)| self.bodies[b].name.as_str()).collect();
+        bodies.push(&self.bodies[start].name);
+        let mut list: Vec<String> = interfaces
+            .iter()
+            .map(|&i| format!("{} ({} → {})", i + 1, self.interfaces[i].slave, self.interfaces[i].master))
+            .collect();
+        let last = list.pop().unwrap_or_default();
+        let list = if list.is_empty() { last } else { format!("{} and {last}", list.join(", ")) };
+        format!(
+            "interfaces {list} form a cycle {} (each body is the slave of the next): a body would be \
+             constrained by itself; swap master and slave of one of them",
+            bodies.join(" → ")
+        )
+    }
+
+    /// Every body must be held against rigid motion: some body of its group
+    /// (bodies connected by interfaces, glued or in contact) needs a Dirichlet
+    /// condition on each of the three components (a necessary condition; the
+    /// factorisation detects the rest, for contact in each active-set step).
+    fn check_held(&self) -> Result<(), CaseError> {
+        let index = self.body_index();
+        let mut group: Vec<usize> = (0..self.bodies.len()).collect();
+        fn root(g: &mut [usize], mut i: usize) -> usize {
+            while g[i] != i {
+                g[i] = g[g[i]];
+                i = g[i];
+            }
+            i
+        }
+        for (s, m) in self.edges()? {
+            let (a, b) = (root(&mut group, s), root(&mut group, m));
+            group[a] = b;
+        }
+        let mut held = vec![[false; 3]; self.bodies.len()];
+        for d in &self.dirichlet {
+            let r = root(&mut group, index[SurfaceRef::parse(&d.boundary, "")?.body.as_str()]);
+            for (k, _) in d.components() {
+                held[r][k] = true;
+            }
+        }
+        let neighbour = if self.is_contact() { "in contact with it" } else { "glued to it" };
+        for (i, b) in self.bodies.iter().enumerate() {
+            let r = root(&mut group, i);
+            if let Some(k) = (0..3).find(|&k| !held[r][k]) {
+                return fail(format!(
+                    "body \"{}\" can move freely along {} (no Dirichlet condition on {} in it or in a body \
+                     {neighbour}): the problem is singular",
+                    b.name,
+                    ["x", "y", "z"][k],
+                    ["ux", "uy", "uz"][k]
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The largest case file read: far more than any hand-written or generated case
+/// needs, and a bound on what a wrong path (a mesh given as the case) costs.
+pub const MAX_CASE_BYTES: u64 = 16 << 20;
+
+/// The text of a case file, or why it cannot be read.
+fn read_text(path: &Path) -> Result<String, CaseError> {
+    regular_file(path).map_err(|why| CaseError::new(format!("the case file {why}")))?;
+    let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+    if size > MAX_CASE_BYTES {
+        return fail(format!(
+            "the case file has {size} bytes, more than the {MAX_CASE_BYTES} a case file may have (is it a mesh?)"
+        ));
+    }
+    let bytes = std::fs::read(path).map_err(|e| CaseError::new(format!("cannot read the case file: {e}")))?;
+    String::from_utf8(bytes).map_err(|e| {
+        CaseError::new(format!(
+            "the case file is not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        ))
+    })
+}
+
+/// Ok for an existing regular file (symbolic links followed); otherwise why
+/// not: "does not exist", "is a directory", "is not a regular file", or the
+/// I/O error.
+pub fn regular_file(path: &Path) -> Result<(), String> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => Ok(()),
+        Ok(m) if m.is_dir() => Err("is a directory".into()),
+        Ok(_) => Err("is not a regular file".into()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err("does not exist".into()),
+        Err(e) => Err(format!("cannot be read: {e}")),
+    }
+}
+
+/// A message on one line.
+fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn case(dir: &Path, text: &str) -> Result<Case, CaseError> {
+        std::fs::write(dir.join("a.msh"), "").unwrap();
+        std::fs::write(dir.join("b.msh"), "").unwrap();
+        let path = dir.join("case.toml");
+        std::fs::write(&path, text).unwrap();
+        Case::read(&path)
+    }
+
+    const GOOD: &str = r#"
+[[body]]
+name = "lower"
+mesh = "a.msh"
+young = 1.0e3
+poisson = 0.3
+
+[[body]]
+name = "upper"
+mesh = "b.msh"
+young = 2.0e3
+poisson = 0.25
+
+[[interface]]
+master = "lower:top"
+slave = "upper:bottom"
+kind = "glue"
+multiplier = "dual"
+
+[[dirichlet]]
+boundary = "lower:bottom"
+ux = 0.0
+uy = 0.0
+uz = 0.0
+
+[[traction]]
+boundary = "upper:top"
+t = [0.0, 0.0, -1.0]
+
+[output]
+dir = "out"
+"#;
+
+    /// GOOD with a third body "side" (c.msh) and `interfaces` appended.
+    fn three_bodies(interfaces: &str) -> String {
+        GOOD.replace(
+            "[[interface]]",
+            &format!(
+                "[[body]]\nname = \"side\"\nmesh = \"a.msh\"\nyoung = 1.0\npoisson = 0.0\n\n{interfaces}\n\n[[interface]]"
+            ),
+        )
+    }
+
+    #[test]
+    fn a_good_case_reads() {
+        let tmp = tempfile::tempdir().unwrap();
+        let c = case(tmp.path(), GOOD).unwrap();
+        assert_eq!(c.bodies.len(), 2);
+        assert_eq!(c.interfaces[0].multiplier(), CaseMultiplier::Dual);
+        assert!(!c.is_contact());
+        assert_eq!(c.contact.max_iterations, 50);
+        assert_eq!(c.dirichlet[0].components(), vec![(0, 0.0), (1, 0.0), (2, 0.0)]);
+        assert_eq!(c.resolve(Path::new("a.msh")), tmp.path().join("a.msh"));
+        assert_eq!(c.mesh_paths(), [tmp.path().join("a.msh"), tmp.path().join("b.msh")]);
+    }
+
+    #[test]
+    fn input_errors_are_named_before_any_work() {
+        let tmp = tempfile::tempdir().unwrap();
+        std::fs::create_dir(tmp.path().join("dir.msh")).unwrap();
+        let cases = [
+            (GOOD.replace("young = 2.0e3", "young = -1.0"), "body \"upper\": Young's modulus E = -1.0 must be positive"),
+            (GOOD.replace("young = 2.0e3", "young = 1e308"), "E = 1e308 is out of range"),
+            (GOOD.replace("poisson = 0.25", "poisson = 0.5"), "Poisson's ratio ν = 0.5 must lie in (-1, 0.5)"),
+            (GOOD.replace("poisson = 0.25", "poisson = 0.4999999999"), "too close to 0.5 (volumetric locking)"),
+            (GOOD.replace("b.msh", "missing.msh"), "missing.msh does not exist"),
+            (GOOD.replace("b.msh", "dir.msh"), "dir.msh is a directory"),
+            (GOOD.replace("slave = \"upper:bottom\"", "slave = \"middle:bottom\""), "no body named \"middle\""),
+            (GOOD.replace("boundary = \"upper:top\"", "boundary = \"upper\""), "is not of the form \"body:surface\""),
+            (GOOD.replace("[[interface]]\nmaster = \"lower:top\"\nslave = \"upper:bottom\"\nkind = \"glue\"\nmultiplier = \"dual\"\n", ""), "body \"upper\" can move freely along x"),
+            (GOOD.replace("uz = 0.0", ""), "can move freely along z"),
+            (GOOD.replace("kind = \"glue\"", "kind = \"weld\""), "unknown variant `weld`"),
+            (GOOD.replace("young = 1.0e3", "youngs = 1.0e3"), "unknown field `youngs`"),
+            (GOOD.replace("name = \"upper\"", "name = \"lower\""), "body \"lower\" is defined twice"),
+            (
+                GOOD.replace("kind = \"glue\"\nmultiplier = \"dual\"", "kind = \"contact\"\nmultiplier = \"standard\""),
+                "interface 1 (upper:bottom → lower:top): contact needs multiplier \"lumped\" (the default) or \"dual\"",
+            ),
+            (
+                GOOD.replace("kind = \"glue\"", "kind = \"contact\"").replace(
+                    "[output]",
+                    "[[interface]]\nmaster = \"lower:side\"\nslave = \"upper:side\"\nkind = \"glue\"\n\n[output]",
+                ),
+                "glued and contact interfaces in one case are not supported yet",
+            ),
+            (GOOD.replace("[output]", "[contact]\nmax_iteration = 5\n\n[output]"), "unknown field `max_iteration`"),
+            (GOOD.replace("[output]", "[contact]\nmax_iterations = 0\n\n[output]"), "max_iterations must be at least 1"),
+            (
+                GOOD.replace("kind = \"glue\"", "kind = \"contact\"").replace("ux = 0.0\n", ""),
+                "(no Dirichlet condition on ux in it or in a body in contact with it)",
+            ),
+        ];
+        for (text, message) in cases {
+            let err = case(tmp.path(), &text).unwrap_err().to_string();
+            assert!(err.contains(message), "expected '{message}' in: {err}");
+            assert!(
+                err.starts_with(&tmp.path().join("case.toml").display().to_string()),
+                "names the file: {err}"
+            );
+            assert!(!err.contains('\n'), "one line: {err}");
+        }
+    }
+
+    #[test]
+    fn the_same_surfaces_coupled_twice_are_refused() {
+        let back = "[[interface]]\nmaster = \"upper:bottom\"\nslave = \"lower:top\"\nkind = \"glue\"\n";
+        let err =
+            Case::from_toml(&GOOD.replace("[[dirichlet]]", &format!("{back}\n[[dirichlet]]")), Path::new(""))
+                .unwrap_err()
+                .to_string();
+        assert_eq!(
+            err,
+            "interface 2 (lower:top → upper:bottom) couples the same two surfaces as interface 1 \
+             (upper:bottom → lower:top): each pair of surfaces is coupled once"
+        );
+        // The same direction twice is the slave used twice.
+        let again = "[[interface]]\nmaster = \"lower:top\"\nslave = \"upper:bottom\"\nkind = \"glue\"\n";
+        let err = Case::from_toml(
+            &GOOD.replace("[[dirichlet]]", &format!("{again}\n[[dirichlet]]")),
+            Path::new(""),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("upper:bottom is already the slave side of interface 1"), "{err}");
+    }
+
+    #[test]
+    fn cycles_in_the_coupling_graph_are_refused_and_chains_are_not() {
+        // upper → lower (interface 3 after insertion) with lower → side → upper closes a cycle.
+        let cycle = three_bodies(
+            "[[interface]]\nmaster = \"side:a\"\nslave = \"lower:a\"\nkind = \"glue\"\n\n\
+             [[interface]]\nmaster = \"upper:a\"\nslave = \"side:b\"\nkind = \"glue\"",
+        );
+        let err = Case::from_toml(&cycle, Path::new("")).unwrap_err().to_string();
+        assert_eq!(
+            err,
+            "interfaces 1 (lower:a → side:a), 2 (side:b → upper:a) and 3 (upper:bottom → lower:top) form a \
+             cycle lower → side → upper → lower (each body is the slave of the next): a body would be \
+             constrained by itself; swap master and slave of one of them"
+        );
+        // Two bodies, two different interfaces in opposite directions.
+        let two = GOOD.replace(
+            "[[dirichlet]]",
+            "[[interface]]\nmaster = \"upper:side\"\nslave = \"lower:side\"\nkind = \"glue\"\n\n[[dirichlet]]",
+        );
+        let err = Case::from_toml(&two, Path::new("")).unwrap_err().to_string();
+        assert!(err.contains("interfaces 2 (lower:side → upper:side) and 1 (upper:bottom → lower:top) form a cycle lower → upper → lower"), "{err}");
+        // A chain and a body with two masters are fine.
+        let chain = three_bodies(
+            "[[interface]]\nmaster = \"lower:a\"\nslave = \"side:a\"\nkind = \"glue\"\n\n\
+             [[interface]]\nmaster = \"side:b\"\nslave = \"upper:b\"\nkind = \"glue\"",
+        );
+        Case::from_toml(&chain, Path::new("")).unwrap();
+    }
+
+    #[test]
+    fn case_files_that_are_not_text_or_not_files_are_named() {
+        let tmp = tempfile::tempdir().unwrap();
+        let err = Case::read(tmp.path()).unwrap_err().to_string();
+        assert!(err.ends_with("the case file is a directory"), "{err}");
+        let err = Case::read(&tmp.path().join("none.toml")).unwrap_err().to_string();
+        assert!(err.ends_with("the case file does not exist"), "{err}");
+        std::fs::write(tmp.path().join("bin.toml"), [0xff, 0xfe, 0x00]).unwrap();
+        let err = Case::read(&tmp.path().join("bin.toml")).unwrap_err().to_string();
+        assert!(err.ends_with("the case file is not UTF-8 text (invalid byte at offset 0)"), "{err}");
+        if Path::new("/dev/zero").exists() {
+            let err = Case::read(Path::new("/dev/zero")).unwrap_err().to_string();
+            assert_eq!(err, "/dev/zero: the case file is not a regular file");
+        }
+    }
+
+    #[test]
+    fn contact_defaults_to_lumped_and_reads_its_table() {
+        let tmp = tempfile::tempdir().unwrap();
+        let text = GOOD
+            .replace("kind = \"glue\"\nmultiplier = \"dual\"", "kind = \"contact\"")
+            .replace("[output]", "[contact]\nmax_iterations = 7\n\n[output]");
+        // The upper body has no Dirichlet condition: it is held through the contact.
+        let c = case(tmp.path(), &text).unwrap();
+        assert!(c.is_contact());
+        assert_eq!(c.interfaces[0].multiplier(), CaseMultiplier::Lumped);
+        assert_eq!(c.contact.max_iterations, 7);
+        // Glue keeps its default.
+        let c = case(tmp.path(), &GOOD.replace("multiplier = \"dual\"\n", "")).unwrap();
+        assert_eq!(c.interfaces[0].multiplier(), CaseMultiplier::Standard);
+    }
+}
