@@ -322,7 +322,7 @@ impl Case {
     /// # Errors
     /// A [`CaseError`] naming the item at fault.
     pub fn from_toml(text: &str, base: &Path) -> Result<Case, CaseError> {
-        let mut case: Case = toml::from_str(text).map_err(|e| CaseError::new(one_line(&e.to_string())))?;
+        let mut case: Case = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
         case.base = base.to_path_buf();
         case.check()?;
         Ok(case)
@@ -614,9 +614,15 @@ pub fn regular_file(path: &Path) -> Result<(), String> {
     }
 }
 
-/// A message on one line.
-fn one_line(text: &str) -> String {
-    text.split_whitespace().collect::<Vec<_>>().join(" ")
+/// A TOML error as "line L, column C: what": without the quoted source line
+/// toml's own message holds (which may be any length).
+fn toml_error(text: &str, e: &toml::de::Error) -> CaseError {
+    let what = e.message().split_whitespace().collect::<Vec<_>>().join(" ");
+    let Some(span) = e.span() else { return CaseError::new(format!("TOML: {what}")) };
+    let before = text.get(..span.start).unwrap_or(text);
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    CaseError::new(format!("line {line}, column {column}: {what}"))
 }
 
 #[cfg(test)]
@@ -784,6 +790,20 @@ dir = "out"
              [[interface]]\nmaster = \"side:b\"\nslave = \"upper:b\"\nkind = \"glue\"",
         );
         Case::from_toml(&chain, Path::new("")).unwrap();
+    }
+
+    #[test]
+    fn toml_errors_give_line_and_column_without_quoting_the_line() {
+        let err = Case::from_toml("[[body]\nname = ", Path::new("")).unwrap_err().to_string();
+        assert_eq!(err, "line 1, column 8: unclosed array table, expected `]`");
+        // A 200 000-deep array: the parser's recursion limit, and a short message.
+        let deep = format!("a = {}{}", "[".repeat(200_000), "]".repeat(200_000));
+        let err = Case::from_toml(&deep, Path::new("")).unwrap_err().to_string();
+        assert!(err.len() < 200 && err.starts_with("line 1, column "), "{}", &err[..err.len().min(300)]);
+        let err = Case::from_toml(&GOOD.replace("kind = \"glue\"", "kind = \"weld\""), Path::new(""))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(err, "line 17, column 8: unknown variant `weld`, expected `glue` or `contact`");
     }
 
     #[test]

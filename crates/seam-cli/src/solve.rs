@@ -309,6 +309,9 @@ pub fn run(args: &SolveArgs) -> Result<(), Failure> {
 /// Reads, checks, solves and writes the case (module doc).
 pub fn solve(args: &SolveArgs) -> Result<Solved, Failure> {
     let start = Instant::now();
+    if !(args.rtol > 0.0 && args.rtol < 1.0) {
+        return Err(anyhow!("--rtol {} must lie in (0, 1)", args.rtol).into());
+    }
     let case = Case::read(&args.case)?;
     let pool = crate::assemble::thread_pool(args.threads)?;
     let out_dir = case.resolve(&case.output.dir);
@@ -323,9 +326,6 @@ pub fn solve(args: &SolveArgs) -> Result<Solved, Failure> {
         pool.install(|| build_problem(&case)).map_err(|e| anyhow!("{}: {e:#}", args.case.display()))?;
     seconds.read = clock.elapsed().as_secs_f64();
 
-    if !(args.rtol > 0.0 && args.rtol < 1.0) {
-        return Err(anyhow!("--rtol {} must lie in (0, 1)", args.rtol).into());
-    }
     let solver = match args.solver {
         SolverArg::Direct => Solver::Direct,
         SolverArg::Pcg => Solver::Pcg(PcgOptions { rtol: args.rtol, ..PcgOptions::default() }),
@@ -357,15 +357,20 @@ pub fn solve(args: &SolveArgs) -> Result<Solved, Failure> {
     let clock = Instant::now();
     for (b, body) in problem.bodies.iter().enumerate() {
         let (point, cell) = body_fields(&solution.displacement[b], &stresses[b]);
-        check_results(&point, &names.bodies[b], "point")?;
-        check_results(&cell, &names.bodies[b], "cell")?;
+        let what = format!("{}: body \"{}\"", args.case.display(), body.name);
+        check_results(&point, &what, "point")?;
+        check_results(&cell, &what, "cell")?;
         out.write(&names.bodies[b], |p| {
             seam_io::write_volume_vtu_file(p, &body.mesh, &point, &cell).map_err(std::io::Error::other)
         })?;
     }
     for (i, r) in interfaces.iter().enumerate() {
         let fields = interface_fields(r);
-        check_results(&fields, &names.interfaces[i], "point")?;
+        check_results(
+            &fields,
+            &format!("{}: {}", args.case.display(), case.interfaces[i].describe(i)),
+            "point",
+        )?;
         out.write(&names.interfaces[i], |p| {
             seam_io::write_vtu_file(p, &r.mesh, &fields, &[]).map_err(std::io::Error::other)
         })?;
@@ -654,14 +659,13 @@ const NAN_MARKS_NO_VALUE: [&str; 2] = ["gap", "initial_gap"];
 
 /// Nothing non-finite is written as a result (an overflow is reported with the
 /// field and entry instead), apart from [`NAN_MARKS_NO_VALUE`].
-fn check_results(fields: &[Field], file: &Path, entity: &str) -> anyhow::Result<()> {
+fn check_results(fields: &[Field], what: &str, entity: &str) -> anyhow::Result<()> {
     for f in fields {
         let marks = NAN_MARKS_NO_VALUE.contains(&f.name.as_str());
         if let Some(i) = f.values.iter().position(|v| !(v.is_finite() || marks && v.is_nan())) {
             anyhow::bail!(
-                "{}: the {entity} field '{}' is {} at {entity} {} (0-based): an overflow; check the magnitudes \
+                "{what}: the {entity} field '{}' is {} at {entity} {} (0-based): an overflow; check the magnitudes \
                  of loads, prescribed values and moduli (nothing non-finite is written)",
-                file.display(),
                 f.name,
                 f.values[i],
                 i / f.components.max(1)

@@ -1,6 +1,7 @@
 //! VTK XML UnstructuredGrid (`.vtu`) files
 //! ([format](https://docs.vtk.org/en/latest/design_documents/VTKFileFormats.html#xml-file-formats)),
-//! read and written with [vtkio].
+//! read and written by seam itself (quick-xml for the XML, flate2, lz4_flex and
+//! xz2 for the compressed data).
 //!
 //! # Writing
 //!
@@ -16,14 +17,43 @@
 //!
 //! # Reading
 //!
-//! [`read_vtu_file`] reads what vtkio reads: ASCII, inline binary or appended
-//! base64 data, uncompressed or compressed (zlib, LZ4, LZMA), with `UInt32` or
-//! `UInt64` headers, in one or more pieces (concatenated). Appended *raw* binary
-//! data (the default of VTK's and ParaView's writers), which vtkio does not read,
-//! is re-encoded as base64 first. Triangles and quads become faces; vertex,
-//! poly-vertex, line and poly-line cells are skipped (with their cell data); any
-//! other cell type is an error. Point and cell arrays of any numeric type become
-//! [`Field`]s of `f64`.
+//! [`read_vtu_file`] reads the VTU files seam, ParaView/VTK and meshio write:
+//!
+//! | | read |
+//! |---|---|
+//! | `<VTKFile>` | `type="UnstructuredGrid"`, `version` 0.1, 1.0 or 2.x, either `byte_order`, `header_type` `UInt32` (default) or `UInt64` |
+//! | data arrays | `format="ascii"`, `"binary"` (inline base64), `"appended"` with `<AppendedData encoding="raw">` or `"base64"` |
+//! | compression | none, `vtkZLibDataCompressor`, `vtkLZ4DataCompressor`, `vtkLZMADataCompressor` |
+//! | values | `Int8` … `UInt64`, `Float32`, `Float64`, becoming `f64` [`Field`]s |
+//! | pieces | one or more, concatenated (not pieces in other files) |
+//! | cells | triangles (5) and quads (9) become faces; vertex, poly-vertex, line and poly-line cells (1–4) are skipped with their cell data; any other type is an error naming the cell |
+//!
+//! Anything else (another data set type, compressor, encoding...) is an
+//! [`VtuErrorKind::Unsupported`] error.
+//!
+//! Binary data ([VTK XML formats](https://vtk.org/Wiki/VTK_XML_Formats#Compressed_Data)):
+//! an uncompressed array is a header integer (its byte count) followed by the
+//! bytes; a compressed one is the header `[nb][nu][np][nc_1]…[nc_nb]` (block
+//! count, block size before compression, size of the last block before
+//! compression — 0 when it is a full block — and the compressed size of each
+//! block) followed by the blocks, each a zlib stream, an LZ4 block (no frame) or
+//! an `.xz` stream. Header integers and values are in the file's byte order.
+//! Inline base64 data may encode the header on its own (padded) before the
+//! blocks, as VTK and meshio do; appended `offset`s count bytes (raw) or
+//! characters (base64) from the one after the `_` that starts the appended data.
+//!
+//! Every size in the file is checked against what it holds before anything is
+//! allocated from it: each array must hold exactly the values that
+//! `NumberOfPoints`, `NumberOfCells`, `NumberOfComponents` and the cell offsets
+//! imply (the size headers must agree), the bytes an array needs must be present,
+//! and a block decompresses into a buffer that grows as data comes out, up to its
+//! declared size and no further. So reading a corrupt or hostile file fails with
+//! an error naming the piece, array or cell, in memory within a small multiple of
+//! the file size plus what its data actually decompresses to; it does not panic,
+//! and it touches no process-wide state. Cell connectivity must refer to points
+//! of the piece, offsets must not decrease. Non-finite coordinates are an
+//! [`VtuErrorKind::InvalidMesh`] error; non-finite field values are read as they
+//! are.
 //!
 //! ```no_run
 //! use seam_io::vtu::{read_vtu_file, write_vtu_file, Field};
@@ -35,20 +65,16 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod decode;
 mod error;
-mod normalize;
+mod read;
+mod write;
 
 use std::fs::File;
-use std::io::{self, Read, Write};
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::io::{Read, Write};
 use std::path::Path;
 
-use seam::{Cell, Face, MeshError, SurfaceMesh, VolumeMesh};
-use vtkio::model::{
-    Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType, IOBuffer, Piece,
-    UnstructuredGridPiece, Version, VertexNumbers, Vtk,
-};
-use vtkio::xml::{Compressor, DataSetType, VTKFile};
+use seam::{Face, MeshError, SurfaceMesh, VolumeMesh};
 
 pub use error::{VtuError, VtuErrorKind};
 
@@ -141,7 +167,7 @@ pub fn write_vtu(
     point_data: &[Field],
     cell_data: &[Field],
 ) -> Result<(), VtuError> {
-    let bytes = vtu_bytes(mesh, point_data, cell_data)?;
+    let bytes = write::surface_bytes(mesh, point_data, cell_data)?;
     w.write_all(&bytes).and_then(|()| w.flush()).map_err(|e| VtuError::io(true, e))
 }
 
@@ -155,7 +181,7 @@ pub fn write_vtu_file(
     point_data: &[Field],
     cell_data: &[Field],
 ) -> Result<(), VtuError> {
-    write_file(path.as_ref(), vtu_bytes(mesh, point_data, cell_data))
+    write_file(path.as_ref(), write::surface_bytes(mesh, point_data, cell_data))
 }
 
 /// Writes the encoded file (created or truncated); nothing is created when the
@@ -177,7 +203,7 @@ pub fn write_volume_vtu(
     point_data: &[Field],
     cell_data: &[Field],
 ) -> Result<(), VtuError> {
-    let bytes = grid_bytes(mesh.points(), GridCells::of_volume(mesh), point_data, cell_data)?;
+    let bytes = write::volume_bytes(mesh, point_data, cell_data)?;
     w.write_all(&bytes).and_then(|()| w.flush()).map_err(|e| VtuError::io(true, e))
 }
 
@@ -191,20 +217,24 @@ pub fn write_volume_vtu_file(
     point_data: &[Field],
     cell_data: &[Field],
 ) -> Result<(), VtuError> {
-    write_file(path.as_ref(), grid_bytes(mesh.points(), GridCells::of_volume(mesh), point_data, cell_data))
+    write_file(path.as_ref(), write::volume_bytes(mesh, point_data, cell_data))
 }
 
 /// Reads a VTU file; see the [module docs](self) for what is read.
 ///
 /// # Errors
-/// A [`VtuError`] with the path: [`VtuErrorKind::Io`] if the file cannot be read,
-/// [`VtuErrorKind::Parse`] or [`VtuErrorKind::Malformed`] if it is not a readable
-/// VTU file, [`VtuErrorKind::UnsupportedCell`] for a cell that is neither a
-/// triangle nor a quad (nor a vertex or line), [`VtuErrorKind::InvalidMesh`],
+/// A [`VtuError`] with the path: [`VtuErrorKind::Io`] if the file cannot be read
+/// (also: it is a directory, a device or a pipe),
+/// [`VtuErrorKind::Parse`] if it is not well-formed VTK XML,
+/// [`VtuErrorKind::Unsupported`] for a feature the reader does not read,
+/// [`VtuErrorKind::Malformed`] if its content is inconsistent (sizes, headers,
+/// compressed data, numbers, cell offsets and point indices),
+/// [`VtuErrorKind::UnsupportedCell`] for a cell that is neither a triangle nor a
+/// quad (nor a vertex or line), [`VtuErrorKind::InvalidMesh`],
 /// [`VtuErrorKind::NoCells`].
 pub fn read_vtu_file(path: impl AsRef<Path>) -> Result<VtuMesh, VtuError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|e| VtuError::io(false, e).with_path(path))?;
+    let bytes = crate::read_regular_file(path).map_err(|e| VtuError::io(false, e).with_path(path))?;
     parse_vtu(&bytes).map_err(|e| e.with_path(path))
 }
 
@@ -219,212 +249,15 @@ pub fn read_vtu(mut r: impl Read) -> Result<VtuMesh, VtuError> {
 }
 
 // ---------------------------------------------------------------------------
-// Writing
-
-const COMPONENTS: [usize; 5] = [1, 2, 3, 6, 9];
-
-fn check_fields(fields: &[Field], n_entries: usize, on_cells: bool) -> Result<(), VtuError> {
-    for (i, field) in fields.iter().enumerate() {
-        if field.name.is_empty() || fields[..i].iter().any(|f| f.name == field.name) {
-            return Err(VtuErrorKind::BadFieldName { name: field.name.clone(), on_cells }.into());
-        }
-        if !COMPONENTS.contains(&field.components) {
-            return Err(VtuErrorKind::UnsupportedComponents {
-                name: field.name.clone(),
-                components: field.components,
-            }
-            .into());
-        }
-        let expected = n_entries * field.components;
-        if field.values.len() != expected {
-            return Err(VtuErrorKind::WrongFieldLength {
-                name: field.name.clone(),
-                expected,
-                found: field.values.len(),
-            }
-            .into());
-        }
-    }
-    Ok(())
-}
-
-fn attributes(fields: &[Field]) -> Vec<Attribute> {
-    fields
-        .iter()
-        .map(|f| {
-            let elem = match f.components {
-                1 => ElementType::Scalars { num_comp: 1, lookup_table: None },
-                3 => ElementType::Vectors,
-                // Components are checked to be 1, 2, 3, 6 or 9.
-                n => ElementType::Generic(n as u32),
-            };
-            Attribute::DataArray(DataArray {
-                name: f.name.clone(),
-                elem,
-                data: IOBuffer::F64(f.values.clone()),
-            })
-        })
-        .collect()
-}
-
-/// The cells of a grid to write: VTK types and connectivity.
-#[derive(Default)]
-struct GridCells {
-    types: Vec<CellType>,
-    connectivity: Vec<u64>,
-    offsets: Vec<u64>,
-}
-
-impl GridCells {
-    fn push(&mut self, kind: CellType, nodes: &[usize]) {
-        self.connectivity.extend(nodes.iter().map(|&n| n as u64));
-        self.offsets.push(self.connectivity.len() as u64);
-        self.types.push(kind);
-    }
-
-    fn of_surface(mesh: &SurfaceMesh) -> GridCells {
-        let mut cells = GridCells::default();
-        for face in mesh.faces() {
-            let kind = match face {
-                Face::Tri3(_) => CellType::Triangle,
-                Face::Quad4(_) => CellType::Quad,
-            };
-            cells.push(kind, face.nodes());
-        }
-        cells
-    }
-
-    /// Volume cells. Gmsh's node orders of the tetrahedron, hexahedron, prism
-    /// (VTK's wedge) and pyramid are VTK's: VTK computes a positive volume for
-    /// cells that are positive in Gmsh (checked by `tests/python`).
-    fn of_volume(mesh: &VolumeMesh) -> GridCells {
-        let mut cells = GridCells::default();
-        for cell in mesh.cells() {
-            let kind = match cell {
-                Cell::Tet4(_) => CellType::Tetra,
-                Cell::Hex8(_) => CellType::Hexahedron,
-                Cell::Prism6(_) => CellType::Wedge,
-                Cell::Pyramid5(_) => CellType::Pyramid,
-            };
-            cells.push(kind, cell.nodes());
-        }
-        cells
-    }
-}
-
-fn vtu_bytes(mesh: &SurfaceMesh, point_data: &[Field], cell_data: &[Field]) -> Result<Vec<u8>, VtuError> {
-    grid_bytes(mesh.points(), GridCells::of_surface(mesh), point_data, cell_data)
-}
-
-fn grid_bytes(
-    points: &[[f64; 3]],
-    cells: GridCells,
-    point_data: &[Field],
-    cell_data: &[Field],
-) -> Result<Vec<u8>, VtuError> {
-    check_fields(point_data, points.len(), false)?;
-    check_fields(cell_data, cells.types.len(), true)?;
-    let GridCells { types, connectivity, offsets } = cells;
-    let points: Vec<f64> = points.iter().flatten().copied().collect();
-    let vtk = Vtk {
-        version: Version::new_xml(1, 0),
-        title: String::new(),
-        byte_order: ByteOrder::LittleEndian,
-        file_path: None,
-        data: DataSet::inline(UnstructuredGridPiece {
-            points: IOBuffer::F64(points),
-            cells: Cells { cell_verts: VertexNumbers::XML { connectivity, offsets }, types },
-            data: Attributes { point: attributes(point_data), cell: attributes(cell_data) },
-        }),
-    };
-    let vtkio_failed = |e: vtkio::xml::Error| VtuError::io(true, io::Error::other(format!("vtkio: {e}")));
-    let xml = vtk.try_into_xml_format(Compressor::None, 0).map_err(vtkio_failed)?;
-    // vtkio writes through `Write::write` and drops its `BufWriter` without checking
-    // the flush, so it writes to memory here and the caller uses `write_all`.
-    let mut bytes = b"<?xml version=\"1.0\"?>\n".to_vec();
-    xml.write(&mut bytes).map_err(vtkio_failed)?;
-    bytes.push(b'\n');
-    Ok(declare_cells_signed(bytes))
-}
-
-/// vtkio declares connectivity and offsets `UInt64`; VTK writes `Int64`, and
-/// meshio turns unsigned offsets into floats (numpy promotes uint64 with int64 to
-/// float64). Node indices are far below 2⁶³, so the bytes are the same either
-/// way: only the declared type changes.
-fn declare_cells_signed(bytes: Vec<u8>) -> Vec<u8> {
-    let text = String::from_utf8(bytes).expect("vtkio writes UTF-8");
-    text.replace(
-        r#"<DataArray type="UInt64" Name="connectivity""#,
-        r#"<DataArray type="Int64" Name="connectivity""#,
-    )
-    .replace(r#"<DataArray type="UInt64" Name="offsets""#, r#"<DataArray type="Int64" Name="offsets""#)
-    .into_bytes()
-}
-
-// ---------------------------------------------------------------------------
 // Reading
 
-/// Runs vtkio code that may panic on malformed input (it slices and unwraps):
-/// the panic becomes an error, and the panic hook is silenced meanwhile so that
-/// no panic message reaches stderr (the caller reports the error in one line).
-fn guard<T>(f: impl FnOnce() -> T) -> Result<T, VtuError> {
-    let hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
-    let result = catch_unwind(AssertUnwindSafe(f));
-    std::panic::set_hook(hook);
-    result.map_err(|payload| {
-        let why = payload
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "unknown reason".to_string());
-        VtuError::malformed(format!("vtkio failed on the file: {}", error::one_line(&why)))
-    })
-}
-
 fn parse_vtu(bytes: &[u8]) -> Result<VtuMesh, VtuError> {
-    let bytes = normalize::normalize(bytes)?;
-    let parse_error = |e: vtkio::xml::Error| VtuError::new(VtuErrorKind::Parse(vtkio::Error::XML(e)));
-    let file = guard(|| VTKFile::parse(&bytes[..]))?.map_err(parse_error)?;
-    if file.data_set_type != DataSetType::UnstructuredGrid {
-        return Err(VtuError::malformed(format!(
-            "a VTK {:?} file, not a serial UnstructuredGrid (.vtu) file",
-            file.data_set_type
-        )));
-    }
-    let vtk = guard(|| Vtk::try_from(file))?.map_err(parse_error)?;
-    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-        return Err(VtuError::malformed("not an UnstructuredGrid data set"));
-    };
-    let declared = normalize::declared_fields(&bytes);
+    let document = read::Document::parse(bytes)?;
     let mut builder = Builder::default();
-    for (p, piece) in pieces.into_iter().enumerate() {
-        let Piece::Inline(piece) = piece else {
-            return Err(VtuError::malformed(format!("piece {p} refers to another file")));
-        };
-        if let Some([point, cell]) = declared.get(p) {
-            check_decoded(point, &piece.data.point, "point")?;
-            check_decoded(cell, &piece.data.cell, "cell")?;
-        }
-        builder.add_piece(p, *piece)?;
+    for p in 0..document.n_pieces() {
+        builder.add_piece(p, document.piece(p)?)?;
     }
     builder.finish()
-}
-
-/// Fails if vtkio has skipped one of the `declared` arrays (it does so silently
-/// when it cannot decode one).
-fn check_decoded(declared: &[String], decoded: &[Attribute], what: &str) -> Result<(), VtuError> {
-    if declared.len() == decoded.len() {
-        return Ok(());
-    }
-    let mut missing: Vec<&String> = declared.iter().collect();
-    for a in decoded {
-        if let Some(i) = missing.iter().position(|name| *name == a.name()) {
-            missing.remove(i);
-        }
-    }
-    let names: Vec<String> = missing.iter().map(|name| format!("{name:?}")).collect();
-    Err(VtuError::malformed(format!("vtkio cannot decode the {what} data array(s) {}", names.join(", "))))
 }
 
 /// Accumulates pieces.
@@ -440,70 +273,46 @@ struct Builder {
 }
 
 impl Builder {
-    fn add_piece(&mut self, p: usize, piece: UnstructuredGridPiece) -> Result<(), VtuError> {
-        let UnstructuredGridPiece { points, cells, data } = piece;
-        let coords: Vec<f64> = points
-            .cast_into()
-            .ok_or_else(|| VtuError::malformed(format!("the points of piece {p} are not numbers")))?;
-        if coords.len() % 3 != 0 {
-            return Err(VtuError::malformed(format!(
-                "piece {p} has {} point coordinates, not a multiple of 3",
-                coords.len()
-            )));
-        }
+    /// Adds the faces of a piece (whose array sizes and offsets
+    /// [`read::Document::piece`] has checked) and its fields; checks the point
+    /// indices of every cell.
+    fn add_piece(&mut self, p: usize, piece: read::Piece) -> Result<(), VtuError> {
+        let read::Piece { n_points, points, offsets, connectivity, types, point_data, cell_data } = piece;
         let point_base = self.points.len();
-        let n_points = coords.len() / 3;
-        self.points.extend(coords.chunks_exact(3).map(|c| [c[0], c[1], c[2]]));
+        self.points.extend(points.chunks_exact(3).map(|c| [c[0], c[1], c[2]]));
 
-        let Cells { cell_verts, types } = cells;
-        let (connectivity, offsets) = cell_verts.into_xml();
-        if offsets.len() != types.len() {
-            return Err(VtuError::malformed(format!(
-                "piece {p} has {} cell offsets but {} cell types",
-                offsets.len(),
-                types.len()
-            )));
-        }
         let cell_base = self.n_cells;
-        let mut kept = Vec::with_capacity(types.len());
+        let mut kept = Vec::new();
         let mut start = 0usize;
         for (i, (&ty, &end)) in types.iter().zip(&offsets).enumerate() {
             let cell = cell_base + i;
-            let end = usize::try_from(end).unwrap_or(usize::MAX);
-            if end < start || end > connectivity.len() {
-                return Err(VtuError::malformed(format!(
-                    "cell {cell}: offset {end} is out of order or past the {} connectivity entries",
-                    connectivity.len()
-                )));
-            }
-            let nodes = &connectivity[start..end];
+            let nodes = connectivity.get(start..end).unwrap_or_default();
             start = end;
+            if let Some((corner, &index)) = nodes.iter().enumerate().find(|(_, &n)| n >= n_points) {
+                let problem = MeshError::IndexOutOfRange {
+                    what: "cell",
+                    element: cell,
+                    corner,
+                    index,
+                    n_nodes: n_points,
+                };
+                return Err(VtuErrorKind::InvalidMesh(problem).into());
+            }
             let corners = match ty {
-                CellType::Triangle => 3,
-                CellType::Quad => 4,
-                CellType::Vertex | CellType::PolyVertex | CellType::Line | CellType::PolyLine => continue,
-                other => return Err(VtuErrorKind::UnsupportedCell { cell, vtk_type: other as u8 }.into()),
+                5 => 3,
+                9 => 4,
+                1..=4 => continue,
+                other => return Err(VtuErrorKind::UnsupportedCell { cell, vtk_type: other }.into()),
             };
             if nodes.len() != corners {
                 return Err(VtuError::malformed(format!(
                     "cell {cell} is {} but lists {} points",
-                    error::describe_cell_type(ty as u8),
+                    error::describe_cell_type(ty),
                     nodes.len()
                 )));
             }
             let mut face = [0usize; 4];
-            for (corner, (&node, slot)) in nodes.iter().zip(&mut face).enumerate() {
-                let node = usize::try_from(node).unwrap_or(usize::MAX);
-                if node >= n_points {
-                    let problem = MeshError::IndexOutOfRange {
-                        what: "cell",
-                        element: cell,
-                        corner,
-                        index: node,
-                        n_nodes: n_points,
-                    };
-                    return Err(VtuErrorKind::InvalidMesh(problem).into());
-                }
+            for (&node, slot) in nodes.iter().zip(&mut face) {
                 *slot = point_base + node;
             }
             self.faces.push(Face::from_nodes(&face[..corners]));
@@ -511,21 +320,27 @@ impl Builder {
             kept.push(i);
         }
         self.n_cells += types.len();
+        let n_faces = kept.len();
 
-        let point_fields = fields(data.point, n_points)?;
-        let cell_fields: Vec<Field> = fields(data.cell, types.len())?
+        let cell_data: Vec<Field> = cell_data
             .into_iter()
             .map(|f| {
-                let values = kept.iter().flat_map(|&i| f.entry(i).iter().copied()).collect();
+                let mut values = Vec::with_capacity(n_faces * f.components);
+                for &i in &kept {
+                    values.extend_from_slice(
+                        f.values.get(i * f.components..(i + 1) * f.components).unwrap_or_default(),
+                    );
+                }
                 Field { values, ..f }
             })
             .collect();
+        debug_assert!(point_data.iter().all(|f| f.values.len() == n_points * f.components));
         if p == 0 {
-            self.point_data = point_fields;
-            self.cell_data = cell_fields;
+            self.point_data = point_data;
+            self.cell_data = cell_data;
         } else {
-            append_fields(&mut self.point_data, point_fields, p, "point")?;
-            append_fields(&mut self.cell_data, cell_fields, p, "cell")?;
+            append_fields(&mut self.point_data, point_data, p, "point")?;
+            append_fields(&mut self.cell_data, cell_data, p, "cell")?;
         }
         Ok(())
     }
@@ -539,26 +354,6 @@ impl Builder {
             .map_err(|e| VtuError::new(VtuErrorKind::InvalidMesh(renumber(e, &face_cells))))?;
         Ok(VtuMesh { mesh, point_data: self.point_data, cell_data: self.cell_data })
     }
-}
-
-/// The data arrays of `attributes` as fields of `n_entries` entries (legacy field
-/// attributes do not occur in XML files).
-fn fields(attributes: Vec<Attribute>, n_entries: usize) -> Result<Vec<Field>, VtuError> {
-    let mut fields = Vec::with_capacity(attributes.len());
-    for attribute in attributes {
-        let Attribute::DataArray(DataArray { name, elem, data }) = attribute else { continue };
-        let components = elem.num_comp() as usize;
-        let Some(values) = data.cast_into::<f64>() else {
-            return Err(VtuError::malformed(format!("field {name:?} does not hold numbers")));
-        };
-        // vtkio has checked this; a wrong length would make `Field::entry` panic.
-        if components == 0 || values.len() != n_entries * components {
-            let expected = n_entries * components;
-            return Err(VtuErrorKind::WrongFieldLength { name, expected, found: values.len() }.into());
-        }
-        fields.push(Field { name, components, values });
-    }
-    Ok(fields)
 }
 
 fn append_fields(all: &mut [Field], more: Vec<Field>, p: usize, what: &str) -> Result<(), VtuError> {
@@ -575,14 +370,16 @@ fn append_fields(all: &mut [Field], more: Vec<Field>, p: usize, what: &str) -> R
 
 /// `e` with face indices replaced by the file's cell indices.
 fn renumber(e: MeshError, face_cells: &[usize]) -> MeshError {
+    let cell = |face: usize| face_cells.get(face).copied().unwrap_or(face);
     match e {
         MeshError::IndexOutOfRange { element, corner, index, n_nodes, .. } => {
-            MeshError::IndexOutOfRange { what: "cell", element: face_cells[element], corner, index, n_nodes }
+            MeshError::IndexOutOfRange { what: "cell", element: cell(element), corner, index, n_nodes }
         }
         MeshError::RepeatedNode { element, node, .. } => {
-            MeshError::RepeatedNode { what: "cell", element: face_cells[element], node }
+            MeshError::RepeatedNode { what: "cell", element: cell(element), node }
         }
-        MeshError::ZeroArea { face } => MeshError::ZeroArea { face: face_cells[face] },
+        MeshError::ZeroArea { face } => MeshError::ZeroArea { face: cell(face) },
+        MeshError::TooSmall { face, diameter } => MeshError::TooSmall { face: cell(face), diameter },
         other => other,
     }
 }

@@ -19,6 +19,7 @@ pub fn stderr(o: &Output) -> String {
 }
 
 /// A JSON file.
+#[allow(dead_code)] // not every test crate reads JSON
 pub fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }

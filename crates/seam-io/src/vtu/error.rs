@@ -18,15 +18,58 @@ pub enum VtuErrorKind {
         /// The I/O error.
         source: io::Error,
     },
-    /// vtkio cannot parse or decode the file (not XML, not a VTK file, bad
-    /// base64 or compressed data, a data array of the wrong size...).
-    #[error("not a readable VTU file: {}", describe_vtkio(.0))]
-    Parse(vtkio::Error),
-    /// The file is well-formed XML for vtkio but its content is inconsistent, or it
-    /// is a VTK XML file of another type.
+    /// The file is not well-formed XML, or not a VTK XML file (no `<VTKFile>` root
+    /// element), or it ends early.
+    ///
+    /// ```
+    /// use seam_io::{read_vtu, VtuErrorKind};
+    /// let e = read_vtu(&b"<VTKFile type=\"UnstructuredGrid\" version=\"1.0\">\n<Unstr"[..]).unwrap_err();
+    /// assert!(matches!(e.kind(), VtuErrorKind::Parse { line: Some(2), .. }), "{e}");
+    /// ```
+    #[error("not a readable VTU file: {message}{}", .line.map(|l| format!(" (line {l})")).unwrap_or_default())]
+    Parse {
+        /// The 1-based line of the file where the problem was found, if known.
+        line: Option<usize>,
+        /// What is wrong, one line.
+        message: String,
+    },
+    /// A valid VTK XML file that uses something this reader does not read: another
+    /// data set type (`PolyData`, a parallel `PUnstructuredGrid`...), an unknown
+    /// file version, compressor, header type, data type or encoding, or pieces in
+    /// other files.
+    ///
+    /// ```
+    /// use seam_io::{read_vtu, VtuErrorKind};
+    /// let text = r#"<VTKFile type="UnstructuredGrid" version="1.0" compressor="vtkZstdDataCompressor"/>"#;
+    /// let e = read_vtu(text.as_bytes()).unwrap_err();
+    /// assert!(matches!(e.kind(), VtuErrorKind::Unsupported { .. }));
+    /// assert!(e.to_string().starts_with("compressor \"vtkZstdDataCompressor\" is not supported"));
+    /// ```
+    #[error("{message}")]
+    Unsupported {
+        /// What is not supported, one line.
+        message: String,
+    },
+    /// The file is well-formed XML, but its content is inconsistent: a data array
+    /// whose size, header or compressed data does not match what the piece
+    /// declares, bad numbers, cell offsets out of order...
+    ///
+    /// ```
+    /// use seam_io::{read_vtu, VtuErrorKind};
+    /// let text = r#"<VTKFile type="UnstructuredGrid" version="0.1"><UnstructuredGrid>
+    ///   <Piece NumberOfPoints="99999999999999" NumberOfCells="0"><Points>
+    ///     <DataArray type="Float32" NumberOfComponents="3" format="ascii">0 0 0</DataArray>
+    ///   </Points></Piece></UnstructuredGrid></VTKFile>"#;
+    /// let e = read_vtu(text.as_bytes()).unwrap_err();
+    /// assert!(matches!(e.kind(), VtuErrorKind::Malformed { .. }));
+    /// assert_eq!(
+    ///     e.to_string(),
+    ///     "piece 0, the points array (299999999999997 Float32 values): 3 values, expected 299999999999997"
+    /// );
+    /// ```
     #[error("{message}")]
     Malformed {
-        /// What is wrong, one line.
+        /// What is wrong, one line, naming the piece, array or cell at fault.
         message: String,
     },
     /// A cell of a type seam cannot use (anything but triangles and quads, apart
@@ -124,6 +167,14 @@ impl VtuError {
     pub(crate) fn malformed(message: impl Into<String>) -> Self {
         VtuError::new(VtuErrorKind::Malformed { message: message.into() })
     }
+
+    pub(crate) fn unsupported(message: impl Into<String>) -> Self {
+        VtuError::new(VtuErrorKind::Unsupported { message: message.into() })
+    }
+
+    pub(crate) fn parse(line: Option<usize>, message: impl Into<String>) -> Self {
+        VtuError::new(VtuErrorKind::Parse { line, message: message.into() })
+    }
 }
 
 impl From<VtuErrorKind> for VtuError {
@@ -145,7 +196,6 @@ impl std::error::Error for VtuError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match &self.kind {
             VtuErrorKind::Io { source, .. } => Some(source),
-            VtuErrorKind::Parse(e) => Some(e),
             VtuErrorKind::InvalidMesh(e) => Some(e),
             _ => None,
         }
@@ -164,25 +214,6 @@ pub(crate) fn one_line(text: &str) -> String {
         }
         _ => text.to_string(),
     }
-}
-
-/// vtkio's message without its layers of "XML error: Validation error: ..." and
-/// Debug formatting where a Display exists.
-fn describe_vtkio(e: &vtkio::Error) -> String {
-    use vtkio::xml::Error as X;
-    let text = match e {
-        vtkio::Error::XML(X::Validation(v)) => v.to_string(),
-        vtkio::Error::XML(X::Deserialization(d)) => d.to_string(),
-        vtkio::Error::XML(X::XML(x)) => format!("XML syntax: {x}"),
-        vtkio::Error::XML(X::Base64Decode(b)) => format!("bad base64 data: {b}"),
-        vtkio::Error::XML(X::Model(m)) => m.to_string(),
-        vtkio::Error::XML(X::IO(io)) => io.to_string(),
-        vtkio::Error::XML(other) => other.to_string(),
-        vtkio::Error::Load(m) => m.to_string(),
-        vtkio::Error::IO(io) => io.to_string(),
-        other => other.to_string(),
-    };
-    one_line(&text)
 }
 
 /// "a tetrahedron", "a quadratic triangle", ... for a VTK cell type number.
@@ -233,6 +264,16 @@ mod tests {
         );
         let e = VtuError::new(VtuErrorKind::WrongFieldLength { name: "p".into(), expected: 8, found: 7 });
         assert_eq!(e.to_string(), "field \"p\" has 7 values, expected 8");
+    }
+
+    #[test]
+    fn parse_errors_give_the_line_when_known() {
+        let e = VtuError::parse(Some(12), "the file ends inside <Piece>").with_path("m.vtu");
+        assert_eq!(e.to_string(), "m.vtu: not a readable VTU file: the file ends inside <Piece> (line 12)");
+        assert_eq!(
+            VtuError::parse(None, "no <VTKFile> element").to_string(),
+            "not a readable VTU file: no <VTKFile> element"
+        );
     }
 
     #[test]

@@ -13,7 +13,8 @@ Values are exact in meshio's 12-digit ASCII format.
   (the writer of ParaView; appended raw data is ParaView's default) with UInt64
   headers and 8-byte compression blocks, so that every Float64 and Int64 array
   fills its last block exactly (VTK then writes 0 as the partial block size,
-  which vtkio mishandles). Written only if the `vtk` package is installed.
+  which a reader must take as a full block). Written only if the `vtk`
+  package is installed.
 
 tests/python/test_vtu_meshio.py imports this file and writes the same files into
 a temporary directory.

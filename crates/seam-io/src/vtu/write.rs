@@ -1,0 +1,208 @@
+//! Writing: one piece, every array inline binary (base64 of a little-endian
+//! `UInt64` byte count followed by the little-endian values, uncompressed).
+
+use base64::prelude::{Engine as _, BASE64_STANDARD};
+use seam::{Cell, Face, SurfaceMesh, VolumeMesh};
+
+use super::{Field, VtuError, VtuErrorKind};
+
+/// The numbers of components a written field may have.
+const COMPONENTS: [usize; 5] = [1, 2, 3, 6, 9];
+
+/// VTK cell type numbers.
+const VTK_TRIANGLE: u8 = 5;
+const VTK_QUAD: u8 = 9;
+const VTK_TETRA: u8 = 10;
+const VTK_HEXAHEDRON: u8 = 12;
+const VTK_WEDGE: u8 = 13;
+const VTK_PYRAMID: u8 = 14;
+
+/// The file for a surface mesh: a triangle or quad cell per face.
+pub(super) fn surface_bytes(
+    mesh: &SurfaceMesh,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<Vec<u8>, VtuError> {
+    let mut cells = GridCells::default();
+    for face in mesh.faces() {
+        let kind = match face {
+            Face::Tri3(_) => VTK_TRIANGLE,
+            Face::Quad4(_) => VTK_QUAD,
+        };
+        cells.push(kind, face.nodes());
+    }
+    grid_bytes(mesh.points(), cells, point_data, cell_data)
+}
+
+/// The file for a volume mesh. Gmsh's node orders of the tetrahedron,
+/// hexahedron, prism (VTK's wedge) and pyramid are VTK's: VTK computes a positive
+/// volume for cells that are positive in Gmsh (checked by `tests/python`).
+pub(super) fn volume_bytes(
+    mesh: &VolumeMesh,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<Vec<u8>, VtuError> {
+    let mut cells = GridCells::default();
+    for cell in mesh.cells() {
+        let kind = match cell {
+            Cell::Tet4(_) => VTK_TETRA,
+            Cell::Hex8(_) => VTK_HEXAHEDRON,
+            Cell::Prism6(_) => VTK_WEDGE,
+            Cell::Pyramid5(_) => VTK_PYRAMID,
+        };
+        cells.push(kind, cell.nodes());
+    }
+    grid_bytes(mesh.points(), cells, point_data, cell_data)
+}
+
+fn check_fields(fields: &[Field], n_entries: usize, on_cells: bool) -> Result<(), VtuError> {
+    for (i, field) in fields.iter().enumerate() {
+        if field.name.is_empty() || fields[..i].iter().any(|f| f.name == field.name) {
+            return Err(VtuErrorKind::BadFieldName { name: field.name.clone(), on_cells }.into());
+        }
+        if !COMPONENTS.contains(&field.components) {
+            return Err(VtuErrorKind::UnsupportedComponents {
+                name: field.name.clone(),
+                components: field.components,
+            }
+            .into());
+        }
+        let expected = n_entries * field.components;
+        if field.values.len() != expected {
+            return Err(VtuErrorKind::WrongFieldLength {
+                name: field.name.clone(),
+                expected,
+                found: field.values.len(),
+            }
+            .into());
+        }
+    }
+    Ok(())
+}
+
+/// The cells of a grid to write: VTK types and connectivity.
+#[derive(Default)]
+struct GridCells {
+    types: Vec<u8>,
+    connectivity: Vec<u64>,
+    offsets: Vec<u64>,
+}
+
+impl GridCells {
+    fn push(&mut self, kind: u8, nodes: &[usize]) {
+        self.connectivity.extend(nodes.iter().map(|&n| n as u64));
+        self.offsets.push(self.connectivity.len() as u64);
+        self.types.push(kind);
+    }
+}
+
+fn grid_bytes(
+    points: &[[f64; 3]],
+    cells: GridCells,
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<Vec<u8>, VtuError> {
+    check_fields(point_data, points.len(), false)?;
+    check_fields(cell_data, cells.types.len(), true)?;
+    let mut out = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" \
+         byte_order=\"LittleEndian\" header_type=\"UInt64\"><UnstructuredGrid>",
+    );
+    out.push_str(&format!(
+        "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
+        points.len(),
+        cells.types.len()
+    ));
+    attribute_data(&mut out, "PointData", point_data);
+    attribute_data(&mut out, "CellData", cell_data);
+    out.push_str("<Points>");
+    data_array(&mut out, "Points", 3, &Values::Float64(points.as_flattened()));
+    out.push_str("</Points><Cells>");
+    // Node indices are far below 2⁶³, so the bytes are the same as unsigned ones.
+    // VTK writes `Int64`, and meshio reads unsigned offsets as floats.
+    data_array(&mut out, "connectivity", 1, &Values::Int64(&cells.connectivity));
+    data_array(&mut out, "offsets", 1, &Values::Int64(&cells.offsets));
+    data_array(&mut out, "types", 1, &Values::UInt8(&cells.types));
+    out.push_str("</Cells></Piece></UnstructuredGrid></VTKFile>\n");
+    Ok(out.into_bytes())
+}
+
+/// `<PointData>` or `<CellData>` (nothing without fields), with the first
+/// 1-component field as the active scalars, the first 3-component one as the
+/// active vectors.
+fn attribute_data(out: &mut String, element: &str, fields: &[Field]) {
+    if fields.is_empty() {
+        return;
+    }
+    out.push('<');
+    out.push_str(element);
+    for (attribute, components) in [("Scalars", 1), ("Vectors", 3)] {
+        if let Some(field) = fields.iter().find(|f| f.components == components) {
+            out.push_str(&format!(" {attribute}=\"{}\"", escape(&field.name)));
+        }
+    }
+    out.push('>');
+    for field in fields {
+        data_array(out, &field.name, field.components, &Values::Float64(&field.values));
+    }
+    out.push_str("</");
+    out.push_str(element);
+    out.push('>');
+}
+
+/// The values of a data array.
+enum Values<'a> {
+    Float64(&'a [f64]),
+    /// Written as `Int64`: the values are below 2⁶³.
+    Int64(&'a [u64]),
+    UInt8(&'a [u8]),
+}
+
+/// A `<DataArray>` element: base64 of the byte count (`UInt64`) and the values,
+/// with the range of the values as `RangeMin`/`RangeMax` (over all components).
+fn data_array(out: &mut String, name: &str, components: usize, values: &Values<'_>) {
+    let (ty, range, bytes) = match *values {
+        Values::Float64(v) => (
+            "Float64",
+            v.iter().copied().reduce(f64::min).zip(v.iter().copied().reduce(f64::max)),
+            v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>(),
+        ),
+        Values::Int64(v) => (
+            "Int64",
+            v.iter().min().zip(v.iter().max()).map(|(&a, &b)| (a as f64, b as f64)),
+            v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+        ),
+        Values::UInt8(v) => {
+            ("UInt8", v.iter().min().zip(v.iter().max()).map(|(&a, &b)| (a.into(), b.into())), v.to_vec())
+        }
+    };
+    out.push_str(&format!("<DataArray type=\"{ty}\" Name=\"{}\"", escape(name)));
+    if components != 1 {
+        out.push_str(&format!(" NumberOfComponents=\"{components}\""));
+    }
+    out.push_str(" format=\"binary\"");
+    if let Some((min, max)) = range {
+        out.push_str(&format!(" RangeMin=\"{min}\" RangeMax=\"{max}\""));
+    }
+    out.push('>');
+    let mut data = (bytes.len() as u64).to_le_bytes().to_vec();
+    data.extend_from_slice(&bytes);
+    BASE64_STANDARD.encode_string(&data, out);
+    out.push_str("</DataArray>");
+}
+
+/// `text` escaped for an attribute value.
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '&' => out.push_str("&amp;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
