@@ -95,11 +95,7 @@ pub fn run(args: &TransferArgs) -> Result<(), Failure> {
     // Nothing non-finite is written: the transferred values, the coverage, the
     // gaps where they are defined (NaN marks an uncovered node, documented),
     // and the numbers of the summary.
-    let (receiver, what) = match args.mode {
-        ModeArg::Consistent => (&target, "the transferred field"),
-        ModeArg::Conservative => (&source, "the transferred load"),
-    };
-    check_finite(&transferred, k, receiver, what)?;
+    check_finite(&transferred, k, &target, "the transferred field")?;
     check_finite(&consistent.node_coverage, 1, &target, "the coverage")?;
     let defined: Vec<f64> =
         gaps.iter().zip(&consistent.covered).map(|(&g, &c)| if c { g } else { 0.0 }).collect();

@@ -173,6 +173,15 @@ fn setup(dir: &Path) {
     write(dir, "deep.toml", format!("a = {}{}", "[".repeat(100_000), "]".repeat(100_000)));
     write(dir, "latin1.toml", [b'n', b'a', b'm', b'e', 0xe9, b'\n']);
     write(dir, "out_is_file.toml", case((1000.0, 0.3), glue, "[output]\ndir = \"afile\"\n"));
+    // A nearly incompressible glued pair: the saddle-point solve stalls, and says why.
+    let o = seam(&["example", "warped-glue", "--slave-cells", "4", "--ratio", "2", "-o", "wg"], dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let wg = std::fs::read_to_string(dir.join("wg/case.toml")).unwrap();
+    write(
+        dir,
+        "wg/soft.toml",
+        wg.replace("poisson = 0.3", "poisson = 0.4999").replace("\"out\"", "\"soft\""),
+    );
     write(
         dir,
         "contact_standard.toml",
@@ -347,6 +356,11 @@ const CATALOGUE: &[Expectation] = &[
     ("solve squashed.toml", 2, &["squashed.toml", "element", "8-node hexahedron", "degenerate or tangled"]),
     ("solve overflow.toml", 2, &["overflow.toml", "body \"lower\"", "is inf", "an overflow"]),
     ("solve out_is_file.toml", 2, &["afile", "is not a directory"]),
+    (
+        "solve wg/soft.toml",
+        2,
+        &["soft.toml", "too ill-conditioned", "body \"upper\" has ν = 0.4999", "volumetric locking"],
+    ),
     ("solve contact_standard.toml", 2, &["contact needs multiplier \"lumped\""]),
     ("solve case.toml --threads 100000", 2, &["more than 4 per core"]),
     ("solve case.toml --rtol -1", 2, &["--rtol -1 must lie in (0, 1)"]),
