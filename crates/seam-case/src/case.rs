@@ -423,8 +423,16 @@ impl Case {
             }
         }
         self.check_acyclic()?;
-        if self.is_contact() && self.interfaces.iter().any(|f| f.kind == InterfaceKind::Glue) {
-            return fail("glued and contact interfaces in one case are not supported yet");
+        if self.is_contact() {
+            let standard =
+                |f: &&Interface| f.kind == InterfaceKind::Glue && f.multiplier() == CaseMultiplier::Standard;
+            if let Some((i, f)) = self.interfaces.iter().enumerate().find(|(_, f)| standard(f)) {
+                return fail(format!(
+                    "{}: a glued interface in a case with contact needs multiplier \"dual\" or \"lumped\" \
+                     (standard, the default for glue, is not supported together with contact yet)",
+                    f.describe(i)
+                ));
+            }
         }
         if self.contact.max_iterations == 0 {
             return fail("[contact]: max_iterations must be at least 1");
@@ -562,7 +570,12 @@ impl Case {
                 held[r][k] = true;
             }
         }
-        let neighbour = if self.is_contact() { "in contact with it" } else { "glued to it" };
+        let glue = self.interfaces.iter().any(|f| f.kind == InterfaceKind::Glue);
+        let neighbour = match (glue, self.is_contact()) {
+            (true, true) => "glued to it or in contact with it",
+            (false, true) => "in contact with it",
+            _ => "glued to it",
+        };
         for (i, b) in self.bodies.iter().enumerate() {
             let r = root(&mut group, i);
             if let Some(k) = (0..3).find(|&k| !held[r][k]) {
@@ -720,7 +733,7 @@ dir = "out"
                     "[output]",
                     "[[interface]]\nmaster = \"lower:side\"\nslave = \"upper:side\"\nkind = \"glue\"\n\n[output]",
                 ),
-                "glued and contact interfaces in one case are not supported yet",
+                "interface 2 (upper:side → lower:side): a glued interface in a case with contact needs multiplier \"dual\"",
             ),
             (GOOD.replace("[output]", "[contact]\nmax_iteration = 5\n\n[output]"), "unknown field `max_iteration`"),
             (GOOD.replace("[output]", "[contact]\nmax_iterations = 0\n\n[output]"), "max_iterations must be at least 1"),

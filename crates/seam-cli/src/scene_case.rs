@@ -8,7 +8,7 @@
 //! refuses (with an error naming the item) interfaces whose options a case
 //! cannot express (facing other than opposite, an angle limit other than 45°,
 //! a relative gap limit other than the default, a fixed quadrature degree),
-//! glued and contact interfaces together, standard multipliers for contact,
+//! standard multipliers for contact,
 //! and names that are not plain (letters, digits, `-`, `_`, `.`).
 
 use crate::args::{ExampleArgs, SolveArgs, SolverArg};
@@ -17,7 +17,7 @@ use crate::solve::{self, Solved};
 use crate::Failure;
 use anyhow::{anyhow, bail, Result};
 use seam::{Facing, MaxGap, MortarOptions, Multiplier};
-use seam_fem::{Problem, ProblemInterface};
+use seam_fem::{Coupling, Problem};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -43,7 +43,7 @@ impl CaseFiles {
         let out = dir.join(OUTPUT_DIR);
         let mut results: Vec<PathBuf> =
             problem.bodies.iter().map(|b| out.join(format!("{}.vtu", b.name))).collect();
-        for f in coupled(problem) {
+        for f in &problem.interfaces {
             let body = &problem.bodies[f.slave.body];
             let surface = &body.surfaces[f.slave.surface].0;
             results.push(out.join(format!("{}_{surface}_interface.vtu", body.name)));
@@ -60,11 +60,6 @@ impl CaseFiles {
     pub fn all(&self) -> impl Iterator<Item = &PathBuf> {
         self.meshes.iter().chain([&self.case]).chain(&self.results)
     }
-}
-
-/// The glued and the contact interfaces (a case holds one kind only).
-fn coupled(problem: &Problem) -> impl Iterator<Item = &ProblemInterface> {
-    problem.interfaces.iter().chain(&problem.contacts)
 }
 
 /// Writes `problem` into `dir` as a case: each body's mesh as `<body>.msh`
@@ -147,18 +142,15 @@ fn plain(name: &str) -> bool {
 /// # Errors
 /// A problem a case file cannot express (module doc).
 pub fn case_toml(problem: &Problem, about: &[String]) -> Result<String> {
-    if !problem.interfaces.is_empty() && !problem.contacts.is_empty() {
-        bail!("glued and contact interfaces in one case are not supported");
-    }
     let mut t = String::new();
     for line in about {
         writeln!(t, "# {line}")?;
     }
     writeln!(t, "# Rerun with: seam solve case.toml --force\n")?;
     let role = |b: usize| {
-        if coupled(problem).any(|f| f.master.body == b) {
+        if problem.interfaces.iter().any(|f| f.master.body == b) {
             "master side"
-        } else if coupled(problem).any(|f| f.slave.body == b) {
+        } else if problem.interfaces.iter().any(|f| f.slave.body == b) {
             "slave side"
         } else {
             ""
@@ -178,9 +170,11 @@ pub fn case_toml(problem: &Problem, about: &[String]) -> Result<String> {
         }
         writeln!(t)?;
     }
-    let kinds =
-        problem.interfaces.iter().map(|f| (f, "glue")).chain(problem.contacts.iter().map(|f| (f, "contact")));
-    for (i, (f, kind)) in kinds.enumerate() {
+    for (i, f) in problem.interfaces.iter().enumerate() {
+        let kind = match f.kind {
+            Coupling::Glue => "glue",
+            Coupling::Contact => "contact",
+        };
         let what = format!(
             "interface {} ({} → {})",
             i + 1,
@@ -315,7 +309,8 @@ mod tests {
         p.bodies[0].name = "lo wer".into();
         assert!(case_toml(&p, &[]).unwrap_err().to_string().contains("not plain"));
         p.bodies[0].name = "lower".into();
-        p.contacts = p.interfaces.clone();
-        assert!(case_toml(&p, &[]).is_err());
+        p.interfaces[0].kind = Coupling::Contact;
+        p.interfaces[0].options.multiplier = Multiplier::Standard;
+        assert!(case_toml(&p, &[]).unwrap_err().to_string().contains("contact"));
     }
 }

@@ -1,6 +1,6 @@
 //! `seam solve CASE.toml`: linear-elastic bodies glued by mortar across
-//! non-matching interfaces, or in frictionless contact through them (the case
-//! schema is in [`seam_case::case`]).
+//! non-matching interfaces and in frictionless contact through them, in any
+//! mix (the case schema is in [`seam_case::case`]).
 //!
 //! Order of work: the case is read and checked ([`Case::read`]); the output
 //! files are checked (none exists unless `--force`, the directory is
@@ -24,8 +24,8 @@
 //!   `contact_pressure` (λ ≥ 0), `gap` (after deformation, ≥ 0), `initial_gap`
 //!   (both NaN where the point is no contact point) and `active` (1 where the
 //!   point is in contact at the solution, else 0).
-//! - `<dir>/summary.json` (written last); for a contact case with a `contact`
-//!   object: active-set steps, active points, forces, KKT residuals.
+//! - `<dir>/summary.json` (written last); for a case with contact, with a
+//!   `contact` object: active-set steps, active points, forces, KKT residuals.
 //!
 //! Names in file names keep letters, digits, `-`, `_` and `.`; any other
 //! character becomes `_`.
@@ -66,64 +66,75 @@ pub struct Solved {
     pub summary: Summary,
 }
 
-/// The solution of a case, glued or contact.
+/// The solution of a case.
 pub struct Solution {
     /// Per body: displacements, 3 per mesh point.
     pub displacement: Vec<Vec<f64>>,
-    /// The interfaces' solution and the solver's report.
-    pub coupling: Coupling,
+    /// Per interface, in case order.
+    pub interfaces: Vec<Coupled>,
+    /// The solver's report.
+    pub report: Report,
 }
 
-/// What the interfaces of a case carry: all glue or all contact.
-pub enum Coupling {
-    /// Glued interfaces ([`seam_fem::solve_glued`]).
-    Glue { interfaces: Vec<InterfaceSolution>, report: GlueReport },
-    /// Contact interfaces ([`seam_fem::solve_contact`]).
-    Contact { interfaces: Vec<ContactInterfaceSolution>, report: ContactReport },
+/// One interface's solution.
+pub enum Coupled {
+    /// A glued interface.
+    Glue(InterfaceSolution),
+    /// A contact interface.
+    Contact(ContactInterfaceSolution),
+}
+
+/// The solver's report: the glue solver's, or, when the case has contact
+/// interfaces, the contact solver's.
+pub enum Report {
+    /// Glued interfaces only ([`seam_fem::solve_glued`]).
+    Glue(GlueReport),
+    /// Contact interfaces, and glued ones if any ([`seam_fem::solve_contact`]).
+    Contact(ContactReport),
 }
 
 impl Solution {
-    /// Solves `problem` (its glued or its contact interfaces, per `case`).
+    /// Solves `problem` with its glued and contact interfaces.
     fn of(problem: &Problem, case: &Case, solver: Solver) -> Result<Solution, GlueError> {
-        if case.is_contact() {
+        if problem.has_contact() {
             let options = ContactOptions { solver, max_iterations: case.contact.max_iterations };
             let s = problem.solve_contact(&options)?;
-            let coupling = Coupling::Contact { interfaces: s.interfaces, report: s.report };
-            Ok(Solution { displacement: s.displacement, coupling })
+            let (mut glued, mut contact) = (s.glued.into_iter(), s.interfaces.into_iter());
+            let interfaces = problem
+                .interfaces
+                .iter()
+                .map(|f| match f.kind {
+                    seam_fem::Coupling::Glue => glued.next().map(Coupled::Glue),
+                    seam_fem::Coupling::Contact => contact.next().map(Coupled::Contact),
+                })
+                .collect::<Option<Vec<_>>>()
+                .expect("one solution per interface");
+            Ok(Solution { displacement: s.displacement, interfaces, report: Report::Contact(s.report) })
         } else {
             let s = problem.solve(solver)?;
-            let coupling = Coupling::Glue { interfaces: s.interfaces, report: s.report };
-            Ok(Solution { displacement: s.displacement, coupling })
+            let interfaces = s.interfaces.into_iter().map(Coupled::Glue).collect();
+            Ok(Solution { displacement: s.displacement, interfaces, report: Report::Glue(s.report) })
         }
     }
 
     /// Seconds per phase of the solver.
     fn timings(&self) -> Timings {
-        match &self.coupling {
-            Coupling::Glue { report, .. } => report.seconds,
-            Coupling::Contact { report, .. } => report.seconds,
+        match &self.report {
+            Report::Glue(report) => report.seconds,
+            Report::Contact(report) => report.seconds,
         }
     }
 
     /// Interface `i`'s mortar operator, the resultant force of the master on
     /// the slave, and its constrained (or contact) slave points.
     fn interface(&self, i: usize) -> (&Mortar, [f64; 3], usize) {
-        match &self.coupling {
-            Coupling::Glue { interfaces, .. } => {
-                let s = &interfaces[i];
+        match &self.interfaces[i] {
+            Coupled::Glue(s) => {
                 (&s.mortar, s.force, s.constrained.iter().filter(|c| c.iter().any(|&x| x)).count())
             }
-            Coupling::Contact { interfaces, .. } => {
-                let s = &interfaces[i];
-                (&s.mortar, s.force, s.contact.iter().filter(|&&c| c).count())
-            }
+            Coupled::Contact(s) => (&s.mortar, s.force, s.contact.iter().filter(|&&c| c).count()),
         }
     }
-}
-
-/// The interfaces of a problem in case order (a case does not mix kinds).
-fn case_interfaces(problem: &Problem) -> Vec<&ProblemInterface> {
-    problem.interfaces.iter().chain(&problem.contacts).collect()
 }
 
 /// One interface's result on its slave surface, on the surface's own points.
@@ -162,9 +173,9 @@ pub struct ContactFields {
     pub active: Vec<f64>,
 }
 
-/// `summary.json`. For a contact case `constraints` counts the contact
-/// points, `iterations` the active-set steps and `residual` is the largest KKT
-/// residual; `contact` has the details.
+/// `summary.json`. For a case with contact `constraints` counts the glued
+/// constraint rows plus the contact points, `iterations` the active-set steps
+/// and `residual` is the largest KKT residual; `contact` has the details.
 #[derive(Serialize)]
 pub struct Summary {
     pub case: String,
@@ -273,6 +284,8 @@ pub struct BodySummary {
 pub struct InterfaceSummary {
     pub master: String,
     pub slave: String,
+    /// "glue" or "contact".
+    pub kind: &'static str,
     pub file: String,
     pub multiplier: String,
     /// Slave points with at least one constrained component.
@@ -493,11 +506,11 @@ fn build_problem(case: &Case) -> anyhow::Result<Problem> {
             ..MortarOptions::default()
         };
         let (master, slave) = (id(&problem, &f.master)?, id(&problem, &f.slave)?);
-        let list = match f.kind {
-            InterfaceKind::Glue => &mut problem.interfaces,
-            InterfaceKind::Contact => &mut problem.contacts,
+        let kind = match f.kind {
+            InterfaceKind::Glue => seam_fem::Coupling::Glue,
+            InterfaceKind::Contact => seam_fem::Coupling::Contact,
         };
-        list.push(ProblemInterface { master, slave, options });
+        problem.interfaces.push(ProblemInterface { master, slave, options, kind });
     }
     for d in &case.dirichlet {
         let boundary = id(&problem, &d.boundary)?;
@@ -554,6 +567,19 @@ fn glue_failure(e: GlueError, case: &Case, path: &Path) -> Failure {
                 ["x", "y", "z"][dof % 3]
             ))
         }
+        GlueError::SharedSlavePoint { glue, contact, at, .. } => {
+            let (g, c) = (&case.interfaces[glue], &case.interfaces[contact]);
+            let body = SurfaceRef::parse(&g.slave, "").map(|r| r.body).unwrap_or_default();
+            Failure::Error(anyhow!(
+                "{file}: {} and {}: the node at ({}, {}, {}) of body \"{body}\" is a slave node of both, glued and \
+                 in contact; a node cannot be both (split the surfaces so that they share no node)",
+                g.describe(glue),
+                c.describe(contact),
+                at[0],
+                at[1],
+                at[2]
+            ))
+        }
         GlueError::Solve(e @ seam_fem::SolveError::IllConditioned { .. }) => {
             // Name the likely cause: a nearly incompressible body.
             let soft: Vec<String> = case
@@ -596,23 +622,17 @@ fn own_points(surface: &SurfaceMesh) -> (SurfaceMesh, Vec<usize>) {
 
 /// Interface `i`'s tractions (and contact fields) on its slave surface's points.
 fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> InterfaceResult {
-    let f = case_interfaces(problem)[i];
+    let f = &problem.interfaces[i];
     let surface = problem.surface(f.slave);
     let (mesh, body_point) = own_points(surface);
     let nodal = seam::nodal_normals(surface);
     // Per body point: traction, normal, constrained.
-    let at: Box<dyn Fn(usize) -> ([f64; 3], Point3, bool)> = match &solution.coupling {
-        Coupling::Glue { interfaces, .. } => {
-            let s = &interfaces[i];
-            Box::new(move |p| (s.traction[p], nodal[p], s.constrained[p].iter().any(|&c| c)))
-        }
-        Coupling::Contact { interfaces, .. } => {
-            let s = &interfaces[i];
-            Box::new(move |p| {
-                let n = if s.contact[p] { s.normal[p] } else { nodal[p] };
-                (n.map(|v| -s.pressure[p] * v), n, s.contact[p])
-            })
-        }
+    let at: Box<dyn Fn(usize) -> ([f64; 3], Point3, bool)> = match &solution.interfaces[i] {
+        Coupled::Glue(s) => Box::new(move |p| (s.traction[p], nodal[p], s.constrained[p].iter().any(|&c| c))),
+        Coupled::Contact(s) => Box::new(move |p| {
+            let n = if s.contact[p] { s.normal[p] } else { nodal[p] };
+            (n.map(|v| -s.pressure[p] * v), n, s.contact[p])
+        }),
     };
     let u = &solution.displacement[f.slave.body];
     let n = body_point.len();
@@ -637,8 +657,7 @@ fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> Interfa
         r.displacement.push([u[3 * p], u[3 * p + 1], u[3 * p + 2]]);
         r.constrained.push(if constrained { 1.0 } else { 0.0 });
     }
-    if let Coupling::Contact { interfaces, .. } = &solution.coupling {
-        let s = &interfaces[i];
+    if let Coupled::Contact(s) = &solution.interfaces[i] {
         let at_contact = |v: &[f64]| -> Vec<f64> {
             body_point.iter().map(|&p| if s.contact[p] { v[p] } else { f64::NAN }).collect()
         };
@@ -744,7 +763,7 @@ fn summary(
     let path = args.case.as_path();
     let loads = problem.loads_and_supports().map_err(|e| anyhow!("{}: {e}", path.display()))?;
     let file_name = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let coupled = case_interfaces(problem);
+    let coupled = &problem.interfaces;
     let mut applied_load = [0.0; 3];
     let bodies = problem
         .bodies
@@ -792,6 +811,10 @@ fn summary(
             InterfaceSummary {
                 master: problem.surface_name(f.master),
                 slave: problem.surface_name(f.slave),
+                kind: match f.kind {
+                    seam_fem::Coupling::Glue => "glue",
+                    seam_fem::Coupling::Contact => "contact",
+                },
                 file: file_name(&names.interfaces[i]),
                 multiplier: multiplier_name(f.options.multiplier),
                 constrained_nodes,
@@ -807,11 +830,12 @@ fn summary(
         1 => kinds.first().map(|k| k.to_string()).unwrap_or_default(),
         _ => "mixed".to_string(),
     };
-    let (method, dofs, constraints, iterations, residual, contact) = match &solution.coupling {
-        Coupling::Glue { report: r, .. } => (r.method, r.dofs, r.constraints, r.iterations, r.residual, None),
-        Coupling::Contact { interfaces: solved, report: r } => {
-            let contact = contact_summary(problem, &coupled, solved, r, case.contact.max_iterations);
-            (r.method, r.dofs, r.contact_points, r.steps.len(), r.kkt.max(), Some(contact))
+    let (method, dofs, constraints, iterations, residual, contact) = match &solution.report {
+        Report::Glue(r) => (r.method, r.dofs, r.constraints, r.iterations, r.residual, None),
+        Report::Contact(r) => {
+            let contact = contact_summary(problem, solution, r, case.contact.max_iterations);
+            let constraints = r.constraints + r.contact_points;
+            (r.method, r.dofs, constraints, r.steps.len(), r.kkt.max(), Some(contact))
         }
     };
     Ok(Summary {
@@ -837,15 +861,19 @@ fn summary(
 /// The `contact` object of `summary.json`.
 fn contact_summary(
     problem: &Problem,
-    coupled: &[&ProblemInterface],
-    solved: &[ContactInterfaceSolution],
+    solution: &Solution,
     r: &ContactReport,
     max_iterations: usize,
 ) -> ContactSummary {
     let count = |v: &[bool]| v.iter().filter(|&&x| x).count();
-    let interfaces = coupled
+    let interfaces = problem
+        .interfaces
         .iter()
-        .zip(solved)
+        .zip(&solution.interfaces)
+        .filter_map(|(f, s)| match s {
+            Coupled::Contact(s) => Some((f, s)),
+            Coupled::Glue(_) => None,
+        })
         .map(|(f, s)| ContactInterfaceSummary {
             master: problem.surface_name(f.master),
             slave: problem.surface_name(f.slave),
@@ -907,8 +935,8 @@ pub fn report(s: &Solved) -> Vec<String> {
             body.poisson
         ));
     }
-    let contact = m.contact.as_ref();
-    for (i, f) in m.interfaces.iter().enumerate() {
+    let mut contact_interfaces = m.contact.iter().flat_map(|c| &c.interfaces);
+    for f in &m.interfaces {
         lines.push(format!(
             "interface  {} (slave: {} faces, {} nodes) → {} (master: {} faces, {} nodes)",
             f.slave,
@@ -926,7 +954,7 @@ pub fn report(s: &Solved) -> Vec<String> {
             f.mortar.max_gap,
             f.mortar.max_overlap
         ));
-        if let Some(c) = contact.map(|c| &c.interfaces[i]) {
+        if let Some(c) = (f.kind == "contact").then(|| contact_interfaces.next()).flatten() {
             lines.push(format!(
                 "           contact: {} of {} points active, force {}, max pressure {}",
                 c.active_points,
@@ -936,7 +964,7 @@ pub fn report(s: &Solved) -> Vec<String> {
             ));
         }
     }
-    match contact {
+    match m.contact.as_ref() {
         None => {
             let steps = if m.method.contains("CG") { "iterations" } else { "refinement steps" };
             lines.push(format!(

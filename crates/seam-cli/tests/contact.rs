@@ -302,7 +302,10 @@ fn contact_input_errors_fail_with_one_line_before_any_work() {
             good.replace("kind = \"contact\"", "kind = \"contact\"\nmultiplier = \"standard\""),
             "interface 1 (upper:bottom → lower:top): contact needs multiplier \"lumped\" (the default) or \"dual\"",
         ),
-        (good.clone() + glued, "glued and contact interfaces in one case are not supported yet"),
+        (
+            good.clone() + glued,
+            "interface 2 (upper:ymin → lower:xmin): a glued interface in a case with contact needs multiplier \"dual\"",
+        ),
         (good.clone() + "[contact]\nmax_iterations = 10\ntolerance = 1e-9\n", "unknown field `tolerance`"),
         (good.clone() + "[contact]\nmax_iterations = 0\n", "max_iterations must be at least 1"),
     ];
@@ -330,4 +333,52 @@ fn a_body_free_to_slide_fails_with_one_line() {
     }
     assert!(!err.contains("panicked"), "{err}");
     assert!(!tmp.path().join("out").exists(), "nothing written");
+}
+
+/// Glue and contact in one case: a third block [0,1]² × [2H, 2.8H] (2×3×2
+/// hexahedra, E₂, ν₂) glued with dual multipliers on top of the upper one,
+/// rollers on its x = 0 and y = 0 sides (they touch the glued interface's
+/// slave side), pressed by P. Uniaxial stress throughout: the contact
+/// pressure is P at every contact point, the glued traction (0, 0, P), and
+/// the displacements are exact; for the direct and PCG solvers.
+#[test]
+fn glue_and_contact_in_one_case_carry_the_uniaxial_stress() {
+    for solver in ["direct", "pcg"] {
+        let tmp = tempfile::tempdir().unwrap();
+        contact_case(tmp.path(), |_| 0.0, "", "");
+        let sides = [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("ymin", Side::YMin)];
+        write_block(&tmp.path().join("cap.msh"), [2, 3, 2], |u, v, w| [u, v, 2.0 * H + 0.8 * H * w], &sides);
+        let case = std::fs::read_to_string(tmp.path().join("case.toml")).unwrap()
+            + &format!(
+                "\n[[body]]\nname = \"cap\"\nmesh = \"cap.msh\"\nyoung = {E2:?}\npoisson = {NU2:?}\n\n\
+                 [[interface]]\nmaster = \"upper:top\"\nslave = \"cap:bottom\"\nkind = \"glue\"\nmultiplier = \"dual\"\n\n\
+                 [[dirichlet]]\nboundary = \"cap:xmin\"\nux = 0.0\n\n[[dirichlet]]\nboundary = \"cap:ymin\"\nuy = 0.0\n\n\
+                 [[traction]]\nboundary = \"cap:top\"\nt = [0.0, 0.0, -{P:?}]\n"
+            );
+        std::fs::write(tmp.path().join("case.toml"), case).unwrap();
+        let (s, _) = solve(tmp.path(), &["--solver", solver, "--rtol", "1e-13"]);
+        let out = tmp.path().join("out");
+        let (_, pressure) = field(&out.join("upper_bottom_interface.vtu"), "contact_pressure");
+        assert_eq!(pressure.len(), SLAVE_NODES);
+        assert!(pressure.iter().all(|p| (p - P).abs() <= 1e-9 * P), "{solver}: {pressure:?}");
+        let (points, t) = field(&out.join("cap_bottom_interface.vtu"), "traction");
+        assert_eq!(points.len(), 12);
+        for (x, t) in points.iter().zip(t.chunks(3)) {
+            let e = [0.0, 0.0, P];
+            assert!((0..3).all(|k| (t[k] - e[k]).abs() <= 1e-9 * P), "{solver}: traction {t:?} at {x:?}");
+        }
+        check_uniaxial(&out, P, 0.0, 0.0, solver);
+        let (points, u) = vtu_field(&out.join("cap.vtu"), "displacement", false);
+        for (x, u) in points.iter().zip(u.chunks(3)) {
+            let exact = [NU2 * P * x[0] / E2, NU2 * P * x[1] / E2, -P * H / E1 - P * (x[2] - H) / E2];
+            assert!((0..3).all(|k| (u[k] - exact[k]).abs() <= 1e-9 * P / E2), "{solver} cap at {x:?}: {u:?}");
+        }
+        assert_eq!(s["interfaces"].as_array().unwrap().len(), 2);
+        assert_eq!(s["multiplier"], "mixed");
+        assert_eq!(s["contact"]["interfaces"].as_array().unwrap().len(), 1);
+        assert!(s["contact"]["kkt"]["max"].as_f64().unwrap() <= 1e-10);
+        // The cap's load reaches the ground: the lower block's interface force balances P.
+        let force = f64s(&s["interfaces"][1]["force"]);
+        assert!((force[2] - P).abs() <= 1e-9 * P, "{solver}: glued force {force:?}");
+    }
 }

@@ -55,8 +55,11 @@
 //! - [`Solver::Pcg`]: every step solves the whole system by PCG, warm-started
 //!   from the previous step.
 
-use crate::glue::{assemble_system, check_input, free_dofs, triple_product, Body, GlueError, Interface};
-use crate::glue::{Solver, Timings};
+use crate::glue::{assemble_system, check_input, free_dofs, prolongation, triple_product, Body, GlueError};
+use crate::glue::{
+    interface_solutions as glued_solutions, Constraints, Coupling, Interface, InterfaceSolution,
+};
+use crate::glue::{Solver, Timings, NONE};
 use crate::pcg::solve_pcg_from;
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
@@ -121,6 +124,8 @@ impl Kkt {
 pub struct ContactReport {
     /// Displacement unknowns, 3 per point of all bodies.
     pub dofs: usize,
+    /// Rows of the glued interfaces' constraints (eliminated slave dofs).
+    pub constraints: usize,
     /// Contact points (slave points with a constraint), all interfaces.
     pub contact_points: usize,
     /// Active points at the solution, all interfaces.
@@ -162,14 +167,17 @@ pub struct ContactInterfaceSolution {
 pub struct ContactSolution {
     /// Per body: displacements, 3 per mesh point.
     pub displacement: Vec<Vec<f64>>,
-    /// Per interface.
+    /// Per contact interface, in input order.
     pub interfaces: Vec<ContactInterfaceSolution>,
+    /// Per glued interface, in input order.
+    pub glued: Vec<InterfaceSolution>,
     /// Sizes, iterations, KKT residuals and timings.
     pub report: ContactReport,
 }
 
 /// A contact point: slave point `point` of interface `interface`, its dofs
-/// `dofs` (x, y, z in the global numbering), reinterpreted as (w, v₁, v₂).
+/// `first_dof` … + 2 (x, y, z in the global numbering), reinterpreted as
+/// (w, v₁, v₂).
 #[derive(Clone, Debug)]
 struct ContactPoint {
     interface: usize,
@@ -183,6 +191,9 @@ struct ContactPoint {
     gap: f64,
     /// (global master dof of component 0, T_pq).
     t_row: Vec<(usize, f64)>,
+    /// n_p·(T u_m)_p = Σ a_j y_j in the unknowns y left after the glued
+    /// interfaces' elimination, u = P_g y: (j, a_j).
+    a_row: Vec<(usize, f64)>,
 }
 
 /// Solves the frictionless contact problem (module doc) for bodies coupled by
@@ -199,18 +210,20 @@ pub fn solve_contact(
     options: &ContactOptions,
 ) -> Result<ContactSolution, GlueError> {
     check_input(bodies, interfaces)?;
-    for (i, f) in interfaces.iter().enumerate() {
-        if f.options.multiplier == Multiplier::Standard {
-            let what = "contact needs a diagonal D: multiplier \"lumped\" (the default) or \"dual\"".into();
-            return Err(GlueError::BadInterface { interface: i, what });
-        }
-    }
+    check_couplings(interfaces)?;
     let mut seconds = Timings::default();
     let system = assemble_system(bodies, interfaces, &mut seconds)?;
     let (k, f, dirichlet, offsets) = (&system.k, &system.f, &system.dirichlet, &system.offsets);
 
     let clock = Instant::now();
-    let points = contact_points(bodies, interfaces, &system.mortars, offsets, dirichlet)?;
+    let constraints = Constraints::new(interfaces, &system.mortars, offsets, dirichlet);
+    let glued = if constraints.rows.is_empty() { None } else { Some(Glued::new(&constraints, k, f)?) };
+    let (k, f) = match &glued {
+        Some(g) => (&g.k, &g.f[..]),
+        None => (k, &f[..]),
+    };
+    let p_g = glued.as_ref().map(|g| &g.p);
+    let points = contact_points(bodies, interfaces, &system.mortars, offsets, dirichlet, p_g)?;
     let p = rotation(k.nrows, &points);
     let a = triple_product(&p, k);
     let b = p.transpose_mul_vec(f, 1);
@@ -282,11 +295,25 @@ pub fn solve_contact(
     };
 
     let clock = Instant::now();
-    let u = p.mul_vec(&x, 1);
-    let kkt = kkt(k, f, dirichlet, &points, (&u, &x), &mu);
+    let y = p.mul_vec(&x, 1);
+    let kkt = kkt(k, f, dirichlet, &points, (&y, &x), &mu);
+    let u = match &glued {
+        Some(g) => g.p.mul_vec(&y, 1),
+        None => y,
+    };
+    let lambda =
+        glued.as_ref().map_or(Vec::new(), |g| g.multipliers(&constraints, &system, &u, &points, &mu));
     let displacement = (0..bodies.len()).map(|b| u[offsets[b]..offsets[b + 1]].to_vec()).collect();
     let n_active = active.iter().filter(|&&on| on).count();
-    let solutions = interface_solutions(bodies, interfaces, system.mortars, &points, &x, &mu, &active);
+    let (mut glue_mortars, mut contact_mortars) = (Vec::new(), Vec::new());
+    for (i, m) in system.mortars.into_iter().enumerate() {
+        match interfaces[i].kind {
+            Coupling::Glue => glue_mortars.push((i, m)),
+            Coupling::Contact => contact_mortars.push((i, m)),
+        }
+    }
+    let glued_interfaces = glued_solutions(interfaces, glue_mortars, &constraints, &lambda);
+    let solutions = interface_solutions(interfaces, contact_mortars, &points, &x, &mu, &active);
     seconds.solve += clock.elapsed().as_secs_f64();
     let method = match options.solver {
         Solver::Direct => "sparse Cholesky, active set on the condensed contact normals",
@@ -294,6 +321,7 @@ pub fn solve_contact(
     };
     let report = ContactReport {
         dofs: k.nrows,
+        constraints: constraints.rows.len(),
         contact_points: points.len(),
         active: n_active,
         steps,
@@ -301,7 +329,113 @@ pub fn solve_contact(
         kkt,
         seconds,
     };
-    Ok(ContactSolution { displacement, interfaces: solutions, report })
+    Ok(ContactSolution { displacement, interfaces: solutions, glued: glued_interfaces, report })
+}
+
+/// Refuses what the contact solve cannot do: contact with standard
+/// multipliers (D must be diagonal), glued interfaces with standard
+/// multipliers next to contact ones, and a slave point of both a glued and a
+/// contact interface.
+fn check_couplings(interfaces: &[Interface]) -> Result<(), GlueError> {
+    let bad = |interface: usize, what: String| Err(GlueError::BadInterface { interface, what });
+    for (i, f) in interfaces.iter().enumerate() {
+        if f.kind == Coupling::Contact && f.options.multiplier == Multiplier::Standard {
+            return bad(
+                i,
+                "contact needs a diagonal D: multiplier \"lumped\" (the default) or \"dual\"".into(),
+            );
+        }
+    }
+    let contact = interfaces.iter().any(|f| f.kind == Coupling::Contact);
+    for (i, f) in interfaces.iter().enumerate().filter(|(_, f)| f.kind == Coupling::Glue) {
+        if contact && f.options.multiplier == Multiplier::Standard {
+            let what =
+                "a glued interface next to contact interfaces needs multiplier \"dual\" or \"lumped\" \
+                        (standard multipliers are not eliminated node by node)";
+            return bad(i, what.into());
+        }
+        for (j, c) in
+            interfaces.iter().enumerate().filter(|(_, c)| c.kind == Coupling::Contact && c.slave == f.slave)
+        {
+            let (used_f, used_c) = (f.slave_surface.used_points(), c.slave_surface.used_points());
+            if let Some(point) = (0..used_f.len()).find(|&p| used_f[p] && used_c[p]) {
+                let at = f.slave_surface.points()[point];
+                return Err(GlueError::SharedSlavePoint { glue: i, contact: j, point, at });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The glued interfaces eliminated (dual or lumped multipliers, module doc
+/// of [`crate::glue`]): u = P_g y with y the unknowns of all dofs, eliminated
+/// ones left out (empty rows and columns), so the contact points keep their
+/// numbering.
+struct Glued {
+    /// P_g, n × n.
+    p: CsrMatrix,
+    /// P_gᵀ K P_g.
+    k: CsrMatrix,
+    /// P_gᵀ f.
+    f: Vec<f64>,
+}
+
+impl Glued {
+    fn new(constraints: &Constraints, k: &CsrMatrix, f: &[f64]) -> Result<Glued, GlueError> {
+        if !constraints.eliminated_block_is_diagonal() {
+            let interface = constraints.rows[0].interface;
+            let what = "glued interfaces that constrain each other's slave points (crosspoints) next to \
+                        contact interfaces are not supported yet"
+                .into();
+            return Err(GlueError::BadInterface { interface, what });
+        }
+        let (p, retained) = prolongation(constraints);
+        let mut dof_of = vec![0; p.ncols];
+        for (dof, &r) in retained.iter().enumerate().filter(|(_, &r)| r != NONE) {
+            dof_of[r] = dof;
+        }
+        let n = k.nrows;
+        let indices = p.indices.iter().map(|&r| dof_of[r]).collect();
+        let p = CsrMatrix { nrows: n, ncols: n, indptr: p.indptr, indices, values: p.values };
+        Ok(Glued { k: triple_product(&p, k), f: p.transpose_mul_vec(f, 1), p })
+    }
+
+    /// The glued interfaces' multipliers at u: λ_r = (f − Ku − C_cᵀμ)_{dof r} /
+    /// C_{r, dof r} (the slave rows of the saddle point, C_S diagonal), C_c the
+    /// contact constraints.
+    fn multipliers(
+        &self,
+        constraints: &Constraints,
+        system: &crate::glue::System,
+        u: &[f64],
+        points: &[ContactPoint],
+        mu: &[f64],
+    ) -> Vec<f64> {
+        let r = contact_residual(&system.k, &system.f, points, u, mu);
+        constraints
+            .rows
+            .iter()
+            .enumerate()
+            .map(|(i, row)| r[row.dof] / constraints.c.get(i, row.dof))
+            .collect()
+    }
+}
+
+/// f − K u − C_cᵀμ in the dofs of all bodies: C_cᵀμ puts d_p λ_p n_p on u_s,p
+/// and −d_p λ_p T_pq n_p on u_m,q.
+fn contact_residual(k: &CsrMatrix, f: &[f64], points: &[ContactPoint], u: &[f64], mu: &[f64]) -> Vec<f64> {
+    let ku = k.mul_vec(u, 1);
+    let mut r: Vec<f64> = f.iter().zip(&ku).map(|(f, ku)| f - ku).collect();
+    for (c, &m) in points.iter().zip(mu) {
+        let n = c.frame[0];
+        for comp in 0..3 {
+            r[c.first_dof + comp] -= m * n[comp];
+            for &(q, t) in &c.t_row {
+                r[q + comp] += m * t * n[comp];
+            }
+        }
+    }
+    r
 }
 
 /// A₀: the points with g_p ≤ 0, and on each interface the points closest to
@@ -340,11 +474,14 @@ fn contact_points(
     mortars: &[Mortar],
     offsets: &[usize],
     dirichlet: &Dirichlet,
+    p_g: Option<&CsrMatrix>,
 ) -> Result<Vec<ContactPoint>, GlueError> {
     let n = *offsets.last().unwrap();
     let mut claimed = vec![false; n / 3];
     let mut points = Vec::new();
-    for (i, (f, m)) in interfaces.iter().zip(mortars).enumerate() {
+    let contact =
+        interfaces.iter().zip(mortars).enumerate().filter(|(_, (f, _))| f.kind == Coupling::Contact);
+    for (i, (f, m)) in contact {
         let (os, om) = (offsets[f.slave], offsets[f.master]);
         let normals = nodal_normals(f.slave_surface);
         let (xs, xm) = (bodies[f.slave].mesh.points(), bodies[f.master].mesh.points());
@@ -363,7 +500,8 @@ fn contact_points(
             let txm: Point3 =
                 std::array::from_fn(|c| cols.iter().zip(vals).map(|(&q, &b)| b / d * xm[q][c]).sum());
             let gap = dot(frame[0], sub(txm, xs[p]));
-            points.push(ContactPoint { interface: i, point: p, first_dof, frame, d, gap, t_row });
+            let a_row = normal_row(&t_row, frame[0], p_g);
+            points.push(ContactPoint { interface: i, point: p, first_dof, frame, d, gap, t_row, a_row });
         }
     }
     let slave_point: Vec<bool> = {
@@ -382,6 +520,34 @@ fn contact_points(
         }
     }
     Ok(points)
+}
+
+/// n·(T u_m)_p in the unknowns y, u = P_g y: the entries (q + k, T_pq n_k) of
+/// `t_row`, each expanded through its row of P_g when a glued interface
+/// eliminates it.
+fn normal_row(t_row: &[(usize, f64)], n: Point3, p_g: Option<&CsrMatrix>) -> Vec<(usize, f64)> {
+    let mut row = Vec::new();
+    for &(q, t) in t_row {
+        for k in 0..3 {
+            let a = t * n[k];
+            match p_g {
+                None => row.push((q + k, a)),
+                Some(p) => {
+                    let (cols, vals) = p.row(q + k);
+                    row.extend(cols.iter().zip(vals).map(|(&j, &v)| (j, a * v)));
+                }
+            }
+        }
+    }
+    row.sort_by_key(|e| e.0);
+    let mut merged: Vec<(usize, f64)> = Vec::with_capacity(row.len());
+    for (j, v) in row {
+        match merged.last_mut() {
+            Some(last) if last.0 == j => last.1 += v,
+            _ => merged.push((j, v)),
+        }
+    }
+    merged
 }
 
 /// The nodal frame (n, t₁, t₂): n the normal with its prescribed components
@@ -412,9 +578,6 @@ fn frame(normal: Point3, fixed: [bool; 3]) -> Option<[Point3; 3]> {
     Some([n, t1, cross(n, t1)])
 }
 
-/// No contact point.
-const NONE: usize = usize::MAX;
-
 /// Per mesh point of the n dofs: the index of its contact point, or `NONE`.
 fn point_index(n: usize, points: &[ContactPoint]) -> Vec<usize> {
     let mut at = vec![NONE; n / 3];
@@ -443,10 +606,8 @@ fn rotation(n: usize, points: &[ContactPoint]) -> CsrMatrix {
                     (c.first_dof + 1, t1[comp]),
                     (c.first_dof + 2, t2[comp]),
                 ]);
-                for &(q, t) in &c.t_row {
-                    row.extend((0..3).map(|k| (q + k, nn[comp] * t * nn[k])));
-                }
                 // Zeros stay: whole 3 × 3 blocks keep the point graph for the ordering.
+                row.extend(c.a_row.iter().map(|&(j, a)| (j, nn[comp] * a)));
                 row.sort_unstable_by_key(|e| e.0);
             }
         }
@@ -700,8 +861,9 @@ fn next_active_set(points: &[ContactPoint], active: &[bool], w: &[f64], mu: &[f6
         .collect()
 }
 
-/// The KKT residuals (see [`Kkt`]) in Cartesian dofs: Cᵀλ puts d_p λ_p n_p on
-/// u_s,p and −d_p λ_p T_pq n_p on u_m,q.
+/// The KKT residuals (see [`Kkt`]) in the unknowns y (Cartesian dofs, glued
+/// slave dofs eliminated): Cᵀλ puts d_p λ_p n_p on y_s,p and −d_p λ_p a_j on
+/// y_j (`a_row`).
 fn kkt(
     k: &CsrMatrix,
     f: &[f64],
@@ -713,12 +875,11 @@ fn kkt(
     let ku = k.mul_vec(u, 1);
     let mut r: Vec<f64> = f.iter().zip(&ku).map(|(f, ku)| f - ku).collect();
     for (c, &m) in points.iter().zip(mu) {
-        let n = c.frame[0];
         for comp in 0..3 {
-            r[c.first_dof + comp] -= m * n[comp];
-            for &(q, t) in &c.t_row {
-                r[q + comp] += m * t * n[comp];
-            }
+            r[c.first_dof + comp] -= m * c.frame[0][comp];
+        }
+        for &(j, a) in &c.a_row {
+            r[j] += m * a;
         }
     }
     let free = free_dofs(k, dirichlet);
@@ -750,21 +911,23 @@ fn magnitudes(k: &CsrMatrix, u: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// Per interface: the constraint data and the solution per slave body point.
+/// Per contact interface (`mortars`: interface index and operator, in order):
+/// the constraint data and the solution per slave body point.
 fn interface_solutions(
-    bodies: &[Body],
     interfaces: &[Interface],
-    mortars: Vec<Mortar>,
+    mortars: Vec<(usize, Mortar)>,
     points: &[ContactPoint],
     x: &[f64],
     mu: &[f64],
     active: &[bool],
 ) -> Vec<ContactInterfaceSolution> {
-    let mut out: Vec<ContactInterfaceSolution> = interfaces
-        .iter()
-        .zip(mortars)
-        .map(|(f, mortar)| {
-            let n = bodies[f.slave].mesh.points().len();
+    let mut position = vec![NONE; interfaces.len()];
+    let mut out: Vec<ContactInterfaceSolution> = mortars
+        .into_iter()
+        .enumerate()
+        .map(|(k, (i, mortar))| {
+            position[i] = k;
+            let n = interfaces[i].slave_surface.n_points();
             ContactInterfaceSolution {
                 mortar,
                 contact: vec![false; n],
@@ -778,7 +941,7 @@ fn interface_solutions(
         })
         .collect();
     for ((c, &m), &on) in points.iter().zip(mu).zip(active) {
-        let s = &mut out[c.interface];
+        let s = &mut out[position[c.interface]];
         let p = c.point;
         s.contact[p] = true;
         s.normal[p] = c.frame[0];

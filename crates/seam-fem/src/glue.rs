@@ -19,7 +19,10 @@
 //!
 //! with the Dirichlet conditions eliminated. A slave dof is constrained once: not
 //! when it is prescribed, and only by the first interface that claims it (cross
-//! points), which keeps C of full row rank.
+//! points and crosslines), which keeps C of full row rank. The multipliers of
+//! those dofs are not dropped but moved to their neighbours (Wohlmuth's
+//! modified basis, see `Constraints::new`), so that constant tractions stay in
+//! the multiplier space and patch tests hold with supports on the slave side.
 //!
 //! # Solvers
 //! - Elimination (paper (3)₂): with dual or lumped multipliers every row of C
@@ -65,8 +68,19 @@ pub struct Body<'a> {
     pub dirichlet: Dirichlet,
 }
 
-/// A glued interface between a master and a slave surface of two bodies. The
-/// surfaces index their body's mesh points.
+/// How an interface couples its two bodies.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Coupling {
+    /// Glued: (D u_s − B u_m) = 0 in every component (this module).
+    #[default]
+    Glue,
+    /// Frictionless contact: a normal inequality per slave point
+    /// ([`crate::contact`]).
+    Contact,
+}
+
+/// An interface between a master and a slave surface of two bodies, glued or
+/// in contact. The surfaces index their body's mesh points.
 #[derive(Clone, Debug)]
 pub struct Interface<'a> {
     /// Index of the master body.
@@ -79,6 +93,8 @@ pub struct Interface<'a> {
     pub slave_surface: &'a SurfaceMesh,
     /// Mortar options (multiplier, gap and angle limits).
     pub options: MortarOptions,
+    /// Glue or contact.
+    pub kind: Coupling,
 }
 
 /// How the glued system is solved (module doc).
@@ -126,6 +142,23 @@ pub enum GlueError {
         interface: usize,
         /// The cause.
         source: MortarError,
+    },
+    /// A slave point of a glued interface is also a slave point of a contact
+    /// interface.
+    #[error(
+        "interface {glue}: slave point {point} at ({}, {}, {}) is also a slave point of contact interface \
+         {contact}: a point cannot be glued and in contact at once (split the surfaces so that they share no point)",
+        at[0], at[1], at[2]
+    )]
+    SharedSlavePoint {
+        /// The glued interface.
+        glue: usize,
+        /// The contact interface.
+        contact: usize,
+        /// The point, in the slave body's mesh.
+        point: usize,
+        /// Its coordinates.
+        at: seam::Point3,
     },
     /// The linear solve failed.
     #[error(transparent)]
@@ -183,7 +216,8 @@ pub struct InterfaceSolution {
     /// The mortar operator of the interface.
     pub mortar: Mortar,
     /// Per slave body point: the traction −λ exerted by the master on the slave
-    /// (zero where unconstrained).
+    /// (zero off the covered points; at prescribed and crosspoint dofs the value
+    /// of the modified multiplier there).
     pub traction: Vec<[f64; 3]>,
     /// Per slave body point and component: constrained by this interface.
     pub constrained: Vec<[bool; 3]>,
@@ -213,6 +247,10 @@ pub fn solve_glued(
     solver: Solver,
 ) -> Result<GluedSolution, GlueError> {
     check_input(bodies, interfaces)?;
+    if let Some(i) = interfaces.iter().position(|f| f.kind == Coupling::Contact) {
+        let what = "a contact interface: solve the problem with contact::solve_contact".into();
+        return Err(GlueError::BadInterface { interface: i, what });
+    }
     let mut seconds = Timings::default();
     let System { k, f, dirichlet, offsets, mortars } = assemble_system(bodies, interfaces, &mut seconds)?;
     let clock = Instant::now();
@@ -231,7 +269,8 @@ pub fn solve_glued(
 
     let residual = residual(&k, &f, &dirichlet, &constraints, &u, &lambda);
     let displacement = (0..bodies.len()).map(|b| u[offsets[b]..offsets[b + 1]].to_vec()).collect();
-    let interfaces = interface_solutions(interfaces, mortars, &constraints, bodies, &lambda);
+    let interfaces =
+        interface_solutions(interfaces, mortars.into_iter().enumerate().collect(), &constraints, &lambda);
     let report = GlueReport {
         dofs: k.nrows,
         constraints: constraints.rows.len(),
@@ -371,57 +410,97 @@ fn block_diagonal(blocks: &[CsrMatrix], n: usize) -> CsrMatrix {
 
 /// One row of C: the slave dof it constrains (and eliminates).
 #[derive(Clone, Copy, Debug)]
-struct Row {
-    dof: usize,
-    interface: usize,
+pub(crate) struct Row {
+    pub(crate) dof: usize,
+    pub(crate) interface: usize,
     point: usize,
     component: usize,
 }
 
 /// The constraint matrix C of all interfaces (module doc).
-struct Constraints {
+pub(crate) struct Constraints {
     /// rows × dofs.
-    c: CsrMatrix,
-    rows: Vec<Row>,
+    pub(crate) c: CsrMatrix,
+    pub(crate) rows: Vec<Row>,
+    /// Per row: the mortar rows it combines, (slave point, weight); its own
+    /// point first with weight 1 (see [`Constraints::new`]).
+    parts: Vec<Vec<(usize, f64)>>,
     /// Per dof: the row that eliminates it, or `NONE`.
-    row_of: Vec<usize>,
+    pub(crate) row_of: Vec<usize>,
 }
 
-const NONE: usize = usize::MAX;
+pub(crate) const NONE: usize = usize::MAX;
 
 impl Constraints {
-    /// Rows (D u_s − B u_m)_{p,c} for covered slave points p, in interface, point,
-    /// component order, skipping prescribed and already constrained slave dofs.
-    fn new(interfaces: &[Interface], mortars: &[Mortar], offsets: &[usize], dirichlet: &Dirichlet) -> Self {
+    /// Rows (D̃ u_s − B̃ u_m)_{q,c} for covered slave points q, in interface,
+    /// point, component order, one per slave dof that is neither prescribed nor
+    /// constrained by an earlier interface (a crosspoint or crossline).
+    ///
+    /// The multipliers of those other covered dofs ("removed") are not dropped:
+    /// as in Wohlmuth's modified basis at Dirichlet and crosspoint nodes, the
+    /// basis function ψ_p of a removed point p is added to the kept points Q_p
+    /// nearest to it on the slave surface (through removed points), ψ̃_q = ψ_q +
+    /// Σ_p ψ_p / |Q_p|, so row q of C is row q of [D −B] plus 1/|Q_p| times
+    /// row p. The modified basis still sums to one, so a constant traction
+    /// is in the multiplier space and patch tests stay exact with supports or
+    /// other interfaces touching the slave side. A removed point with no kept
+    /// point connected to it (the whole interface prescribed in that
+    /// component) keeps no multiplier.
+    pub(crate) fn new(
+        interfaces: &[Interface],
+        mortars: &[Mortar],
+        offsets: &[usize],
+        dirichlet: &Dirichlet,
+    ) -> Self {
         let n = *offsets.last().unwrap();
         let mut row_of = vec![NONE; n];
         let mut rows = Vec::new();
+        let mut parts = Vec::new();
         let mut entries: Vec<(usize, f64)> = Vec::new();
         let mut c = CsrMatrix::zeros(0, n);
-        for (i, (f, m)) in interfaces.iter().zip(mortars).enumerate() {
+        let glued = interfaces.iter().zip(mortars).enumerate().filter(|(_, (f, _))| f.kind == Coupling::Glue);
+        for (i, (f, m)) in glued {
             let (os, om) = (offsets[f.slave], offsets[f.master]);
-            for p in (0..m.covered.len()).filter(|&p| m.covered[p]) {
-                for comp in 0..3 {
+            let covered: Vec<usize> = (0..m.covered.len()).filter(|&p| m.covered[p]).collect();
+            let removed: [Vec<bool>; 3] = std::array::from_fn(|comp| {
+                let mut removed = vec![false; m.covered.len()];
+                for &p in &covered {
                     let dof = os + 3 * p + comp;
-                    if row_of[dof] != NONE || dirichlet.value(dof).is_some() {
-                        continue;
-                    }
+                    removed[p] = row_of[dof] != NONE || dirichlet.value(dof).is_some();
+                }
+                removed
+            });
+            let shares = removed.each_ref().map(|r| shares_of_removed(f.slave_surface, &covered, r));
+            for &p in &covered {
+                for comp in (0..3).filter(|&comp| !removed[comp][p]) {
+                    let dof = os + 3 * p + comp;
                     row_of[dof] = rows.len();
                     rows.push(Row { dof, interface: i, point: p, component: comp });
+                    let part: Vec<(usize, f64)> =
+                        std::iter::once((p, 1.0)).chain(shares[comp][p].iter().copied()).collect();
                     entries.clear();
-                    let (dq, dv) = m.d.row(p);
-                    entries.extend(dq.iter().zip(dv).map(|(&q, &v)| (os + 3 * q + comp, v)));
-                    let (bq, bv) = m.b.row(p);
-                    entries.extend(bq.iter().zip(bv).map(|(&q, &v)| (om + 3 * q + comp, -v)));
+                    for &(q, w) in &part {
+                        let (dq, dv) = m.d.row(q);
+                        entries.extend(dq.iter().zip(dv).map(|(&k, &v)| (os + 3 * k + comp, w * v)));
+                        let (bq, bv) = m.b.row(q);
+                        entries.extend(bq.iter().zip(bv).map(|(&k, &v)| (om + 3 * k + comp, -w * v)));
+                    }
                     entries.sort_unstable_by_key(|e| e.0);
-                    c.indices.extend(entries.iter().map(|e| e.0));
-                    c.values.extend(entries.iter().map(|e| e.1));
+                    for (k, &(j, v)) in entries.iter().enumerate() {
+                        if k > 0 && entries[k - 1].0 == j {
+                            *c.values.last_mut().expect("a previous entry") += v;
+                        } else {
+                            c.indices.push(j);
+                            c.values.push(v);
+                        }
+                    }
                     c.indptr.push(c.indices.len());
                     c.nrows += 1;
+                    parts.push(part);
                 }
             }
         }
-        Constraints { c, rows, row_of }
+        Constraints { c, rows, parts, row_of }
     }
 
     /// True when eliminating u_S = T u_R would fill PᵀKP in:
@@ -438,12 +517,78 @@ impl Constraints {
     }
 
     /// True when each row touches no eliminated dof but its own: C_S is diagonal.
-    fn eliminated_block_is_diagonal(&self) -> bool {
+    pub(crate) fn eliminated_block_is_diagonal(&self) -> bool {
         self.rows.iter().enumerate().all(|(r, row)| {
             let (cols, _) = self.c.row(r);
             cols.iter().all(|&j| j == row.dof || self.row_of[j] == NONE)
         })
     }
+}
+
+/// Per slave point q: the removed points p whose multiplier goes to q, with
+/// the weight 1/|Q_p| (see [`Constraints::new`]). Q_p are the kept covered
+/// points at the smallest distance from p in the face graph of `surface`,
+/// walking through removed covered points only.
+fn shares_of_removed(surface: &SurfaceMesh, covered: &[usize], removed: &[bool]) -> Vec<Vec<(usize, f64)>> {
+    let n = removed.len();
+    let mut shares = vec![Vec::new(); n];
+    if !covered.iter().any(|&p| removed[p]) {
+        return shares;
+    }
+    let is_covered = {
+        let mut c = vec![false; n];
+        covered.iter().for_each(|&p| c[p] = true);
+        c
+    };
+    // Faces of each point (CSR).
+    let faces = surface.faces();
+    let mut start = vec![0usize; n + 1];
+    for face in faces {
+        face.nodes().iter().for_each(|&p| start[p + 1] += 1);
+    }
+    for p in 0..n {
+        start[p + 1] += start[p];
+    }
+    let mut fill = start.clone();
+    let mut face_of = vec![0usize; start[n]];
+    for (k, face) in faces.iter().enumerate() {
+        for &p in face.nodes() {
+            face_of[fill[p]] = k;
+            fill[p] += 1;
+        }
+    }
+    let mut seen = vec![usize::MAX; n];
+    let (mut layer, mut next, mut found) = (Vec::new(), Vec::new(), Vec::new());
+    for &p in covered.iter().filter(|&&p| removed[p]) {
+        layer.clear();
+        layer.push(p);
+        seen[p] = p;
+        found.clear();
+        while found.is_empty() && !layer.is_empty() {
+            next.clear();
+            for &a in &layer {
+                for &k in &face_of[start[a]..start[a + 1]] {
+                    for &b in faces[k].nodes() {
+                        if seen[b] == p || !is_covered[b] {
+                            continue;
+                        }
+                        seen[b] = p;
+                        if removed[b] {
+                            next.push(b);
+                        } else {
+                            found.push(b);
+                        }
+                    }
+                }
+            }
+            std::mem::swap(&mut layer, &mut next);
+        }
+        let w = 1.0 / found.len() as f64;
+        for &q in &found {
+            shares[q].push((p, w));
+        }
+    }
+    shares
 }
 
 /// (u, λ, method, iterations) of a solver.
@@ -500,7 +645,7 @@ fn retained_numbering(constraints: &Constraints) -> (Vec<usize>, usize) {
 
 /// P = [I; −C_S⁻¹C_R] (n × n_R) for diagonal C_S, and the index in R of each
 /// retained dof (`NONE` for eliminated ones).
-fn prolongation(constraints: &Constraints) -> (CsrMatrix, Vec<usize>) {
+pub(crate) fn prolongation(constraints: &Constraints) -> (CsrMatrix, Vec<usize>) {
     let n = constraints.row_of.len();
     let (retained, n_r) = retained_numbering(constraints);
     let mut p = CsrMatrix::zeros(0, n_r);
@@ -680,19 +825,22 @@ fn residual(
     equilibrium.max(compatibility)
 }
 
-/// Tractions −λ per slave point and resultants −Σ_p (Dλ)_p per interface.
-fn interface_solutions(
+/// Tractions −λ per slave point and resultants −Σ_p (Dλ)_p per glued
+/// interface (`mortars`: interface index and operator, in order), λ expanded
+/// in the unmodified basis (a removed point p gets Σ_q λ_q / |Q_p|).
+pub(crate) fn interface_solutions(
     interfaces: &[Interface],
-    mortars: Vec<Mortar>,
+    mortars: Vec<(usize, Mortar)>,
     constraints: &Constraints,
-    bodies: &[Body],
     lambda: &[f64],
 ) -> Vec<InterfaceSolution> {
-    let mut out: Vec<InterfaceSolution> = interfaces
-        .iter()
-        .zip(mortars)
-        .map(|(f, mortar)| {
-            let n = bodies[f.slave].mesh.points().len();
+    let mut position = vec![NONE; interfaces.len()];
+    let mut out: Vec<InterfaceSolution> = mortars
+        .into_iter()
+        .enumerate()
+        .map(|(k, (i, mortar))| {
+            position[i] = k;
+            let n = interfaces[i].slave_surface.n_points();
             InterfaceSolution {
                 mortar,
                 traction: vec![[0.0; 3]; n],
@@ -702,11 +850,14 @@ fn interface_solutions(
         })
         .collect();
     let row_sums: Vec<Vec<f64>> = out.iter().map(|s| s.mortar.d.row_sums()).collect();
-    for (row, &l) in constraints.rows.iter().zip(lambda) {
-        let s = &mut out[row.interface];
-        s.traction[row.point][row.component] = -l;
+    for ((row, part), &l) in constraints.rows.iter().zip(&constraints.parts).zip(lambda) {
+        let k = position[row.interface];
+        let s = &mut out[k];
         s.constrained[row.point][row.component] = true;
-        s.force[row.component] -= l * row_sums[row.interface][row.point];
+        for &(p, w) in part {
+            s.traction[p][row.component] -= w * l;
+            s.force[row.component] -= w * l * row_sums[k][p];
+        }
     }
     out
 }

@@ -55,7 +55,7 @@ pub mod stress;
 pub use assembly::{body_force, cell_volumes, rigid_body_modes, stiffness, traction, AssemblyError};
 pub use contact::{solve_contact, ContactOptions, ContactSolution};
 pub use element::{ElementKind, VolumeRule};
-pub use glue::{solve_glued, Body, GlueError, GluedSolution, Interface, Solver};
+pub use glue::{solve_glued, Body, Coupling, GlueError, GluedSolution, Interface, Solver};
 pub use material::{Material, MaterialError};
 pub use problem::{Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
 pub use solve::{solve, Dirichlet, SolveError};

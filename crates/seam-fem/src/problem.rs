@@ -8,7 +8,7 @@
 
 use crate::assembly::{body_force, traction};
 use crate::contact::{solve_contact, ContactOptions, ContactSolution};
-use crate::glue::{solve_glued, Body, GlueError, GluedSolution, Interface, Solver};
+use crate::glue::{solve_glued, Body, Coupling, GlueError, GluedSolution, Interface, Solver};
 use crate::material::Material;
 use crate::solve::Dirichlet;
 use seam::{MortarOptions, SurfaceMesh, VolumeMesh};
@@ -37,7 +37,7 @@ pub struct SurfaceId {
     pub surface: usize,
 }
 
-/// A glued interface.
+/// An interface, glued or in contact.
 #[derive(Clone, Debug)]
 pub struct ProblemInterface {
     /// The master surface.
@@ -46,6 +46,8 @@ pub struct ProblemInterface {
     pub slave: SurfaceId,
     /// Multiplier, gap and angle limits.
     pub options: MortarOptions,
+    /// Glue or contact.
+    pub kind: Coupling,
 }
 
 /// Prescribed displacement components on a boundary.
@@ -71,10 +73,8 @@ pub struct Load {
 pub struct Problem {
     /// The bodies.
     pub bodies: Vec<ProblemBody>,
-    /// The glued interfaces.
+    /// The interfaces, glued and contact (frictionless, [`crate::contact`]).
     pub interfaces: Vec<ProblemInterface>,
-    /// The contact interfaces (frictionless, [`crate::contact`]).
-    pub contacts: Vec<ProblemInterface>,
     /// Dirichlet conditions, applied in order (a later one overrides an earlier
     /// one on shared points).
     pub supports: Vec<Support>,
@@ -142,6 +142,11 @@ impl Problem {
             .collect()
     }
 
+    /// True when some interface is a contact interface.
+    pub fn has_contact(&self) -> bool {
+        self.interfaces.iter().any(|f| f.kind == Coupling::Contact)
+    }
+
     /// Assembles and solves the glued problem.
     ///
     /// # Errors
@@ -149,29 +154,21 @@ impl Problem {
     /// contact interfaces (use [`Problem::solve_contact`]);
     /// [`GlueError::NonFiniteSolution`] after an overflow.
     pub fn solve(&self, solver: Solver) -> Result<GluedSolution, GlueError> {
-        if !self.contacts.is_empty() {
-            let what = "the problem has contact interfaces: solve it with Problem::solve_contact".into();
-            return Err(GlueError::BadInterface { interface: 0, what });
-        }
         let prepared = self.loads_and_supports()?;
-        let solution = solve_glued(&self.solver_bodies(&prepared), &self.coupled(&self.interfaces), solver)?;
+        let solution = solve_glued(&self.solver_bodies(&prepared), &self.coupled(), solver)?;
         check_finite(&solution.displacement)?;
         Ok(solution)
     }
 
-    /// Assembles and solves the contact problem.
+    /// Assembles and solves the problem with its contact (and glued)
+    /// interfaces.
     ///
     /// # Errors
-    /// See [`solve_contact`]; [`GlueError::BadInterface`] when the problem
-    /// also has glued interfaces (not supported together yet);
-    /// [`GlueError::NonFiniteSolution`] after an overflow.
+    /// See [`solve_contact`]; [`GlueError::NonFiniteSolution`] after an
+    /// overflow.
     pub fn solve_contact(&self, options: &ContactOptions) -> Result<ContactSolution, GlueError> {
-        if !self.interfaces.is_empty() {
-            let what = "glued and contact interfaces in one problem are not supported yet".into();
-            return Err(GlueError::BadInterface { interface: 0, what });
-        }
         let prepared = self.loads_and_supports()?;
-        let solution = solve_contact(&self.solver_bodies(&prepared), &self.coupled(&self.contacts), options)?;
+        let solution = solve_contact(&self.solver_bodies(&prepared), &self.coupled(), options)?;
         check_finite(&solution.displacement)?;
         Ok(solution)
     }
@@ -190,15 +187,17 @@ impl Problem {
             .collect()
     }
 
-    /// The solver's view of the interfaces `list`.
-    fn coupled(&self, list: &[ProblemInterface]) -> Vec<Interface<'_>> {
-        list.iter()
+    /// The solver's view of the interfaces.
+    fn coupled(&self) -> Vec<Interface<'_>> {
+        self.interfaces
+            .iter()
             .map(|f| Interface {
                 master: f.master.body,
                 master_surface: self.surface(f.master),
                 slave: f.slave.body,
                 slave_surface: self.surface(f.slave),
                 options: f.options,
+                kind: f.kind,
             })
             .collect()
     }

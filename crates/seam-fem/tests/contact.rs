@@ -18,7 +18,7 @@
 use seam::{Multiplier, Point3, SurfaceMesh, VolumeMesh};
 use seam_fem::contact::{solve_contact, ContactOptions, ContactSolution};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
-use seam_fem::glue::{Body, Interface, Solver};
+use seam_fem::glue::{Body, Coupling, Interface, Solver};
 use seam_fem::pcg::PcgOptions;
 use seam_fem::scene::{bulging_contact, BulgingContact};
 use seam_fem::{traction, Dirichlet, Material};
@@ -84,8 +84,14 @@ impl Stack {
         ];
         let options =
             seam::MortarOptions { multiplier, facing: seam::Facing::Opposite, ..Default::default() };
-        let interfaces =
-            [Interface { master: 0, master_surface: &master, slave: 1, slave_surface: &slave, options }];
+        let interfaces = [Interface {
+            master: 0,
+            master_surface: &master,
+            slave: 1,
+            slave_surface: &slave,
+            options,
+            kind: Coupling::Contact,
+        }];
         let solution =
             solve_contact(&bodies, &interfaces, &ContactOptions { solver, ..Default::default() }).unwrap();
         let kkt = solution.report.kkt;

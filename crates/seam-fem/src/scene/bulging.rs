@@ -45,6 +45,7 @@
 
 use super::{block_body, BOTTOM_TOP};
 use crate::generate::{block, BlockKind, Grid};
+use crate::glue::Coupling;
 use crate::material::Material;
 use crate::problem::{Problem, ProblemInterface, Support, SurfaceId};
 use seam::{Facing, MaxGap, MeshError, MortarOptions, Multiplier, Point3};
@@ -215,11 +216,11 @@ pub fn bulging_contact(p: &BulgingContact) -> Result<Problem, MeshError> {
     };
     Ok(Problem {
         bodies,
-        interfaces: vec![],
-        contacts: vec![ProblemInterface {
+        interfaces: vec![ProblemInterface {
             master: SurfaceId { body: 0, surface: top },
             slave: SurfaceId { body: 1, surface: bottom },
             options,
+            kind: Coupling::Contact,
         }],
         supports: vec![
             Support { boundary: SurfaceId { body: 0, surface: bottom }, values: [Some(0.0); 3] },

@@ -3,6 +3,7 @@
 
 use super::block_body;
 use crate::generate::{block, BlockKind, Grid, Side};
+use crate::glue::Coupling;
 use crate::material::Material;
 use crate::problem::{Load, Problem, ProblemInterface, Support, SurfaceId};
 use seam::{Facing, MaxGap, MeshError, MortarOptions, Multiplier, Point3, VolumeMesh};
@@ -189,8 +190,12 @@ pub fn hertz(p: &Hertz) -> Result<Problem, MeshError> {
     let pressure = p.force() / (4.0 * l * l);
     Ok(Problem {
         bodies,
-        interfaces: vec![],
-        contacts: vec![ProblemInterface { master: id(indenter, bottom), slave: id(slab, top), options }],
+        interfaces: vec![ProblemInterface {
+            master: id(indenter, bottom),
+            slave: id(slab, top),
+            options,
+            kind: Coupling::Contact,
+        }],
         supports,
         loads: vec![Load { boundary: id(indenter, top), t: [0.0, 0.0, -pressure] }],
     })

@@ -2,6 +2,7 @@
 
 use super::{block_body, BOTTOM_TOP};
 use crate::generate::{block, BlockKind, Grid};
+use crate::glue::Coupling;
 use crate::material::Material;
 use crate::problem::{Load, Problem, ProblemInterface, Support, SurfaceId};
 use seam::{Facing, MeshError, MortarOptions, Multiplier, Point3};
@@ -89,9 +90,9 @@ pub fn warped_glue(p: &WarpedGlue) -> Result<Problem, MeshError> {
             master: SurfaceId { body: 0, surface: top },
             slave: SurfaceId { body: 1, surface: bottom },
             options,
+            kind: Coupling::Glue,
         }],
         supports: vec![Support { boundary: SurfaceId { body: 0, surface: bottom }, values: [Some(0.0); 3] }],
         loads: vec![Load { boundary: SurfaceId { body: 1, surface: top }, t: p.traction }],
-        contacts: vec![],
     })
 }

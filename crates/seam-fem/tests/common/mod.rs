@@ -1,11 +1,11 @@
 //! Shared helpers of the integration tests.
 #![allow(dead_code)]
 
-use seam::{Cell, Facing, MortarOptions, Multiplier, Point3, SurfaceMesh, VolumeMesh};
+use seam::{Cell, Face, Facing, MortarOptions, Multiplier, Point3, SurfaceMesh, VolumeMesh};
 use seam_fem::assembly::{geometry, map_point};
-use seam_fem::generate::{block, BlockKind, Grid};
-use seam_fem::glue::{solve_glued, Body, GluedSolution, Interface, Solver};
-use seam_fem::{ElementKind, Material};
+use seam_fem::generate::{block, BlockKind, Grid, Side};
+use seam_fem::glue::{solve_glued, Body, Coupling, GluedSolution, Interface, Solver};
+use seam_fem::{traction, Dirichlet, ElementKind, Material};
 
 /// A smooth, non-affine map of the unit cube (positive Jacobian).
 pub fn warp(u: f64, v: f64, w: f64) -> Point3 {
@@ -282,6 +282,54 @@ pub fn solve_two(
     multiplier: Multiplier,
 ) -> GluedSolution {
     let options = MortarOptions { multiplier, facing: Facing::Opposite, ..MortarOptions::default() };
-    let interfaces = [Interface { master: 0, master_surface, slave: 1, slave_surface, options }];
+    let interfaces =
+        [Interface { master: 0, master_surface, slave: 1, slave_surface, options, kind: Coupling::Glue }];
     solve_glued(bodies, &interfaces, Solver::Direct).unwrap()
+}
+
+/// A structured block and its grid, with the patch tests' loads and supports.
+pub struct Part {
+    pub mesh: VolumeMesh,
+    pub grid: Grid,
+}
+
+impl Part {
+    pub fn new(n: [usize; 3], kind: BlockKind, map: impl Fn(f64, f64, f64) -> Point3) -> Part {
+        Part { mesh: block(n[0], n[1], n[2], map, kind), grid: Grid::new(n[0], n[1], n[2]) }
+    }
+
+    pub fn side(&self, side: Side) -> SurfaceMesh {
+        self.grid.side_faces(&self.mesh, side).unwrap()
+    }
+
+    /// The faces on `side` whose grid points all satisfy `keep`.
+    pub fn side_where(&self, side: Side, keep: impl Fn([usize; 3]) -> bool) -> SurfaceMesh {
+        let all = self.side(side);
+        let faces: Vec<Face> = all
+            .faces()
+            .iter()
+            .filter(|f| f.nodes().iter().all(|&p| keep(self.grid.ijk(p).unwrap())))
+            .copied()
+            .collect();
+        SurfaceMesh::new(self.mesh.points().to_vec(), faces).unwrap()
+    }
+
+    /// The load ∫ N σ n over `sides`.
+    pub fn load(&self, sigma: &[f64; 6], sides: &[Side]) -> Vec<f64> {
+        let mut f = vec![0.0; 3 * self.mesh.points().len()];
+        for &side in sides {
+            for (a, b) in f.iter_mut().zip(traction(&self.side(side), |_, n| stress_vector(sigma, n))) {
+                *a += b;
+            }
+        }
+        f
+    }
+
+    /// The exact values of `field` on `side`, in the components `which`.
+    pub fn fix(&self, dirichlet: &mut Dirichlet, field: &Affine, side: Side, which: [bool; 3]) {
+        for p in self.grid.side_points(side) {
+            let u = field.at(self.mesh.points()[p]);
+            dirichlet.fix(p, std::array::from_fn(|c| which[c].then_some(u[c])));
+        }
+    }
 }
