@@ -46,6 +46,16 @@
 //! linear solve): μ > 0 on A, w ≤ g off A. The iteration is capped
 //! ([`ContactOptions::max_iterations`]).
 //!
+//! # With glued interfaces
+//! Glued interfaces ([`Coupling::Glue`]) in the same problem are eliminated
+//! first, u = P_g y with P_g = [I; −C_S⁻¹C_R] as in [`crate::glue`] (dual or
+//! lumped multipliers, so that C_S is diagonal), keeping the global numbering
+//! (eliminated dofs become empty rows); the contact rotation then acts on y,
+//! with n_p·(T u_m)_p expanded through P_g where a master dof is a glued
+//! slave dof. The glued multipliers are recovered from the slave rows,
+//! λ = C_S⁻ᵀ (f − K u − C_cᵀμ)_S. A point that is a slave point of both a
+//! glued and a contact interface is refused before any work.
+//!
 //! # Linear solves
 //! - [`Solver::Direct`]: the system is condensed on the contact normals W
 //!   once (one sparse Cholesky factorisation of the other unknowns, |W|
