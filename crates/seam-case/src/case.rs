@@ -423,17 +423,6 @@ impl Case {
             }
         }
         self.check_acyclic()?;
-        if self.is_contact() {
-            let standard =
-                |f: &&Interface| f.kind == InterfaceKind::Glue && f.multiplier() == CaseMultiplier::Standard;
-            if let Some((i, f)) = self.interfaces.iter().enumerate().find(|(_, f)| standard(f)) {
-                return fail(format!(
-                    "{}: a glued interface in a case with contact needs multiplier \"dual\" or \"lumped\" \
-                     (standard, the default for glue, is not supported together with contact yet)",
-                    f.describe(i)
-                ));
-            }
-        }
         if self.contact.max_iterations == 0 {
             return fail("[contact]: max_iterations must be at least 1");
         }
@@ -727,13 +716,6 @@ dir = "out"
             (
                 GOOD.replace("kind = \"glue\"\nmultiplier = \"dual\"", "kind = \"contact\"\nmultiplier = \"standard\""),
                 "interface 1 (upper:bottom → lower:top): contact needs multiplier \"lumped\" (the default) or \"dual\"",
-            ),
-            (
-                GOOD.replace("kind = \"glue\"", "kind = \"contact\"").replace(
-                    "[output]",
-                    "[[interface]]\nmaster = \"lower:side\"\nslave = \"upper:side\"\nkind = \"glue\"\n\n[output]",
-                ),
-                "interface 2 (upper:side → lower:side): a glued interface in a case with contact needs multiplier \"dual\"",
             ),
             (GOOD.replace("[output]", "[contact]\nmax_iteration = 5\n\n[output]"), "unknown field `max_iteration`"),
             (GOOD.replace("[output]", "[contact]\nmax_iterations = 0\n\n[output]"), "max_iterations must be at least 1"),

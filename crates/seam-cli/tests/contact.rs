@@ -296,15 +296,10 @@ fn contact_input_errors_fail_with_one_line_before_any_work() {
     let tmp = tempfile::tempdir().unwrap();
     contact_case(tmp.path(), |_| 0.0, "", &pressed());
     let good = std::fs::read_to_string(tmp.path().join("case.toml")).unwrap();
-    let glued = "[[interface]]\nmaster = \"lower:xmin\"\nslave = \"upper:ymin\"\nkind = \"glue\"\n";
     let cases = [
         (
             good.replace("kind = \"contact\"", "kind = \"contact\"\nmultiplier = \"standard\""),
             "interface 1 (upper:bottom → lower:top): contact needs multiplier \"lumped\" (the default) or \"dual\"",
-        ),
-        (
-            good.clone() + glued,
-            "interface 2 (upper:ymin → lower:xmin): a glued interface in a case with contact needs multiplier \"dual\"",
         ),
         (good.clone() + "[contact]\nmax_iterations = 10\ntolerance = 1e-9\n", "unknown field `tolerance`"),
         (good.clone() + "[contact]\nmax_iterations = 0\n", "max_iterations must be at least 1"),
@@ -336,14 +331,18 @@ fn a_body_free_to_slide_fails_with_one_line() {
 }
 
 /// Glue and contact in one case: a third block [0,1]² × [2H, 2.8H] (2×3×2
-/// hexahedra, E₂, ν₂) glued with dual multipliers on top of the upper one,
+/// hexahedra, E₂, ν₂) glued on top of the upper one (dual multipliers with
+/// the direct and PCG solvers, standard ones with the direct solver; standard
+/// with PCG is refused in one line),
 /// rollers on its x = 0 and y = 0 sides (they touch the glued interface's
 /// slave side), pressed by P. Uniaxial stress throughout: the contact
 /// pressure is P at every contact point, the glued traction (0, 0, P), and
-/// the displacements are exact; for the direct and PCG solvers.
+/// the displacements are exact.
 #[test]
 fn glue_and_contact_in_one_case_carry_the_uniaxial_stress() {
-    for solver in ["direct", "pcg"] {
+    for (multiplier, solver) in
+        [("dual", "direct"), ("dual", "pcg"), ("standard", "direct"), ("standard", "pcg")]
+    {
         let tmp = tempfile::tempdir().unwrap();
         contact_case(tmp.path(), |_| 0.0, "", "");
         let sides = [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("ymin", Side::YMin)];
@@ -351,11 +350,22 @@ fn glue_and_contact_in_one_case_carry_the_uniaxial_stress() {
         let case = std::fs::read_to_string(tmp.path().join("case.toml")).unwrap()
             + &format!(
                 "\n[[body]]\nname = \"cap\"\nmesh = \"cap.msh\"\nyoung = {E2:?}\npoisson = {NU2:?}\n\n\
-                 [[interface]]\nmaster = \"upper:top\"\nslave = \"cap:bottom\"\nkind = \"glue\"\nmultiplier = \"dual\"\n\n\
+                 [[interface]]\nmaster = \"upper:top\"\nslave = \"cap:bottom\"\nkind = \"glue\"\nmultiplier = \"{multiplier}\"\n\n\
                  [[dirichlet]]\nboundary = \"cap:xmin\"\nux = 0.0\n\n[[dirichlet]]\nboundary = \"cap:ymin\"\nuy = 0.0\n\n\
                  [[traction]]\nboundary = \"cap:top\"\nt = [0.0, 0.0, -{P:?}]\n"
             );
         std::fs::write(tmp.path().join("case.toml"), case).unwrap();
+        if (multiplier, solver) == ("standard", "pcg") {
+            let o = seam(&["solve", "case.toml", "--solver", "pcg"], tmp.path());
+            let err = stderr(&o);
+            assert_eq!(o.status.code(), Some(2), "{err}");
+            assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+            assert!(
+                err.contains("interface 2 (cap:bottom → upper:top)") && err.contains("direct solver"),
+                "{err}"
+            );
+            continue;
+        }
         let (s, _) = solve(tmp.path(), &["--solver", solver, "--rtol", "1e-13"]);
         let out = tmp.path().join("out");
         let (_, pressure) = field(&out.join("upper_bottom_interface.vtu"), "contact_pressure");
@@ -375,6 +385,7 @@ fn glue_and_contact_in_one_case_carry_the_uniaxial_stress() {
         }
         assert_eq!(s["interfaces"].as_array().unwrap().len(), 2);
         assert_eq!(s["multiplier"], "mixed");
+        assert_eq!(s["interfaces"][1]["kind"], "glue");
         assert_eq!(s["contact"]["interfaces"].as_array().unwrap().len(), 1);
         assert!(s["contact"]["kkt"]["max"].as_f64().unwrap() <= 1e-10);
         // The cap's load reaches the ground: the lower block's interface force balances P.

@@ -66,10 +66,8 @@
 //!   from the previous step.
 
 use crate::glue::{assemble_system, check_input, free_dofs, prolongation, triple_product, Body, GlueError};
-use crate::glue::{
-    interface_solutions as glued_solutions, Constraints, Coupling, Interface, InterfaceSolution,
-};
-use crate::glue::{Solver, Timings, NONE};
+use crate::glue::{interface_solutions as glued_solutions, saddle_point, Constraints, Coupling, Interface};
+use crate::glue::{InterfaceSolution, Row, Solver, System, Timings, NONE};
 use crate::pcg::solve_pcg_from;
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
@@ -207,12 +205,13 @@ struct ContactPoint {
 }
 
 /// Solves the frictionless contact problem (module doc) for bodies coupled by
-/// contact `interfaces` (lumped or dual multipliers).
+/// contact `interfaces` (lumped or dual multipliers) and glued ones.
 ///
 /// # Errors
-/// [`GlueError`] for inconsistent input (standard multipliers, a point that is
-/// slave of one interface and master of another), a failed assembly, a
-/// singular step (a body held by nothing), or no convergence within
+/// [`GlueError`] for inconsistent input (standard multipliers for contact, a
+/// point that is slave of one contact interface and master of another, or
+/// slave of a glued and a contact interface), a failed assembly, a singular
+/// step (a body held by nothing), or no convergence within
 /// [`ContactOptions::max_iterations`].
 pub fn solve_contact(
     bodies: &[Body],
@@ -220,14 +219,86 @@ pub fn solve_contact(
     options: &ContactOptions,
 ) -> Result<ContactSolution, GlueError> {
     check_input(bodies, interfaces)?;
-    check_couplings(interfaces)?;
+    check_couplings(interfaces, options.solver)?;
     let mut seconds = Timings::default();
     let system = assemble_system(bodies, interfaces, &mut seconds)?;
-    let (k, f, dirichlet, offsets) = (&system.k, &system.f, &system.dirichlet, &system.offsets);
+    let clock = Instant::now();
+    let constraints = Constraints::new(interfaces, &system.mortars, &system.offsets, &system.dirichlet);
+    seconds.setup += clock.elapsed().as_secs_f64();
+    let eliminated = constraints.rows.is_empty() || constraints.eliminated_block_is_diagonal();
+    let steps = if eliminated {
+        rotated_steps(bodies, interfaces, options, &system, &constraints, &mut seconds)?
+    } else {
+        saddle_steps(bodies, interfaces, options, &system, &constraints, &mut seconds)?
+    };
 
     let clock = Instant::now();
-    let constraints = Constraints::new(interfaces, &system.mortars, offsets, dirichlet);
-    let glued = if constraints.rows.is_empty() { None } else { Some(Glued::new(&constraints, k, f)?) };
+    let Steps { u, w, mu, active, steps, lambda, kkt, method, points } = steps;
+    let offsets = &system.offsets;
+    let displacement = (0..bodies.len()).map(|b| u[offsets[b]..offsets[b + 1]].to_vec()).collect();
+    let n_active = active.iter().filter(|&&on| on).count();
+    let (mut glue_mortars, mut contact_mortars) = (Vec::new(), Vec::new());
+    for (i, m) in system.mortars.into_iter().enumerate() {
+        match interfaces[i].kind {
+            Coupling::Glue => glue_mortars.push((i, m)),
+            Coupling::Contact => contact_mortars.push((i, m)),
+        }
+    }
+    let glued_interfaces = glued_solutions(interfaces, glue_mortars, &constraints, &lambda);
+    let solutions = interface_solutions(interfaces, contact_mortars, &points, &w, &mu, &active);
+    seconds.solve += clock.elapsed().as_secs_f64();
+    let report = ContactReport {
+        dofs: system.k.nrows,
+        constraints: constraints.rows.len(),
+        contact_points: points.len(),
+        active: n_active,
+        steps,
+        method,
+        kkt,
+        seconds,
+    };
+    Ok(ContactSolution { displacement, interfaces: solutions, glued: glued_interfaces, report })
+}
+
+/// What an active-set solve found.
+struct Steps {
+    /// Displacements of all bodies.
+    u: Vec<f64>,
+    /// Per contact point: w_p = n_p·(u_s − T u_m)_p.
+    w: Vec<f64>,
+    /// Per contact point: μ_p = d_p λ_p (0 off the active set).
+    mu: Vec<f64>,
+    /// Per contact point: in the final active set.
+    active: Vec<bool>,
+    steps: Vec<ActiveSetStep>,
+    /// The glued interfaces' multipliers, one per row of their constraints.
+    lambda: Vec<f64>,
+    kkt: Kkt,
+    method: &'static str,
+    points: Vec<ContactPoint>,
+}
+
+/// The singular-step error.
+fn singular(step: usize, active: usize) -> GlueError {
+    GlueError::Contact(format!(
+        "active-set step {step}: the system is singular with {active} active contact points; every body \
+         must be held by its supports, or touch (gap ≤ 0) another body from the start"
+    ))
+}
+
+/// The active set on the system rotated into nodal frames, glued interfaces
+/// (dual, lumped) eliminated first (module doc).
+fn rotated_steps(
+    bodies: &[Body],
+    interfaces: &[Interface],
+    options: &ContactOptions,
+    system: &System,
+    constraints: &Constraints,
+    seconds: &mut Timings,
+) -> Result<Steps, GlueError> {
+    let (k, f, dirichlet, offsets) = (&system.k, &system.f, &system.dirichlet, &system.offsets);
+    let clock = Instant::now();
+    let glued = if constraints.rows.is_empty() { None } else { Some(Glued::new(constraints, k, f)?) };
     let (k, f) = match &glued {
         Some(g) => (&g.k, &g.f[..]),
         None => (k, &f[..]),
@@ -242,12 +313,6 @@ pub fn solve_contact(
 
     let scale = length_scale(bodies);
     let active = initial_active_set(&points, interfaces.len(), 1e-9 * scale);
-    let singular = |steps: usize, active: usize| {
-        GlueError::Contact(format!(
-            "active-set step {steps}: the system is singular with {active} active contact points; every body \
-             must be held by its supports, or touch (gap ≤ 0) another body from the start"
-        ))
-    };
     let (x, active, mu, steps) = match options.solver {
         Solver::Direct => {
             let clock = Instant::now();
@@ -311,42 +376,113 @@ pub fn solve_contact(
         Some(g) => g.p.mul_vec(&y, 1),
         None => y,
     };
-    let lambda =
-        glued.as_ref().map_or(Vec::new(), |g| g.multipliers(&constraints, &system, &u, &points, &mu));
-    let displacement = (0..bodies.len()).map(|b| u[offsets[b]..offsets[b + 1]].to_vec()).collect();
-    let n_active = active.iter().filter(|&&on| on).count();
-    let (mut glue_mortars, mut contact_mortars) = (Vec::new(), Vec::new());
-    for (i, m) in system.mortars.into_iter().enumerate() {
-        match interfaces[i].kind {
-            Coupling::Glue => glue_mortars.push((i, m)),
-            Coupling::Contact => contact_mortars.push((i, m)),
-        }
-    }
-    let glued_interfaces = glued_solutions(interfaces, glue_mortars, &constraints, &lambda);
-    let solutions = interface_solutions(interfaces, contact_mortars, &points, &x, &mu, &active);
-    seconds.solve += clock.elapsed().as_secs_f64();
+    let lambda = glued.as_ref().map_or(Vec::new(), |g| g.multipliers(constraints, system, &u, &points, &mu));
     let method = match options.solver {
         Solver::Direct => "sparse Cholesky, active set on the condensed contact normals",
         Solver::Pcg(_) => "PCG per active-set step",
     };
-    let report = ContactReport {
-        dofs: k.nrows,
-        constraints: constraints.rows.len(),
-        contact_points: points.len(),
-        active: n_active,
-        steps,
-        method,
-        kkt,
-        seconds,
+    let w = points.iter().map(|c| x[c.first_dof]).collect();
+    seconds.solve += clock.elapsed().as_secs_f64();
+    Ok(Steps { u, w, mu, active, steps, lambda, kkt, method, points })
+}
+
+/// The active set with glued interfaces that do not eliminate node by node
+/// (standard multipliers, crosspoints): each step solves the saddle point of
+/// the glued rows and the active contact rows n_p·(u_s − T u_m)_p = g_p by
+/// sparse LDLᵀ ([`saddle_point`]); μ_p is the multiplier of p's row (the
+/// same d_p λ_p as in the rotated system), w_p = n_p·(u_s − T u_m)_p.
+fn saddle_steps(
+    bodies: &[Body],
+    interfaces: &[Interface],
+    options: &ContactOptions,
+    system: &System,
+    constraints: &Constraints,
+    seconds: &mut Timings,
+) -> Result<Steps, GlueError> {
+    let (k, f, dirichlet) = (&system.k, &system.f, &system.dirichlet);
+    let clock = Instant::now();
+    let points = contact_points(bodies, interfaces, &system.mortars, &system.offsets, dirichlet, None)?;
+    seconds.setup += clock.elapsed().as_secs_f64();
+    let scale = length_scale(bodies);
+    let active = initial_active_set(&points, interfaces.len(), 1e-9 * scale);
+    let n_glue = constraints.rows.len();
+    let normal_motion = |u: &[f64]| -> Vec<f64> {
+        points
+            .iter()
+            .map(|c| {
+                let slave: f64 = (0..3).map(|k| c.frame[0][k] * u[c.first_dof + k]).sum();
+                slave - c.a_row.iter().map(|&(j, a)| a * u[j]).sum::<f64>()
+            })
+            .collect()
     };
-    Ok(ContactSolution { displacement, interfaces: solutions, glued: glued_interfaces, report })
+    let mut last: Option<(Vec<f64>, Vec<f64>)> = None;
+    let (active, w, mu, steps) =
+        active_set_method(&points, active, scale, options.max_iterations, |active, step| {
+            let mut c = constraints.clone();
+            for point in points.iter().zip(active).filter(|(_, &on)| on).map(|(p, _)| p) {
+                let n = point.frame[0];
+                let mut entries: Vec<(usize, f64)> = (0..3)
+                    .map(|k| (point.first_dof + k, n[k]))
+                    .chain(point.a_row.iter().map(|&(j, a)| (j, -a)))
+                    .collect();
+                entries.sort_unstable_by_key(|e| e.0);
+                c.c.indices.extend(entries.iter().map(|e| e.0));
+                c.c.values.extend(entries.iter().map(|e| e.1));
+                c.c.indptr.push(c.c.indices.len());
+                c.c.nrows += 1;
+                let axis = (0..3).max_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs())).expect("three axes");
+                let row = Row {
+                    dof: point.first_dof + axis,
+                    interface: point.interface,
+                    point: point.point,
+                    component: axis,
+                };
+                c.rows.push(row);
+                c.g.push(point.gap);
+            }
+            let n_active = c.rows.len() - n_glue;
+            let (u, nu, _, _) = saddle_point(k, f, dirichlet, &c, seconds).map_err(|e| match e {
+                GlueError::Solve(SolveError::Singular) => singular(step, n_active),
+                e => e,
+            })?;
+            let w = normal_motion(&u);
+            let mut mu = vec![0.0; points.len()];
+            let mut rows = nu[n_glue..].iter();
+            for (m, _) in mu.iter_mut().zip(active).filter(|(_, &on)| on) {
+                *m = *rows.next().expect("one multiplier per active point");
+            }
+            last = Some((u, nu[..n_glue].to_vec()));
+            Ok((w, mu, 0))
+        })?;
+    let clock = Instant::now();
+    let (u, lambda) = last.expect("at least one step");
+    // KKT with the glued reactions C_gᵀλ moved to the load side.
+    let reaction = constraints.c.transpose_mul_vec(&lambda, 1);
+    let f_net: Vec<f64> = f.iter().zip(&reaction).map(|(f, r)| f - r).collect();
+    let mut x = vec![0.0; k.nrows];
+    for (c, &wp) in points.iter().zip(&w) {
+        x[c.first_dof] = wp;
+    }
+    let kkt = kkt(k, &f_net, dirichlet, &points, (&u, &x), &mu);
+    seconds.solve += clock.elapsed().as_secs_f64();
+    Ok(Steps {
+        u,
+        w,
+        mu,
+        active,
+        steps,
+        lambda,
+        kkt,
+        method: "saddle-point LDLᵀ per active-set step",
+        points,
+    })
 }
 
 /// Refuses what the contact solve cannot do: contact with standard
 /// multipliers (D must be diagonal), glued interfaces with standard
-/// multipliers next to contact ones, and a slave point of both a glued and a
-/// contact interface.
-fn check_couplings(interfaces: &[Interface]) -> Result<(), GlueError> {
+/// multipliers next to contact ones with the PCG solver, and a slave point of
+/// both a glued and a contact interface.
+fn check_couplings(interfaces: &[Interface], solver: Solver) -> Result<(), GlueError> {
     let bad = |interface: usize, what: String| Err(GlueError::BadInterface { interface, what });
     for (i, f) in interfaces.iter().enumerate() {
         if f.kind == Coupling::Contact && f.options.multiplier == Multiplier::Standard {
@@ -358,10 +494,9 @@ fn check_couplings(interfaces: &[Interface]) -> Result<(), GlueError> {
     }
     let contact = interfaces.iter().any(|f| f.kind == Coupling::Contact);
     for (i, f) in interfaces.iter().enumerate().filter(|(_, f)| f.kind == Coupling::Glue) {
-        if contact && f.options.multiplier == Multiplier::Standard {
-            let what =
-                "a glued interface next to contact interfaces needs multiplier \"dual\" or \"lumped\" \
-                        (standard multipliers are not eliminated node by node)";
+        if contact && f.options.multiplier == Multiplier::Standard && matches!(solver, Solver::Pcg(_)) {
+            let what = "with the PCG solver a glued interface next to contact interfaces needs multiplier \
+                        \"dual\" or \"lumped\" (standard multipliers: use the direct solver)";
             return bad(i, what.into());
         }
         for (j, c) in
@@ -394,8 +529,8 @@ impl Glued {
     fn new(constraints: &Constraints, k: &CsrMatrix, f: &[f64]) -> Result<Glued, GlueError> {
         if !constraints.eliminated_block_is_diagonal() {
             let interface = constraints.rows[0].interface;
-            let what = "glued interfaces that constrain each other's slave points (crosspoints) next to \
-                        contact interfaces are not supported yet"
+            let what = "with the PCG solver, glued interfaces that constrain each other's slave points \
+                        (crosspoints) next to contact interfaces are not supported (use the direct solver)"
                 .into();
             return Err(GlueError::BadInterface { interface, what });
         }
@@ -927,7 +1062,7 @@ fn interface_solutions(
     interfaces: &[Interface],
     mortars: Vec<(usize, Mortar)>,
     points: &[ContactPoint],
-    x: &[f64],
+    w: &[f64],
     mu: &[f64],
     active: &[bool],
 ) -> Vec<ContactInterfaceSolution> {
@@ -950,13 +1085,13 @@ fn interface_solutions(
             }
         })
         .collect();
-    for ((c, &m), &on) in points.iter().zip(mu).zip(active) {
+    for (((c, &m), &on), &wp) in points.iter().zip(mu).zip(active).zip(w) {
         let s = &mut out[position[c.interface]];
         let p = c.point;
         s.contact[p] = true;
         s.normal[p] = c.frame[0];
         s.initial_gap[p] = c.gap;
-        s.gap[p] = c.gap - x[c.first_dof];
+        s.gap[p] = c.gap - wp;
         s.pressure[p] = m / c.d;
         s.active[p] = on;
         for comp in 0..3 {

@@ -413,11 +413,12 @@ fn block_diagonal(blocks: &[CsrMatrix], n: usize) -> CsrMatrix {
 pub(crate) struct Row {
     pub(crate) dof: usize,
     pub(crate) interface: usize,
-    point: usize,
-    component: usize,
+    pub(crate) point: usize,
+    pub(crate) component: usize,
 }
 
 /// The constraint matrix C of all interfaces (module doc).
+#[derive(Clone)]
 pub(crate) struct Constraints {
     /// rows × dofs.
     pub(crate) c: CsrMatrix,
@@ -427,6 +428,9 @@ pub(crate) struct Constraints {
     parts: Vec<Vec<(usize, f64)>>,
     /// Per dof: the row that eliminates it, or `NONE`.
     pub(crate) row_of: Vec<usize>,
+    /// The right-hand side of each row (C u = g): zero for glue, the gap for
+    /// an active contact row ([`crate::contact`]).
+    pub(crate) g: Vec<f64>,
 }
 
 pub(crate) const NONE: usize = usize::MAX;
@@ -500,7 +504,8 @@ impl Constraints {
                 }
             }
         }
-        Constraints { c, rows, parts, row_of }
+        let g = vec![0.0; rows.len()];
+        Constraints { c, rows, parts, row_of, g }
     }
 
     /// True when eliminating u_S = T u_R would fill PᵀKP in:
@@ -592,7 +597,7 @@ fn shares_of_removed(surface: &SurfaceMesh, covered: &[usize], removed: &[bool])
 }
 
 /// (u, λ, method, iterations) of a solver.
-type Solved = (Vec<f64>, Vec<f64>, &'static str, usize);
+pub(crate) type Solved = (Vec<f64>, Vec<f64>, &'static str, usize);
 
 /// Diagonal C_S (dual, lumped): u = P u_R with PᵀKP u_R = Pᵀf, by sparse
 /// Cholesky.
@@ -707,9 +712,9 @@ pub(crate) fn triple_product(p: &CsrMatrix, k: &CsrMatrix) -> CsrMatrix {
 
 /// The saddle point over the free dofs F (standard multipliers, or dual and
 /// lumped ones whose elimination fills in),
-/// [K_FF C_Fᵀ; C_F 0] [u_F; λ] = [f_F − K_FD ū; −C_D ū], by sparse LDLᵀ
+/// [K_FF C_Fᵀ; C_F 0] [u_F; λ] = [f_F − K_FD ū; g − C_D ū], by sparse LDLᵀ
 /// with each multiplier ordered after its slave point ([`solve_saddle`]).
-fn saddle_point(
+pub(crate) fn saddle_point(
     k: &CsrMatrix,
     f: &[f64],
     dirichlet: &Dirichlet,
@@ -755,7 +760,7 @@ fn saddle_point(
     }
     for r in 0..nc {
         let (cols, vals) = constraints.c.row(r);
-        let mut b = 0.0;
+        let mut b = constraints.g[r];
         push(&mut a, cols, vals, &mut b);
         a.indptr.push(a.indices.len());
         a.nrows += 1;
