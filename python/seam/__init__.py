@@ -4,8 +4,9 @@
     >>> master = seam.read_mesh("master.msh", group="interface")   # doctest: +SKIP
     >>> op = seam.assemble(master, slave, multiplier="dual")        # doctest: +SKIP
     >>> u_slave = op.transfer(u_master)                             # doctest: +SKIP
+    >>> seam.check("master.msh", "slave.msh")["covered_fraction"]   # doctest: +SKIP
 
-See ``help(seam.assemble)`` and ``help(seam.Mortar)``.
+See ``help(seam.assemble)``, ``help(seam.Mortar)`` and ``help(seam.check)``.
 """
 
 from ._seam import (
@@ -19,6 +20,7 @@ from ._seam import (
     NoOverlapError,
     __version__,
     assemble,
+    check,
     read_mesh,
 )
 
@@ -33,5 +35,6 @@ __all__ = [
     "NoOverlapError",
     "__version__",
     "assemble",
+    "check",
     "read_mesh",
 ]

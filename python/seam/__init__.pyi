@@ -4,7 +4,7 @@ The full docstrings are those of the compiled module: ``help(seam.assemble)``.
 """
 
 import os
-from typing import Literal, Optional, Sequence, Tuple, TypedDict, Union, final
+from typing import List, Literal, Optional, Sequence, Tuple, TypedDict, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -21,6 +21,7 @@ __all__ = [
     "NoOverlapError",
     "__version__",
     "assemble",
+    "check",
     "read_mesh",
 ]
 
@@ -209,4 +210,75 @@ def assemble(
         MeshError: A (points, faces) tuple that is not a valid mesh.
         ValueError: Unknown multiplier or facing, threads < 1, wrong shapes.
         TypeError: master or slave of another type.
+    """
+
+# One bin [from, to) of the normal-gap histogram ("from" is a keyword, hence
+# the functional syntax).
+_GapBin = TypedDict("_GapBin", {"from": float, "to": float, "nodes": int})
+
+class _Quality(TypedDict):
+    """The worst faces of a surface."""
+
+    min_angle_degrees: float
+    max_angle_degrees: float
+    max_warp: float
+
+class _Invariant(TypedDict):
+    """An invariant measured on the operator."""
+
+    name: str
+    value: float
+    tolerance: float
+    ok: bool
+
+class _CheckReport(TypedDict):
+    """``check``: the report of ``seam check --json``, keys in its order."""
+
+    master: str
+    slave: str
+    slave_faces: int
+    master_faces: int
+    slave_area: float
+    master_area: float
+    covered_area: float
+    covered_fraction: float
+    uncovered_slave_nodes: int
+    uncovered_examples: List[Tuple[int, Tuple[float, float, float]]]
+    gap_histogram: List[_GapBin]
+    min_normal_gap: Optional[float]
+    max_normal_gap: Optional[float]
+    slave_orientation_conflicts: int
+    master_orientation_conflicts: int
+    slave_quality: _Quality
+    master_quality: _Quality
+    invariants: List[_Invariant]
+    ok: bool
+
+def check(
+    master: Union[_MeshLike, str, "os.PathLike[str]"],
+    slave: Union[_MeshLike, str, "os.PathLike[str]"],
+    *,
+    multiplier: Literal["standard", "dual", "lumped"] = "standard",
+    max_gap: Optional[float] = None,
+    facing: Literal["any", "opposite"] = "any",
+    threads: Optional[int] = None,
+    max_angle: float = 45.0,
+    warped_quad_degree: Optional[int] = None,
+) -> _CheckReport:
+    """Reports how two surfaces meet: the report of ``seam check --json``, a dict.
+
+    Args:
+        master: The master side: a Mesh, a (points, faces) tuple, or the path of
+            a Gmsh MSH file, read as ``read_mesh(path)`` reads it.
+        slave: The slave side, of the same kinds.
+        multiplier, max_gap, facing, threads, max_angle, warped_quad_degree:
+            As for ``assemble``.
+
+    Returns:
+        The report; "master" and "slave" are the paths given, or "master" and
+        "slave" for meshes.
+
+    Raises:
+        As ``assemble``; as ``read_mesh`` for a path; FactorizationError when
+        T = D⁻¹B cannot be formed.
     """

@@ -9,6 +9,7 @@
 //! | `MortarError::NoOverlap` | `seam.NoOverlapError` (idem) |
 //! | `MortarError::Factorization` | `seam.FactorizationError` (idem) |
 //! | `MortarError::NonFinite` | `seam.MortarError` |
+//! | `seam_case::CheckError` | as its `MortarError` |
 //!
 //! Messages are the Rust `Display` text, unchanged.
 
@@ -57,7 +58,17 @@ pub fn mesh_error(e: seam::MeshError) -> PyErr {
 
 /// `seam.MortarError` subclasses by kind.
 pub fn mortar_error(e: CoreMortarError) -> PyErr {
-    let message = e.to_string();
+    mortar_error_saying(&e, e.to_string())
+}
+
+/// The class of `check`'s mortar error, with the message of `e` (which names
+/// the stage that failed).
+pub fn check_error(e: seam_case::CheckError) -> PyErr {
+    mortar_error_saying(e.mortar_error(), e.to_string())
+}
+
+/// The `seam.MortarError` subclass of `e`'s kind with `message`.
+fn mortar_error_saying(e: &CoreMortarError, message: String) -> PyErr {
     match e {
         CoreMortarError::InvalidOption(_) => InvalidOptionError::new_err(message),
         CoreMortarError::NoOverlap { .. } => NoOverlapError::new_err(message),

@@ -5,10 +5,12 @@
 //! | `seam.Mesh` | [`seam::SurfaceMesh`] ([`mesh::PyMesh`]) |
 //! | `seam.read_mesh` | [`seam_io::read_surface_file`] |
 //! | `seam.assemble` | [`seam::assemble`] on a rayon pool, GIL released |
+//! | `seam.check` | [`seam_case::check()`], its report through `json.loads` |
 //! | `seam.Mortar` | [`seam::Mortar`] + its [`seam::Transfer`] ([`mortar::PyMortar`]) |
 //! | exceptions | [`error`] |
 #![forbid(unsafe_code)]
 
+mod check;
 mod convert;
 mod error;
 mod mesh;
@@ -23,6 +25,7 @@ fn _seam(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<mortar::PyMortar>()?;
     m.add_function(wrap_pyfunction!(mesh::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mortar::assemble, m)?)?;
+    m.add_function(wrap_pyfunction!(check::check, m)?)?;
     m.add("MeshError", py.get_type::<error::MeshError>())?;
     m.add("MshError", py.get_type::<error::MshError>())?;
     m.add("MortarError", py.get_type::<error::MortarError>())?;

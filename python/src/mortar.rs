@@ -56,6 +56,59 @@ fn parse_facing(name: &str) -> PyResult<Facing> {
     }
 }
 
+/// The coupling options `assemble` and `check` share, checked, and the worker
+/// threads to run on.
+pub struct Coupling {
+    options: MortarOptions,
+    /// `None`: rayon's global pool (all cores).
+    pool: Option<rayon::ThreadPool>,
+}
+
+impl Coupling {
+    /// The options from the keyword arguments of `assemble` and `check`.
+    pub fn new(
+        multiplier: &str,
+        max_gap: Option<f64>,
+        facing: &str,
+        max_angle: f64,
+        warped_quad_degree: Option<usize>,
+    ) -> PyResult<Self> {
+        let options = MortarOptions {
+            multiplier: parse_multiplier(multiplier)?,
+            facing: parse_facing(facing)?,
+            max_gap: max_gap.map_or(MaxGap::DEFAULT, MaxGap::Absolute),
+            max_angle_degrees: max_angle,
+            warped_quad_degree,
+            ..MortarOptions::default()
+        };
+        Ok(Coupling { options, pool: None })
+    }
+
+    /// Runs on `threads` worker threads (checked against the cores), or on all
+    /// cores for `None`.
+    pub fn on_threads(self, threads: Option<i64>) -> PyResult<Self> {
+        let Some(n) = threads else { return Ok(self) };
+        let n = match usize::try_from(n) {
+            Ok(n) if n >= 1 => seam_case::threads::check_threads(n)
+                .map_err(|e| PyValueError::new_err(format!("threads={n}: {e}")))?,
+            _ => return Err(PyValueError::new_err(format!("threads must be at least 1, got {n}"))),
+        };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| PyOSError::new_err(format!("cannot start {n} worker threads: {e}")))?;
+        Ok(Coupling { pool: Some(pool), ..self })
+    }
+
+    /// `f(options)` on the worker threads, the GIL released.
+    pub fn run<T: Send>(&self, py: Python<'_>, f: impl FnOnce(&MortarOptions) -> T + Send) -> T {
+        py.detach(|| match &self.pool {
+            Some(pool) => pool.install(|| f(&self.options)),
+            None => f(&self.options),
+        })
+    }
+}
+
 /// Assembles the mortar matrices B and D between two surface meshes.
 ///
 /// Rows are slave points and columns master points, numbered as in the meshes;
@@ -102,39 +155,12 @@ pub fn assemble(
     max_angle: f64,
     warped_quad_degree: Option<usize>,
 ) -> PyResult<PyMortar> {
-    let options = MortarOptions {
-        multiplier: parse_multiplier(multiplier)?,
-        facing: parse_facing(facing)?,
-        max_gap: max_gap.map_or(MaxGap::DEFAULT, MaxGap::Absolute),
-        max_angle_degrees: max_angle,
-        warped_quad_degree,
-        ..MortarOptions::default()
-    };
+    let coupling = Coupling::new(multiplier, max_gap, facing, max_angle, warped_quad_degree)?;
     let master = MeshArg::extract(master, "master")?;
     let slave = MeshArg::extract(slave, "slave")?;
-    let pool = match threads {
-        None => None,
-        Some(n) => {
-            let n = match usize::try_from(n) {
-                Ok(n) if n >= 1 => seam_case::threads::check_threads(n)
-                    .map_err(|e| PyValueError::new_err(format!("threads={n}: {e}")))?,
-                _ => return Err(PyValueError::new_err(format!("threads must be at least 1, got {n}"))),
-            };
-            Some(
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(n)
-                    .build()
-                    .map_err(|e| PyOSError::new_err(format!("cannot start {n} worker threads: {e}")))?,
-            )
-        }
-    };
+    let coupling = coupling.on_threads(threads)?;
     let (m, s) = (master.get(), slave.get());
-    let mortar = py
-        .detach(|| match &pool {
-            Some(pool) => pool.install(|| seam::assemble(m, s, &options)),
-            None => seam::assemble(m, s, &options),
-        })
-        .map_err(mortar_error)?;
+    let mortar = coupling.run(py, |options| seam::assemble(m, s, options)).map_err(mortar_error)?;
     Ok(PyMortar::from(mortar))
 }
 

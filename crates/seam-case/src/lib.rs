@@ -10,10 +10,14 @@
 //!
 //! Errors display as one line naming the file (or the expression) and the item
 //! at fault.
+//!
+//! And what both front ends report: [`check()`], how two surfaces meet
+//! (`seam check`, `seam.check`).
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
 pub mod case;
+pub mod check;
 pub mod expression;
 pub mod threads;
 
@@ -21,4 +25,5 @@ pub use case::{
     Body, Case, CaseError, CaseMultiplier, ContactSettings, Dirichlet, Interface, InterfaceKind, Output,
     SurfaceRef, Traction,
 };
+pub use check::{check, Check, CheckError, CheckReport, GapBin, Invariant, Quality};
 pub use expression::{Expression, ExpressionError};

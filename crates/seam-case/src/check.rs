@@ -1,0 +1,359 @@
+//! How two surfaces meet, before anyone trusts their coupling: the report of
+//! `seam check` and `seam.check`.
+//!
+//! [`check`] assembles the mortar operator with the given options and measures
+//! coverage, normal gaps, orientation, face quality and the invariants I1 and
+//! I2 of DESIGN.md §2 on it. The [`CheckReport`] serializes to the JSON of
+//! `seam check --json`; its field order is the key order of that file, which
+//! scripts rely on.
+
+use seam::{
+    assemble, face_integrals, face_quality, normal_gaps, orientation_conflicts, warped_quad_degree,
+    FaceElement, Mortar, MortarError, MortarOptions, SurfaceMesh, Transfer,
+};
+use serde::Serialize;
+
+/// Tolerance of the invariants I1 and I2 on B and D: "exact" in DESIGN.md §2.
+const EXACT: f64 = 1e-13;
+
+/// Tolerance of T·1 = 1, one solve away from B and D.
+const EXACT_TRANSFER: f64 = 1e-12;
+
+/// Uncovered slave nodes named in [`CheckReport::uncovered_examples`].
+const EXAMPLES: usize = 5;
+
+/// Bins of [`CheckReport::gap_histogram`].
+const GAP_BINS: usize = 10;
+
+/// A check of two surfaces: the report and the per-node fields behind it.
+#[derive(Clone, Debug)]
+pub struct Check {
+    /// The report (the JSON of `seam check --json`).
+    pub report: CheckReport,
+    /// Per slave point, the covered fraction of ∫ λ_p (0 off the surface):
+    /// [`Mortar::node_coverage`].
+    pub coverage: Vec<f64>,
+    /// Per slave point, the signed normal gap to the master surface
+    /// ([`normal_gaps`]; NaN where uncovered or off the surface).
+    pub normal_gaps: Vec<f64>,
+}
+
+/// What `seam check` reports on a pair of surfaces.
+///
+/// Non-finite numbers (the gap range when no slave node is covered)
+/// serialize as JSON `null`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CheckReport {
+    /// The master surface as the caller names it (a path for the CLI).
+    pub master: String,
+    /// The slave surface as the caller names it.
+    pub slave: String,
+    /// Slave faces.
+    pub slave_faces: usize,
+    /// Master faces.
+    pub master_faces: usize,
+    /// Area of the slave surface.
+    pub slave_area: f64,
+    /// Area of the master surface (each face integrated as the assembly would
+    /// integrate a slave face).
+    pub master_area: f64,
+    /// Slave area with a master face behind it.
+    pub covered_area: f64,
+    /// `covered_area / slave_area`.
+    pub covered_fraction: f64,
+    /// Slave points on the surface with no master behind them.
+    pub uncovered_slave_nodes: usize,
+    /// Up to five uncovered slave nodes: (1-based row, coordinates).
+    pub uncovered_examples: Vec<(usize, [f64; 3])>,
+    /// Ten equal bins from `min_normal_gap` to `max_normal_gap` counting the
+    /// covered slave nodes (empty if none is covered).
+    pub gap_histogram: Vec<GapBin>,
+    /// Smallest signed normal gap over the covered slave nodes (negative: an
+    /// overlap).
+    pub min_normal_gap: f64,
+    /// Largest signed normal gap over the covered slave nodes.
+    pub max_normal_gap: f64,
+    /// Slave edges whose two faces run them the same way (flipped neighbours).
+    pub slave_orientation_conflicts: usize,
+    /// Master edges whose two faces run them the same way.
+    pub master_orientation_conflicts: usize,
+    /// Shape of the slave faces.
+    pub slave_quality: Quality,
+    /// Shape of the master faces.
+    pub master_quality: Quality,
+    /// I1 and I2 measured on the assembled operator.
+    pub invariants: Vec<Invariant>,
+    /// Every slave node covered and every invariant within its tolerance.
+    pub ok: bool,
+}
+
+/// One bin of the normal-gap histogram, `[from, to)` (the last one closed).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct GapBin {
+    /// Lower end.
+    pub from: f64,
+    /// Upper end.
+    pub to: f64,
+    /// Covered slave nodes whose gap falls in the bin.
+    pub nodes: usize,
+}
+
+/// The worst faces of a surface.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Quality {
+    /// Smallest interior angle of any face, in degrees.
+    pub min_angle_degrees: f64,
+    /// Largest interior angle of any face, in degrees.
+    pub max_angle_degrees: f64,
+    /// Largest relative warp of a quad (0 for triangles).
+    pub max_warp: f64,
+}
+
+/// An invariant measured on the operator.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Invariant {
+    /// What is measured, for example "I1 max |T·1 − 1| on covered nodes".
+    pub name: &'static str,
+    /// The measured relative defect.
+    pub value: f64,
+    /// The largest defect that passes.
+    pub tolerance: f64,
+    /// `value <= tolerance`.
+    pub ok: bool,
+}
+
+/// Why a check produced no report.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum CheckError {
+    /// The assembly failed: no overlap within the limits, an option out of
+    /// range, a non-finite entry.
+    #[error(transparent)]
+    Assembly(MortarError),
+    /// The transfer operator T = D⁻¹B could not be formed (D not positive
+    /// definite on the covered nodes).
+    #[error("the transfer operator: {0}")]
+    Transfer(MortarError),
+}
+
+impl CheckError {
+    /// The mortar error behind it, whichever stage failed.
+    pub fn mortar_error(&self) -> &MortarError {
+        match self {
+            CheckError::Assembly(e) | CheckError::Transfer(e) => e,
+        }
+    }
+}
+
+/// Assembles the operator between `master` and `slave` with `options` and
+/// reports how the surfaces meet; `names` are (master, slave) as the report
+/// shows them.
+///
+/// Runs on the current rayon pool (`pool.install` to bound the threads).
+///
+/// # Errors
+/// [`CheckError::Assembly`] as [`assemble`]; [`CheckError::Transfer`] as
+/// [`Mortar::transfer`].
+pub fn check(
+    master: &SurfaceMesh,
+    slave: &SurfaceMesh,
+    options: &MortarOptions,
+    names: (&str, &str),
+) -> Result<Check, CheckError> {
+    let mortar = assemble(master, slave, options).map_err(CheckError::Assembly)?;
+    let transfer = mortar.transfer().map_err(CheckError::Transfer)?;
+    let gaps = normal_gaps(slave, master, &transfer, &mortar.covered);
+    let report = report(master, slave, &mortar, &transfer, &gaps, names);
+    Ok(Check { report, coverage: mortar.node_coverage, normal_gaps: gaps })
+}
+
+fn report(
+    master: &SurfaceMesh,
+    slave: &SurfaceMesh,
+    m: &Mortar,
+    t: &Transfer,
+    gaps: &[f64],
+    (master_name, slave_name): (&str, &str),
+) -> CheckReport {
+    let s = &m.summary;
+    let uncovered = m.uncovered_nodes();
+    let invariants = invariants(m, t, master);
+    let finite: Vec<f64> = gaps.iter().copied().filter(|g| g.is_finite()).collect();
+    let (lo, hi) = finite.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &g| (a.min(g), b.max(g)));
+    CheckReport {
+        master: master_name.to_string(),
+        slave: slave_name.to_string(),
+        slave_faces: s.slave_faces,
+        master_faces: s.master_faces,
+        slave_area: s.slave_area,
+        master_area: area(master),
+        covered_area: s.covered_area,
+        covered_fraction: s.covered_area / s.slave_area,
+        uncovered_slave_nodes: uncovered.len(),
+        uncovered_examples: uncovered.iter().take(EXAMPLES).map(|&p| (p + 1, slave.points()[p])).collect(),
+        gap_histogram: histogram(&finite, lo, hi, GAP_BINS),
+        min_normal_gap: lo,
+        max_normal_gap: hi,
+        slave_orientation_conflicts: orientation_conflicts(slave),
+        master_orientation_conflicts: orientation_conflicts(master),
+        slave_quality: quality(slave),
+        master_quality: quality(master),
+        ok: uncovered.is_empty() && invariants.iter().all(|i| i.ok),
+        invariants,
+    }
+}
+
+/// I1 and I2 measured on the assembled operator.
+fn invariants(m: &Mortar, t: &Transfer, master: &SurfaceMesh) -> Vec<Invariant> {
+    let (d1, b1) = (m.d.row_sums(), m.b.row_sums());
+    let scale = d1.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(f64::MIN_POSITIVE);
+    let i1 = d1.iter().zip(&b1).map(|(d, b)| (d - b).abs()).fold(0.0, f64::max) / scale;
+    let area = m.summary.covered_area.max(f64::MIN_POSITIVE);
+    let i2 = (m.d.sum() - area).abs().max((m.b.sum() - area).abs()) / area;
+    let t1 = t.apply(&vec![1.0; master.n_points()], 1);
+    let ones = (0..t1.len()).filter(|&p| m.covered[p]).map(|p| (t1[p] - 1.0).abs()).fold(0.0, f64::max);
+    let check = |name, value: f64, tolerance| Invariant { name, value, tolerance, ok: value <= tolerance };
+    vec![
+        check("I1 max |D·1 − B·1| / max D·1", i1, EXACT),
+        check("I2 |1ᵀD1 − covered area| / covered area", i2, EXACT),
+        check("I1 max |T·1 − 1| on covered nodes", ones, EXACT_TRANSFER),
+    ]
+}
+
+fn area(mesh: &SurfaceMesh) -> f64 {
+    (0..mesh.n_faces())
+        .map(|f| {
+            let e = FaceElement::of(mesh, f);
+            let degree = if e.is_planar() { 5 } else { warped_quad_degree(&e) };
+            face_integrals(&e, degree).iter().sum::<f64>()
+        })
+        .sum()
+}
+
+fn quality(mesh: &SurfaceMesh) -> Quality {
+    let q = face_quality(mesh);
+    Quality {
+        min_angle_degrees: q.iter().map(|f| f.min_angle_degrees).fold(f64::INFINITY, f64::min),
+        max_angle_degrees: q.iter().map(|f| f.max_angle_degrees).fold(0.0, f64::max),
+        max_warp: q.iter().map(|f| f.warp).fold(0.0, f64::max),
+    }
+}
+
+fn histogram(values: &[f64], lo: f64, hi: f64, bins: usize) -> Vec<GapBin> {
+    if values.is_empty() {
+        return Vec::new();
+    }
+    let width = if hi > lo { (hi - lo) / bins as f64 } else { 1.0 };
+    let mut counts = vec![0usize; bins];
+    for &v in values {
+        counts[(((v - lo) / width) as usize).min(bins - 1)] += 1;
+    }
+    counts
+        .into_iter()
+        .enumerate()
+        .map(|(i, n)| GapBin { from: lo + i as f64 * width, to: lo + (i + 1) as f64 * width, nodes: n })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use seam::generate::{flat, patch, Pattern};
+
+    fn run(master: &SurfaceMesh, slave: &SurfaceMesh) -> Check {
+        check(master, slave, &MortarOptions::default(), ("m.msh", "s.msh")).unwrap()
+    }
+
+    #[test]
+    fn full_inclusion_is_covered_and_keeps_the_invariants() {
+        let master = patch(5, 3, Pattern::Triangles, flat(1.0, 1.0));
+        let slave = patch(4, 4, Pattern::Quads, flat(1.0, 1.0));
+        let Check { report: r, coverage, normal_gaps } = run(&master, &slave);
+        assert_eq!((r.master.as_str(), r.slave.as_str()), ("m.msh", "s.msh"));
+        assert_eq!((r.slave_faces, r.master_faces), (16, 30));
+        assert!((r.covered_fraction - 1.0).abs() < 1e-14, "{}", r.covered_fraction);
+        assert!((r.master_area - 1.0).abs() < 1e-14, "{}", r.master_area);
+        assert_eq!(r.uncovered_slave_nodes, 0);
+        assert!(r.uncovered_examples.is_empty());
+        assert_eq!(r.invariants.len(), 3);
+        assert!(r.invariants.iter().all(|i| i.ok && i.value <= i.tolerance), "{:?}", r.invariants);
+        assert!(r.ok);
+        // Coplanar: every gap is 0, all in one bin of the histogram.
+        assert!(r.min_normal_gap.abs() < 1e-14 && r.max_normal_gap.abs() < 1e-14);
+        assert_eq!(r.gap_histogram.len(), GAP_BINS);
+        assert_eq!(r.gap_histogram.iter().map(|b| b.nodes).sum::<usize>(), 25);
+        assert_eq!((r.slave_orientation_conflicts, r.master_orientation_conflicts), (0, 0));
+        let q = r.slave_quality;
+        assert!(
+            (q.min_angle_degrees - 90.0).abs() < 1e-12 && (q.max_angle_degrees - 90.0).abs() < 1e-12,
+            "{q:?}"
+        );
+        assert_eq!(q.max_warp, 0.0);
+        assert_eq!((coverage.len(), normal_gaps.len()), (25, 25));
+        assert!(coverage.iter().all(|&c| (c - 1.0).abs() < 1e-12));
+    }
+
+    #[test]
+    fn partial_overlap_names_the_uncovered_nodes() {
+        // A 2 × 1 slave rectangle on the unit-square master: the slave points
+        // at x = 2 (rows 3 and 6) have no master behind them.
+        let master = patch(3, 3, Pattern::Triangles, flat(1.0, 1.0));
+        let slave = patch(2, 1, Pattern::Quads, flat(2.0, 1.0));
+        let Check { report: r, normal_gaps, .. } = run(&master, &slave);
+        assert!((r.covered_fraction - 0.5).abs() < 1e-14, "{}", r.covered_fraction);
+        assert_eq!(r.uncovered_slave_nodes, 2);
+        assert_eq!(r.uncovered_examples, vec![(3, [2.0, 0.0, 0.0]), (6, [2.0, 1.0, 0.0])]);
+        assert!(normal_gaps[2].is_nan() && normal_gaps[5].is_nan());
+        assert_eq!(r.gap_histogram.iter().map(|b| b.nodes).sum::<usize>(), 4);
+        assert!(r.invariants.iter().all(|i| i.ok), "{:?}", r.invariants);
+        assert!(!r.ok);
+    }
+
+    #[test]
+    fn json_keys_are_those_of_seam_check() {
+        let master = patch(2, 2, Pattern::Triangles, flat(1.0, 1.0));
+        let slave = patch(2, 2, Pattern::Quads, flat(1.0, 1.0));
+        let json = serde_json::to_string(&run(&master, &slave).report).unwrap();
+        let keys = [
+            "master",
+            "slave",
+            "slave_faces",
+            "master_faces",
+            "slave_area",
+            "master_area",
+            "covered_area",
+            "covered_fraction",
+            "uncovered_slave_nodes",
+            "uncovered_examples",
+            "gap_histogram",
+            "min_normal_gap",
+            "max_normal_gap",
+            "slave_orientation_conflicts",
+            "master_orientation_conflicts",
+            "slave_quality",
+            "master_quality",
+            "invariants",
+            "ok",
+        ];
+        let at: Vec<usize> = keys.iter().map(|k| json.find(&format!("\"{k}\":")).unwrap()).collect();
+        assert!(at.windows(2).all(|w| w[0] < w[1]), "keys out of order: {json}");
+        for k in [
+            "\"from\":",
+            "\"to\":",
+            "\"nodes\":",
+            "\"min_angle_degrees\":",
+            "\"max_warp\":",
+            "\"tolerance\":",
+        ] {
+            assert!(json.contains(k), "{k} missing: {json}");
+        }
+    }
+
+    #[test]
+    fn an_assembly_failure_says_which_stage() {
+        let master = patch(1, 1, Pattern::Quads, |u, v| [u + 5.0, v, 0.0]);
+        let slave = patch(1, 1, Pattern::Quads, flat(1.0, 1.0));
+        let e = check(&master, &slave, &MortarOptions::default(), ("m", "s")).unwrap_err();
+        assert!(matches!(e, CheckError::Assembly(MortarError::NoOverlap { .. })), "{e:?}");
+        assert_eq!(e.to_string(), e.mortar_error().to_string());
+    }
+}
