@@ -1100,3 +1100,40 @@ fn interface_solutions(
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{bulging_contact, BulgingContact};
+
+    /// The saddle point per step (used with glued interfaces that do not
+    /// eliminate) and the rotated, condensed system take the same active-set
+    /// steps to the same solution, on a contact that spreads over several
+    /// steps (the bulging bodies).
+    #[test]
+    fn the_saddle_path_matches_the_rotated_one_over_several_steps() {
+        let problem =
+            bulging_contact(&BulgingContact { cells: 8, layers: 4, ..BulgingContact::default() }).unwrap();
+        let prepared = problem.loads_and_supports().unwrap();
+        let (bodies, interfaces) = (problem.solver_bodies(&prepared), problem.coupled());
+        let options = ContactOptions::default();
+        let mut seconds = Timings::default();
+        let system = assemble_system(&bodies, &interfaces, &mut seconds).unwrap();
+        let constraints = Constraints::new(&interfaces, &system.mortars, &system.offsets, &system.dirichlet);
+        let a = rotated_steps(&bodies, &interfaces, &options, &system, &constraints, &mut seconds).unwrap();
+        let b = saddle_steps(&bodies, &interfaces, &options, &system, &constraints, &mut seconds).unwrap();
+        assert!(a.steps.len() >= 2, "{:?}", a.steps);
+        assert_eq!(a.steps, b.steps);
+        assert_eq!(a.active, b.active);
+        let max = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, x| m.max(x.abs()));
+        let u_scale = max(&mut a.u.iter().copied());
+        let mu_scale = max(&mut a.mu.iter().copied());
+        let du = max(&mut a.u.iter().zip(&b.u).map(|(x, y)| x - y));
+        let dmu = max(&mut a.mu.iter().zip(&b.mu).map(|(x, y)| x - y));
+        assert!(
+            du <= 1e-9 * u_scale && dmu <= 1e-8 * mu_scale,
+            "u {du:e} of {u_scale:e}, μ {dmu:e} of {mu_scale:e}"
+        );
+        assert!(b.kkt.max() <= 1e-10, "{:?}", b.kkt);
+    }
+}

@@ -174,7 +174,7 @@ impl Problem {
     }
 
     /// The solver's view of the bodies with their loads and supports.
-    fn solver_bodies(&self, prepared: &[(Vec<f64>, Dirichlet)]) -> Vec<Body<'_>> {
+    pub(crate) fn solver_bodies(&self, prepared: &[(Vec<f64>, Dirichlet)]) -> Vec<Body<'_>> {
         self.bodies
             .iter()
             .zip(prepared)
@@ -188,7 +188,7 @@ impl Problem {
     }
 
     /// The solver's view of the interfaces.
-    fn coupled(&self) -> Vec<Interface<'_>> {
+    pub(crate) fn coupled(&self) -> Vec<Interface<'_>> {
         self.interfaces
             .iter()
             .map(|f| Interface {
