@@ -65,9 +65,11 @@
 //! - [`Solver::Pcg`]: every step solves the whole system by PCG, warm-started
 //!   from the previous step.
 
-use crate::glue::{assemble_system, check_input, free_dofs, prolongation, triple_product, Body, GlueError};
-use crate::glue::{interface_solutions as glued_solutions, saddle_point, Constraints, Coupling, Interface};
-use crate::glue::{InterfaceSolution, Row, Solver, System, Timings, NONE};
+use crate::glue::{interface_solutions as glued_solutions, InterfaceSolution};
+use crate::multibody::{assemble_system, check_input, free_dofs, prolongation, saddle_point, triple_product};
+use crate::multibody::{
+    Body, Constraints, Coupling, GlueError, Interface, Row, Solver, System, Timings, NONE,
+};
 use crate::pcg::solve_pcg_from;
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
@@ -551,7 +553,7 @@ impl Glued {
     fn multipliers(
         &self,
         constraints: &Constraints,
-        system: &crate::glue::System,
+        system: &System,
         u: &[f64],
         points: &[ContactPoint],
         mu: &[f64],

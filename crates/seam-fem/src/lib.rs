@@ -15,6 +15,9 @@
 //! | E, ν → λ, μ, C | [`material`] |
 //! | K, body-force and traction loads (parallel, deterministic) | [`assembly`] |
 //! | Dirichlet conditions, sparse Cholesky solve | [`solve`](mod@solve) |
+//! | bodies, interfaces, one dof numbering, glued constraints, saddle point | [`multibody`] |
+//! | gluing (paper's first application) | [`glue`] |
+//! | frictionless contact, mixed with glue (second application) | [`contact`] |
 //! | cell, nodal and von Mises stresses | [`stress`] |
 //! | structured blocks for tests and examples | [`generate`] |
 //!
@@ -46,6 +49,7 @@ pub mod element;
 pub mod generate;
 pub mod glue;
 pub mod material;
+pub mod multibody;
 pub mod problem;
 pub mod saddle;
 pub mod scene;
