@@ -1170,3 +1170,34 @@ fn contact_summary(
         interfaces,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_options_and_cases_fail_in_one_line_before_any_work() {
+        let rtol = SolveOptions { solver: LinearSolver::Pcg, rtol: 2.0 };
+        let e = solve_case(Path::new("nowhere.toml"), &rtol).err().unwrap();
+        assert_eq!(e, SolveFailure::Error("rtol 2 must lie in (0, 1)".into()));
+        let e = solve_case(Path::new("nowhere.toml"), &SolveOptions::default()).err().unwrap();
+        assert!(
+            matches!(&e, SolveFailure::Error(m) if m.contains("nowhere.toml") && !m.contains('\n')),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_json_case_is_its_toml_case() {
+        let toml = "[[body]]\nname = \"a\"\nmesh = \"a.msh\"\nyoung = 1.0\npoisson = 0.3\n\n\
+                    [[dirichlet]]\nboundary = \"a:bottom\"\nux = 0.0\nuy = 0.0\nuz = 0.0\n";
+        let json = r#"{"body": [{"name": "a", "mesh": "a.msh", "young": 1.0, "poisson": 0.3}],
+                       "dirichlet": [{"boundary": "a:bottom", "ux": 0.0, "uy": 0.0, "uz": 0.0}]}"#;
+        let (a, b) =
+            (Case::from_toml(toml, Path::new("d")).unwrap(), Case::from_json(json, Path::new("d")).unwrap());
+        assert_eq!(a.mesh_paths(), b.mesh_paths());
+        assert_eq!(a.bodies.len(), b.bodies.len());
+        let e = Case::from_json(r#"{"body": [], "bogus": 1}"#, Path::new("d")).unwrap_err().to_string();
+        assert!(e.contains("bogus"), "{e}");
+    }
+}
