@@ -5,8 +5,9 @@
     >>> op = seam.assemble(master, slave, multiplier="dual")        # doctest: +SKIP
     >>> u_slave = op.transfer(u_master)                             # doctest: +SKIP
     >>> seam.check("master.msh", "slave.msh")["covered_fraction"]   # doctest: +SKIP
+    >>> seam.solve("case.toml").summary["bodies"][0]["max_displacement"]  # doctest: +SKIP
 
-See ``help(seam.assemble)``, ``help(seam.Mortar)`` and ``help(seam.check)``.
+See ``help(seam.assemble)``, ``help(seam.Mortar)``, ``help(seam.check)`` and ``help(seam.solve)``.
 """
 
 from ._seam import (
@@ -18,10 +19,13 @@ from ._seam import (
     MortarError,
     MshError,
     NoOverlapError,
+    Solution,
+    SolveError,
     __version__,
     assemble,
     check,
     read_mesh,
+    solve,
 )
 
 __all__ = [
@@ -33,8 +37,11 @@ __all__ = [
     "MortarError",
     "MshError",
     "NoOverlapError",
+    "Solution",
+    "SolveError",
     "__version__",
     "assemble",
     "check",
     "read_mesh",
+    "solve",
 ]

@@ -19,10 +19,13 @@ __all__ = [
     "MortarError",
     "MshError",
     "NoOverlapError",
+    "Solution",
+    "SolveError",
     "__version__",
     "assemble",
     "check",
     "read_mesh",
+    "solve",
 ]
 
 __version__: str
@@ -281,4 +284,35 @@ def check(
     Raises:
         As ``assemble``; as ``read_mesh`` for a path; FactorizationError when
         T = D⁻¹B cannot be formed.
+    """
+
+class SolveError(ValueError):
+    """``solve`` could not solve the case or write its results (the one-line message of ``seam solve``)."""
+
+@final
+class Solution:
+    """A solved case (``solve``)."""
+
+    @property
+    def summary(self) -> dict:
+        """The content of summary.json."""
+    @property
+    def bodies(self) -> dict:
+        """Per body name: ``.points``, ``.displacement`` (n, 3), ``.stress`` (cells, 6), ``.von_mises``."""
+    @property
+    def interfaces(self) -> list:
+        """Per interface in case order: ``.master``, ``.slave``, ``.kind`` and its point fields."""
+    def write(self, dir: Union[str, "os.PathLike[str]"], force: bool = False) -> dict:
+        """Writes the files of ``seam solve`` into ``dir``; returns the summary written."""
+
+def solve(
+    case: Union[str, "os.PathLike[str]", dict],
+    solver: Literal["direct", "pcg"] = "direct",
+    threads: Optional[int] = None,
+) -> Solution:
+    """Solves a case (a case file, or a dict with its schema) as ``seam solve`` does, without writing.
+
+    Raises:
+        SolveError: The one-line message of ``seam solve``.
+        ValueError: An unknown solver, threads < 1.
     """

@@ -10,6 +10,7 @@
 //! | `MortarError::Factorization` | `seam.FactorizationError` (idem) |
 //! | `MortarError::NonFinite` | `seam.MortarError` |
 //! | `seam_case::CheckError` | as its `MortarError` |
+//! | `seam_case::solve::SolveFailure` | `seam.SolveError` (a `ValueError`) |
 //!
 //! Messages are the Rust `Display` text, unchanged.
 
@@ -49,6 +50,13 @@ create_exception!(
     FactorizationError,
     MortarError,
     "D restricted to the covered slave nodes is not positive definite."
+);
+
+create_exception!(
+    seam,
+    SolveError,
+    PyValueError,
+    "`seam.solve` could not solve the case or write its results (the one-line message of `seam solve`)."
 );
 
 /// `seam.MeshError` with the message of `e`.

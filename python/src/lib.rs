@@ -7,6 +7,7 @@
 //! | `seam.assemble` | [`seam::assemble`] on a rayon pool, GIL released |
 //! | `seam.check` | [`seam_case::check()`], its report through `json.loads` |
 //! | `seam.Mortar` | [`seam::Mortar`] + its [`seam::Transfer`] ([`mortar::PyMortar`]) |
+//! | `seam.solve`, `seam.Solution` | [`seam_case::solve`], GIL released ([`solve::PySolution`]) |
 //! | exceptions | [`error`] |
 #![forbid(unsafe_code)]
 
@@ -15,6 +16,7 @@ mod convert;
 mod error;
 mod mesh;
 mod mortar;
+mod solve;
 
 use pyo3::prelude::*;
 
@@ -25,13 +27,16 @@ fn _seam(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<mortar::PyMortar>()?;
     m.add_function(wrap_pyfunction!(mesh::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mortar::assemble, m)?)?;
+    m.add_class::<solve::PySolution>()?;
     m.add_function(wrap_pyfunction!(check::check, m)?)?;
+    m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
     m.add("MeshError", py.get_type::<error::MeshError>())?;
     m.add("MshError", py.get_type::<error::MshError>())?;
     m.add("MortarError", py.get_type::<error::MortarError>())?;
     m.add("InvalidOptionError", py.get_type::<error::InvalidOptionError>())?;
     m.add("NoOverlapError", py.get_type::<error::NoOverlapError>())?;
     m.add("FactorizationError", py.get_type::<error::FactorizationError>())?;
+    m.add("SolveError", py.get_type::<error::SolveError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

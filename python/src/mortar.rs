@@ -87,17 +87,7 @@ impl Coupling {
     /// Runs on `threads` worker threads (checked against the cores), or on all
     /// cores for `None`.
     pub fn on_threads(self, threads: Option<i64>) -> PyResult<Self> {
-        let Some(n) = threads else { return Ok(self) };
-        let n = match usize::try_from(n) {
-            Ok(n) if n >= 1 => seam_case::threads::check_threads(n)
-                .map_err(|e| PyValueError::new_err(format!("threads={n}: {e}")))?,
-            _ => return Err(PyValueError::new_err(format!("threads must be at least 1, got {n}"))),
-        };
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(|e| PyOSError::new_err(format!("cannot start {n} worker threads: {e}")))?;
-        Ok(Coupling { pool: Some(pool), ..self })
+        Ok(Coupling { pool: thread_pool(threads)?, ..self })
     }
 
     /// `f(options)` on the worker threads, the GIL released.
@@ -353,4 +343,21 @@ impl PyMortar {
             s.uncovered_slave_nodes
         )
     }
+}
+
+/// A pool of `threads` worker threads (`None`: rayon's global pool).
+///
+/// Raises ValueError for fewer than 1 or more than a few per core.
+pub fn thread_pool(threads: Option<i64>) -> PyResult<Option<rayon::ThreadPool>> {
+    let Some(n) = threads else { return Ok(None) };
+    let n = match usize::try_from(n) {
+        Ok(n) if n >= 1 => seam_case::threads::check_threads(n)
+            .map_err(|e| PyValueError::new_err(format!("threads={n}: {e}")))?,
+        _ => return Err(PyValueError::new_err(format!("threads must be at least 1, got {n}"))),
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .map_err(|e| PyOSError::new_err(format!("cannot start {n} worker threads: {e}")))?;
+    Ok(Some(pool))
 }

@@ -312,7 +312,7 @@ impl Case {
         let text = read_text(path).map_err(|e| e.with_path(path))?;
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let case = Case::from_toml(&text, &base).map_err(|e| e.with_path(path))?;
-        case.check_meshes().map_err(|e| e.with_path(path))?;
+        case.check_mesh_files().map_err(|e| e.with_path(path))?;
         Ok(case)
     }
 
@@ -326,6 +326,21 @@ impl Case {
         case.base = base.to_path_buf();
         case.check()?;
         Ok(case)
+    }
+
+    /// Parses and checks a case given as JSON with the schema of a case file
+    /// (as a Python dict is), whose relative paths are relative to `base`:
+    /// the JSON becomes TOML text for [`Case::from_toml`]. Does not touch the
+    /// file system.
+    ///
+    /// # Errors
+    /// A [`CaseError`]: JSON that is no table of TOML values (a null, say), or
+    /// as [`Case::from_toml`].
+    pub fn from_json(json: &str, base: &Path) -> Result<Case, CaseError> {
+        let value: toml::Table =
+            serde_json::from_str(json).map_err(|e| CaseError::new(format!("not a case: {e}")))?;
+        let text = toml::to_string(&value).map_err(|e| CaseError::new(format!("not a case: {e}")))?;
+        Case::from_toml(&text, base)
     }
 
     /// Whether the case has contact interfaces.
@@ -348,8 +363,11 @@ impl Case {
     }
 
     /// Every mesh is a regular file (a directory, a device or a pipe would fail
-    /// later, or never end).
-    fn check_meshes(&self) -> Result<(), CaseError> {
+    /// later, or never end); [`Case::read`] checks it.
+    ///
+    /// # Errors
+    /// A [`CaseError`] naming the body and its mesh.
+    pub fn check_mesh_files(&self) -> Result<(), CaseError> {
         for b in &self.bodies {
             let mesh = self.resolve(&b.mesh);
             if let Err(why) = regular_file(&mesh) {

@@ -8,6 +8,10 @@
 //! | expressions in x, y, z of `seam transfer --expr` | [`expression`] | syntax, variables, size and nesting; every value finite |
 //! | worker threads (`--threads`, `threads=`) | [`threads`] | at least 1, at most a few per core |
 //!
+//! And the pipeline of `seam solve` and `seam.solve`: [`solve`] reads the
+//! meshes of a checked case, solves it and writes its results all-or-nothing
+//! ([`output::Staged`]).
+//!
 //! Errors display as one line naming the file (or the expression) and the item
 //! at fault.
 //!
@@ -19,6 +23,8 @@
 pub mod case;
 pub mod check;
 pub mod expression;
+pub mod output;
+pub mod solve;
 pub mod threads;
 
 pub use case::{

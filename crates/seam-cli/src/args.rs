@@ -204,16 +204,6 @@ pub enum SolverArg {
     Pcg,
 }
 
-impl SolverArg {
-    /// The name written to summary.json.
-    pub fn name(self) -> &'static str {
-        match self {
-            SolverArg::Direct => "direct",
-            SolverArg::Pcg => "pcg",
-        }
-    }
-}
-
 #[derive(Args, Debug, Clone)]
 pub struct SolveArgs {
     /// The case file (TOML; schema in the README). Meshes and the output

@@ -1,7 +1,6 @@
 //! `seam assemble MASTER SLAVE -o DIR`: read, search, assemble, write.
 
 use crate::args::{AssembleArgs, CouplingArgs, FacingArg, MultiplierArg};
-use crate::output::Staged;
 use crate::Failure;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -9,6 +8,7 @@ use seam::{
     assemble_with_tree, Face, FaceTree, Facing, MaxGap, Mortar, MortarOptions, MortarSummary, Multiplier,
     Point3, Segment, SurfaceMesh,
 };
+use seam_case::output::Staged;
 use seam_io::Field;
 use serde::Serialize;
 use std::path::Path;

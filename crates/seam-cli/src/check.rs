@@ -4,9 +4,9 @@
 use crate::args::CheckArgs;
 use crate::assemble::{options, thread_pool};
 use crate::input::Surface;
-use crate::output::Staged;
 use crate::Failure;
 use anyhow::{anyhow, Context};
+use seam_case::output::Staged;
 use seam_case::{Check, CheckError, CheckReport};
 use seam_io::Field;
 use std::path::PathBuf;

@@ -2,10 +2,10 @@
 
 use crate::args::{AssembleArgs, CouplingArgs, ExampleArgs, ExampleName, FacingArg, MultiplierArg, PairArgs};
 use crate::assemble::{self, Assembled};
-use crate::output::Staged;
 use crate::Failure;
 use seam::generate::{patch, Pattern};
 use seam::{Mortar, Point3, SurfaceMesh};
+use seam_case::output::Staged;
 use std::path::Path;
 
 pub fn run(args: &ExampleArgs) -> Result<(), Failure> {

@@ -15,7 +15,6 @@ mod check;
 mod example;
 mod hertz;
 mod input;
-mod output;
 mod render;
 mod scene_case;
 mod solve;
@@ -24,6 +23,7 @@ mod warped_glue;
 
 use args::{Cli, Command};
 use clap::Parser;
+use seam_case::solve::one_line;
 use std::process::ExitCode;
 
 /// What went wrong, sorted by exit code.
@@ -106,21 +106,4 @@ fn usage_error(e: clap::Error) -> ExitCode {
     let message = message.strip_prefix("error: ").unwrap_or(&message);
     eprintln!("seam: error: {message} (see seam --help)");
     ExitCode::from(2)
-}
-
-/// The error and its causes on one line, "context: cause: cause", leaving out a
-/// cause whose text the line already holds (many errors quote their source).
-fn one_line(e: &anyhow::Error) -> String {
-    let mut line = String::new();
-    for cause in e.chain() {
-        let text = cause.to_string();
-        if line.contains(&text) {
-            continue;
-        }
-        if !line.is_empty() {
-            line.push_str(": ");
-        }
-        line.push_str(&text);
-    }
-    line.replace('\n', " ")
 }

@@ -12,11 +12,11 @@
 //! and names that are not plain (letters, digits, `-`, `_`, `.`).
 
 use crate::args::{ExampleArgs, SolveArgs, SolverArg};
-use crate::output::Staged;
 use crate::solve::{self, Solved};
 use crate::Failure;
 use anyhow::{anyhow, bail, Result};
 use seam::{Facing, MaxGap, MortarOptions, Multiplier};
+use seam_case::output::Staged;
 use seam_fem::{Coupling, Problem};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

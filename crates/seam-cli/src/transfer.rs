@@ -4,10 +4,10 @@
 use crate::args::{ModeArg, TransferArgs};
 use crate::assemble::{options, thread_pool};
 use crate::input::{check_finite, Surface};
-use crate::output::Staged;
 use crate::Failure;
 use anyhow::{bail, Context};
 use seam::{assemble, normal_gaps, Mortar, MortarOptions, Multiplier, SurfaceMesh};
+use seam_case::output::Staged;
 use seam_case::Expression;
 use seam_io::Field;
 use serde::Serialize;

@@ -17,9 +17,11 @@
 //! `--force`, and an input never.
 
 use anyhow::{bail, Context, Result};
+
 use std::fs;
 use std::path::{Path, PathBuf};
 
+/// Output files of one run, written all-or-nothing (module doc).
 pub struct Staged {
     force: bool,
     /// Directories this run created, deepest last.

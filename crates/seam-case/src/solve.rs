@@ -1,0 +1,1203 @@
+//! The pipeline of `seam solve CASE.toml` and `seam.solve`: linear-elastic
+//! bodies glued by mortar across non-matching interfaces and in frictionless
+//! contact through them, in any mix (the case schema is in [`crate::case`]).
+//!
+//! [`solve_case`] reads, checks and solves a case without writing;
+//! [`Solved::write`] writes its results; [`solve_case_to_output`] does both
+//! as `seam solve` does, the outputs checked before the meshes are read.
+//!
+//! Order of work: the case is read and checked ([`Case::read`]); the output
+//! files are checked (none exists unless `force`, the directory is
+//! writable; [`solve_case_to_output`] only); the meshes are read and every named surface is looked up; only
+//! then is anything assembled. Results are written all-or-nothing
+//! ([`Staged`]):
+//!
+//! - `<dir>/<body>.vtu` per body: point data `displacement` (3), nodal
+//!   `stress` (6, Voigt xx yy zz yz xz xy; volume-weighted average of the
+//!   cells around the point) and `von_mises`; cell data `stress` (6, at the
+//!   cell centre) and `von_mises`.
+//! - `<dir>/<slave body>_<surface>_interface.vtu` per interface: the slave
+//!   surface (its own points only) with point data `traction` (3, force per
+//!   area exerted by the master on the slave, −λ), `normal_traction` (t·n with
+//!   n the slave's outward nodal normal: negative is compression),
+//!   `tangential_traction` (3, t − (t·n)n), `normal` (3), `displacement` (3),
+//!   `constrained` (1 where the interface constrains the point, else 0) and
+//!   `body_point` (the point's 0-based index in the body's mesh). For a
+//!   contact interface `traction` is −λ n, `normal` the normal of the contact
+//!   constraint, `constrained` 1 at the contact points, and there are also
+//!   `contact_pressure` (λ ≥ 0), `gap` (after deformation, ≥ 0), `initial_gap`
+//!   (both NaN where the point is no contact point) and `active` (1 where the
+//!   point is in contact at the solution, else 0).
+//! - `<dir>/summary.json` (written last); for a case with contact, with a
+//!   `contact` object: active-set steps, active points, forces, KKT residuals.
+//!
+//! Names in file names keep letters, digits, `-`, `_` and `.`; any other
+//! character becomes `_`.
+
+use crate::output::Staged;
+use crate::{Case, CaseMultiplier, InterfaceKind, SurfaceRef};
+use anyhow::{anyhow, Context};
+use rayon::prelude::*;
+use seam::{Face, Facing, MaxGap, Mortar, MortarOptions, MortarSummary, Multiplier, Point3, SurfaceMesh};
+use seam_fem::contact::{ContactInterfaceSolution, ContactOptions, ContactReport};
+use seam_fem::glue::{GlueReport, InterfaceSolution, Timings};
+use seam_fem::pcg::PcgOptions;
+use seam_fem::{
+    recover_stresses, GlueError, Load, Material, Problem, ProblemBody, ProblemInterface, Stresses, Support,
+    SurfaceId,
+};
+use seam_io::Field;
+use serde::Serialize;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// A solved case: its problem, solution and results, and what `summary.json` holds.
+pub struct Solved {
+    /// The output directory.
+    pub out_dir: PathBuf,
+    /// The bodies, interfaces, supports and loads, as read.
+    pub problem: Problem,
+    /// Displacements, multipliers and the solver's report.
+    pub solution: Solution,
+    /// Per interface: the slave surface and its tractions.
+    pub interfaces: Vec<InterfaceResult>,
+    /// Per body: the recovered stresses.
+    pub stresses: Vec<Stresses>,
+    /// What `summary.json` holds.
+    pub summary: Summary,
+    case: Case,
+    case_path: PathBuf,
+    /// Per body: the point and cell fields of its VTU file.
+    body_files: Vec<(Vec<Field>, Vec<Field>)>,
+    /// Per interface: the point fields of its VTU file.
+    interface_files: Vec<Vec<Field>>,
+}
+
+/// The solution of a case.
+pub struct Solution {
+    /// Per body: displacements, 3 per mesh point.
+    pub displacement: Vec<Vec<f64>>,
+    /// Per interface, in case order.
+    pub interfaces: Vec<Coupled>,
+    /// The solver's report.
+    pub report: Report,
+}
+
+/// One interface's solution.
+pub enum Coupled {
+    /// A glued interface.
+    Glue(InterfaceSolution),
+    /// A contact interface.
+    Contact(ContactInterfaceSolution),
+}
+
+/// The solver's report: the glue solver's, or, when the case has contact
+/// interfaces, the contact solver's.
+pub enum Report {
+    /// Glued interfaces only ([`seam_fem::solve_glued`]).
+    Glue(GlueReport),
+    /// Contact interfaces, and glued ones if any ([`seam_fem::solve_contact`]).
+    Contact(ContactReport),
+}
+
+impl Solution {
+    /// Solves `problem` with its glued and contact interfaces.
+    fn of(problem: &Problem, case: &Case, solver: seam_fem::Solver) -> Result<Solution, GlueError> {
+        if problem.has_contact() {
+            let options = ContactOptions { solver, max_iterations: case.contact.max_iterations };
+            let s = problem.solve_contact(&options)?;
+            let (mut glued, mut contact) = (s.glued.into_iter(), s.interfaces.into_iter());
+            let interfaces = problem
+                .interfaces
+                .iter()
+                .map(|f| match f.kind {
+                    seam_fem::Coupling::Glue => glued.next().map(Coupled::Glue),
+                    seam_fem::Coupling::Contact => contact.next().map(Coupled::Contact),
+                })
+                .collect::<Option<Vec<_>>>()
+                .expect("one solution per interface");
+            Ok(Solution { displacement: s.displacement, interfaces, report: Report::Contact(s.report) })
+        } else {
+            let s = problem.solve(solver)?;
+            let interfaces = s.interfaces.into_iter().map(Coupled::Glue).collect();
+            Ok(Solution { displacement: s.displacement, interfaces, report: Report::Glue(s.report) })
+        }
+    }
+
+    /// Seconds per phase of the solver.
+    fn timings(&self) -> Timings {
+        match &self.report {
+            Report::Glue(report) => report.seconds,
+            Report::Contact(report) => report.seconds,
+        }
+    }
+
+    /// Interface `i`'s mortar operator, the resultant force of the master on
+    /// the slave, and its constrained (or contact) slave points.
+    fn interface(&self, i: usize) -> (&Mortar, [f64; 3], usize) {
+        match &self.interfaces[i] {
+            Coupled::Glue(s) => {
+                (&s.mortar, s.force, s.constrained.iter().filter(|c| c.iter().any(|&x| x)).count())
+            }
+            Coupled::Contact(s) => (&s.mortar, s.force, s.contact.iter().filter(|&&c| c).count()),
+        }
+    }
+}
+
+/// One interface's result on its slave surface, on the surface's own points.
+pub struct InterfaceResult {
+    /// The slave surface, compacted to the points its faces use.
+    pub mesh: SurfaceMesh,
+    /// Index of each compacted point in the slave body's mesh.
+    pub body_point: Vec<usize>,
+    /// Per point: traction exerted by the master on the slave (−λ; for
+    /// contact −λ n).
+    pub traction: Vec<[f64; 3]>,
+    /// Per point: the slave's outward unit normal (for contact, at a contact
+    /// point, the normal of its constraint).
+    pub normal: Vec<Point3>,
+    /// Per point: t·n.
+    pub normal_traction: Vec<f64>,
+    /// Per point: t − (t·n) n.
+    pub tangential_traction: Vec<[f64; 3]>,
+    /// Per point: the slave body's displacement.
+    pub displacement: Vec<[f64; 3]>,
+    /// Per point: 1 when this interface constrains it (is a contact point), else 0.
+    pub constrained: Vec<f64>,
+    /// The contact fields of a contact interface.
+    pub contact: Option<ContactFields>,
+}
+
+/// A contact interface's fields, per point of [`InterfaceResult::mesh`].
+pub struct ContactFields {
+    /// The contact pressure λ ≥ 0.
+    pub pressure: Vec<f64>,
+    /// The gap after deformation (NaN off the contact points).
+    pub gap: Vec<f64>,
+    /// The initial gap (NaN off the contact points).
+    pub initial_gap: Vec<f64>,
+    /// 1 in the final active set, else 0.
+    pub active: Vec<f64>,
+}
+
+/// `summary.json`. For a case with contact `constraints` counts the glued
+/// constraint rows plus the contact points, `iterations` the active-set steps
+/// and `residual` is the largest KKT residual; `contact` has the details.
+#[derive(Serialize, Clone)]
+pub struct Summary {
+    /// The case file, as given.
+    pub case: String,
+    /// The directory the results are written to.
+    pub output_dir: String,
+    /// "direct" or "pcg".
+    pub solver: &'static str,
+    /// The method the solver used, e.g. "saddle-point LU".
+    pub method: &'static str,
+    /// The interfaces' multiplier when they share one, "mixed" otherwise,
+    /// "none" without interfaces.
+    pub multiplier: String,
+    /// Degrees of freedom (3 per mesh point).
+    pub dofs: usize,
+    /// Constraint rows.
+    pub constraints: usize,
+    /// Solver iterations (refinement steps of a direct solve).
+    pub iterations: usize,
+    /// The relative residual of the solution.
+    pub residual: f64,
+    /// Sum of all applied loads (tractions and body forces).
+    pub applied_load: [f64; 3],
+    /// Per body, in case order.
+    pub bodies: Vec<BodySummary>,
+    /// Per interface, in case order.
+    pub interfaces: Vec<InterfaceSummary>,
+    /// Contact cases only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactSummary>,
+    /// Seconds per phase.
+    pub seconds: Seconds,
+    /// Worker threads.
+    pub threads: usize,
+    /// The version of seam.
+    pub seam_version: &'static str,
+}
+
+/// The `contact` object of `summary.json`.
+#[derive(Serialize, Clone)]
+pub struct ContactSummary {
+    /// The linear solver of the steps.
+    pub method: &'static str,
+    /// Active-set steps, the last one confirming the active set.
+    pub iterations: usize,
+    /// The cap (`[contact] max_iterations`).
+    pub max_iterations: usize,
+    /// The active-set steps.
+    pub steps: Vec<StepSummary>,
+    /// Slave points with a contact constraint, all interfaces.
+    pub contact_points: usize,
+    /// Of those, the points in contact at the solution.
+    pub active_points: usize,
+    /// The KKT residuals.
+    pub kkt: KktSummary,
+    /// Per interface, in case order.
+    pub interfaces: Vec<ContactInterfaceSummary>,
+}
+
+/// One active-set step.
+#[derive(Serialize, Clone)]
+pub struct StepSummary {
+    /// Active points during the step's solve.
+    pub active: usize,
+    /// Points that become active after it.
+    pub added: usize,
+    /// Points that become inactive after it.
+    pub removed: usize,
+    /// PCG iterations (0 for a direct solve).
+    pub linear_iterations: usize,
+}
+
+/// The relative KKT residuals of the contact solution.
+#[derive(Serialize, Clone)]
+pub struct KktSummary {
+    /// Equilibrium residual.
+    pub equilibrium: f64,
+    /// Negative pressure residual.
+    pub pressure: f64,
+    /// Penetration residual.
+    pub penetration: f64,
+    /// Complementarity residual.
+    pub complementarity: f64,
+    /// The largest of the four.
+    pub max: f64,
+}
+
+/// One contact interface.
+#[derive(Serialize, Clone)]
+pub struct ContactInterfaceSummary {
+    /// The master surface, "body:surface".
+    pub master: String,
+    /// The slave surface, "body:surface".
+    pub slave: String,
+    /// Slave points with a contact constraint.
+    pub contact_points: usize,
+    /// Of those, the points in contact at the solution.
+    pub active_points: usize,
+    /// Resultant contact force of the master on the slave, −Σ_p d_p λ_p n_p.
+    pub force: [f64; 3],
+    /// Its magnitude.
+    pub force_magnitude: f64,
+    /// The largest contact pressure.
+    pub max_pressure: f64,
+}
+
+/// One body in `summary.json`.
+#[derive(Serialize, Clone)]
+pub struct BodySummary {
+    /// The body's name.
+    pub name: String,
+    /// Its mesh file, resolved.
+    pub mesh: String,
+    /// The name of its VTU file in the output directory.
+    pub file: String,
+    /// Mesh points.
+    pub points: usize,
+    /// Mesh cells.
+    pub cells: usize,
+    /// Degrees of freedom (3 per mesh point).
+    pub dofs: usize,
+    /// Young's modulus.
+    pub young: f64,
+    /// Poisson's ratio.
+    pub poisson: f64,
+    /// Has a Dirichlet condition of its own.
+    pub supported: bool,
+    /// Tractions and body force on the body.
+    pub applied_load: [f64; 3],
+    /// Sum of the interface forces on the body (as slave +force, as master −force);
+    /// for a body without supports, −applied_load.
+    pub interface_force: [f64; 3],
+    /// The largest displacement magnitude.
+    pub max_displacement: f64,
+    /// The largest cell von Mises stress.
+    pub max_von_mises: f64,
+}
+
+/// One interface in `summary.json`.
+#[derive(Serialize, Clone)]
+pub struct InterfaceSummary {
+    /// The master surface, "body:surface".
+    pub master: String,
+    /// The slave surface, "body:surface".
+    pub slave: String,
+    /// "glue" or "contact".
+    pub kind: &'static str,
+    /// The name of its VTU file in the output directory.
+    pub file: String,
+    /// The multiplier basis: "standard", "dual" or "lumped".
+    pub multiplier: String,
+    /// Slave points with at least one constrained component.
+    pub constrained_nodes: usize,
+    /// Resultant force exerted by the master on the slave, −Σ_p (Dλ)_p.
+    pub force: [f64; 3],
+    /// Covered slave area / slave area.
+    pub covered_fraction: f64,
+    /// The mortar operator's summary (as `seam assemble` reports it).
+    pub mortar: MortarSummary,
+}
+
+/// The `seconds` object of `summary.json`: wall-clock seconds per phase.
+#[derive(Serialize, Default, Clone, Copy)]
+pub struct Seconds {
+    /// Reading the meshes.
+    pub read: f64,
+    /// Assembling the stiffness matrices.
+    pub assembly: f64,
+    /// Assembling the mortar operators.
+    pub mortar: f64,
+    /// Setting up the system.
+    pub setup: f64,
+    /// Factorizing.
+    pub factorization: f64,
+    /// Solving.
+    pub solve: f64,
+    /// Recovering stresses and interface results.
+    pub stresses: f64,
+    /// Preparing and writing the output files.
+    pub output: f64,
+    /// The whole run.
+    pub total: f64,
+}
+
+/// The linear solver of the glued system, or of each active-set step of contact.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LinearSolver {
+    /// A sparse direct factorization.
+    #[default]
+    Direct,
+    /// Preconditioned conjugate gradients ([`SolveOptions::rtol`]).
+    Pcg,
+}
+
+impl LinearSolver {
+    /// The name written to summary.json: "direct" or "pcg".
+    pub fn name(self) -> &'static str {
+        match self {
+            LinearSolver::Direct => "direct",
+            LinearSolver::Pcg => "pcg",
+        }
+    }
+}
+
+/// How a case is solved.
+#[derive(Clone, Copy, Debug)]
+pub struct SolveOptions {
+    /// The linear solver.
+    pub solver: LinearSolver,
+    /// PCG: stop when ‖r‖₂ ≤ rtol ‖b‖₂; in (0, 1).
+    pub rtol: f64,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions { solver: LinearSolver::Direct, rtol: 1e-10 }
+    }
+}
+
+/// Why a case was not solved (or its results not written): one line naming
+/// the case file and the item at fault, sorted as the exit codes of `seam
+/// solve` sort them.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SolveFailure {
+    /// An interface whose surfaces do not meet: the run found nothing to
+    /// couple (`seam solve` exits with 1).
+    #[error("{0}")]
+    NoCoupling(String),
+    /// Anything else: bad input, unreadable mesh, unwritable output, a
+    /// singular system, … (`seam solve` exits with 2).
+    #[error("{0}")]
+    Error(String),
+}
+
+impl SolveFailure {
+    /// The one-line message.
+    pub fn message(&self) -> &str {
+        match self {
+            SolveFailure::NoCoupling(m) | SolveFailure::Error(m) => m,
+        }
+    }
+}
+
+/// A failure while the error chain is still an [`anyhow::Error`].
+enum Failure {
+    NoCoupling(anyhow::Error),
+    Error(anyhow::Error),
+}
+
+impl<E: Into<anyhow::Error>> From<E> for Failure {
+    fn from(e: E) -> Self {
+        Failure::Error(e.into())
+    }
+}
+
+impl From<Failure> for SolveFailure {
+    fn from(f: Failure) -> Self {
+        match f {
+            Failure::NoCoupling(e) => SolveFailure::NoCoupling(one_line(&e)),
+            Failure::Error(e) => SolveFailure::Error(one_line(&e)),
+        }
+    }
+}
+
+/// The error and its causes on one line, "context: cause: cause", leaving out a
+/// cause whose text the line already holds (many errors quote their source):
+/// the messages of `seam` and of [`SolveFailure`].
+pub fn one_line(e: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if line.contains(&text) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&text);
+    }
+    line.replace('\n', " ")
+}
+
+/// Reads the case file `case_path`, checks it, reads its meshes and solves
+/// it, on the current rayon pool, without writing anything
+/// ([`Solved::write`] writes the results).
+///
+/// # Errors
+/// A [`SolveFailure`] naming the case file and the item at fault.
+pub fn solve_case(case_path: &Path, options: &SolveOptions) -> Result<Solved, SolveFailure> {
+    let start = Instant::now();
+    check_rtol(options)?;
+    let case = Case::read(case_path).map_err(|e| SolveFailure::Error(e.to_string()))?;
+    Ok(run(case, case_path, options, start)?)
+}
+
+/// Solves a case already read and checked (for example by
+/// [`Case::from_toml`] and [`Case::check_mesh_files`]), `case_path` naming it
+/// in messages and in summary.json, without writing anything.
+///
+/// # Errors
+/// As [`solve_case`].
+pub fn solve_checked_case(
+    case: Case,
+    case_path: &Path,
+    options: &SolveOptions,
+) -> Result<Solved, SolveFailure> {
+    let start = Instant::now();
+    check_rtol(options)?;
+    Ok(run(case, case_path, options, start)?)
+}
+
+/// `seam solve CASE.toml`: reads and checks the case, checks its output files
+/// (none may exist unless `force`), reads the meshes, solves, and writes the
+/// results into the case's output directory all-or-nothing (module doc).
+///
+/// # Errors
+/// As [`solve_case`], and as [`Solved::write`].
+pub fn solve_case_to_output(
+    case_path: &Path,
+    options: &SolveOptions,
+    force: bool,
+) -> Result<Solved, SolveFailure> {
+    let start = Instant::now();
+    check_rtol(options)?;
+    let case = Case::read(case_path).map_err(|e| SolveFailure::Error(e.to_string()))?;
+    let out_dir = case.resolve(&case.output.dir);
+    let staged = prepare(&case, case_path, &out_dir, force)?;
+    let mut solved = run(case, case_path, options, start)?;
+    solved.summary = solved.write_staged(staged, &out_dir, (0.0, start))?;
+    Ok(solved)
+}
+
+fn check_rtol(options: &SolveOptions) -> Result<(), SolveFailure> {
+    match options.rtol > 0.0 && options.rtol < 1.0 {
+        true => Ok(()),
+        false => Err(SolveFailure::Error(format!("rtol {} must lie in (0, 1)", options.rtol))),
+    }
+}
+
+/// The output files of `case` in `dir`, checked and staged (module doc of
+/// [`crate::output`]).
+fn prepare(case: &Case, case_path: &Path, dir: &Path, force: bool) -> Result<(OutputNames, Staged), Failure> {
+    let names = OutputNames::new(case, dir).map_err(|e| anyhow!("{}: {e}", case_path.display()))?;
+    let mut inputs = case.mesh_paths();
+    inputs.push(case_path.to_path_buf());
+    let out = Staged::prepare(&names.all(), &inputs, force)?;
+    Ok((names, out))
+}
+
+/// The pipeline after the case check (module doc); `start` is when the run began.
+fn run(case: Case, case_path: &Path, options: &SolveOptions, start: Instant) -> Result<Solved, Failure> {
+    let mut seconds = Seconds::default();
+    let clock = Instant::now();
+    let problem = build_problem(&case).map_err(|e| anyhow!("{}: {e:#}", case_path.display()))?;
+    seconds.read = clock.elapsed().as_secs_f64();
+
+    let solver = match options.solver {
+        LinearSolver::Direct => seam_fem::Solver::Direct,
+        LinearSolver::Pcg => {
+            seam_fem::Solver::Pcg(PcgOptions { rtol: options.rtol, ..PcgOptions::default() })
+        }
+    };
+    let solution = Solution::of(&problem, &case, solver).map_err(|e| glue_failure(e, &case, case_path))?;
+    let t = solution.timings();
+    (seconds.assembly, seconds.mortar, seconds.setup, seconds.factorization, seconds.solve) =
+        (t.assembly, t.mortar, t.setup, t.factorization, t.solve);
+
+    let clock = Instant::now();
+    let stresses = problem
+        .bodies
+        .par_iter()
+        .zip(&solution.displacement)
+        .map(|(b, u)| {
+            recover_stresses(&b.mesh, &b.material, u).map_err(|e| anyhow!("body \"{}\": {e}", b.name))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()
+        .context("stress recovery")?;
+    let interfaces: Vec<InterfaceResult> =
+        (0..case.interfaces.len()).map(|i| interface_result(&problem, &solution, i)).collect();
+    seconds.stresses = clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let mut body_files = Vec::with_capacity(problem.bodies.len());
+    for (b, body) in problem.bodies.iter().enumerate() {
+        let (point, cell) = body_fields(&solution.displacement[b], &stresses[b]);
+        let what = format!("{}: body \"{}\"", case_path.display(), body.name);
+        check_results(&point, &what, "point")?;
+        check_results(&cell, &what, "cell")?;
+        body_files.push((point, cell));
+    }
+    let mut interface_files = Vec::with_capacity(interfaces.len());
+    for (i, r) in interfaces.iter().enumerate() {
+        let fields = interface_fields(r);
+        check_results(
+            &fields,
+            &format!("{}: {}", case_path.display(), case.interfaces[i].describe(i)),
+            "point",
+        )?;
+        interface_files.push(fields);
+    }
+    seconds.output = clock.elapsed().as_secs_f64();
+    let out_dir = case.resolve(&case.output.dir);
+    seconds.total = start.elapsed().as_secs_f64();
+    let names = OutputNames::new(&case, &out_dir).map_err(|e| anyhow!("{}: {e}", case_path.display()))?;
+    let summary =
+        summary(&case, case_path, options.solver, &names, &out_dir, &problem, &solution, &stresses, seconds)?;
+    Ok(Solved {
+        out_dir,
+        problem,
+        solution,
+        interfaces,
+        stresses,
+        summary,
+        case,
+        case_path: case_path.to_path_buf(),
+        body_files,
+        interface_files,
+    })
+}
+
+impl Solved {
+    /// Writes exactly the files `seam solve` writes, into `dir` instead of the
+    /// case's output directory: `<body>.vtu` per body,
+    /// `<slave body>_<surface>_interface.vtu` per interface, and
+    /// `summary.json` last (module doc), all-or-nothing; existing files are
+    /// only replaced with `force`, an input of the case never. Returns the
+    /// summary written (its `output_dir` is `dir`, its `seconds` include the
+    /// writing).
+    ///
+    /// # Errors
+    /// An output that exists without `force`, is an input or a directory, or
+    /// cannot be written.
+    pub fn write(&self, dir: &Path, force: bool) -> Result<Summary, SolveFailure> {
+        let start = Instant::now();
+        let staged = prepare(&self.case, &self.case_path, dir, force)?;
+        Ok(self.write_staged(staged, dir, (self.summary.seconds.total, start))?)
+    }
+
+    /// Writes the staged outputs; the total time is `total.0` seconds plus
+    /// the time since `total.1`.
+    fn write_staged(
+        &self,
+        (names, mut out): (OutputNames, Staged),
+        dir: &Path,
+        total: (f64, Instant),
+    ) -> Result<Summary, Failure> {
+        let clock = Instant::now();
+        for ((body, (point, cell)), path) in
+            self.problem.bodies.iter().zip(&self.body_files).zip(&names.bodies)
+        {
+            out.write(path, |p| {
+                seam_io::write_volume_vtu_file(p, &body.mesh, point, cell).map_err(std::io::Error::other)
+            })?;
+        }
+        for ((r, fields), path) in self.interfaces.iter().zip(&self.interface_files).zip(&names.interfaces) {
+            out.write(path, |p| {
+                seam_io::write_vtu_file(p, &r.mesh, fields, &[]).map_err(std::io::Error::other)
+            })?;
+        }
+        let mut summary = self.summary.clone();
+        summary.output_dir = dir.display().to_string();
+        summary.seconds.output += clock.elapsed().as_secs_f64();
+        summary.seconds.total = total.0 + total.1.elapsed().as_secs_f64();
+        let json = serde_json::to_string_pretty(&summary).context("summary")?;
+        out.write(&names.summary, |p| std::fs::write(p, json + "\n"))?;
+        out.commit(&[])?;
+        Ok(summary)
+    }
+}
+
+/// The output files of a case.
+struct OutputNames {
+    bodies: Vec<PathBuf>,
+    interfaces: Vec<PathBuf>,
+    summary: PathBuf,
+}
+
+impl OutputNames {
+    fn new(case: &Case, dir: &Path) -> anyhow::Result<OutputNames> {
+        let bodies = case.bodies.iter().map(|b| dir.join(format!("{}.vtu", file_part(&b.name)))).collect();
+        let interfaces = case
+            .interfaces
+            .iter()
+            .map(|f| {
+                let s = SurfaceRef::parse(&f.slave, "")?;
+                Ok(dir.join(format!("{}_{}_interface.vtu", file_part(&s.body), file_part(&s.surface))))
+            })
+            .collect::<anyhow::Result<_>>()?;
+        let names = OutputNames { bodies, interfaces, summary: dir.join("summary.json") };
+        let mut seen = BTreeSet::new();
+        for path in names.all() {
+            if !seen.insert(path.clone()) {
+                anyhow::bail!(
+                    "two outputs would be written to {}: rename a body or a surface",
+                    path.display()
+                );
+            }
+        }
+        Ok(names)
+    }
+
+    fn all(&self) -> Vec<PathBuf> {
+        let mut all = self.bodies.clone();
+        all.extend(self.interfaces.iter().cloned());
+        all.push(self.summary.clone());
+        all
+    }
+}
+
+/// `name` with every character other than a letter, digit, `-`, `_` or `.`
+/// replaced by `_`.
+fn file_part(name: &str) -> String {
+    name.chars().map(|c| if c.is_alphanumeric() || "-_.".contains(c) { c } else { '_' }).collect()
+}
+
+/// The surfaces of body `name` the case refers to, in order of first mention.
+fn referenced_surfaces(case: &Case, name: &str) -> Vec<String> {
+    let refs = case
+        .interfaces
+        .iter()
+        .flat_map(|f| [&f.master, &f.slave])
+        .chain(case.dirichlet.iter().map(|d| &d.boundary))
+        .chain(case.traction.iter().map(|t| &t.boundary));
+    let mut surfaces: Vec<String> = Vec::new();
+    for r in refs.filter_map(|r| SurfaceRef::parse(r, "").ok()) {
+        if r.body == name && !surfaces.contains(&r.surface) {
+            surfaces.push(r.surface);
+        }
+    }
+    surfaces
+}
+
+/// Reads one body's mesh and the surfaces the case names on it.
+fn read_body(case: &Case, b: &crate::Body) -> anyhow::Result<ProblemBody> {
+    let what = || format!("body \"{}\"", b.name);
+    let path = case.resolve(&b.mesh);
+    let msh = seam_io::read_msh_file(&path).with_context(what)?;
+    let mesh = msh.volume(b.volume.as_deref()).map_err(|e| e.with_path(&path)).with_context(what)?;
+    // Degenerate or tangled cells, named by their Gmsh tags, before any work.
+    if let Err(seam_fem::AssemblyError::DegenerateCell { cell }) = seam_fem::cell_volumes(&mesh) {
+        let elements = msh.volume_elements(b.volume.as_deref()).map_err(|e| e.with_path(&path))?;
+        let element = &elements[cell];
+        anyhow::bail!(
+            "{}: {}: element {} ({}) is degenerate or tangled: its Jacobian determinant vanishes or changes sign",
+            what(),
+            path.display(),
+            element.tag,
+            element.type_name()
+        );
+    }
+    let surfaces = referenced_surfaces(case, &b.name)
+        .into_iter()
+        .map(|s| {
+            let surface = msh.surface(Some(&s)).map_err(|e| e.with_path(&path)).with_context(what)?;
+            Ok((s, surface))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let material = Material::new(b.young, b.poisson).map_err(|e| anyhow!("{}: {e}", what()))?;
+    Ok(ProblemBody { name: b.name.clone(), mesh, material, body_force: b.body_force, surfaces })
+}
+
+/// The in-memory problem of a checked case: meshes read, surfaces looked up.
+fn build_problem(case: &Case) -> anyhow::Result<Problem> {
+    let read: Vec<anyhow::Result<ProblemBody>> = case.bodies.par_iter().map(|b| read_body(case, b)).collect();
+    let mut problem =
+        Problem { bodies: read.into_iter().collect::<anyhow::Result<_>>()?, ..Problem::default() };
+    let id = |problem: &Problem, text: &str| -> anyhow::Result<SurfaceId> {
+        let r = SurfaceRef::parse(text, "")?;
+        problem.find_surface(&format!("{}:{}", r.body, r.surface)).ok_or_else(|| anyhow!("no surface {text}"))
+    };
+    for f in &case.interfaces {
+        let max_gap = f.max_gap.map_or(MaxGap::DEFAULT, MaxGap::Absolute);
+        let options = MortarOptions {
+            multiplier: multiplier(f.multiplier()),
+            facing: Facing::Opposite,
+            max_gap,
+            ..MortarOptions::default()
+        };
+        let (master, slave) = (id(&problem, &f.master)?, id(&problem, &f.slave)?);
+        let kind = match f.kind {
+            InterfaceKind::Glue => seam_fem::Coupling::Glue,
+            InterfaceKind::Contact => seam_fem::Coupling::Contact,
+        };
+        problem.interfaces.push(ProblemInterface { master, slave, options, kind });
+    }
+    for d in &case.dirichlet {
+        let boundary = id(&problem, &d.boundary)?;
+        problem.supports.push(Support { boundary, values: [d.ux, d.uy, d.uz] });
+    }
+    for t in &case.traction {
+        let boundary = id(&problem, &t.boundary)?;
+        problem.loads.push(Load { boundary, t: t.t });
+    }
+    Ok(problem)
+}
+
+fn multiplier(m: CaseMultiplier) -> Multiplier {
+    match m {
+        CaseMultiplier::Standard => Multiplier::Standard,
+        CaseMultiplier::Dual => Multiplier::Dual,
+        CaseMultiplier::Lumped => Multiplier::Lumped,
+    }
+}
+
+/// A solver error in the case's terms: bodies and interfaces by name. An
+/// interface whose surfaces do not overlap is "nothing to couple" (exit 1).
+fn glue_failure(e: GlueError, case: &Case, path: &Path) -> Failure {
+    let file = path.display();
+    match e {
+        GlueError::Mortar { interface, source } => {
+            let what = case.interfaces[interface].describe(interface);
+            match source {
+                e @ seam::MortarError::NoOverlap { .. } => {
+                    Failure::NoCoupling(anyhow!("{file}: {what}: {e} (check the surfaces, or max_gap)"))
+                }
+                e => Failure::Error(anyhow!("{file}: {what}: {e}")),
+            }
+        }
+        GlueError::BadInterface { interface, what } if interface < case.interfaces.len() => {
+            Failure::Error(anyhow!("{file}: {}: {what}", case.interfaces[interface].describe(interface)))
+        }
+        GlueError::Assembly { body, source } => {
+            let b = &case.bodies[body];
+            Failure::Error(anyhow!(
+                "{file}: body \"{}\" ({}): {source}",
+                b.name,
+                case.resolve(&b.mesh).display()
+            ))
+        }
+        GlueError::NonFiniteSolution { body, dof } => {
+            let b = &case.bodies[body];
+            Failure::Error(anyhow!(
+                "{file}: body \"{}\": the solution is not finite at point {} of {} (component {}): an overflow; \
+                 check the magnitudes of loads, prescribed values and moduli",
+                b.name,
+                dof / 3,
+                case.resolve(&b.mesh).display(),
+                ["x", "y", "z"][dof % 3]
+            ))
+        }
+        GlueError::SharedSlavePoint { glue, contact, at, .. } => {
+            let (g, c) = (&case.interfaces[glue], &case.interfaces[contact]);
+            let body = SurfaceRef::parse(&g.slave, "").map(|r| r.body).unwrap_or_default();
+            Failure::Error(anyhow!(
+                "{file}: {} and {}: the node at ({}, {}, {}) of body \"{body}\" is a slave node of both, glued and \
+                 in contact; a node cannot be both (split the surfaces so that they share no node)",
+                g.describe(glue),
+                c.describe(contact),
+                at[0],
+                at[1],
+                at[2]
+            ))
+        }
+        GlueError::Solve(e @ seam_fem::SolveError::IllConditioned { .. }) => {
+            // Name the likely cause: a nearly incompressible body.
+            let soft: Vec<String> = case
+                .bodies
+                .iter()
+                .filter(|b| b.poisson > 0.49)
+                .map(|b| format!("body \"{}\" has ν = {}", b.name, b.poisson))
+                .collect();
+            let hint = match soft.is_empty() {
+                true => String::new(),
+                false => format!(
+                    "; {} (close to 0.5: volumetric locking; use a smaller ν, or --solver pcg)",
+                    soft.join(", ")
+                ),
+            };
+            Failure::Error(anyhow!("{file}: {e}{hint}"))
+        }
+        e => Failure::Error(anyhow!("{file}: {e}")),
+    }
+}
+
+/// `surface` on its own points: the compacted mesh and, per point, its index
+/// in the body's mesh.
+fn own_points(surface: &SurfaceMesh) -> (SurfaceMesh, Vec<usize>) {
+    let used = surface.used_points();
+    let body_point: Vec<usize> = (0..used.len()).filter(|&p| used[p]).collect();
+    let mut index = vec![usize::MAX; used.len()];
+    for (k, &p) in body_point.iter().enumerate() {
+        index[p] = k;
+    }
+    let points = body_point.iter().map(|&p| surface.points()[p]).collect();
+    let faces = surface
+        .faces()
+        .iter()
+        .map(|face| Face::from_nodes(&face.nodes().iter().map(|&p| index[p]).collect::<Vec<_>>()))
+        .collect();
+    let mesh = SurfaceMesh::new(points, faces).expect("a valid surface stays valid on its own points");
+    (mesh, body_point)
+}
+
+/// Interface `i`'s tractions (and contact fields) on its slave surface's points.
+fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> InterfaceResult {
+    let f = &problem.interfaces[i];
+    let surface = problem.surface(f.slave);
+    let (mesh, body_point) = own_points(surface);
+    let nodal = seam::nodal_normals(surface);
+    // Per body point: traction, normal, constrained.
+    let at: Box<dyn Fn(usize) -> ([f64; 3], Point3, bool)> = match &solution.interfaces[i] {
+        Coupled::Glue(s) => Box::new(move |p| (s.traction[p], nodal[p], s.constrained[p].iter().any(|&c| c))),
+        Coupled::Contact(s) => Box::new(move |p| {
+            let n = if s.contact[p] { s.normal[p] } else { nodal[p] };
+            (n.map(|v| -s.pressure[p] * v), n, s.contact[p])
+        }),
+    };
+    let u = &solution.displacement[f.slave.body];
+    let n = body_point.len();
+    let mut r = InterfaceResult {
+        mesh,
+        traction: Vec::with_capacity(n),
+        normal: Vec::with_capacity(n),
+        normal_traction: Vec::with_capacity(n),
+        tangential_traction: Vec::with_capacity(n),
+        displacement: Vec::with_capacity(n),
+        constrained: Vec::with_capacity(n),
+        contact: None,
+        body_point: Vec::new(),
+    };
+    for &p in &body_point {
+        let (t, n, constrained) = at(p);
+        let tn = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
+        r.traction.push(t);
+        r.normal.push(n);
+        r.normal_traction.push(tn);
+        r.tangential_traction.push([t[0] - tn * n[0], t[1] - tn * n[1], t[2] - tn * n[2]]);
+        r.displacement.push([u[3 * p], u[3 * p + 1], u[3 * p + 2]]);
+        r.constrained.push(if constrained { 1.0 } else { 0.0 });
+    }
+    if let Coupled::Contact(s) = &solution.interfaces[i] {
+        let at_contact = |v: &[f64]| -> Vec<f64> {
+            body_point.iter().map(|&p| if s.contact[p] { v[p] } else { f64::NAN }).collect()
+        };
+        r.contact = Some(ContactFields {
+            pressure: body_point.iter().map(|&p| s.pressure[p]).collect(),
+            gap: at_contact(&s.gap),
+            initial_gap: at_contact(&s.initial_gap),
+            active: body_point.iter().map(|&p| if s.active[p] { 1.0 } else { 0.0 }).collect(),
+        });
+    }
+    r.body_point = body_point;
+    r
+}
+
+/// Fields whose NaN marks "no value here" (off the contact points), as the
+/// README documents; any other non-finite value is an error.
+const NAN_MARKS_NO_VALUE: [&str; 2] = ["gap", "initial_gap"];
+
+/// Nothing non-finite is written as a result (an overflow is reported with the
+/// field and entry instead), apart from [`NAN_MARKS_NO_VALUE`].
+fn check_results(fields: &[Field], what: &str, entity: &str) -> anyhow::Result<()> {
+    for f in fields {
+        let marks = NAN_MARKS_NO_VALUE.contains(&f.name.as_str());
+        if let Some(i) = f.values.iter().position(|v| !(v.is_finite() || marks && v.is_nan())) {
+            anyhow::bail!(
+                "{what}: the {entity} field '{}' is {} at {entity} {} (0-based): an overflow; check the magnitudes \
+                 of loads, prescribed values and moduli (nothing non-finite is written)",
+                f.name,
+                f.values[i],
+                i / f.components.max(1)
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Point and cell fields of a body's VTU file.
+fn body_fields(u: &[f64], s: &Stresses) -> (Vec<Field>, Vec<Field>) {
+    let six = |v: &[[f64; 6]]| v.iter().flatten().copied().collect::<Vec<f64>>();
+    let point = vec![
+        Field::new("displacement", 3, u.to_vec()),
+        Field::new("stress", 6, six(&s.nodal)),
+        Field::scalars("von_mises", s.nodal_von_mises.clone()),
+    ];
+    let cell =
+        vec![Field::new("stress", 6, six(&s.cell)), Field::scalars("von_mises", s.cell_von_mises.clone())];
+    (point, cell)
+}
+
+/// Point fields of an interface's VTU file (for contact, the pressure is the
+/// first scalar field: the one ParaView shows first).
+fn interface_fields(r: &InterfaceResult) -> Vec<Field> {
+    let mut fields = vec![Field::vectors("traction", &r.traction)];
+    if let Some(c) = &r.contact {
+        fields.extend([
+            Field::scalars("contact_pressure", c.pressure.clone()),
+            Field::scalars("gap", c.gap.clone()),
+            Field::scalars("initial_gap", c.initial_gap.clone()),
+            Field::scalars("active", c.active.clone()),
+        ]);
+    }
+    fields.extend([
+        Field::scalars("normal_traction", r.normal_traction.clone()),
+        Field::vectors("tangential_traction", &r.tangential_traction),
+        Field::vectors("normal", &r.normal),
+        Field::vectors("displacement", &r.displacement),
+        Field::scalars("constrained", r.constrained.clone()),
+        Field::scalars("body_point", r.body_point.iter().map(|&p| p as f64).collect()),
+    ]);
+    fields
+}
+
+fn sum3(v: &[f64]) -> [f64; 3] {
+    let mut s = [0.0; 3];
+    for (k, x) in v.iter().enumerate() {
+        s[k % 3] += x;
+    }
+    s
+}
+
+fn norm3(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+fn max_norm(u: &[f64]) -> f64 {
+    u.chunks_exact(3).map(|c| norm3([c[0], c[1], c[2]])).fold(0.0, f64::max)
+}
+
+fn multiplier_name(m: Multiplier) -> String {
+    format!("{m:?}").to_lowercase()
+}
+
+#[allow(clippy::too_many_arguments)]
+fn summary(
+    case: &Case,
+    path: &Path,
+    solver: LinearSolver,
+    names: &OutputNames,
+    out_dir: &Path,
+    problem: &Problem,
+    solution: &Solution,
+    stresses: &[Stresses],
+    seconds: Seconds,
+) -> anyhow::Result<Summary> {
+    let loads = problem.loads_and_supports().map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let file_name = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let coupled = &problem.interfaces;
+    let mut applied_load = [0.0; 3];
+    let bodies = problem
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(b, body)| {
+            let load = sum3(&loads[b].0);
+            let mut interface_force = [0.0; 3];
+            for (i, f) in coupled.iter().enumerate() {
+                let (_, force, _) = solution.interface(i);
+                for k in 0..3 {
+                    if f.slave.body == b {
+                        interface_force[k] += force[k];
+                    }
+                    if f.master.body == b {
+                        interface_force[k] -= force[k];
+                    }
+                }
+            }
+            for k in 0..3 {
+                applied_load[k] += load[k];
+            }
+            BodySummary {
+                name: body.name.clone(),
+                mesh: case.resolve(&case.bodies[b].mesh).display().to_string(),
+                file: file_name(&names.bodies[b]),
+                points: body.mesh.points().len(),
+                cells: body.mesh.cells().len(),
+                dofs: 3 * body.mesh.points().len(),
+                young: body.material.young(),
+                poisson: body.material.poisson(),
+                supported: problem.supports.iter().any(|s| s.boundary.body == b),
+                applied_load: load,
+                interface_force,
+                max_displacement: max_norm(&solution.displacement[b]),
+                max_von_mises: stresses[b].cell_von_mises.iter().copied().fold(0.0, f64::max),
+            }
+        })
+        .collect();
+    let interfaces: Vec<InterfaceSummary> = coupled
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let (mortar, force, constrained_nodes) = solution.interface(i);
+            InterfaceSummary {
+                master: problem.surface_name(f.master),
+                slave: problem.surface_name(f.slave),
+                kind: match f.kind {
+                    seam_fem::Coupling::Glue => "glue",
+                    seam_fem::Coupling::Contact => "contact",
+                },
+                file: file_name(&names.interfaces[i]),
+                multiplier: multiplier_name(f.options.multiplier),
+                constrained_nodes,
+                force,
+                covered_fraction: mortar.summary.covered_area / mortar.summary.slave_area,
+                mortar: mortar.summary.clone(),
+            }
+        })
+        .collect();
+    let kinds: BTreeSet<&str> = interfaces.iter().map(|f| f.multiplier.as_str()).collect();
+    let multiplier = match kinds.len() {
+        0 => "none".to_string(),
+        1 => kinds.first().map(|k| k.to_string()).unwrap_or_default(),
+        _ => "mixed".to_string(),
+    };
+    let (method, dofs, constraints, iterations, residual, contact) = match &solution.report {
+        Report::Glue(r) => (r.method, r.dofs, r.constraints, r.iterations, r.residual, None),
+        Report::Contact(r) => {
+            let contact = contact_summary(problem, solution, r, case.contact.max_iterations);
+            let constraints = r.constraints + r.contact_points;
+            (r.method, r.dofs, constraints, r.steps.len(), r.kkt.max(), Some(contact))
+        }
+    };
+    Ok(Summary {
+        case: path.display().to_string(),
+        output_dir: out_dir.display().to_string(),
+        solver: solver.name(),
+        method,
+        multiplier,
+        dofs,
+        constraints,
+        iterations,
+        residual,
+        applied_load,
+        bodies,
+        interfaces,
+        contact,
+        seconds,
+        threads: rayon::current_num_threads(),
+        seam_version: env!("CARGO_PKG_VERSION"),
+    })
+}
+
+/// The `contact` object of `summary.json`.
+fn contact_summary(
+    problem: &Problem,
+    solution: &Solution,
+    r: &ContactReport,
+    max_iterations: usize,
+) -> ContactSummary {
+    let count = |v: &[bool]| v.iter().filter(|&&x| x).count();
+    let interfaces = problem
+        .interfaces
+        .iter()
+        .zip(&solution.interfaces)
+        .filter_map(|(f, s)| match s {
+            Coupled::Contact(s) => Some((f, s)),
+            Coupled::Glue(_) => None,
+        })
+        .map(|(f, s)| ContactInterfaceSummary {
+            master: problem.surface_name(f.master),
+            slave: problem.surface_name(f.slave),
+            contact_points: count(&s.contact),
+            active_points: count(&s.active),
+            force: s.force,
+            force_magnitude: norm3(s.force),
+            max_pressure: s.pressure.iter().copied().fold(0.0, f64::max),
+        })
+        .collect();
+    let steps = r
+        .steps
+        .iter()
+        .map(|s| StepSummary {
+            active: s.active,
+            added: s.added,
+            removed: s.removed,
+            linear_iterations: s.linear_iterations,
+        })
+        .collect();
+    let k = &r.kkt;
+    ContactSummary {
+        method: r.method,
+        iterations: r.steps.len(),
+        max_iterations,
+        steps,
+        contact_points: r.contact_points,
+        active_points: r.active,
+        kkt: KktSummary {
+            equilibrium: k.equilibrium,
+            pressure: k.pressure,
+            penetration: k.penetration,
+            complementarity: k.complementarity,
+            max: k.max(),
+        },
+        interfaces,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_options_and_cases_fail_in_one_line_before_any_work() {
+        let rtol = SolveOptions { solver: LinearSolver::Pcg, rtol: 2.0 };
+        let e = solve_case(Path::new("nowhere.toml"), &rtol).err().unwrap();
+        assert_eq!(e, SolveFailure::Error("rtol 2 must lie in (0, 1)".into()));
+        let e = solve_case(Path::new("nowhere.toml"), &SolveOptions::default()).err().unwrap();
+        assert!(
+            matches!(&e, SolveFailure::Error(m) if m.contains("nowhere.toml") && !m.contains('\n')),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_json_case_is_its_toml_case() {
+        let toml = "[[body]]\nname = \"a\"\nmesh = \"a.msh\"\nyoung = 1.0\npoisson = 0.3\n\n\
+                    [[dirichlet]]\nboundary = \"a:bottom\"\nux = 0.0\nuy = 0.0\nuz = 0.0\n";
+        let json = r#"{"body": [{"name": "a", "mesh": "a.msh", "young": 1.0, "poisson": 0.3}],
+                       "dirichlet": [{"boundary": "a:bottom", "ux": 0.0, "uy": 0.0, "uz": 0.0}]}"#;
+        let (a, b) =
+            (Case::from_toml(toml, Path::new("d")).unwrap(), Case::from_json(json, Path::new("d")).unwrap());
+        assert_eq!(a.mesh_paths(), b.mesh_paths());
+        assert_eq!(a.bodies.len(), b.bodies.len());
+        let e = Case::from_json(r#"{"body": [], "bogus": 1}"#, Path::new("d")).unwrap_err().to_string();
+        assert!(e.contains("bogus"), "{e}");
+    }
+}

@@ -1,0 +1,187 @@
+//! `seam.solve`: a case (file or dict) solved as `seam solve` solves it.
+
+use std::path::{Path, PathBuf};
+
+use numpy::ndarray::Array2;
+use numpy::{PyArray1, ToPyArray};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use seam_case::solve::{LinearSolver, SolveFailure, SolveOptions, Solved};
+use seam_case::Case;
+
+use crate::error::SolveError;
+use crate::mortar::thread_pool;
+
+/// A solved case: `summary`, `bodies`, `interfaces` and `write`.
+#[pyclass(name = "Solution", module = "seam", frozen)]
+pub struct PySolution {
+    inner: Solved,
+}
+
+fn solve_error(e: SolveFailure) -> PyErr {
+    SolveError::new_err(e.message().to_string())
+}
+
+/// An (n, k) float64 array of `values` (k per row).
+fn rows<'py>(py: Python<'py>, values: Vec<f64>, k: usize) -> PyResult<Bound<'py, PyAny>> {
+    let n = values.len() / k;
+    let array = Array2::from_shape_vec((n, k), values)
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    Ok(array.to_pyarray(py).into_any())
+}
+
+/// A `types.SimpleNamespace` of `items`.
+fn namespace<'py>(py: Python<'py>, items: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyAny>> {
+    py.import("types")?.getattr("SimpleNamespace")?.call((), Some(items))
+}
+
+#[pymethods]
+impl PySolution {
+    /// The content of summary.json, a dict (as `json.loads` reads the file).
+    #[getter]
+    fn summary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let json = serde_json::to_string(&self.inner.summary).map_err(|e| {
+            pyo3::exceptions::PyValueError::new_err(format!("cannot convert the summary: {e}"))
+        })?;
+        py.import("json")?.call_method1("loads", (json,))
+    }
+
+    /// Per body name, in case order: an object with `points` (n×3),
+    /// `displacement` (n×3; row i is the i-th node of the body's mesh file),
+    /// `stress` (cells×6, Voigt xx yy zz yz xz xy, at the cell centres) and
+    /// `von_mises` (per cell), all float64.
+    #[getter]
+    fn bodies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let out = PyDict::new(py);
+        let s = &self.inner;
+        for ((body, u), stress) in s.problem.bodies.iter().zip(&s.solution.displacement).zip(&s.stresses) {
+            let items = PyDict::new(py);
+            items.set_item("name", &body.name)?;
+            items.set_item("points", rows(py, body.mesh.points().iter().flatten().copied().collect(), 3)?)?;
+            items.set_item("displacement", rows(py, u.clone(), 3)?)?;
+            items.set_item("stress", rows(py, stress.cell.iter().flatten().copied().collect(), 6)?)?;
+            items.set_item("von_mises", PyArray1::from_slice(py, &stress.cell_von_mises))?;
+            out.set_item(&body.name, namespace(py, &items)?)?;
+        }
+        Ok(out)
+    }
+
+    /// Per interface, in case order: an object with `master`, `slave`
+    /// ("body:surface"), `kind` ("glue" or "contact") and the point fields of
+    /// its VTU file on the slave surface's own points, as float64 arrays:
+    /// `points`, `traction`, `normal_traction`, `tangential_traction`,
+    /// `normal`, `displacement`, `constrained`, `body_point` (int64), and for
+    /// contact `contact_pressure`, `gap`, `initial_gap`, `active`.
+    #[getter]
+    fn interfaces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let s = &self.inner;
+        let out = PyList::empty(py);
+        for (r, f) in s.interfaces.iter().zip(&s.summary.interfaces) {
+            let items = PyDict::new(py);
+            items.set_item("master", &f.master)?;
+            items.set_item("slave", &f.slave)?;
+            items.set_item("kind", f.kind)?;
+            items.set_item("points", rows(py, r.mesh.points().iter().flatten().copied().collect(), 3)?)?;
+            let vectors = |v: &[[f64; 3]]| v.iter().flatten().copied().collect::<Vec<f64>>();
+            items.set_item("traction", rows(py, vectors(&r.traction), 3)?)?;
+            items.set_item("normal_traction", PyArray1::from_slice(py, &r.normal_traction))?;
+            items.set_item("tangential_traction", rows(py, vectors(&r.tangential_traction), 3)?)?;
+            items.set_item("normal", rows(py, vectors(&r.normal), 3)?)?;
+            items.set_item("displacement", rows(py, vectors(&r.displacement), 3)?)?;
+            items.set_item("constrained", PyArray1::from_slice(py, &r.constrained))?;
+            let body_point: Vec<i64> = r.body_point.iter().map(|&p| p as i64).collect();
+            items.set_item("body_point", PyArray1::from_vec(py, body_point))?;
+            if let Some(c) = &r.contact {
+                items.set_item("contact_pressure", PyArray1::from_slice(py, &c.pressure))?;
+                items.set_item("gap", PyArray1::from_slice(py, &c.gap))?;
+                items.set_item("initial_gap", PyArray1::from_slice(py, &c.initial_gap))?;
+                items.set_item("active", PyArray1::from_slice(py, &c.active))?;
+            }
+            out.append(namespace(py, &items)?)?;
+        }
+        Ok(out)
+    }
+
+    /// Writes exactly the files `seam solve` writes, into `dir`: `<body>.vtu`
+    /// per body, `<slave body>_<surface>_interface.vtu` per interface and
+    /// summary.json last, all-or-nothing. Existing files are only replaced
+    /// with `force`. Returns the summary written, a dict.
+    ///
+    /// Raises:
+    ///     SolveError: an output exists without force, or cannot be written.
+    #[pyo3(signature = (dir, force = false))]
+    fn write<'py>(&self, py: Python<'py>, dir: PathBuf, force: bool) -> PyResult<Bound<'py, PyAny>> {
+        let summary = py.detach(|| self.inner.write(&dir, force)).map_err(solve_error)?;
+        let json = serde_json::to_string(&summary).map_err(|e| {
+            pyo3::exceptions::PyValueError::new_err(format!("cannot convert the summary: {e}"))
+        })?;
+        py.import("json")?.call_method1("loads", (json,))
+    }
+
+    fn __repr__(&self) -> String {
+        let s = &self.inner.summary;
+        format!("<seam.Solution of {}: {} bodies, {} interfaces>", s.case, s.bodies.len(), s.interfaces.len())
+    }
+}
+
+/// Solves a case as `seam solve` does, without writing anything.
+///
+/// Args:
+///     case: The path of a case file (str or os.PathLike), or a dict with the
+///         schema of a case file, whose relative paths are relative to the
+///         current working directory.
+///     solver: "direct" or "pcg".
+///     threads: Worker threads (default: all cores).
+///
+/// Returns:
+///     A Solution: `summary`, `bodies`, `interfaces`, `write(dir, force)`.
+///
+/// Raises:
+///     SolveError: with the one-line message of `seam solve` (a bad case,
+///         a missing mesh, surfaces that do not meet, a singular system, …).
+///     ValueError: an unknown solver, threads < 1.
+#[pyfunction]
+#[pyo3(signature = (case, solver = "direct", threads = None))]
+pub fn solve(
+    py: Python<'_>,
+    case: &Bound<'_, PyAny>,
+    solver: &str,
+    threads: Option<i64>,
+) -> PyResult<PySolution> {
+    let solver = match solver {
+        "direct" => LinearSolver::Direct,
+        "pcg" => LinearSolver::Pcg,
+        other => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "solver must be \"direct\" or \"pcg\", got {other:?}"
+            )))
+        }
+    };
+    let options = SolveOptions { solver, ..SolveOptions::default() };
+    let pool = thread_pool(threads)?;
+    let source = match case.cast::<PyDict>() {
+        Ok(dict) => {
+            let json: String = py.import("json")?.call_method1("dumps", (dict,))?.extract()?;
+            Err(json)
+        }
+        Err(_) => Ok(case.extract::<PathBuf>()?),
+    };
+    let run = move || -> Result<Solved, SolveFailure> {
+        match &source {
+            Ok(path) => seam_case::solve::solve_case(path, &options),
+            Err(json) => {
+                let bad = |e: seam_case::CaseError| SolveFailure::Error(format!("case dict: {e}"));
+                let case = Case::from_json(json, Path::new("")).map_err(bad)?;
+                case.check_mesh_files().map_err(bad)?;
+                seam_case::solve::solve_checked_case(case, Path::new("<case dict>"), &options)
+            }
+        }
+    };
+    let solved = py
+        .detach(|| match &pool {
+            Some(pool) => pool.install(run),
+            None => run(),
+        })
+        .map_err(solve_error)?;
+    Ok(PySolution { inner: solved })
+}

@@ -1,0 +1,131 @@
+"""seam.solve solves a case as `seam solve` does: the same files, bit for bit.
+
+The case and its meshes are those of `seam example warped-glue` (glue) and
+`seam example bulging-contact` (contact), made small; the reference files are
+those the `seam` binary that `cargo test` builds (target/debug/seam, or
+$SEAM_BIN) writes.
+"""
+
+import json
+import sys
+from pathlib import Path
+
+import meshio
+import numpy as np
+import pytest
+
+import seam
+
+tomllib = pytest.importorskip("tomllib")  # Python 3.11+
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests" / "python"))
+from seam_cli import seam as run_cli  # noqa: E402
+
+EXAMPLES = {
+    "warped-glue": ["--slave-cells", "2", "--ratio", "2"],
+    "bulging-contact": ["--slave-cells", "4"],
+}
+
+
+@pytest.fixture(params=sorted(EXAMPLES))
+def example(request, tmp_path):
+    """An example's case (with its meshes) and the files `seam solve` wrote."""
+    name = request.param
+    done = run_cli("example", name, "-o", "ex", *EXAMPLES[name], cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    return tmp_path / "ex"
+
+
+def without_paths_and_times(summary):
+    s = dict(summary)
+    for key in ("seconds", "case", "output_dir"):
+        s.pop(key)
+    s["bodies"] = [{k: v for k, v in b.items() if k != "mesh"} for b in s["bodies"]]
+    return s
+
+
+def test_written_files_are_those_of_seam_solve(example, tmp_path):
+    solution = seam.solve(example / "case.toml", threads=1)
+    written = solution.write(tmp_path / "py")
+    cli = sorted(p.name for p in (example / "out").iterdir())
+    assert sorted(p.name for p in (tmp_path / "py").iterdir()) == cli
+    for name in cli:
+        a, b = (example / "out" / name).read_bytes(), (tmp_path / "py" / name).read_bytes()
+        if name == "summary.json":
+            a, b = json.loads(a), json.loads(b)
+            assert b == written
+            a["threads"] = b["threads"]
+            assert without_paths_and_times(a) == without_paths_and_times(b)
+            assert b["output_dir"] == str(tmp_path / "py")
+        else:
+            assert a == b, name
+    assert without_paths_and_times(solution.summary) == without_paths_and_times(written)
+
+
+def test_bodies_and_interfaces_are_those_of_the_files(example):
+    solution = seam.solve(str(example / "case.toml"))
+    summary = solution.summary
+    assert list(solution.bodies) == [b["name"] for b in summary["bodies"]]
+    for b in summary["bodies"]:
+        body = solution.bodies[b["name"]]
+        vtu = meshio.read(example / "out" / b["file"])
+        np.testing.assert_array_equal(body.points, vtu.points)
+        np.testing.assert_array_equal(body.displacement, vtu.point_data["displacement"])
+        cells = sum(len(c.data) for c in vtu.cells)
+        assert body.stress.shape == (cells, 6) and body.von_mises.shape == (cells,)
+        np.testing.assert_array_equal(body.von_mises, np.concatenate(vtu.cell_data["von_mises"]))
+        assert np.max(np.linalg.norm(body.displacement, axis=1)) == b["max_displacement"]
+    assert len(solution.interfaces) == len(summary["interfaces"])
+    for f, s in zip(solution.interfaces, summary["interfaces"]):
+        assert (f.master, f.slave, f.kind) == (s["master"], s["slave"], s["kind"])
+        vtu = meshio.read(example / "out" / s["file"])
+        names = ["traction", "normal_traction"]
+        if f.kind == "contact":
+            names += ["contact_pressure", "gap", "active"]
+        for name in names:
+            np.testing.assert_array_equal(getattr(f, name), vtu.point_data[name])
+
+
+def test_a_dict_case_is_the_file_case(example, monkeypatch):
+    monkeypatch.chdir(example)
+    case = tomllib.loads((example / "case.toml").read_text())
+    from_dict = seam.solve(case)
+    from_file = seam.solve("case.toml")
+    a, b = from_dict.summary, from_file.summary
+    assert b["case"] == "case.toml" and a["case"] == "<case dict>"
+    assert without_paths_and_times(a) == without_paths_and_times(b)
+    for name, body in from_file.bodies.items():
+        np.testing.assert_array_equal(from_dict.bodies[name].displacement, body.displacement)
+
+
+def test_errors_are_the_one_line_messages_of_seam_solve(example, tmp_path):
+    text = (example / "case.toml").read_text()
+    missing = tmp_path / "missing.toml"
+    missing.write_text(text.replace("lower.msh", "nowhere.msh"))
+    with pytest.raises(seam.SolveError) as e:
+        seam.solve(missing)
+    cli = run_cli("solve", missing, cwd=tmp_path)
+    assert cli.returncode == 2
+    assert cli.stderr == f"seam: error: {e.value}\n"
+    assert "nowhere.msh" in str(e.value) and "\n" not in str(e.value)
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text("not_a_key = 1\n" + text)
+    with pytest.raises(seam.SolveError) as e:
+        seam.solve(bad)
+    cli = run_cli("solve", bad, cwd=tmp_path)
+    assert cli.returncode == 2 and cli.stderr == f"seam: error: {e.value}\n"
+    assert "not_a_key" in str(e.value)
+
+    with pytest.raises(seam.SolveError, match="not_a_key"):
+        seam.solve({**tomllib.loads(text), "not_a_key": 1})
+
+
+def test_write_refuses_existing_files_without_force(example, tmp_path):
+    solution = seam.solve(example / "case.toml")
+    solution.write(tmp_path / "out")
+    with pytest.raises(seam.SolveError, match="already exists; pass --force"):
+        solution.write(tmp_path / "out")
+    solution.write(tmp_path / "out", force=True)
+    with pytest.raises(ValueError, match="solver"):
+        seam.solve(example / "case.toml", solver="lu")
