@@ -558,7 +558,10 @@ impl Glued {
         points: &[ContactPoint],
         mu: &[f64],
     ) -> Vec<f64> {
-        let r = contact_residual(&system.k, &system.f, points, u, mu);
+        // The rows in the dofs of all bodies (`a_row` is in y).
+        let rows: Vec<Vec<(usize, f64)>> =
+            points.iter().map(|c| normal_row(&c.t_row, c.frame[0], None)).collect();
+        let r = contact_residual(&system.k, &system.f, points, (u, mu), |i| &rows[i]);
         constraints
             .rows
             .iter()
@@ -568,18 +571,24 @@ impl Glued {
     }
 }
 
-/// f − K u − C_cᵀμ in the dofs of all bodies: C_cᵀμ puts d_p λ_p n_p on u_s,p
-/// and −d_p λ_p T_pq n_p on u_m,q.
-fn contact_residual(k: &CsrMatrix, f: &[f64], points: &[ContactPoint], u: &[f64], mu: &[f64]) -> Vec<f64> {
+/// f − K u − C_cᵀμ, where `row(i)` is point i's n_p·(T u_m)_p as (dof, a) in
+/// the unknowns of u: C_cᵀμ puts d_p λ_p n_p on the slave dofs and −d_p λ_p a
+/// on each dof of the row.
+fn contact_residual<'a>(
+    k: &CsrMatrix,
+    f: &[f64],
+    points: &[ContactPoint],
+    (u, mu): (&[f64], &[f64]),
+    row: impl Fn(usize) -> &'a [(usize, f64)],
+) -> Vec<f64> {
     let ku = k.mul_vec(u, 1);
     let mut r: Vec<f64> = f.iter().zip(&ku).map(|(f, ku)| f - ku).collect();
-    for (c, &m) in points.iter().zip(mu) {
-        let n = c.frame[0];
+    for (i, (c, &m)) in points.iter().zip(mu).enumerate() {
         for comp in 0..3 {
-            r[c.first_dof + comp] -= m * n[comp];
-            for &(q, t) in &c.t_row {
-                r[q + comp] += m * t * n[comp];
-            }
+            r[c.first_dof + comp] -= m * c.frame[0][comp];
+        }
+        for &(j, a) in row(i) {
+            r[j] += m * a;
         }
     }
     r
@@ -1019,16 +1028,7 @@ fn kkt(
     (u, x): (&[f64], &[f64]),
     mu: &[f64],
 ) -> Kkt {
-    let ku = k.mul_vec(u, 1);
-    let mut r: Vec<f64> = f.iter().zip(&ku).map(|(f, ku)| f - ku).collect();
-    for (c, &m) in points.iter().zip(mu) {
-        for comp in 0..3 {
-            r[c.first_dof + comp] -= m * c.frame[0][comp];
-        }
-        for &(j, a) in &c.a_row {
-            r[j] += m * a;
-        }
-    }
+    let r = contact_residual(k, f, points, (u, mu), |i| &points[i].a_row);
     let free = free_dofs(k, dirichlet);
     let max_free = |v: &[f64]| (0..v.len()).filter(|&i| free[i]).fold(0.0f64, |m, i| m.max(v[i].abs()));
     let max_abs = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, v| m.max(v.abs()));
