@@ -54,7 +54,9 @@ impl PySolution {
     fn bodies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let out = PyDict::new(py);
         let s = &self.inner;
-        for ((body, u), stress) in s.problem.bodies.iter().zip(&s.solution.displacement).zip(&s.stresses) {
+        for ((body, u), stress) in
+            s.problem.bodies.iter().zip(&s.solution.displacement).zip(&s.solution.stresses)
+        {
             let items = PyDict::new(py);
             items.set_item("name", &body.name)?;
             items.set_item("points", rows(py, body.mesh.points().iter().flatten().copied().collect(), 3)?)?;

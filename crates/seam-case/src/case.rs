@@ -248,7 +248,7 @@ pub struct ContactSettings {
 }
 
 fn default_max_iterations() -> usize {
-    seam_fem::contact::ContactOptions::default().max_iterations
+    seam_fem::SolveOptions::default().max_active_set_steps
 }
 
 impl Default for ContactSettings {

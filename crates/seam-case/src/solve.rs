@@ -38,13 +38,11 @@ use crate::output::Staged;
 use crate::{Case, CaseMultiplier, InterfaceKind, SurfaceRef};
 use anyhow::{anyhow, Context};
 use rayon::prelude::*;
-use seam::{Face, Facing, MaxGap, Mortar, MortarOptions, MortarSummary, Multiplier, Point3, SurfaceMesh};
-use seam_fem::contact::{ContactInterfaceSolution, ContactOptions, ContactReport};
-use seam_fem::glue::{GlueReport, InterfaceSolution, Timings};
+use seam::{Face, Facing, MaxGap, MortarOptions, MortarSummary, Multiplier, Point3, SurfaceMesh};
 use seam_fem::pcg::PcgOptions;
 use seam_fem::{
-    recover_stresses, GlueError, Load, Material, Problem, ProblemBody, ProblemInterface, Stresses, Support,
-    SurfaceId,
+    Coupling, Load, Material, Problem, ProblemBody, ProblemError, ProblemInterface, Solution, Stresses,
+    Support, SurfaceId,
 };
 use seam_io::Field;
 use serde::Serialize;
@@ -58,12 +56,10 @@ pub struct Solved {
     pub out_dir: PathBuf,
     /// The bodies, interfaces, supports and loads, as read.
     pub problem: Problem,
-    /// Displacements, multipliers and the solver's report.
+    /// Displacements, stresses, interface results and the solver's report.
     pub solution: Solution,
-    /// Per interface: the slave surface and its tractions.
+    /// Per interface: its results on the slave surface's own points.
     pub interfaces: Vec<InterfaceResult>,
-    /// Per body: the recovered stresses.
-    pub stresses: Vec<Stresses>,
     /// What `summary.json` holds.
     pub summary: Summary,
     case: Case,
@@ -72,77 +68,6 @@ pub struct Solved {
     body_files: Vec<(Vec<Field>, Vec<Field>)>,
     /// Per interface: the point fields of its VTU file.
     interface_files: Vec<Vec<Field>>,
-}
-
-/// The solution of a case.
-pub struct Solution {
-    /// Per body: displacements, 3 per mesh point.
-    pub displacement: Vec<Vec<f64>>,
-    /// Per interface, in case order.
-    pub interfaces: Vec<Coupled>,
-    /// The solver's report.
-    pub report: Report,
-}
-
-/// One interface's solution.
-pub enum Coupled {
-    /// A glued interface.
-    Glue(InterfaceSolution),
-    /// A contact interface.
-    Contact(ContactInterfaceSolution),
-}
-
-/// The solver's report: the glue solver's, or, when the case has contact
-/// interfaces, the contact solver's.
-pub enum Report {
-    /// Glued interfaces only ([`seam_fem::solve_glued`]).
-    Glue(GlueReport),
-    /// Contact interfaces, and glued ones if any ([`seam_fem::solve_contact`]).
-    Contact(ContactReport),
-}
-
-impl Solution {
-    /// Solves `problem` with its glued and contact interfaces.
-    fn of(problem: &Problem, case: &Case, solver: seam_fem::Solver) -> Result<Solution, GlueError> {
-        if problem.has_contact() {
-            let options = ContactOptions { solver, max_iterations: case.contact.max_iterations };
-            let s = problem.solve_contact(&options)?;
-            let (mut glued, mut contact) = (s.glued.into_iter(), s.interfaces.into_iter());
-            let interfaces = problem
-                .interfaces
-                .iter()
-                .map(|f| match f.kind {
-                    seam_fem::Coupling::Glue => glued.next().map(Coupled::Glue),
-                    seam_fem::Coupling::Contact => contact.next().map(Coupled::Contact),
-                })
-                .collect::<Option<Vec<_>>>()
-                .expect("one solution per interface");
-            Ok(Solution { displacement: s.displacement, interfaces, report: Report::Contact(s.report) })
-        } else {
-            let s = problem.solve(solver)?;
-            let interfaces = s.interfaces.into_iter().map(Coupled::Glue).collect();
-            Ok(Solution { displacement: s.displacement, interfaces, report: Report::Glue(s.report) })
-        }
-    }
-
-    /// Seconds per phase of the solver.
-    fn timings(&self) -> Timings {
-        match &self.report {
-            Report::Glue(report) => report.seconds,
-            Report::Contact(report) => report.seconds,
-        }
-    }
-
-    /// Interface `i`'s mortar operator, the resultant force of the master on
-    /// the slave, and its constrained (or contact) slave points.
-    fn interface(&self, i: usize) -> (&Mortar, [f64; 3], usize) {
-        match &self.interfaces[i] {
-            Coupled::Glue(s) => {
-                (&s.mortar, s.force, s.constrained.iter().filter(|c| c.iter().any(|&x| x)).count())
-            }
-            Coupled::Contact(s) => (&s.mortar, s.force, s.contact.iter().filter(|&&c| c).count()),
-        }
-    }
 }
 
 /// One interface's result on its slave surface, on the surface's own points.
@@ -546,29 +471,22 @@ fn run(case: Case, case_path: &Path, options: &SolveOptions, start: Instant) -> 
             seam_fem::Solver::Pcg(PcgOptions { rtol: options.rtol, ..PcgOptions::default() })
         }
     };
-    let solution = Solution::of(&problem, &case, solver).map_err(|e| glue_failure(e, &case, case_path))?;
-    let t = solution.timings();
+    let fem_options = seam_fem::SolveOptions { solver, max_active_set_steps: case.contact.max_iterations };
+    let solution =
+        seam_fem::solve(&problem, &fem_options).map_err(|e| problem_failure(e, &case, case_path))?;
+    let t = solution.report.seconds;
     (seconds.assembly, seconds.mortar, seconds.setup, seconds.factorization, seconds.solve) =
         (t.assembly, t.mortar, t.setup, t.factorization, t.solve);
 
     let clock = Instant::now();
-    let stresses = problem
-        .bodies
-        .par_iter()
-        .zip(&solution.displacement)
-        .map(|(b, u)| {
-            recover_stresses(&b.mesh, &b.material, u).map_err(|e| anyhow!("body \"{}\": {e}", b.name))
-        })
-        .collect::<anyhow::Result<Vec<_>>>()
-        .context("stress recovery")?;
     let interfaces: Vec<InterfaceResult> =
         (0..case.interfaces.len()).map(|i| interface_result(&problem, &solution, i)).collect();
-    seconds.stresses = clock.elapsed().as_secs_f64();
+    seconds.stresses = t.stresses + clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
     let mut body_files = Vec::with_capacity(problem.bodies.len());
     for (b, body) in problem.bodies.iter().enumerate() {
-        let (point, cell) = body_fields(&solution.displacement[b], &stresses[b]);
+        let (point, cell) = body_fields(&solution.displacement[b], &solution.stresses[b]);
         let what = format!("{}: body \"{}\"", case_path.display(), body.name);
         check_results(&point, &what, "point")?;
         check_results(&cell, &what, "cell")?;
@@ -588,14 +506,12 @@ fn run(case: Case, case_path: &Path, options: &SolveOptions, start: Instant) -> 
     let out_dir = case.resolve(&case.output.dir);
     seconds.total = start.elapsed().as_secs_f64();
     let names = OutputNames::new(&case, &out_dir).map_err(|e| anyhow!("{}: {e}", case_path.display()))?;
-    let summary =
-        summary(&case, case_path, options.solver, &names, &out_dir, &problem, &solution, &stresses, seconds)?;
+    let summary = summary(&case, case_path, options.solver, &names, &out_dir, &problem, &solution, seconds)?;
     Ok(Solved {
         out_dir,
         problem,
         solution,
         interfaces,
-        stresses,
         summary,
         case,
         case_path: case_path.to_path_buf(),
@@ -764,8 +680,8 @@ fn build_problem(case: &Case) -> anyhow::Result<Problem> {
         };
         let (master, slave) = (id(&problem, &f.master)?, id(&problem, &f.slave)?);
         let kind = match f.kind {
-            InterfaceKind::Glue => seam_fem::Coupling::Glue,
-            InterfaceKind::Contact => seam_fem::Coupling::Contact,
+            InterfaceKind::Glue => Coupling::Glue,
+            InterfaceKind::Contact => Coupling::Contact,
         };
         problem.interfaces.push(ProblemInterface { master, slave, options, kind });
     }
@@ -790,10 +706,10 @@ fn multiplier(m: CaseMultiplier) -> Multiplier {
 
 /// A solver error in the case's terms: bodies and interfaces by name. An
 /// interface whose surfaces do not overlap is "nothing to couple" (exit 1).
-fn glue_failure(e: GlueError, case: &Case, path: &Path) -> Failure {
+fn problem_failure(e: ProblemError, case: &Case, path: &Path) -> Failure {
     let file = path.display();
     match e {
-        GlueError::Mortar { interface, source } => {
+        ProblemError::Mortar { interface, source } => {
             let what = case.interfaces[interface].describe(interface);
             match source {
                 e @ seam::MortarError::NoOverlap { .. } => {
@@ -802,10 +718,10 @@ fn glue_failure(e: GlueError, case: &Case, path: &Path) -> Failure {
                 e => Failure::Error(anyhow!("{file}: {what}: {e}")),
             }
         }
-        GlueError::BadInterface { interface, what } if interface < case.interfaces.len() => {
+        ProblemError::BadInterface { interface, what } if interface < case.interfaces.len() => {
             Failure::Error(anyhow!("{file}: {}: {what}", case.interfaces[interface].describe(interface)))
         }
-        GlueError::Assembly { body, source } => {
+        ProblemError::Assembly { body, source } => {
             let b = &case.bodies[body];
             Failure::Error(anyhow!(
                 "{file}: body \"{}\" ({}): {source}",
@@ -813,7 +729,7 @@ fn glue_failure(e: GlueError, case: &Case, path: &Path) -> Failure {
                 case.resolve(&b.mesh).display()
             ))
         }
-        GlueError::NonFiniteSolution { body, dof } => {
+        ProblemError::NonFiniteSolution { body, dof } => {
             let b = &case.bodies[body];
             Failure::Error(anyhow!(
                 "{file}: body \"{}\": the solution is not finite at point {} of {} (component {}): an overflow; \
@@ -824,7 +740,7 @@ fn glue_failure(e: GlueError, case: &Case, path: &Path) -> Failure {
                 ["x", "y", "z"][dof % 3]
             ))
         }
-        GlueError::SharedSlavePoint { glue, contact, at, .. } => {
+        ProblemError::SharedSlavePoint { glue, contact, at, .. } => {
             let (g, c) = (&case.interfaces[glue], &case.interfaces[contact]);
             let body = SurfaceRef::parse(&g.slave, "").map(|r| r.body).unwrap_or_default();
             Failure::Error(anyhow!(
@@ -837,7 +753,7 @@ fn glue_failure(e: GlueError, case: &Case, path: &Path) -> Failure {
                 at[2]
             ))
         }
-        GlueError::Solve(e @ seam_fem::SolveError::IllConditioned { .. }) => {
+        ProblemError::Solve(e @ seam_fem::SolveError::IllConditioned { .. }) => {
             // Name the likely cause: a nearly incompressible body.
             let soft: Vec<String> = case
                 .bodies
@@ -877,56 +793,37 @@ fn own_points(surface: &SurfaceMesh) -> (SurfaceMesh, Vec<usize>) {
     (mesh, body_point)
 }
 
-/// Interface `i`'s tractions (and contact fields) on its slave surface's points.
+/// Interface `i`'s results on its slave surface's own points.
 fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> InterfaceResult {
     let f = &problem.interfaces[i];
-    let surface = problem.surface(f.slave);
-    let (mesh, body_point) = own_points(surface);
-    let nodal = seam::nodal_normals(surface);
-    // Per body point: traction, normal, constrained.
-    let at: Box<dyn Fn(usize) -> ([f64; 3], Point3, bool)> = match &solution.interfaces[i] {
-        Coupled::Glue(s) => Box::new(move |p| (s.traction[p], nodal[p], s.constrained[p].iter().any(|&c| c))),
-        Coupled::Contact(s) => Box::new(move |p| {
-            let n = if s.contact[p] { s.normal[p] } else { nodal[p] };
-            (n.map(|v| -s.pressure[p] * v), n, s.contact[p])
-        }),
-    };
+    let (mesh, body_point) = own_points(problem.surface(f.slave));
+    let s = &solution.interfaces[i];
     let u = &solution.displacement[f.slave.body];
-    let n = body_point.len();
-    let mut r = InterfaceResult {
-        mesh,
-        traction: Vec::with_capacity(n),
-        normal: Vec::with_capacity(n),
-        normal_traction: Vec::with_capacity(n),
-        tangential_traction: Vec::with_capacity(n),
-        displacement: Vec::with_capacity(n),
-        constrained: Vec::with_capacity(n),
-        contact: None,
-        body_point: Vec::new(),
-    };
-    for &p in &body_point {
-        let (t, n, constrained) = at(p);
-        let tn = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
-        r.traction.push(t);
-        r.normal.push(n);
-        r.normal_traction.push(tn);
-        r.tangential_traction.push([t[0] - tn * n[0], t[1] - tn * n[1], t[2] - tn * n[2]]);
-        r.displacement.push([u[3 * p], u[3 * p + 1], u[3 * p + 2]]);
-        r.constrained.push(if constrained { 1.0 } else { 0.0 });
-    }
-    if let Coupled::Contact(s) = &solution.interfaces[i] {
+    let pick = |v: &[f64]| -> Vec<f64> { body_point.iter().map(|&p| v[p]).collect() };
+    let pick3 = |v: &[[f64; 3]]| -> Vec<[f64; 3]> { body_point.iter().map(|&p| v[p]).collect() };
+    let one = |v: &[bool]| -> Vec<f64> { body_point.iter().map(|&p| if v[p] { 1.0 } else { 0.0 }).collect() };
+    let contact = s.contact.as_ref().map(|c| {
         let at_contact = |v: &[f64]| -> Vec<f64> {
-            body_point.iter().map(|&p| if s.contact[p] { v[p] } else { f64::NAN }).collect()
+            body_point.iter().map(|&p| if c.contact[p] { v[p] } else { f64::NAN }).collect()
         };
-        r.contact = Some(ContactFields {
-            pressure: body_point.iter().map(|&p| s.pressure[p]).collect(),
-            gap: at_contact(&s.gap),
-            initial_gap: at_contact(&s.initial_gap),
-            active: body_point.iter().map(|&p| if s.active[p] { 1.0 } else { 0.0 }).collect(),
-        });
+        ContactFields {
+            pressure: pick(&c.pressure),
+            gap: at_contact(&c.gap),
+            initial_gap: at_contact(&c.initial_gap),
+            active: one(&c.active),
+        }
+    });
+    InterfaceResult {
+        traction: pick3(&s.traction),
+        normal: pick3(&s.normal),
+        normal_traction: pick(&s.normal_traction),
+        tangential_traction: pick3(&s.tangential_traction),
+        displacement: body_point.iter().map(|&p| [u[3 * p], u[3 * p + 1], u[3 * p + 2]]).collect(),
+        constrained: one(&s.constrained),
+        contact,
+        mesh,
+        body_point,
     }
-    r.body_point = body_point;
-    r
 }
 
 /// Fields whose NaN marks "no value here" (off the contact points), as the
@@ -1016,7 +913,6 @@ fn summary(
     out_dir: &Path,
     problem: &Problem,
     solution: &Solution,
-    stresses: &[Stresses],
     seconds: Seconds,
 ) -> anyhow::Result<Summary> {
     let loads = problem.loads_and_supports().map_err(|e| anyhow!("{}: {e}", path.display()))?;
@@ -1030,8 +926,8 @@ fn summary(
         .map(|(b, body)| {
             let load = sum3(&loads[b].0);
             let mut interface_force = [0.0; 3];
-            for (i, f) in coupled.iter().enumerate() {
-                let (_, force, _) = solution.interface(i);
+            for (f, s) in coupled.iter().zip(&solution.interfaces) {
+                let force = s.force;
                 for k in 0..3 {
                     if f.slave.body == b {
                         interface_force[k] += force[k];
@@ -1057,7 +953,7 @@ fn summary(
                 applied_load: load,
                 interface_force,
                 max_displacement: max_norm(&solution.displacement[b]),
-                max_von_mises: stresses[b].cell_von_mises.iter().copied().fold(0.0, f64::max),
+                max_von_mises: solution.stresses[b].cell_von_mises.iter().copied().fold(0.0, f64::max),
             }
         })
         .collect();
@@ -1065,18 +961,19 @@ fn summary(
         .iter()
         .enumerate()
         .map(|(i, f)| {
-            let (mortar, force, constrained_nodes) = solution.interface(i);
+            let s = &solution.interfaces[i];
+            let mortar = &s.mortar;
             InterfaceSummary {
                 master: problem.surface_name(f.master),
                 slave: problem.surface_name(f.slave),
                 kind: match f.kind {
-                    seam_fem::Coupling::Glue => "glue",
-                    seam_fem::Coupling::Contact => "contact",
+                    Coupling::Glue => "glue",
+                    Coupling::Contact => "contact",
                 },
                 file: file_name(&names.interfaces[i]),
                 multiplier: multiplier_name(f.options.multiplier),
-                constrained_nodes,
-                force,
+                constrained_nodes: s.constrained_points(),
+                force: s.force,
                 covered_fraction: mortar.summary.covered_area / mortar.summary.slave_area,
                 mortar: mortar.summary.clone(),
             }
@@ -1088,24 +985,22 @@ fn summary(
         1 => kinds.first().map(|k| k.to_string()).unwrap_or_default(),
         _ => "mixed".to_string(),
     };
-    let (method, dofs, constraints, iterations, residual, contact) = match &solution.report {
-        Report::Glue(r) => (r.method, r.dofs, r.constraints, r.iterations, r.residual, None),
-        Report::Contact(r) => {
-            let contact = contact_summary(problem, solution, r, case.contact.max_iterations);
-            let constraints = r.constraints + r.contact_points;
-            (r.method, r.dofs, constraints, r.steps.len(), r.kkt.max(), Some(contact))
-        }
-    };
+    let r = &solution.report;
+    let contact = r
+        .contact
+        .as_ref()
+        .map(|c| contact_summary(problem, solution, r.method, c, case.contact.max_iterations));
+    let constraints = r.constraints + r.contact.as_ref().map_or(0, |c| c.contact_points);
     Ok(Summary {
         case: path.display().to_string(),
         output_dir: out_dir.display().to_string(),
         solver: solver.name(),
-        method,
+        method: r.method,
         multiplier,
-        dofs,
+        dofs: r.dofs,
         constraints,
-        iterations,
-        residual,
+        iterations: r.iterations,
+        residual: r.residual,
         applied_load,
         bodies,
         interfaces,
@@ -1120,7 +1015,8 @@ fn summary(
 fn contact_summary(
     problem: &Problem,
     solution: &Solution,
-    r: &ContactReport,
+    method: &'static str,
+    r: &seam_fem::ContactReport,
     max_iterations: usize,
 ) -> ContactSummary {
     let count = |v: &[bool]| v.iter().filter(|&&x| x).count();
@@ -1128,18 +1024,15 @@ fn contact_summary(
         .interfaces
         .iter()
         .zip(&solution.interfaces)
-        .filter_map(|(f, s)| match s {
-            Coupled::Contact(s) => Some((f, s)),
-            Coupled::Glue(_) => None,
-        })
-        .map(|(f, s)| ContactInterfaceSummary {
+        .filter_map(|(f, s)| Some((f, s.contact.as_ref()?, s.force)))
+        .map(|(f, c, force)| ContactInterfaceSummary {
             master: problem.surface_name(f.master),
             slave: problem.surface_name(f.slave),
-            contact_points: count(&s.contact),
-            active_points: count(&s.active),
-            force: s.force,
-            force_magnitude: norm3(s.force),
-            max_pressure: s.pressure.iter().copied().fold(0.0, f64::max),
+            contact_points: count(&c.contact),
+            active_points: count(&c.active),
+            force,
+            force_magnitude: norm3(force),
+            max_pressure: c.pressure.iter().copied().fold(0.0, f64::max),
         })
         .collect();
     let steps = r
@@ -1154,7 +1047,7 @@ fn contact_summary(
         .collect();
     let k = &r.kkt;
     ContactSummary {
-        method: r.method,
+        method,
         iterations: r.steps.len(),
         max_iterations,
         steps,

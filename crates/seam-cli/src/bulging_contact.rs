@@ -72,7 +72,7 @@ fn draw(s: &Solved, p: &BulgingContact) -> anyhow::Result<Image> {
     let (mut cut_y, mut cut_x) = (Plot::default(), Plot::default());
     for (b, body) in s.problem.bodies.iter().enumerate() {
         let (x, u) = (body.mesh.points(), &s.solution.displacement[b]);
-        let von_mises = |q: usize| s.stresses[b].nodal_von_mises[q];
+        let von_mises = |q: usize| s.solution.stresses[b].nodal_von_mises[q];
         if add_cut(&mut initial, &body.mesh, 1, CUT, |q| [x[q][0], x[q][2]], |q| gap(x[q][0], x[q][1])) == 0 {
             bail!("body \"{}\" has no cell faces on the plane y = {CUT}", body.name);
         }

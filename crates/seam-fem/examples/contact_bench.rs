@@ -16,11 +16,11 @@
 mod common;
 
 use common::{flag_sizes, flag_value, peak_mb};
-use seam_fem::contact::ContactOptions;
-use seam_fem::glue::Solver;
 use seam_fem::pcg::PcgOptions;
 use seam_fem::scene::{bulging_contact, hertz, BulgingContact, Hertz};
 use seam_fem::Problem;
+use seam_fem::SolveOptions;
+use seam_fem::Solver;
 use std::process::Command;
 use std::time::Instant;
 
@@ -40,19 +40,19 @@ fn row(scene: &str, n: usize, solver: &str) {
         other => panic!("unknown scene {other}"),
     };
     let meshing = clock.elapsed().as_secs_f64();
-    let solution =
-        problem.solve_contact(&ContactOptions { solver, ..ContactOptions::default() }).expect("solvable");
+    let solution = problem.solve(&SolveOptions { solver, ..SolveOptions::default() }).expect("solvable");
     let total = clock.elapsed().as_secs_f64();
     let r = &solution.report;
     let t = &r.seconds;
-    let linear: usize = r.steps.iter().map(|s| s.linear_iterations).sum();
-    let changes: usize = r.steps.iter().map(|s| s.added + s.removed).sum();
+    let c = r.contact.as_ref().expect("a contact scene");
+    let linear: usize = c.steps.iter().map(|s| s.linear_iterations).sum();
+    let changes: usize = c.steps.iter().map(|s| s.added + s.removed).sum();
     println!(
         "| {} | {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.0e} | {:.0} |",
         r.dofs,
-        r.contact_points,
-        r.active,
-        r.steps.len(),
+        c.contact_points,
+        c.active,
+        c.steps.len(),
         if linear > 0 { format!("{changes} / {linear}") } else { changes.to_string() },
         meshing,
         t.assembly,
@@ -60,7 +60,7 @@ fn row(scene: &str, n: usize, solver: &str) {
         t.setup,
         t.factorization + t.solve,
         total,
-        r.kkt.max(),
+        c.kkt.max(),
         peak_mb(),
     );
 }

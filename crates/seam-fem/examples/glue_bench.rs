@@ -16,9 +16,9 @@ mod common;
 
 use common::{flag_sizes, flag_value, peak_mb};
 use seam::Multiplier;
-use seam_fem::glue::Solver;
 use seam_fem::pcg::PcgOptions;
 use seam_fem::scene::{warped_glue, WarpedGlue};
+use seam_fem::{SolveOptions, Solver};
 use std::process::Command;
 use std::time::Instant;
 
@@ -45,7 +45,7 @@ fn row(s: usize, solver: &str) {
     };
     let problem = warped_glue(&params).expect("valid scene");
     let meshing = clock.elapsed().as_secs_f64();
-    let solution = problem.solve(solver).expect("solvable");
+    let solution = problem.solve(&SolveOptions { solver, ..SolveOptions::default() }).expect("solvable");
     let total = clock.elapsed().as_secs_f64();
     let r = &solution.report;
     let t = &r.seconds;

@@ -44,7 +44,7 @@
 //! a semismooth Newton step for the nonlinear complementarity function. When
 //! A_{k+1} = A_k the iterate satisfies the KKT conditions exactly (up to the
 //! linear solve): μ > 0 on A, w ≤ g off A. The iteration is capped
-//! ([`ContactOptions::max_iterations`]).
+//! ([`SolveOptions::max_active_set_steps`]).
 //!
 //! # With glued interfaces
 //! Glued interfaces ([`Coupling::Glue`]) in the same problem are eliminated
@@ -65,12 +65,12 @@
 //! - [`Solver::Pcg`]: every step solves the whole system by PCG, warm-started
 //!   from the previous step.
 
-use crate::glue::{interface_solutions as glued_solutions, InterfaceSolution};
-use crate::multibody::{assemble_system, check_input, free_dofs, prolongation, saddle_point, triple_product};
+use crate::multibody::{free_dofs, prolongation, saddle_point, triple_product};
 use crate::multibody::{
-    Body, Constraints, Coupling, GlueError, Interface, Row, Solver, System, Timings, NONE,
+    Body, Constraints, Coupling, Interface, ProblemError, Row, Solver, System, Timings, NONE,
 };
 use crate::pcg::solve_pcg_from;
+use crate::solution::{ContactFields, InterfaceSolution, SolveOptions};
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
@@ -78,22 +78,6 @@ use rayon::prelude::*;
 use seam::vec3::{cross, dot, norm, sub};
 use seam::{nodal_normals, CsrMatrix, Mortar, Multiplier, Point3};
 use std::time::Instant;
-
-/// Options of [`solve_contact`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactOptions {
-    /// The linear solver of each active-set step.
-    pub solver: Solver,
-    /// Iteration cap of the active-set method.
-    pub max_iterations: usize,
-}
-
-impl Default for ContactOptions {
-    /// Direct solves, at most 50 active-set steps.
-    fn default() -> Self {
-        ContactOptions { solver: Solver::Direct, max_iterations: 50 }
-    }
-}
 
 /// One active-set step.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -129,67 +113,11 @@ impl Kkt {
     }
 }
 
-/// What the contact solve did.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ContactReport {
-    /// Displacement unknowns, 3 per point of all bodies.
-    pub dofs: usize,
-    /// Rows of the glued interfaces' constraints (eliminated slave dofs).
-    pub constraints: usize,
-    /// Contact points (slave points with a constraint), all interfaces.
-    pub contact_points: usize,
-    /// Active points at the solution, all interfaces.
-    pub active: usize,
-    /// The active-set steps; their number is the iteration count.
-    pub steps: Vec<ActiveSetStep>,
-    /// The linear solver, e.g. "sparse Cholesky".
-    pub method: &'static str,
-    /// KKT residuals of the solution.
-    pub kkt: Kkt,
-    /// Seconds per phase (`factorization` sums all steps' solves).
-    pub seconds: Timings,
-}
-
-/// The solution on one contact interface, per slave body point (zero, or
-/// false, at points that are not contact points).
-#[derive(Clone, Debug)]
-pub struct ContactInterfaceSolution {
-    /// The mortar operator of the interface.
-    pub mortar: Mortar,
-    /// Has a contact constraint.
-    pub contact: Vec<bool>,
-    /// The outward unit normal n_p used by the constraint.
-    pub normal: Vec<Point3>,
-    /// The initial weighted gap g_p.
-    pub initial_gap: Vec<f64>,
-    /// The gap after deformation, g_p − w_p (≥ 0).
-    pub gap: Vec<f64>,
-    /// The contact pressure λ_p (≥ 0, force per area).
-    pub pressure: Vec<f64>,
-    /// In the final active set.
-    pub active: Vec<bool>,
-    /// Resultant force of the master on the slave, −Σ_p d_p λ_p n_p.
-    pub force: [f64; 3],
-}
-
-/// The solution of a contact problem.
-#[derive(Clone, Debug)]
-pub struct ContactSolution {
-    /// Per body: displacements, 3 per mesh point.
-    pub displacement: Vec<Vec<f64>>,
-    /// Per contact interface, in input order.
-    pub interfaces: Vec<ContactInterfaceSolution>,
-    /// Per glued interface, in input order.
-    pub glued: Vec<InterfaceSolution>,
-    /// Sizes, iterations, KKT residuals and timings.
-    pub report: ContactReport,
-}
-
 /// A contact point: slave point `point` of interface `interface`, its dofs
 /// `first_dof` … + 2 (x, y, z in the global numbering), reinterpreted as
 /// (w, v₁, v₂).
 #[derive(Clone, Debug)]
-struct ContactPoint {
+pub(crate) struct ContactPoint {
     interface: usize,
     point: usize,
     first_dof: usize,
@@ -206,86 +134,50 @@ struct ContactPoint {
     a_row: Vec<(usize, f64)>,
 }
 
-/// Solves the frictionless contact problem (module doc) for bodies coupled by
-/// contact `interfaces` (lumped or dual multipliers) and glued ones.
+/// Solves the frictionless contact problem (module doc): `system` with the
+/// constraints of its glued interfaces and the contact interfaces, after
+/// [`check_couplings`].
 ///
 /// # Errors
-/// [`GlueError`] for inconsistent input (standard multipliers for contact, a
-/// point that is slave of one contact interface and master of another, or
-/// slave of a glued and a contact interface), a failed assembly, a singular
-/// step (a body held by nothing), or no convergence within
-/// [`ContactOptions::max_iterations`].
-pub fn solve_contact(
+/// [`ProblemError`] for a failed assembly, a singular step (a body held by
+/// nothing), or no convergence within `max_steps` active-set steps.
+pub(crate) fn solve_contact(
     bodies: &[Body],
     interfaces: &[Interface],
-    options: &ContactOptions,
-) -> Result<ContactSolution, GlueError> {
-    check_input(bodies, interfaces)?;
-    check_couplings(interfaces, options.solver)?;
-    let mut seconds = Timings::default();
-    let system = assemble_system(bodies, interfaces, &mut seconds)?;
-    let clock = Instant::now();
-    let constraints = Constraints::new(interfaces, &system.mortars, &system.offsets, &system.dirichlet);
-    seconds.setup += clock.elapsed().as_secs_f64();
+    options: &SolveOptions,
+    system: &System,
+    constraints: &Constraints,
+    seconds: &mut Timings,
+) -> Result<Steps, ProblemError> {
     let eliminated = constraints.rows.is_empty() || constraints.eliminated_block_is_diagonal();
-    let steps = if eliminated {
-        rotated_steps(bodies, interfaces, options, &system, &constraints, &mut seconds)?
+    if eliminated {
+        rotated_steps(bodies, interfaces, options, system, constraints, seconds)
     } else {
-        saddle_steps(bodies, interfaces, options, &system, &constraints, &mut seconds)?
-    };
-
-    let clock = Instant::now();
-    let Steps { u, w, mu, active, steps, lambda, kkt, method, points } = steps;
-    let offsets = &system.offsets;
-    let displacement = (0..bodies.len()).map(|b| u[offsets[b]..offsets[b + 1]].to_vec()).collect();
-    let n_active = active.iter().filter(|&&on| on).count();
-    let (mut glue_mortars, mut contact_mortars) = (Vec::new(), Vec::new());
-    for (i, m) in system.mortars.into_iter().enumerate() {
-        match interfaces[i].kind {
-            Coupling::Glue => glue_mortars.push((i, m)),
-            Coupling::Contact => contact_mortars.push((i, m)),
-        }
+        saddle_steps(bodies, interfaces, options, system, constraints, seconds)
     }
-    let glued_interfaces = glued_solutions(interfaces, glue_mortars, &constraints, &lambda);
-    let solutions = interface_solutions(interfaces, contact_mortars, &points, &w, &mu, &active);
-    seconds.solve += clock.elapsed().as_secs_f64();
-    let report = ContactReport {
-        dofs: system.k.nrows,
-        constraints: constraints.rows.len(),
-        contact_points: points.len(),
-        active: n_active,
-        steps,
-        method,
-        kkt,
-        seconds,
-    };
-    Ok(ContactSolution { displacement, interfaces: solutions, glued: glued_interfaces, report })
 }
 
 /// What an active-set solve found.
-struct Steps {
+pub(crate) struct Steps {
     /// Displacements of all bodies.
-    u: Vec<f64>,
+    pub u: Vec<f64>,
     /// Per contact point: w_p = n_p·(u_s − T u_m)_p.
-    w: Vec<f64>,
+    pub w: Vec<f64>,
     /// Per contact point: μ_p = d_p λ_p (0 off the active set).
-    mu: Vec<f64>,
+    pub mu: Vec<f64>,
     /// Per contact point: in the final active set.
-    active: Vec<bool>,
-    steps: Vec<ActiveSetStep>,
+    pub active: Vec<bool>,
+    pub steps: Vec<ActiveSetStep>,
     /// The glued interfaces' multipliers, one per row of their constraints.
-    lambda: Vec<f64>,
-    kkt: Kkt,
-    method: &'static str,
-    points: Vec<ContactPoint>,
+    pub lambda: Vec<f64>,
+    pub kkt: Kkt,
+    pub method: &'static str,
+    pub points: Vec<ContactPoint>,
 }
 
 /// The singular-step error.
-fn singular(step: usize, active: usize) -> GlueError {
-    GlueError::Contact(format!(
-        "active-set step {step}: the system is singular with {active} active contact points; every body \
-         must be held by its supports, or touch (gap ≤ 0) another body from the start"
-    ))
+fn singular(step: usize, active: usize) -> ProblemError {
+    ProblemError::SingularStep { step, active }
 }
 
 /// The active set on the system rotated into nodal frames, glued interfaces
@@ -293,11 +185,11 @@ fn singular(step: usize, active: usize) -> GlueError {
 fn rotated_steps(
     bodies: &[Body],
     interfaces: &[Interface],
-    options: &ContactOptions,
+    options: &SolveOptions,
     system: &System,
     constraints: &Constraints,
     seconds: &mut Timings,
-) -> Result<Steps, GlueError> {
+) -> Result<Steps, ProblemError> {
     let (k, f, dirichlet, offsets) = (&system.k, &system.f, &system.dirichlet, &system.offsets);
     let clock = Instant::now();
     let glued = if constraints.rows.is_empty() { None } else { Some(Glued::new(constraints, k, f)?) };
@@ -324,17 +216,13 @@ fn rotated_steps(
             }
             let analysis = CholeskyAnalysis::new(&a, &tied, &DirectOptions::default())?;
             let condensed = Condensed::new(&analysis, &a, &b, &tied, &points).map_err(|e| match e {
-                SolveError::Singular => GlueError::Contact(format!(
-                    "the system is singular even with all {} contact points closed: a body can move \
-                     without deforming (frictionless contact holds only the normal direction; add supports)",
-                    points.len()
-                )),
-                e => GlueError::Solve(e),
+                SolveError::Singular => ProblemError::Unsupported { points: points.len() },
+                e => ProblemError::Solve(e),
             })?;
             seconds.factorization += clock.elapsed().as_secs_f64();
             let clock = Instant::now();
             let (active, w, mu, steps) =
-                active_set_method(&points, active, scale, options.max_iterations, |active, step| {
+                active_set_method(&points, active, scale, options.max_active_set_steps, |active, step| {
                     let n_active = active.iter().filter(|&&on| on).count();
                     let (w, mu) = condensed.step(&points, active).ok_or_else(|| singular(step, n_active))?;
                     Ok((w, mu, 0))
@@ -349,7 +237,7 @@ fn rotated_steps(
             let clock = Instant::now();
             let mut previous: Option<Vec<f64>> = None;
             let (active, _, mu, steps) =
-                active_set_method(&points, active, scale, options.max_iterations, |active, step| {
+                active_set_method(&points, active, scale, options.max_active_set_steps, |active, step| {
                     let mut fixed = prescribed.clone();
                     for c in points.iter().zip(active).filter(|(_, &on)| on).map(|(c, _)| c) {
                         fixed.fix_dof(c.first_dof, c.gap);
@@ -358,7 +246,7 @@ fn rotated_steps(
                     let (x, report) =
                         solve_pcg_from(&a, &b, &fixed, &pcg, previous.as_deref()).map_err(|e| match e {
                             SolveError::Singular => singular(step, n_active),
-                            e => GlueError::Solve(e),
+                            e => ProblemError::Solve(e),
                         })?;
                     let r = residual_at_normals(&a, &b, &x, &points);
                     let mu = r.iter().zip(active).map(|(&r, &on)| if on { r } else { 0.0 }).collect();
@@ -396,11 +284,11 @@ fn rotated_steps(
 fn saddle_steps(
     bodies: &[Body],
     interfaces: &[Interface],
-    options: &ContactOptions,
+    options: &SolveOptions,
     system: &System,
     constraints: &Constraints,
     seconds: &mut Timings,
-) -> Result<Steps, GlueError> {
+) -> Result<Steps, ProblemError> {
     let (k, f, dirichlet) = (&system.k, &system.f, &system.dirichlet);
     let clock = Instant::now();
     let points = contact_points(bodies, interfaces, &system.mortars, &system.offsets, dirichlet, None)?;
@@ -419,7 +307,7 @@ fn saddle_steps(
     };
     let mut last: Option<(Vec<f64>, Vec<f64>)> = None;
     let (active, w, mu, steps) =
-        active_set_method(&points, active, scale, options.max_iterations, |active, step| {
+        active_set_method(&points, active, scale, options.max_active_set_steps, |active, step| {
             let mut c = constraints.clone();
             for point in points.iter().zip(active).filter(|(_, &on)| on).map(|(p, _)| p) {
                 let n = point.frame[0];
@@ -444,7 +332,7 @@ fn saddle_steps(
             }
             let n_active = c.rows.len() - n_glue;
             let (u, nu, _, _) = saddle_point(k, f, dirichlet, &c, seconds).map_err(|e| match e {
-                GlueError::Solve(SolveError::Singular) => singular(step, n_active),
+                ProblemError::Solve(SolveError::Singular) => singular(step, n_active),
                 e => e,
             })?;
             let w = normal_motion(&u);
@@ -484,8 +372,8 @@ fn saddle_steps(
 /// multipliers (D must be diagonal), glued interfaces with standard
 /// multipliers next to contact ones with the PCG solver, and a slave point of
 /// both a glued and a contact interface.
-fn check_couplings(interfaces: &[Interface], solver: Solver) -> Result<(), GlueError> {
-    let bad = |interface: usize, what: String| Err(GlueError::BadInterface { interface, what });
+pub(crate) fn check_couplings(interfaces: &[Interface], solver: Solver) -> Result<(), ProblemError> {
+    let bad = |interface: usize, what: String| Err(ProblemError::BadInterface { interface, what });
     for (i, f) in interfaces.iter().enumerate() {
         if f.kind == Coupling::Contact && f.options.multiplier == Multiplier::Standard {
             return bad(
@@ -507,7 +395,7 @@ fn check_couplings(interfaces: &[Interface], solver: Solver) -> Result<(), GlueE
             let (used_f, used_c) = (f.slave_surface.used_points(), c.slave_surface.used_points());
             if let Some(point) = (0..used_f.len()).find(|&p| used_f[p] && used_c[p]) {
                 let at = f.slave_surface.points()[point];
-                return Err(GlueError::SharedSlavePoint { glue: i, contact: j, point, at });
+                return Err(ProblemError::SharedSlavePoint { glue: i, contact: j, point, at });
             }
         }
     }
@@ -528,13 +416,13 @@ struct Glued {
 }
 
 impl Glued {
-    fn new(constraints: &Constraints, k: &CsrMatrix, f: &[f64]) -> Result<Glued, GlueError> {
+    fn new(constraints: &Constraints, k: &CsrMatrix, f: &[f64]) -> Result<Glued, ProblemError> {
         if !constraints.eliminated_block_is_diagonal() {
             let interface = constraints.rows[0].interface;
             let what = "with the PCG solver, glued interfaces that constrain each other's slave points \
                         (crosspoints) next to contact interfaces are not supported (use the direct solver)"
                 .into();
-            return Err(GlueError::BadInterface { interface, what });
+            return Err(ProblemError::BadInterface { interface, what });
         }
         let (p, retained) = prolongation(constraints);
         let mut dof_of = vec![0; p.ncols];
@@ -631,7 +519,7 @@ fn contact_points(
     offsets: &[usize],
     dirichlet: &Dirichlet,
     p_g: Option<&CsrMatrix>,
-) -> Result<Vec<ContactPoint>, GlueError> {
+) -> Result<Vec<ContactPoint>, ProblemError> {
     let n = *offsets.last().unwrap();
     let mut claimed = vec![false; n / 3];
     let mut points = Vec::new();
@@ -672,7 +560,7 @@ fn contact_points(
                  through one point are not supported",
                 (q - offsets[interfaces[c.interface].master]) / 3
             );
-            return Err(GlueError::BadInterface { interface: c.interface, what });
+            return Err(ProblemError::BadInterface { interface: c.interface, what });
         }
     }
     Ok(points)
@@ -806,8 +694,8 @@ fn active_set_method(
     mut active: Vec<bool>,
     scale: f64,
     max_iterations: usize,
-    mut step: impl FnMut(&[bool], usize) -> Result<(Vec<f64>, Vec<f64>, usize), GlueError>,
-) -> Result<(Vec<bool>, Vec<f64>, Vec<f64>, Vec<ActiveSetStep>), GlueError> {
+    mut step: impl FnMut(&[bool], usize) -> Result<(Vec<f64>, Vec<f64>, usize), ProblemError>,
+) -> Result<(Vec<bool>, Vec<f64>, Vec<f64>, Vec<ActiveSetStep>), ProblemError> {
     let mut steps = Vec::new();
     loop {
         let n_active = active.iter().filter(|&&on| on).count();
@@ -820,11 +708,7 @@ fn active_set_method(
             return Ok((active, w, mu, steps));
         }
         if steps.len() >= max_iterations {
-            return Err(GlueError::Contact(format!(
-                "the active set did not settle in {} steps (last step: {added} points added, {removed} \
-                 removed); raise the iteration cap or check the load and the supports",
-                steps.len()
-            )));
+            return Err(ProblemError::ActiveSetNotSettled { steps: steps.len(), added, removed });
         }
         active = next;
     }
@@ -1058,54 +942,34 @@ fn magnitudes(k: &CsrMatrix, u: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// Per contact interface (`mortars`: interface index and operator, in order):
-/// the constraint data and the solution per slave body point.
-fn interface_solutions(
-    interfaces: &[Interface],
-    mortars: Vec<(usize, Mortar)>,
-    points: &[ContactPoint],
-    w: &[f64],
-    mu: &[f64],
-    active: &[bool],
-) -> Vec<ContactInterfaceSolution> {
-    let mut position = vec![NONE; interfaces.len()];
-    let mut out: Vec<ContactInterfaceSolution> = mortars
-        .into_iter()
-        .enumerate()
-        .map(|(k, (i, mortar))| {
-            position[i] = k;
-            let n = interfaces[i].slave_surface.n_points();
-            ContactInterfaceSolution {
-                mortar,
-                contact: vec![false; n],
-                normal: vec![[0.0; 3]; n],
-                initial_gap: vec![0.0; n],
-                gap: vec![0.0; n],
-                pressure: vec![0.0; n],
-                active: vec![false; n],
-                force: [0.0; 3],
-            }
-        })
-        .collect();
-    for (((c, &m), &on), &wp) in points.iter().zip(mu).zip(active).zip(w) {
-        let s = &mut out[position[c.interface]];
-        let p = c.point;
-        s.contact[p] = true;
-        s.normal[p] = c.frame[0];
-        s.initial_gap[p] = c.gap;
-        s.gap[p] = c.gap - wp;
-        s.pressure[p] = m / c.d;
-        s.active[p] = on;
+/// Adds the contact interfaces' fields to `out` (one per interface): per
+/// contact point its normal, gaps, pressure λ_p = μ_p / d_p, activity and
+/// traction −λ_p n_p, and the resultant −Σ_p μ_p n_p.
+pub(crate) fn add_contact_fields(out: &mut [InterfaceSolution], steps: &Steps) {
+    for (((c, &m), &on), &wp) in steps.points.iter().zip(&steps.mu).zip(&steps.active).zip(&steps.w) {
+        let s = &mut out[c.interface];
+        let (p, n) = (c.point, c.frame[0]);
+        let n_points = s.traction.len();
+        let fields = s.contact.get_or_insert_with(|| ContactFields::new(n_points));
+        let pressure = m / c.d;
+        fields.contact[p] = true;
+        fields.initial_gap[p] = c.gap;
+        fields.gap[p] = c.gap - wp;
+        fields.pressure[p] = pressure;
+        fields.active[p] = on;
+        s.constrained[p] = true;
+        s.normal[p] = n;
+        s.traction[p] = n.map(|v| -pressure * v);
         for comp in 0..3 {
-            s.force[comp] -= m * c.frame[0][comp];
+            s.force[comp] -= m * n[comp];
         }
     }
-    out
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::multibody::assemble_system;
     use crate::scene::{bulging_contact, BulgingContact};
 
     /// The saddle point per step (used with glued interfaces that do not
@@ -1118,7 +982,7 @@ mod tests {
             bulging_contact(&BulgingContact { cells: 8, layers: 4, ..BulgingContact::default() }).unwrap();
         let prepared = problem.loads_and_supports().unwrap();
         let (bodies, interfaces) = (problem.solver_bodies(&prepared), problem.coupled());
-        let options = ContactOptions::default();
+        let options = SolveOptions::default();
         let mut seconds = Timings::default();
         let system = assemble_system(&bodies, &interfaces, &mut seconds).unwrap();
         let constraints = Constraints::new(&interfaces, &system.mortars, &system.offsets, &system.dirichlet);

@@ -34,7 +34,7 @@
 //!   would fill PᵀKP in (a slave side much coarser than the master side); with
 //!   standard multipliers (C_S is the slave mass matrix, T is dense), or on
 //!   fill-in, the saddle point itself by sparse LDLᵀ with iterative refinement
-//!   ([`crate::saddle`]). [`GlueReport::method`] says which ran.
+//!   ([`crate::saddle`]). [`crate::Report::method`] says which ran.
 //! - [`Solver::Pcg`]: the reduced system by preconditioned conjugate
 //!   gradients, matrix-free for any multiplier: P x needs C_S⁻¹, one sparse LU
 //!   solve on the interface.
@@ -44,104 +44,45 @@
 //! λ = C_S⁻ᵀ (f − K u)_S. −λ is the traction the master exerts on the slave
 //! (force per area); the resultant on the slave is −Σ_p (D λ)_p.
 
-use crate::multibody::{assemble_system, check_input, free_dofs, prolongation, retained_numbering};
-use crate::multibody::{saddle_point, transposed_view, triple_product, Constraints, Solved, System, NONE};
-pub use crate::multibody::{Body, Coupling, GlueError, Interface, Solver, Timings};
+use crate::multibody::{free_dofs, prolongation, retained_numbering, saddle_point, transposed_view};
+use crate::multibody::{triple_product, Constraints, ProblemError, Solved, Solver, System, Timings, NONE};
 use crate::pcg::{par_mul, pcg, BlockJacobi, PcgOptions};
+use crate::solution::InterfaceSolution;
 use crate::solve::{solve, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
 use faer::Mat;
-use seam::{CsrMatrix, Mortar};
+use seam::CsrMatrix;
 use std::time::Instant;
 
-/// What the solve did.
-#[derive(Clone, Debug, PartialEq)]
-pub struct GlueReport {
-    /// Displacement unknowns, 3 per point of all bodies.
-    pub dofs: usize,
-    /// Rows of C (constrained slave dofs).
-    pub constraints: usize,
-    /// The method used, e.g. "saddle-point LU".
+/// The glued system solved: u, λ (one per row of C), the method, its
+/// iterations, and the residual ([`crate::Report::residual`]).
+pub(crate) struct Glued {
+    pub u: Vec<f64>,
+    pub lambda: Vec<f64>,
     pub method: &'static str,
-    /// PCG iterations, or refinement steps of a direct solve.
     pub iterations: usize,
-    /// ‖f − K u − Cᵀλ‖ / ‖f‖ over the free dofs, and ‖C u‖ relative to ‖C‖‖u‖,
-    /// the larger of the two.
     pub residual: f64,
-    /// Seconds per phase.
-    pub seconds: Timings,
 }
 
-/// The solution on one interface.
-#[derive(Clone, Debug)]
-pub struct InterfaceSolution {
-    /// The mortar operator of the interface.
-    pub mortar: Mortar,
-    /// Per slave body point: the traction −λ exerted by the master on the slave
-    /// (zero off the covered points; at prescribed and crosspoint dofs the value
-    /// of the modified multiplier there).
-    pub traction: Vec<[f64; 3]>,
-    /// Per slave body point and component: constrained by this interface.
-    pub constrained: Vec<[bool; 3]>,
-    /// Resultant force on the slave, −Σ_p (D λ)_p.
-    pub force: [f64; 3],
-}
-
-/// The solution of a glued problem.
-#[derive(Clone, Debug)]
-pub struct GluedSolution {
-    /// Per body: displacements, 3 per mesh point.
-    pub displacement: Vec<Vec<f64>>,
-    /// Per interface.
-    pub interfaces: Vec<InterfaceSolution>,
-    /// Sizes, method, residual and timings.
-    pub report: GlueReport,
-}
-
-/// Solves the glued problem (module doc).
-///
-/// # Errors
-/// [`GlueError`] for inconsistent input, a failed assembly, an interface with
-/// no overlap, or a singular system.
-pub fn solve_glued(
-    bodies: &[Body],
-    interfaces: &[Interface],
+/// Solves the glued problem (module doc): `system` with the constraints of
+/// its glued interfaces.
+pub(crate) fn solve_glued(
+    system: &System,
+    constraints: &Constraints,
     solver: Solver,
-) -> Result<GluedSolution, GlueError> {
-    check_input(bodies, interfaces)?;
-    if let Some(i) = interfaces.iter().position(|f| f.kind == Coupling::Contact) {
-        let what = "a contact interface: solve the problem with contact::solve_contact".into();
-        return Err(GlueError::BadInterface { interface: i, what });
-    }
-    let mut seconds = Timings::default();
-    let System { k, f, dirichlet, offsets, mortars } = assemble_system(bodies, interfaces, &mut seconds)?;
-    let clock = Instant::now();
-    let constraints = Constraints::new(interfaces, &mortars, &offsets, &dirichlet);
-    seconds.setup += clock.elapsed().as_secs_f64();
-
+    seconds: &mut Timings,
+) -> Result<Glued, ProblemError> {
+    let System { k, f, dirichlet, .. } = system;
     let diagonal = constraints.eliminated_block_is_diagonal();
-    let solved = match solver {
-        Solver::Direct if diagonal && !constraints.elimination_fills_in(&k) => {
-            eliminated(&k, &f, &dirichlet, &constraints, &mut seconds)?
+    let (u, lambda, method, iterations) = match solver {
+        Solver::Direct if diagonal && !constraints.elimination_fills_in(k) => {
+            eliminated(k, f, dirichlet, constraints, seconds)?
         }
-        Solver::Direct => saddle_point(&k, &f, &dirichlet, &constraints, &mut seconds)?,
-        Solver::Pcg(options) => matrix_free(&k, &f, &dirichlet, &constraints, &options, &mut seconds)?,
+        Solver::Direct => saddle_point(k, f, dirichlet, constraints, seconds)?,
+        Solver::Pcg(options) => matrix_free(k, f, dirichlet, constraints, &options, seconds)?,
     };
-    let (u, lambda, method, iterations) = solved;
-
-    let residual = residual(&k, &f, &dirichlet, &constraints, &u, &lambda);
-    let displacement = (0..bodies.len()).map(|b| u[offsets[b]..offsets[b + 1]].to_vec()).collect();
-    let interfaces =
-        interface_solutions(interfaces, mortars.into_iter().enumerate().collect(), &constraints, &lambda);
-    let report = GlueReport {
-        dofs: k.nrows,
-        constraints: constraints.rows.len(),
-        method,
-        iterations,
-        residual,
-        seconds,
-    };
-    Ok(GluedSolution { displacement, interfaces, report })
+    let residual = residual(k, f, dirichlet, constraints, &u, &lambda);
+    Ok(Glued { u, lambda, method, iterations, residual })
 }
 
 /// Diagonal C_S (dual, lumped): u = P u_R with PᵀKP u_R = Pᵀf, by sparse
@@ -152,7 +93,7 @@ fn eliminated(
     dirichlet: &Dirichlet,
     constraints: &Constraints,
     seconds: &mut Timings,
-) -> Result<Solved, GlueError> {
+) -> Result<Solved, ProblemError> {
     let clock = Instant::now();
     let (p, retained) = prolongation(constraints);
     let a = triple_product(&p, k);
@@ -206,41 +147,19 @@ fn residual(
     equilibrium.max(compatibility)
 }
 
-/// Tractions −λ per slave point and resultants −Σ_p (Dλ)_p per glued
-/// interface (`mortars`: interface index and operator, in order), λ expanded
-/// in the unmodified basis (a removed point p gets Σ_q λ_q / |Q_p|).
-pub(crate) fn interface_solutions(
-    interfaces: &[Interface],
-    mortars: Vec<(usize, Mortar)>,
-    constraints: &Constraints,
-    lambda: &[f64],
-) -> Vec<InterfaceSolution> {
-    let mut position = vec![NONE; interfaces.len()];
-    let mut out: Vec<InterfaceSolution> = mortars
-        .into_iter()
-        .enumerate()
-        .map(|(k, (i, mortar))| {
-            position[i] = k;
-            let n = interfaces[i].slave_surface.n_points();
-            InterfaceSolution {
-                mortar,
-                traction: vec![[0.0; 3]; n],
-                constrained: vec![[false; 3]; n],
-                force: [0.0; 3],
-            }
-        })
-        .collect();
+/// Adds the glued interfaces' tractions −λ per slave point and resultants
+/// −Σ_p (Dλ)_p to `out` (one per interface), λ expanded in the unmodified
+/// basis (a removed point p gets Σ_q λ_q / |Q_p|).
+pub(crate) fn add_tractions(out: &mut [InterfaceSolution], constraints: &Constraints, lambda: &[f64]) {
     let row_sums: Vec<Vec<f64>> = out.iter().map(|s| s.mortar.d.row_sums()).collect();
     for ((row, part), &l) in constraints.rows.iter().zip(&constraints.parts).zip(lambda) {
-        let k = position[row.interface];
-        let s = &mut out[k];
-        s.constrained[row.point][row.component] = true;
+        let s = &mut out[row.interface];
+        s.constrained[row.point] = true;
         for &(p, w) in part {
             s.traction[p][row.component] -= w * l;
-            s.force[row.component] -= w * l * row_sums[k][p];
+            s.force[row.component] -= w * l * row_sums[row.interface][p];
         }
     }
-    out
 }
 
 /// PCG on PᵀKP, matrix-free (any multiplier): P x = [x; −C_S⁻¹C_R x] and
@@ -254,7 +173,7 @@ fn matrix_free(
     constraints: &Constraints,
     options: &PcgOptions,
     seconds: &mut Timings,
-) -> Result<Solved, GlueError> {
+) -> Result<Solved, ProblemError> {
     let clock = Instant::now();
     let n = k.nrows;
     let (retained, n_r) = retained_numbering(constraints);
@@ -341,7 +260,7 @@ struct Reduction<'a> {
 }
 
 impl<'a> Reduction<'a> {
-    fn new(constraints: &'a Constraints, retained: &'a [usize], n_r: usize) -> Result<Self, GlueError> {
+    fn new(constraints: &'a Constraints, retained: &'a [usize], n_r: usize) -> Result<Self, ProblemError> {
         let nc = constraints.rows.len();
         let mut c_s = CsrMatrix::zeros(0, nc);
         let mut c_r = CsrMatrix::zeros(0, n_r);

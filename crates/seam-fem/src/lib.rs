@@ -18,12 +18,14 @@
 //! | bodies, interfaces, one dof numbering, glued constraints, saddle point | [`multibody`] |
 //! | gluing (paper's first application) | [`glue`] |
 //! | frictionless contact, mixed with glue (second application) | [`contact`] |
+//! | one solve and one solution for any mix of glue and contact | [`solution`], [`problem`] |
 //! | cell, nodal and von Mises stresses | [`stress`] |
 //! | structured blocks for tests and examples | [`generate`] |
 //!
 //! ```
 //! use seam_fem::generate::{block, BlockKind, Grid, Side};
-//! use seam_fem::{recover_stresses, solve, stiffness, traction, Dirichlet, Material};
+//! use seam_fem::solve::solve;
+//! use seam_fem::{recover_stresses, stiffness, traction, Dirichlet, Material};
 //!
 //! // A unit cube clamped at x = 0 and pulled by a traction of 1 in x at x = 1.
 //! let (n, material) = (3, Material::new(1000.0, 0.3)?);
@@ -53,16 +55,20 @@ pub mod multibody;
 pub mod problem;
 pub mod saddle;
 pub mod scene;
+pub mod solution;
 pub mod solve;
 pub mod stress;
 
 pub use assembly::{body_force, cell_volumes, rigid_body_modes, stiffness, traction, AssemblyError};
-pub use contact::{solve_contact, ContactOptions, ContactSolution};
+pub use contact::{ActiveSetStep, Kkt};
 pub use element::{ElementKind, VolumeRule};
-pub use glue::{solve_glued, Body, Coupling, GlueError, GluedSolution, Interface, Solver};
 pub use material::{Material, MaterialError};
-pub use problem::{Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
-pub use solve::{solve, Dirichlet, SolveError};
+pub use multibody::{Body, Coupling, Interface, ProblemError, Solver, Timings};
+pub use problem::{solve, Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
+pub use solution::{
+    solve_coupled, ContactFields, ContactReport, InterfaceSolution, Report, Solution, SolveOptions,
+};
+pub use solve::{Dirichlet, SolveError};
 pub use stress::{recover_stresses, von_mises, Stresses};
 pub mod ordering;
 pub mod pcg;

@@ -69,9 +69,9 @@ pub enum Solver {
     Pcg(PcgOptions),
 }
 
-/// Why a glued problem could not be solved.
+/// Why a multi-body problem (glued, in contact, or both) could not be solved.
 #[derive(Debug, thiserror::Error)]
-pub enum GlueError {
+pub enum ProblemError {
     /// An interface refers to a body that does not exist, or to one body twice.
     #[error("interface {interface}: {what}")]
     BadInterface {
@@ -124,9 +124,41 @@ pub enum GlueError {
     /// The linear solve failed.
     #[error(transparent)]
     Solve(#[from] SolveError),
-    /// The contact iteration failed (a singular step, or no convergence).
-    #[error("contact: {0}")]
-    Contact(String),
+    /// An active-set step's system is singular: some body is held neither by
+    /// its supports nor by the contact points active in that step.
+    #[error(
+        "contact: active-set step {step}: the system is singular with {active} active contact points; every \
+         body must be held by its supports, or touch (gap ≤ 0) another body from the start"
+    )]
+    SingularStep {
+        /// The step, from 1.
+        step: usize,
+        /// Its active contact points.
+        active: usize,
+    },
+    /// The system is singular even with every contact point closed: a body
+    /// can move without deforming (contact holds only the normal direction).
+    #[error(
+        "contact: the system is singular even with all {points} contact points closed: a body can move \
+         without deforming (frictionless contact holds only the normal direction; add supports)"
+    )]
+    Unsupported {
+        /// The contact points.
+        points: usize,
+    },
+    /// The active set still changed after the iteration cap.
+    #[error(
+        "contact: the active set did not settle in {steps} steps (last step: {added} points added, {removed} \
+         removed); raise the iteration cap or check the load and the supports"
+    )]
+    ActiveSetNotSettled {
+        /// Steps taken (the cap).
+        steps: usize,
+        /// Points added by the last step.
+        added: usize,
+        /// Points removed by the last step.
+        removed: usize,
+    },
     /// A displacement of the solution is NaN or infinite: an overflow (nothing
     /// non-finite passes as a result).
     #[error("body {body}: the solution is not finite at point {} (component {}): an overflow; check the magnitudes of loads, prescribed values and moduli", dof / 3, dof % 3)]
@@ -151,6 +183,8 @@ pub struct Timings {
     pub factorization: f64,
     /// Triangular solves, refinement and recovery of u and λ.
     pub solve: f64,
+    /// Stresses and the interfaces' tractions.
+    pub stresses: f64,
 }
 
 /// The bodies' stiffness and loads as one system, and the interfaces' mortar
@@ -174,13 +208,13 @@ pub(crate) fn assemble_system(
     bodies: &[Body],
     interfaces: &[Interface],
     seconds: &mut Timings,
-) -> Result<System, GlueError> {
+) -> Result<System, ProblemError> {
     let clock = Instant::now();
     let stiffnesses = bodies
         .iter()
         .enumerate()
         .map(|(b, body)| {
-            stiffness(body.mesh, &body.material).map_err(|source| GlueError::Assembly { body: b, source })
+            stiffness(body.mesh, &body.material).map_err(|source| ProblemError::Assembly { body: b, source })
         })
         .collect::<Result<Vec<_>, _>>()?;
     seconds.assembly = clock.elapsed().as_secs_f64();
@@ -191,7 +225,7 @@ pub(crate) fn assemble_system(
         .enumerate()
         .map(|(i, f)| {
             seam::assemble(f.master_surface, f.slave_surface, &f.options)
-                .map_err(|source| GlueError::Mortar { interface: i, source })
+                .map_err(|source| ProblemError::Mortar { interface: i, source })
         })
         .collect::<Result<Vec<_>, _>>()?;
     seconds.mortar = clock.elapsed().as_secs_f64();
@@ -213,20 +247,20 @@ pub(crate) fn assemble_system(
     Ok(System { k, f, dirichlet, offsets, mortars })
 }
 
-pub(crate) fn check_input(bodies: &[Body], interfaces: &[Interface]) -> Result<(), GlueError> {
+pub(crate) fn check_input(bodies: &[Body], interfaces: &[Interface]) -> Result<(), ProblemError> {
     for (b, body) in bodies.iter().enumerate() {
         let n = 3 * body.mesh.points().len();
         if body.load.len() != n {
             let what = format!("the load has {} entries, the mesh {} dofs", body.load.len(), n);
-            return Err(GlueError::BadBody { body: b, what });
+            return Err(ProblemError::BadBody { body: b, what });
         }
         if let Some((dof, _)) = body.dirichlet.iter().find(|&(d, _)| d >= n) {
             let what = format!("Dirichlet condition on dof {dof}, but the mesh has {n} dofs");
-            return Err(GlueError::BadBody { body: b, what });
+            return Err(ProblemError::BadBody { body: b, what });
         }
     }
     for (i, f) in interfaces.iter().enumerate() {
-        let bad = |what: String| GlueError::BadInterface { interface: i, what };
+        let bad = |what: String| ProblemError::BadInterface { interface: i, what };
         for (side, body, surface) in
             [("master", f.master, f.master_surface), ("slave", f.slave, f.slave_surface)]
         {
@@ -559,7 +593,7 @@ pub(crate) fn saddle_point(
     dirichlet: &Dirichlet,
     constraints: &Constraints,
     seconds: &mut Timings,
-) -> Result<Solved, GlueError> {
+) -> Result<Solved, ProblemError> {
     let clock = Instant::now();
     let n = k.nrows;
     let mut u = vec![0.0; n];

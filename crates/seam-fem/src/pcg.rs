@@ -420,7 +420,7 @@ mod tests {
     #[test]
     fn pcg_matches_the_direct_solve() {
         let (k, f, bc) = problem(4);
-        let direct = crate::solve(&k, &f, &bc).unwrap();
+        let direct = crate::solve::solve(&k, &f, &bc).unwrap();
         let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         for preconditioner in [Preconditioner::Identity, Preconditioner::Jacobi, Preconditioner::BlockJacobi]
         {

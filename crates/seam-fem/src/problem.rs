@@ -2,14 +2,14 @@
 //! (`seam solve CASE.toml`) or a built-in example describes, in memory.
 //!
 //! Boundaries are named surfaces of a body ("body:surface"); Dirichlet
-//! conditions, tractions and interfaces refer to them. [`Problem::solve`] builds
+//! conditions, tractions and interfaces refer to them. [`solve`] builds
 //! the loads f = ∫_Ω N b + ∫_Γ N t and the prescribed dofs of each body, and
-//! hands them to [`solve_glued`].
+//! hands them to [`solve_coupled`].
 
 use crate::assembly::{body_force, traction};
-use crate::contact::{solve_contact, ContactOptions, ContactSolution};
-use crate::glue::{solve_glued, Body, Coupling, GlueError, GluedSolution, Interface, Solver};
 use crate::material::Material;
+use crate::multibody::{Body, Coupling, Interface, ProblemError};
+use crate::solution::{solve_coupled, Solution, SolveOptions};
 use crate::solve::Dirichlet;
 use seam::{MortarOptions, SurfaceMesh, VolumeMesh};
 
@@ -113,8 +113,8 @@ impl Problem {
     /// Per body: the load vector (body force and tractions) and the prescribed dofs.
     ///
     /// # Errors
-    /// [`GlueError::Assembly`] for a degenerate cell.
-    pub fn loads_and_supports(&self) -> Result<Vec<(Vec<f64>, Dirichlet)>, GlueError> {
+    /// [`ProblemError::Assembly`] for a degenerate cell.
+    pub fn loads_and_supports(&self) -> Result<Vec<(Vec<f64>, Dirichlet)>, ProblemError> {
         self.bodies
             .iter()
             .enumerate()
@@ -123,7 +123,7 @@ impl Problem {
                     vec![0.0; 3 * body.mesh.points().len()]
                 } else {
                     body_force(&body.mesh, |_| body.body_force)
-                        .map_err(|source| GlueError::Assembly { body: b, source })?
+                        .map_err(|source| ProblemError::Assembly { body: b, source })?
                 };
                 for load in self.loads.iter().filter(|l| l.boundary.body == b) {
                     let t = traction(self.surface(load.boundary), |_, _| load.t);
@@ -147,30 +147,12 @@ impl Problem {
         self.interfaces.iter().any(|f| f.kind == Coupling::Contact)
     }
 
-    /// Assembles and solves the glued problem.
+    /// Solves the problem ([`solve`]).
     ///
     /// # Errors
-    /// See [`solve_glued`]; [`GlueError::BadInterface`] when the problem has
-    /// contact interfaces (use [`Problem::solve_contact`]);
-    /// [`GlueError::NonFiniteSolution`] after an overflow.
-    pub fn solve(&self, solver: Solver) -> Result<GluedSolution, GlueError> {
-        let prepared = self.loads_and_supports()?;
-        let solution = solve_glued(&self.solver_bodies(&prepared), &self.coupled(), solver)?;
-        check_finite(&solution.displacement)?;
-        Ok(solution)
-    }
-
-    /// Assembles and solves the problem with its contact (and glued)
-    /// interfaces.
-    ///
-    /// # Errors
-    /// See [`solve_contact`]; [`GlueError::NonFiniteSolution`] after an
-    /// overflow.
-    pub fn solve_contact(&self, options: &ContactOptions) -> Result<ContactSolution, GlueError> {
-        let prepared = self.loads_and_supports()?;
-        let solution = solve_contact(&self.solver_bodies(&prepared), &self.coupled(), options)?;
-        check_finite(&solution.displacement)?;
-        Ok(solution)
+    /// As [`solve_coupled`].
+    pub fn solve(&self, options: &SolveOptions) -> Result<Solution, ProblemError> {
+        solve(self, options)
     }
 
     /// The solver's view of the bodies with their loads and supports.
@@ -203,12 +185,13 @@ impl Problem {
     }
 }
 
-/// The first non-finite displacement of any body, as an error.
-fn check_finite(displacement: &[Vec<f64>]) -> Result<(), GlueError> {
-    for (body, u) in displacement.iter().enumerate() {
-        if let Some(dof) = u.iter().position(|v| !v.is_finite()) {
-            return Err(GlueError::NonFiniteSolution { body, dof });
-        }
-    }
-    Ok(())
+/// Assembles and solves `problem`, glued and contact interfaces in any mix:
+/// the loads and supports of each body, then [`solve_coupled`].
+///
+/// # Errors
+/// As [`solve_coupled`]; [`ProblemError::Assembly`] for a degenerate cell
+/// under a body force.
+pub fn solve(problem: &Problem, options: &SolveOptions) -> Result<Solution, ProblemError> {
+    let prepared = problem.loads_and_supports()?;
+    solve_coupled(&problem.solver_bodies(&prepared), &problem.coupled(), options)
 }

@@ -16,12 +16,12 @@
 //! Measured (`cargo test -p seam-fem --test contact -- --nocapture`): see the
 //! printed lines; everything asserted to 1e-8 relative.
 use seam::{Multiplier, Point3, SurfaceMesh, VolumeMesh};
-use seam_fem::contact::{solve_contact, ContactOptions, ContactSolution};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
-use seam_fem::glue::{Body, Coupling, Interface, Solver};
 use seam_fem::pcg::PcgOptions;
 use seam_fem::scene::{bulging_contact, BulgingContact};
+use seam_fem::{solve_coupled, Solution, SolveOptions};
 use seam_fem::{traction, Dirichlet, Material};
+use seam_fem::{Body, Coupling, Interface, Solver};
 
 const RTOL: f64 = 1e-8;
 
@@ -49,7 +49,7 @@ impl Stack {
 
     /// Rollers on x = 0 and y = 0; the lower bottom on u_z = 0; the upper top
     /// loaded by −p e₃, or held at u_z = `top` when given.
-    fn solve(&self, p: f64, top: Option<f64>, multiplier: Multiplier, solver: Solver) -> ContactSolution {
+    fn solve(&self, p: f64, top: Option<f64>, multiplier: Multiplier, solver: Solver) -> Solution {
         let rollers = |grid: &Grid, d: &mut Dirichlet| {
             for q in grid.side_points(Side::XMin) {
                 d.fix(q, [Some(0.0), None, None]);
@@ -93,16 +93,16 @@ impl Stack {
             kind: Coupling::Contact,
         }];
         let solution =
-            solve_contact(&bodies, &interfaces, &ContactOptions { solver, ..Default::default() }).unwrap();
-        let kkt = solution.report.kkt;
-        println!("    KKT {kkt:?}, steps {:?}", solution.report.steps);
+            solve_coupled(&bodies, &interfaces, &SolveOptions { solver, ..Default::default() }).unwrap();
+        let kkt = solution.report.contact.as_ref().expect("contact").kkt;
+        println!("    KKT {kkt:?}, steps {:?}", solution.report.contact.as_ref().expect("contact").steps);
         assert!(kkt.max() <= RTOL, "KKT conditions violated: {kkt:?}");
         solution
     }
 
     /// max |u − u_exact| / max |u_exact| for the uniaxial solution with
     /// pressure p, the upper body shifted rigidly by `shift` in z.
-    fn displacement_error(&self, s: &ContactSolution, p: f64, shift: f64) -> f64 {
+    fn displacement_error(&self, s: &Solution, p: f64, shift: f64) -> f64 {
         let exact = |x: Point3, m: &Material, base: f64| -> Point3 {
             let (e, nu) = (m.young(), m.poisson());
             [nu * p / e * x[0], nu * p / e * x[1], -p / e * (x[2] - base)]
@@ -139,20 +139,24 @@ fn contact_patch_test_reproduces_the_uniform_pressure() {
     for multiplier in [Multiplier::Lumped, Multiplier::Dual] {
         for (name, stack) in cases() {
             let s = stack.solve(p, None, multiplier, Solver::Direct);
-            let i = &s.interfaces[0];
+            let i = s.interfaces[0].contact.as_ref().expect("a contact interface");
             let points: Vec<usize> = (0..i.contact.len()).filter(|&q| i.contact[q]).collect();
-            assert_eq!(points.len(), i.mortar.covered.iter().filter(|&&c| c).count());
+            assert_eq!(points.len(), s.interfaces[0].mortar.covered.iter().filter(|&&c| c).count());
             assert!(points.iter().all(|&q| i.active[q]), "{name}: every slave point is in contact");
             let pressure = points.iter().fold(0.0f64, |m, &q| m.max((i.pressure[q] - p).abs())) / p;
             // The upper body floats: its shift follows from the contact, u_z(top of lower) is continuous.
             let u = stack.displacement_error(&s, p, 0.0);
-            let force = (i.force[2] - p).abs() / p;
+            let force = (s.interfaces[0].force[2] - p).abs() / p;
             println!(
                 "{name} {multiplier:?}: pressure {pressure:.1e}, displacement {u:.1e}, force {force:.1e}"
             );
             assert!(pressure <= RTOL, "{name} {multiplier:?}: pressure error {pressure:e}");
             assert!(u <= RTOL, "{name} {multiplier:?}: displacement error {u:e}");
-            assert!(force <= RTOL, "{name} {multiplier:?}: resultant {:?} against the load {p}", i.force);
+            assert!(
+                force <= RTOL,
+                "{name} {multiplier:?}: resultant {:?} against the load {p}",
+                s.interfaces[0].force
+            );
             assert!(i.gap.iter().all(|g| g.abs() <= 1e-12), "{name}: closed gap");
         }
     }
@@ -171,10 +175,10 @@ fn contact_patch_test_with_pcg() {
 fn bodies_apart_stay_apart_without_pressure() {
     let stack = Stack::new(5, BlockKind::Hex, 3, BlockKind::Hex, 0.01);
     let s = stack.solve(0.0, Some(-0.005), Multiplier::Lumped, Solver::Direct);
-    let i = &s.interfaces[0];
-    assert_eq!(s.report.active, 0);
+    let i = s.interfaces[0].contact.as_ref().expect("a contact interface");
+    assert_eq!(s.report.contact.as_ref().expect("contact").active, 0);
     assert!(i.pressure.iter().all(|&l| l == 0.0));
-    assert!(i.force == [0.0; 3]);
+    assert!(s.interfaces[0].force == [0.0; 3]);
     // Rigid motion of the upper block: the gap closes by 0.005 everywhere.
     let gap_error = (0..i.contact.len())
         .filter(|&q| i.contact[q])
@@ -207,8 +211,8 @@ fn initial_overlaps_are_pushed_out() {
 
 /// Every slave point active with pressure p, the initial gap δ closed, and the
 /// uniaxial displacement with the upper block shifted by the gap.
-fn check_uniform_pressure(s: &ContactSolution, stack: &Stack, p: f64, delta: f64) {
-    let i = &s.interfaces[0];
+fn check_uniform_pressure(s: &Solution, stack: &Stack, p: f64, delta: f64) {
+    let i = s.interfaces[0].contact.as_ref().expect("a contact interface");
     let points: Vec<usize> = (0..i.contact.len()).filter(|&q| i.contact[q]).collect();
     assert!(points.iter().all(|&q| i.active[q] && i.gap[q].abs() <= 1e-12));
     assert!(points.iter().all(|&q| (i.initial_gap[q] - delta).abs() <= 1e-12));
@@ -224,16 +228,25 @@ fn the_iteration_cap_stops_with_a_clear_message() {
     // Bulges touching at one point: the contact zone needs several steps.
     let problem =
         bulging_contact(&BulgingContact { cells: 8, layers: 4, ..BulgingContact::default() }).unwrap();
-    let capped = ContactOptions { max_iterations: 1, ..Default::default() };
-    let error = problem.solve_contact(&capped).unwrap_err().to_string();
+    let capped = SolveOptions { max_active_set_steps: 1, ..Default::default() };
+    let error = problem.solve(&capped).unwrap_err().to_string();
     assert!(error.contains("did not settle in 1 steps"), "{error}");
-    let solved = problem.solve_contact(&ContactOptions::default()).unwrap();
-    assert!(solved.report.steps.len() >= 2 && solved.report.kkt.max() <= RTOL);
+    let solved = problem.solve(&SolveOptions::default()).unwrap();
+    assert!(
+        solved.report.contact.as_ref().expect("contact").steps.len() >= 2
+            && solved.report.contact.as_ref().expect("contact").kkt.max() <= RTOL
+    );
     // Direct (condensed on the contact normals) and PCG (full system per step) agree.
     let pcg = Solver::Pcg(PcgOptions { rtol: 1e-13, ..Default::default() });
-    let other = problem.solve_contact(&ContactOptions { solver: pcg, ..Default::default() }).unwrap();
-    assert_eq!(other.report.steps.len(), solved.report.steps.len());
-    let (a, b) = (&solved.interfaces[0].pressure, &other.interfaces[0].pressure);
+    let other = problem.solve(&SolveOptions { solver: pcg, ..Default::default() }).unwrap();
+    assert_eq!(
+        other.report.contact.as_ref().expect("contact").steps.len(),
+        solved.report.contact.as_ref().expect("contact").steps.len()
+    );
+    let (a, b) = (
+        &solved.interfaces[0].contact.as_ref().expect("contact").pressure,
+        &other.interfaces[0].contact.as_ref().expect("contact").pressure,
+    );
     let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let diff = a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
     println!("direct vs PCG pressure: {:.1e} of the peak", diff / scale);
@@ -246,9 +259,12 @@ fn contact_solutions_are_identical_on_one_and_two_threads() {
         bulging_contact(&BulgingContact { cells: 8, layers: 4, ..BulgingContact::default() }).unwrap();
     let solve = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| problem.solve_contact(&ContactOptions::default()).unwrap())
+        pool.install(|| problem.solve(&SolveOptions::default()).unwrap())
     };
     let (one, two) = (solve(1), solve(2));
     assert_eq!(one.displacement, two.displacement);
-    assert_eq!(one.interfaces[0].pressure, two.interfaces[0].pressure);
+    assert_eq!(
+        one.interfaces[0].contact.as_ref().expect("contact").pressure,
+        two.interfaces[0].contact.as_ref().expect("contact").pressure
+    );
 }

@@ -54,10 +54,10 @@
 //! by the tests that need it. The whole file takes about 8 s.
 
 use seam::Point3;
-use seam_fem::contact::{ContactInterfaceSolution, ContactOptions, ContactSolution};
 use seam_fem::pcg::PcgOptions;
 use seam_fem::scene::{bulging_contact, BulgingContact};
 use seam_fem::{stiffness, Problem, Solver};
+use seam_fem::{ContactFields, Solution, SolveOptions};
 use std::sync::OnceLock;
 use std::time::Instant;
 
@@ -98,13 +98,13 @@ impl Case {
 struct Solved {
     params: BulgingContact,
     problem: Problem,
-    solution: ContactSolution,
+    solution: Solution,
     seconds: f64,
 }
 
 impl Solved {
-    fn interface(&self) -> &ContactInterfaceSolution {
-        &self.solution.interfaces[0]
+    fn interface(&self) -> &ContactFields {
+        self.solution.interfaces[0].contact.as_ref().expect("a contact interface")
     }
 
     /// The slave bottom point (a, b), 0 ≤ a, b ≤ cells: grid point (a, b, 0).
@@ -114,6 +114,11 @@ impl Solved {
 
     fn active(&self) -> usize {
         self.interface().active.iter().filter(|&&on| on).count()
+    }
+
+    /// The resultant of the master on the slave.
+    fn force(&self) -> [f64; 3] {
+        self.solution.interfaces[0].force
     }
 
     fn peak_pressure(&self) -> f64 {
@@ -127,23 +132,23 @@ fn solved(case: Case) -> &'static Solved {
         let params = case.params();
         let clock = Instant::now();
         let problem = bulging_contact(&params).unwrap();
-        let options = ContactOptions { solver: case.solver(), ..Default::default() };
-        let solution = problem.solve_contact(&options).unwrap();
+        let options = SolveOptions { solver: case.solver(), ..Default::default() };
+        let solution = problem.solve(&options).unwrap();
         let seconds = clock.elapsed().as_secs_f64();
-        let r = &solution.report;
+        let (report, r) = (&solution.report, solution.report.contact.as_ref().expect("a contact report"));
         let steps: Vec<_> = r.steps.iter().map(|s| (s.active, s.added, s.removed)).collect();
         println!(
             "{case:?} (cells {}, press {:?}): {} dofs, {} contact points, {} active; {} active-set steps \
              (active, added, removed) {steps:?}, {} PCG iterations; KKT {:.1e}; {seconds:.2} s ({:?})",
             params.cells,
             params.press,
-            r.dofs,
+            report.dofs,
             r.contact_points,
             r.active,
             r.steps.len(),
             r.steps.iter().map(|s| s.linear_iterations).sum::<usize>(),
             r.kkt.max(),
-            r.seconds,
+            report.seconds,
         );
         Solved { params, problem, solution, seconds }
     })
@@ -153,7 +158,7 @@ fn solved(case: Case) -> &'static Solved {
 fn every_case_meets_the_kkt_conditions() {
     for case in Case::ALL {
         let s = solved(case);
-        let (r, i) = (&s.solution.report, s.interface());
+        let (r, i) = (s.solution.report.contact.as_ref().expect("a contact report"), s.interface());
         assert!(r.kkt.max() <= 1e-8, "{case:?}: {:?}", r.kkt);
         assert!(r.steps.len() <= 20, "{case:?}: {} active-set steps", r.steps.len());
         // The gap limit lets every slave point of the bottom, open or not, get its constraint.
@@ -176,7 +181,7 @@ fn every_case_meets_the_kkt_conditions() {
             s.params.lift(),
             s.params.touching_point(),
             s.peak_pressure(),
-            i.force,
+            s.force(),
             s.seconds
         );
     }
@@ -200,7 +205,7 @@ fn support_reaction(s: &Solved, body: usize) -> Point3 {
 fn the_bodies_are_in_balance() {
     for case in [Case::Default, Case::Coarse] {
         let s = solved(case);
-        let contact = s.interface().force;
+        let contact = s.solution.interfaces[0].force;
         // The upper body: its top's supports and the master's push; the lower
         // body: its bottom's supports and the slave's push back.
         for (body, sign) in [(1, 1.0), (0, -1.0)] {
@@ -223,10 +228,12 @@ fn the_contact_is_partial_and_grows_with_the_press() {
     for case in cases {
         let s = solved(case);
         let i = s.interface();
-        let (active, points) = (s.active(), s.solution.report.contact_points);
+        let (active, points) =
+            (s.active(), s.solution.report.contact.as_ref().expect("a contact report").contact_points);
         println!(
             "{case:?}: press {:?}, {active} of {points} slave points active, resultant {:.4?}",
-            s.params.press, i.force
+            s.params.press,
+            s.force()
         );
         assert!(
             active > 0 && active < points,
@@ -240,7 +247,7 @@ fn the_contact_is_partial_and_grows_with_the_press() {
         if let Some(p) = previous {
             let q = p.interface();
             assert!(active > p.active(), "{case:?}: {active} active, not more than {}", p.active());
-            assert!(i.force[2] > q.force[2], "{case:?}: pressed deeper, the resultant must grow");
+            assert!(s.force()[2] > p.force()[2], "{case:?}: pressed deeper, the resultant must grow");
             let lost = (0..i.active.len()).filter(|&x| q.active[x] && !i.active[x]).count();
             assert_eq!(lost, 0, "{case:?}: {lost} points of the shallower zone left it");
         }

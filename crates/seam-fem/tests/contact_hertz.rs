@@ -20,8 +20,8 @@
 //! | 8 | 61 050 | 10 | 30 | +0.17 % | −0.33 h | 0.057 |
 //!
 //! KKT residuals ≤ 3e-16, force errors ≤ 3e-13.
-use seam_fem::contact::{ContactOptions, ContactSolution};
 use seam_fem::scene::{hertz, Hertz};
+use seam_fem::{Solution, SolveOptions};
 
 struct Measured {
     h: f64,
@@ -34,8 +34,8 @@ struct Measured {
 
 /// p₀ at the pole, a from the outermost active node on y = 0 and x = 0, and
 /// the largest |p − p_Hertz| / p₀ over slave nodes on the axes.
-fn measure(p: &Hertz, s: &ContactSolution, points: &[seam::Point3]) -> Measured {
-    let i = &s.interfaces[0];
+fn measure(p: &Hertz, s: &Solution, points: &[seam::Point3]) -> Measured {
+    let i = s.interfaces[0].contact.as_ref().expect("a contact interface");
     let on_axis = |q: usize| points[q][2].abs() < 1e-12 && (points[q][0] == 0.0 || points[q][1] == 0.0);
     let r = |q: usize| points[q][0].hypot(points[q][1]);
     let pole = (0..points.len()).find(|&q| on_axis(q) && r(q) == 0.0).expect("a node at the pole");
@@ -61,8 +61,8 @@ fn hertz_contact_radius_and_peak_pressure() {
     for n in [4, 6, 8] {
         let p = Hertz { fine_cells: n, ..Hertz::default() };
         let problem = hertz(&p).unwrap();
-        let s = problem.solve_contact(&ContactOptions::default()).unwrap();
-        let report = &s.report;
+        let s = problem.solve(&SolveOptions::default()).unwrap();
+        let (report, contact) = (&s.report, s.report.contact.as_ref().expect("a contact report"));
         let force = -s.interfaces[0].force[2];
         let force_error = (force / (p.force() / 4.0) - 1.0).abs();
         let m = measure(&p, &s, problem.bodies[1].mesh.points());
@@ -70,9 +70,9 @@ fn hertz_contact_radius_and_peak_pressure() {
             "n = {n}: dofs {}, active {}, steps {}, KKT {:.1e}, force error {force_error:.1e}; \
              p0 {:.4} vs {:.4} ({:+.2} %), a {:.4} vs {:.4} ({:+.2} h), profile {:.3}; {:.1} s",
             report.dofs,
-            report.active,
-            report.steps.len(),
-            report.kkt.max(),
+            contact.active,
+            contact.steps.len(),
+            contact.kkt.max(),
             m.p0,
             p.peak_pressure(),
             100.0 * (m.p0 / p.peak_pressure() - 1.0),
@@ -82,7 +82,7 @@ fn hertz_contact_radius_and_peak_pressure() {
             m.profile,
             report.seconds.factorization + report.seconds.setup + report.seconds.assembly,
         );
-        assert!(report.kkt.max() <= 1e-8, "KKT {:?}", report.kkt);
+        assert!(contact.kkt.max() <= 1e-8, "KKT {:?}", contact.kkt);
         assert!(force_error <= 1e-8, "contact force {force} against F/4 = {}", p.force() / 4.0);
         levels.push(m);
     }

@@ -14,7 +14,8 @@ mod common;
 use common::manufactured::{exact, gradient, load};
 use common::{error_sums, warp};
 use seam_fem::generate::{block, BlockKind};
-use seam_fem::{body_force, solve, stiffness, Dirichlet, Material};
+use seam_fem::solve::solve;
+use seam_fem::{body_force, stiffness, Dirichlet, Material};
 
 fn run(kind: BlockKind) {
     let m = Material::new(100.0, 0.3).unwrap();

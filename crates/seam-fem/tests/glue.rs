@@ -40,7 +40,7 @@ mod common;
 use common::{max_abs, solve_two, stress_vector, Affine};
 use seam::{Face, Multiplier, Point3, SurfaceMesh, VolumeMesh};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
-use seam_fem::glue::Body;
+use seam_fem::Body;
 use seam_fem::{recover_stresses, traction, Dirichlet, Material};
 
 const RTOL: f64 = 1e-10;
@@ -372,7 +372,7 @@ fn lumped_multipliers_break_the_linear_patch_test() {
 #[test]
 fn glued_solutions_are_identical_on_one_and_two_threads() {
     use seam_fem::scene::{warped_glue, WarpedGlue};
-    use seam_fem::Solver;
+    use seam_fem::SolveOptions;
     for multiplier in [Multiplier::Standard, Multiplier::Dual] {
         let p = WarpedGlue {
             slave_cells: 3,
@@ -385,7 +385,7 @@ fn glued_solutions_are_identical_on_one_and_two_threads() {
         let problem = warped_glue(&p).unwrap();
         let solve = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            pool.install(|| problem.solve(Solver::Direct).unwrap())
+            pool.install(|| problem.solve(&SolveOptions::default()).unwrap())
         };
         let (one, two) = (solve(1), solve(2));
         assert_eq!(one.displacement, two.displacement, "{multiplier:?}");

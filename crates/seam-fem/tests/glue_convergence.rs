@@ -42,7 +42,7 @@ use common::manufactured::{exact, gradient, load, stress};
 use common::{error_sums, fitted_rate, solve_two, stress_vector, tensor, ErrorSums, Errors};
 use seam::{Multiplier, Point3};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
-use seam_fem::glue::Body;
+use seam_fem::Body;
 use seam_fem::{body_force, traction, Dirichlet, Material};
 
 const R: f64 = 1.5;
@@ -64,7 +64,7 @@ enum Sides {
     /// Loaded by the exact traction σ(u) n.
     Loaded,
     /// Prescribed u = u_exact, slave interface nodes on them included (their
-    /// multipliers are dropped by `solve_glued`).
+    /// multipliers are dropped by `solve_coupled`).
     Prescribed,
 }
 

@@ -50,7 +50,8 @@ use common::stress_vector;
 use seam::{nodal_normals, Multiplier, Point3};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
 use seam_fem::scene::{warped_glue, WarpedGlue};
-use seam_fem::{recover_stresses, solve, stiffness, traction, Dirichlet, Material, Solver};
+use seam_fem::solve::solve;
+use seam_fem::{recover_stresses, stiffness, traction, Dirichlet, Material, SolveOptions};
 use std::sync::OnceLock;
 
 /// Normal tractions on the (n+1) × (n+1) interface nodes, [j][i] (x = i/n, y = j/n).
@@ -65,7 +66,7 @@ struct Glued {
 
 fn glued(p: &WarpedGlue) -> Glued {
     let problem = warped_glue(p).unwrap();
-    let sol = problem.solve(Solver::Direct).unwrap();
+    let sol = problem.solve(&SolveOptions::default()).unwrap();
     println!("{:?}: {} dofs, {:?}", p.multiplier, sol.report.dofs, sol.report.seconds);
     let slave = problem.surface(problem.interfaces[0].slave);
     assert_eq!(slave.used_points().iter().filter(|&&u| u).count(), 81);
@@ -78,7 +79,7 @@ fn glued(p: &WarpedGlue) -> Glued {
             (0..=n)
                 .map(|i| {
                     let q = grid.point(i, j, 0);
-                    assert!(f.constrained[q].iter().all(|&c| c));
+                    assert!(f.constrained[q]);
                     (0..3).map(|k| f.traction[q][k] * normals[q][k]).sum()
                 })
                 .collect()

@@ -28,9 +28,9 @@ mod common;
 use common::{max_abs, stress_vector, Affine, Part};
 use seam::{nodal_normals, Facing, MortarOptions, Multiplier, SurfaceMesh};
 use seam_fem::generate::{BlockKind, Side};
-use seam_fem::glue::{solve_glued, Body, Coupling, Interface};
 use seam_fem::pcg::PcgOptions;
 use seam_fem::{recover_stresses, Dirichlet, Material, Solver};
+use seam_fem::{solve_coupled, Body, Coupling, Interface, SolveOptions};
 
 const RTOL: f64 = 1e-10;
 
@@ -68,7 +68,7 @@ fn error(
             kind: Coupling::Glue,
         })
         .collect();
-    let sol = solve_glued(&bodies, &interfaces, solver).unwrap();
+    let sol = solve_coupled(&bodies, &interfaces, &SolveOptions { solver, ..Default::default() }).unwrap();
 
     let (mut u_error, mut s_error, mut t_error) = (0.0f64, 0.0f64, 0.0f64);
     let u_scale =

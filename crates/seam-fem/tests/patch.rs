@@ -8,7 +8,8 @@ mod common;
 use common::{affine, affine_stress, distorted, hybrid, kind_name, max_abs, tensor, KINDS};
 use seam::{Point3, SurfaceMesh, VolumeMesh};
 use seam_fem::generate::{block, Grid, Side};
-use seam_fem::{recover_stresses, solve, stiffness, traction, Dirichlet, Material};
+use seam_fem::solve::solve;
+use seam_fem::{recover_stresses, stiffness, traction, Dirichlet, Material};
 
 const RTOL: f64 = 1e-10;
 

@@ -5,9 +5,9 @@ mod common;
 use common::{distorted, hybrid, max_abs, KINDS};
 use seam::{Cell, CsrMatrix, VolumeMesh};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
+use seam_fem::solve::solve;
 use seam_fem::{
-    body_force, rigid_body_modes, solve, stiffness, AssemblyError, Dirichlet, Material, MaterialError,
-    SolveError,
+    body_force, rigid_body_modes, stiffness, AssemblyError, Dirichlet, Material, MaterialError, SolveError,
 };
 
 fn check_rigid_modes(mesh: &VolumeMesh, label: &str) {

@@ -45,8 +45,8 @@
 
 use super::{block_body, BOTTOM_TOP};
 use crate::generate::{block, BlockKind, Grid};
-use crate::glue::Coupling;
 use crate::material::Material;
+use crate::multibody::Coupling;
 use crate::problem::{Problem, ProblemInterface, Support, SurfaceId};
 use seam::{Facing, MaxGap, MeshError, MortarOptions, Multiplier, Point3};
 
@@ -183,7 +183,7 @@ fn scaled(n: usize, ratio: f64) -> usize {
 /// "bottom", "top") and "upper" (slave, "bottom", "top"), E = 1000, ν = 0.3
 /// both; "lower:bottom" clamped, "upper:top" moved by `p.press`; one contact
 /// interface "lower:top" – "upper:bottom". Solve it with
-/// [`Problem::solve_contact`].
+/// [`Problem::solve`].
 ///
 /// # Errors
 /// [`MeshError`] from the boundary extraction, only for degenerate parameters.

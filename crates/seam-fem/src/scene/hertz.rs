@@ -3,8 +3,8 @@
 
 use super::block_body;
 use crate::generate::{block, BlockKind, Grid, Side};
-use crate::glue::Coupling;
 use crate::material::Material;
+use crate::multibody::Coupling;
 use crate::problem::{Load, Problem, ProblemInterface, Support, SurfaceId};
 use seam::{Facing, MaxGap, MeshError, MortarOptions, Multiplier, Point3, VolumeMesh};
 

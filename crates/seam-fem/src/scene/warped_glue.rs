@@ -2,8 +2,8 @@
 
 use super::{block_body, BOTTOM_TOP};
 use crate::generate::{block, BlockKind, Grid};
-use crate::glue::Coupling;
 use crate::material::Material;
+use crate::multibody::Coupling;
 use crate::problem::{Load, Problem, ProblemInterface, Support, SurfaceId};
 use seam::{Facing, MeshError, MortarOptions, Multiplier, Point3};
 

@@ -4,7 +4,7 @@
 use seam::{Cell, Face, Facing, MortarOptions, Multiplier, Point3, SurfaceMesh, VolumeMesh};
 use seam_fem::assembly::{geometry, map_point};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
-use seam_fem::glue::{solve_glued, Body, Coupling, GluedSolution, Interface, Solver};
+use seam_fem::{solve_coupled, Body, Coupling, Interface, Solution, SolveOptions};
 use seam_fem::{traction, Dirichlet, ElementKind, Material};
 
 /// A smooth, non-affine map of the unit cube (positive Jacobian).
@@ -280,11 +280,11 @@ pub fn solve_two(
     master_surface: &SurfaceMesh,
     slave_surface: &SurfaceMesh,
     multiplier: Multiplier,
-) -> GluedSolution {
+) -> Solution {
     let options = MortarOptions { multiplier, facing: Facing::Opposite, ..MortarOptions::default() };
     let interfaces =
         [Interface { master: 0, master_surface, slave: 1, slave_surface, options, kind: Coupling::Glue }];
-    solve_glued(bodies, &interfaces, Solver::Direct).unwrap()
+    solve_coupled(bodies, &interfaces, &SolveOptions::default()).unwrap()
 }
 
 /// A structured block and its grid, with the patch tests' loads and supports.
