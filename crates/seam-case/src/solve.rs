@@ -458,13 +458,51 @@ fn prepare(case: &Case, case_path: &Path, dir: &Path, force: bool) -> Result<(Ou
     Ok((names, out))
 }
 
+/// Reads the meshes of a checked case and looks up every surface it names:
+/// the case's [`Problem`].
+///
+/// # Errors
+/// A [`SolveFailure`] naming the case file, the body and the mesh file.
+pub fn read_problem(case: &Case, case_path: &Path) -> Result<Problem, SolveFailure> {
+    Ok(build_problem(case).map_err(|e| Failure::from(anyhow!("{}: {e:#}", case_path.display())))?)
+}
+
+/// Solves `problem`, already in memory, which `case` (read from `case_path`)
+/// describes — a built-in example that wrote its meshes and case file, say —
+/// exactly as [`solve_case`] solves that case, without reading the meshes
+/// again; nothing is written ([`Solved::write`]).
+///
+/// # Errors
+/// As [`solve_case`].
+pub fn solve_problem(
+    problem: Problem,
+    case: Case,
+    case_path: &Path,
+    options: &SolveOptions,
+) -> Result<Solved, SolveFailure> {
+    let start = Instant::now();
+    check_rtol(options)?;
+    Ok(run_problem(problem, case, case_path, options, (Seconds::default(), start))?)
+}
+
 /// The pipeline after the case check (module doc); `start` is when the run began.
 fn run(case: Case, case_path: &Path, options: &SolveOptions, start: Instant) -> Result<Solved, Failure> {
     let mut seconds = Seconds::default();
     let clock = Instant::now();
     let problem = build_problem(&case).map_err(|e| anyhow!("{}: {e:#}", case_path.display()))?;
     seconds.read = clock.elapsed().as_secs_f64();
+    run_problem(problem, case, case_path, options, (seconds, start))
+}
 
+/// The pipeline once the problem is in memory; `clock`: the seconds so far
+/// and when the run began.
+fn run_problem(
+    problem: Problem,
+    case: Case,
+    case_path: &Path,
+    options: &SolveOptions,
+    (mut seconds, start): (Seconds, Instant),
+) -> Result<Solved, Failure> {
     let solver = match options.solver {
         LinearSolver::Direct => seam_fem::Solver::Direct,
         LinearSolver::Pcg => {
