@@ -65,6 +65,7 @@
 //! - [`Solver::Pcg`]: every step solves the whole system by PCG, warm-started
 //!   from the previous step.
 
+use crate::glue::matrix_free;
 use crate::multibody::{free_dofs, prolongation, saddle_point, triple_product};
 use crate::multibody::{
     Body, Constraints, Coupling, Interface, ProblemError, Row, Solver, System, Timings, NONE,
@@ -278,9 +279,12 @@ fn rotated_steps(
 
 /// The active set with glued interfaces that do not eliminate node by node
 /// (standard multipliers, crosspoints): each step solves the saddle point of
-/// the glued rows and the active contact rows n_p·(u_s − T u_m)_p = g_p by
-/// sparse LDLᵀ ([`saddle_point`]); μ_p is the multiplier of p's row (the
-/// same d_p λ_p as in the rotated system), w_p = n_p·(u_s − T u_m)_p.
+/// the glued rows and the active contact rows n_p·(u_s − T u_m)_p = g_p, by
+/// sparse LDLᵀ ([`saddle_point`]) or by PCG on the system reduced by these
+/// rows, matrix-free ([`matrix_free`]: each contact row eliminates the
+/// component of u_s,p along which n_p is largest); μ_p is the multiplier of
+/// p's row (the same d_p λ_p as in the rotated system),
+/// w_p = n_p·(u_s − T u_m)_p.
 fn saddle_steps(
     bodies: &[Body],
     interfaces: &[Interface],
@@ -327,11 +331,16 @@ fn saddle_steps(
                     point: point.point,
                     component: axis,
                 };
+                c.row_of[row.dof] = c.rows.len();
                 c.rows.push(row);
                 c.g.push(point.gap);
             }
             let n_active = c.rows.len() - n_glue;
-            let (u, nu, _, _) = saddle_point(k, f, dirichlet, &c, seconds).map_err(|e| match e {
+            let solved = match &options.solver {
+                Solver::Direct => saddle_point(k, f, dirichlet, &c, seconds),
+                Solver::Pcg(pcg) => matrix_free(k, f, dirichlet, &c, pcg, seconds),
+            };
+            let (u, nu, _, iterations) = solved.map_err(|e| match e {
                 ProblemError::Solve(SolveError::Singular) => singular(step, n_active),
                 e => e,
             })?;
@@ -342,7 +351,8 @@ fn saddle_steps(
                 *m = *rows.next().expect("one multiplier per active point");
             }
             last = Some((u, nu[..n_glue].to_vec()));
-            Ok((w, mu, 0))
+            let linear_iterations = if matches!(options.solver, Solver::Pcg(_)) { iterations } else { 0 };
+            Ok((w, mu, linear_iterations))
         })?;
     let clock = Instant::now();
     let (u, lambda) = last.expect("at least one step");
@@ -363,16 +373,18 @@ fn saddle_steps(
         steps,
         lambda,
         kkt,
-        method: "saddle-point LDLᵀ per active-set step",
+        method: match options.solver {
+            Solver::Direct => "saddle-point LDLᵀ per active-set step",
+            Solver::Pcg(_) => "matrix-free PCG per active-set step (u_s = T u_m)",
+        },
         points,
     })
 }
 
 /// Refuses what the contact solve cannot do: contact with standard
-/// multipliers (D must be diagonal), glued interfaces with standard
-/// multipliers next to contact ones with the PCG solver, and a slave point of
-/// both a glued and a contact interface.
-pub(crate) fn check_couplings(interfaces: &[Interface], solver: Solver) -> Result<(), ProblemError> {
+/// multipliers (D must be diagonal), and a slave point of both a glued and a
+/// contact interface.
+pub(crate) fn check_couplings(interfaces: &[Interface]) -> Result<(), ProblemError> {
     let bad = |interface: usize, what: String| Err(ProblemError::BadInterface { interface, what });
     for (i, f) in interfaces.iter().enumerate() {
         if f.kind == Coupling::Contact && f.options.multiplier == Multiplier::Standard {
@@ -382,13 +394,7 @@ pub(crate) fn check_couplings(interfaces: &[Interface], solver: Solver) -> Resul
             );
         }
     }
-    let contact = interfaces.iter().any(|f| f.kind == Coupling::Contact);
     for (i, f) in interfaces.iter().enumerate().filter(|(_, f)| f.kind == Coupling::Glue) {
-        if contact && f.options.multiplier == Multiplier::Standard && matches!(solver, Solver::Pcg(_)) {
-            let what = "with the PCG solver a glued interface next to contact interfaces needs multiplier \
-                        \"dual\" or \"lumped\" (standard multipliers: use the direct solver)";
-            return bad(i, what.into());
-        }
         for (j, c) in
             interfaces.iter().enumerate().filter(|(_, c)| c.kind == Coupling::Contact && c.slave == f.slave)
         {
@@ -973,9 +979,9 @@ mod tests {
     use crate::scene::{bulging_contact, BulgingContact};
 
     /// The saddle point per step (used with glued interfaces that do not
-    /// eliminate) and the rotated, condensed system take the same active-set
-    /// steps to the same solution, on a contact that spreads over several
-    /// steps (the bulging bodies).
+    /// eliminate), solved directly or by matrix-free PCG, and the rotated,
+    /// condensed system take the same active-set steps to the same solution,
+    /// on a contact that spreads over several steps (the bulging bodies).
     #[test]
     fn the_saddle_path_matches_the_rotated_one_over_several_steps() {
         let problem =
@@ -1001,5 +1007,20 @@ mod tests {
             "u {du:e} of {u_scale:e}, μ {dmu:e} of {mu_scale:e}"
         );
         assert!(b.kkt.max() <= 1e-10, "{:?}", b.kkt);
+
+        // The same steps with each saddle point solved by matrix-free PCG.
+        let pcg = Solver::Pcg(crate::pcg::PcgOptions { rtol: 1e-13, ..Default::default() });
+        let options = SolveOptions { solver: pcg, ..options };
+        let c = saddle_steps(&bodies, &interfaces, &options, &system, &constraints, &mut seconds).unwrap();
+        let changes = |s: &Steps| s.steps.iter().map(|s| (s.active, s.added, s.removed)).collect::<Vec<_>>();
+        assert_eq!(changes(&a), changes(&c));
+        assert!(c.steps.iter().all(|s| s.linear_iterations > 0), "{:?}", c.steps);
+        let du = max(&mut a.u.iter().zip(&c.u).map(|(x, y)| x - y));
+        let dmu = max(&mut a.mu.iter().zip(&c.mu).map(|(x, y)| x - y));
+        assert!(
+            du <= 1e-8 * u_scale && dmu <= 1e-7 * mu_scale,
+            "PCG: u {du:e} of {u_scale:e}, μ {dmu:e} of {mu_scale:e}"
+        );
+        assert!(c.kkt.max() <= 1e-8, "{:?}", c.kkt);
     }
 }

@@ -163,10 +163,11 @@ pub(crate) fn add_tractions(out: &mut [InterfaceSolution], constraints: &Constra
 }
 
 /// PCG on PᵀKP, matrix-free (any multiplier): P x = [x; −C_S⁻¹C_R x] and
-/// Pᵀy = y_R − C_Rᵀ C_S⁻ᵀ y_S with one sparse LU of C_S (interface-sized). The
+/// Pᵀy = y_R − C_Rᵀ C_S⁻ᵀ y_S with one sparse LU of C_S (interface-sized);
+/// for C u = g (contact rows) u = P x + u_g with (u_g)_S = C_S⁻¹ g. The
 /// Dirichlet dofs are eliminated as in [`solve_pcg`] (identity rows, zero
 /// right-hand side), the preconditioner is K's point-block Jacobi.
-fn matrix_free(
+pub(crate) fn matrix_free(
     k: &CsrMatrix,
     f: &[f64],
     dirichlet: &Dirichlet,
@@ -185,9 +186,16 @@ fn matrix_free(
         lift[retained[dof]] = v;
     }
     let active = free_dofs(k, dirichlet);
-    // b = Pᵀ(f − K P ū) on the free retained dofs.
+    let mut u_g = vec![0.0; n];
+    if constraints.g.iter().any(|&g| g != 0.0) {
+        for (row, v) in constraints.rows.iter().zip(reduction.solve_cs(&constraints.g, false)) {
+            u_g[row.dof] = v;
+        }
+    }
+    // b = Pᵀ(f − K (P ū + u_g)) on the free retained dofs.
     let mut ku = vec![0.0; n];
-    par_mul(k, &reduction.apply_p(&lift), &mut ku);
+    let lifted: Vec<f64> = reduction.apply_p(&lift).iter().zip(&u_g).map(|(a, b)| a + b).collect();
+    par_mul(k, &lifted, &mut ku);
     let residual: Vec<f64> = f.iter().zip(&ku).map(|(a, b)| a - b).collect();
     let mut b = reduction.apply_pt(&residual);
     for (bi, &a) in b.iter_mut().zip(&active_r) {
@@ -241,7 +249,7 @@ fn matrix_free(
             *xi = *l;
         }
     }
-    let u = reduction.apply_p(&x);
+    let u: Vec<f64> = reduction.apply_p(&x).iter().zip(&u_g).map(|(a, b)| a + b).collect();
     let mut ku = vec![0.0; n];
     par_mul(k, &u, &mut ku);
     let rest: Vec<f64> = constraints.rows.iter().map(|row| f[row.dof] - ku[row.dof]).collect();

@@ -174,7 +174,7 @@ pub fn solve_coupled(
     options: &SolveOptions,
 ) -> Result<Solution, ProblemError> {
     check_input(bodies, interfaces)?;
-    check_couplings(interfaces, options.solver)?;
+    check_couplings(interfaces)?;
     let mut seconds = Timings::default();
     let system = assemble_system(bodies, interfaces, &mut seconds)?;
     let clock = Instant::now();
