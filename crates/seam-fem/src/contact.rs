@@ -65,11 +65,9 @@
 //! - [`Solver::Pcg`]: every step solves the whole system by PCG, warm-started
 //!   from the previous step.
 
-use crate::glue::matrix_free;
-use crate::multibody::{free_dofs, prolongation, saddle_point, triple_product};
-use crate::multibody::{
-    Body, Constraints, Coupling, Interface, ProblemError, Row, Solver, System, Timings, NONE,
-};
+use crate::constraints::{free_dofs, matrix_free, prolongation, saddle_point, triple_product};
+use crate::constraints::{Constraints, Row, NONE};
+use crate::multibody::{Body, Coupling, Interface, ProblemError, Solver, System, Timings};
 use crate::pcg::solve_pcg_from;
 use crate::solution::{ContactFields, InterfaceSolution, SolveOptions};
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};

@@ -15,7 +15,7 @@
 //! | E, ν → λ, μ, C | [`material`] |
 //! | K, body-force and traction loads (parallel, deterministic) | [`assembly`] |
 //! | Dirichlet conditions, sparse Cholesky solve | [`solve`](mod@solve) |
-//! | bodies, interfaces, one dof numbering, glued constraints, saddle point | [`multibody`] |
+//! | bodies, interfaces, one dof numbering, the assembled system | [`multibody`] |
 //! | gluing (paper's first application) | [`glue`] |
 //! | frictionless contact, mixed with glue (second application) | [`contact`] |
 //! | one solve and one solution for any mix of glue and contact | [`solution`], [`problem`] |
@@ -46,6 +46,7 @@
 #![deny(missing_docs)]
 
 pub mod assembly;
+mod constraints;
 pub mod contact;
 pub mod element;
 pub mod generate;

@@ -9,9 +9,10 @@
 //! With contact: the active-set method ([`crate::contact`]) with the glued
 //! interfaces eliminated or as saddle-point rows.
 
+use crate::constraints::Constraints;
 use crate::contact::{add_contact_fields, check_couplings, solve_contact, ActiveSetStep, Kkt};
 use crate::glue::{add_tractions, solve_glued};
-use crate::multibody::{assemble_system, check_input, Body, Constraints, Coupling, Interface};
+use crate::multibody::{assemble_system, check_input, Body, Coupling, Interface};
 use crate::multibody::{ProblemError, Solver, Timings};
 use crate::stress::{recover_stresses, Stresses};
 use rayon::prelude::*;
