@@ -188,6 +188,20 @@ impl Problem {
 /// Assembles and solves `problem`, glued and contact interfaces in any mix:
 /// the loads and supports of each body, then [`solve_coupled`].
 ///
+/// ```
+/// use seam_fem::scene::{warped_glue, WarpedGlue};
+/// use seam_fem::{solve, SolveOptions};
+///
+/// // Two blocks glued at a warped interface, the upper one pulled by
+/// // t = (0.2, 0, −1) on its unit top and held by the interface alone.
+/// let params = WarpedGlue { slave_cells: 2, ratio: 2, slave_layers: 2, master_layers: 2, ..Default::default() };
+/// let solution = solve(&warped_glue(&params)?, &SolveOptions::default())?;
+/// // The master holds the slave with the opposite of the load.
+/// let force = solution.interfaces[0].force;
+/// assert!((force[0] + 0.2).abs() < 1e-9 && force[1].abs() < 1e-9 && (force[2] - 1.0).abs() < 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
 /// # Errors
 /// As [`solve_coupled`]; [`ProblemError::Assembly`] for a degenerate cell
 /// under a body force.
