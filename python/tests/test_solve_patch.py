@@ -91,15 +91,21 @@ def solve(case, solver):
     return s
 
 
-KINDS2 = [("hex", "hex"), ("tet", "tet"), ("hex", "tet"), ("tet", "hex")]
+USUAL = ((3, 4, 2), (4, 3, 2))
+# A fine slave over a coarse master: dual multipliers are eliminated (reduced
+# Cholesky); on the usual small meshes the elimination would fill in and the
+# saddle point is solved.
+FINE_OVER_COARSE = ((2, 2, 1), (6, 6, 6))
+MESHES = [(("hex", "hex"), USUAL), (("tet", "tet"), USUAL), (("hex", "tet"), USUAL), (("tet", "hex"), USUAL),
+          (("hex", "hex"), FINE_OVER_COARSE)]
 
 
 @pytest.mark.parametrize("multiplier", ["standard", "dual"])
-@pytest.mark.parametrize("kinds", KINDS2, ids="|".join)
+@pytest.mark.parametrize("kinds,sizes", MESHES, ids=lambda v: "|".join(map(str, v)))
 @pytest.mark.parametrize("slope", [0.0, 0.2])
-def test_rollers_on_both_bodies_touching_a_glued_interface(tmp_path, monkeypatch, slope, kinds, multiplier):
-    """A lower block (master, 3×4×2) under an upper one (slave, 4×3×2, up to
-    z = 1.2), meeting on z = 1/2 + slope (x − 1/2); both on rollers at x = 0
+def test_rollers_on_both_bodies_touching_a_glued_interface(tmp_path, monkeypatch, slope, kinds, sizes, multiplier):
+    """A lower block (master, 3×4×2, or 2×2×1) under an upper one (slave,
+    4×3×2, or 6×6×6, up to z = 1.2), meeting on z = 1/2 + slope (x − 1/2); both on rollers at x = 0
     and y = 0 (both touch the interface), the lower one at z = 0; σ n on the
     other outer faces. The tilted interface carries normal and shear traction."""
     monkeypatch.chdir(tmp_path)
@@ -107,8 +113,8 @@ def test_rollers_on_both_bodies_touching_a_glued_interface(tmp_path, monkeypatch
     def interface(x):
         return 0.5 + slope * (x - 0.5)
 
-    write_block(tmp_path / "lower.msh", (3, 4, 2), kinds[0], lambda u, v, w: (u, v, w * interface(u)))
-    write_block(tmp_path / "upper.msh", (4, 3, 2), kinds[1],
+    write_block(tmp_path / "lower.msh", sizes[0], kinds[0], lambda u, v, w: (u, v, w * interface(u)))
+    write_block(tmp_path / "upper.msh", sizes[1], kinds[1],
                 lambda u, v, w: (u, v, interface(u) + w * (1.2 - interface(u))))
     case = {
         "body": [body("lower"), body("upper")],
@@ -123,7 +129,9 @@ def test_rollers_on_both_bodies_touching_a_glued_interface(tmp_path, monkeypatch
     eps = strain()
     u, sigma = body_errors(s, lambda _, x: x * eps, lambda _: voigt(S))
     (f,) = s.interfaces
-    assert len(f.points) == 20
+    assert len(f.points) == (sizes[1][0] + 1) * (sizes[1][1] + 1)
+    eliminated = multiplier == "dual" and sizes == FINE_OVER_COARSE
+    assert s.summary["method"] == ("reduced Cholesky (u_s = T u_m)" if eliminated else "saddle-point LDLᵀ")
     norm = np.hypot(1.0, slope)
     t = traction_error(f, voigt(S), [slope / norm, 0.0, -1.0 / norm], np.abs(S).max())
     print(f"u {u:.1e} σ {sigma:.1e} t {t:.1e} ({s.summary['method']})")

@@ -15,8 +15,10 @@
 //!   carries normal and shear traction); both bodies on rollers at x = 0 and
 //!   y = 0 (both faces touch the interface), the lower one at z = 0; the
 //!   x = 1 and y = 1 faces of both and the top loaded by σ n. Hex|hex,
-//!   tet|tet, hex|tet and tet|hex, non-matching; standard and dual
-//!   multipliers; direct and PCG solvers.
+//!   tet|tet, hex|tet and tet|hex, non-matching, and a 6×6×6 slave over a
+//!   2×2×1 master (so that dual multipliers are eliminated: every glue
+//!   method of `summary.json` runs); standard and dual multipliers; direct
+//!   and PCG solvers.
 //! - Crossline: A = [0,1]³, B = [1,2]×[0,1]², C = [0,2]×[0,1]×[1,1.6] glued
 //!   A|B (x = 1), A|C and B|C (z = 1, C's bottom split at x = 1 into two
 //!   physical surfaces), C slave of both upper interfaces: C's points on the
@@ -253,16 +255,16 @@ fn traction_error(
     (error, count)
 }
 
-/// Two blocks meeting on z = 1/2 + slope (x − 1/2): "lower" (master, `kinds[0]`,
-/// 3×4×2) and "upper" (slave, `kinds[1]`, 4×3×2, up to z = 1.2), rollers at
-/// x = 0 and y = 0 on both and at z = 0 under the lower one, σ n on the
-/// other outer faces.
-fn rollers_case(dir: &Path, slope: f64, kinds: [BlockKind; 2], multiplier: &str) {
+/// Two blocks meeting on z = 1/2 + slope (x − 1/2): "lower" (master,
+/// `kinds[0]`, `n[0]` cells) and "upper" (slave, `kinds[1]`, `n[1]` cells, up
+/// to z = 1.2), rollers at x = 0 and y = 0 on both and at z = 0 under the
+/// lower one, σ n on the other outer faces.
+fn rollers_case(dir: &Path, slope: f64, kinds: [BlockKind; 2], n: [[usize; 3]; 2], multiplier: &str) {
     let interface = move |x: f64| 0.5 + slope * (x - 0.5);
-    write_mesh(&dir.join("lower.msh"), [3, 4, 2], kinds[0], |u, v, w| [u, v, w * interface(u)], &sides());
+    write_mesh(&dir.join("lower.msh"), n[0], kinds[0], |u, v, w| [u, v, w * interface(u)], &sides());
     write_mesh(
         &dir.join("upper.msh"),
-        [4, 3, 2],
+        n[1],
         kinds[1],
         |u, v, w| [u, v, interface(u) + w * (1.2 - interface(u))],
         &sides(),
@@ -281,15 +283,26 @@ fn rollers_case(dir: &Path, slope: f64, kinds: [BlockKind; 2], multiplier: &str)
 fn rollers_on_both_bodies_touching_a_flat_or_tilted_glued_interface() {
     use BlockKind::{Hex, Tet};
     let mut worst = 0.0f64;
+    let mut methods = std::collections::BTreeSet::new();
     for slope in [0.0f64, 0.2] {
         let norm = (1.0 + slope * slope).sqrt();
         // The upper block's outward normal on its bottom.
         let normal = move |_: Point| [slope / norm, 0.0, -1.0 / norm];
-        for kinds in [[Hex, Hex], [Tet, Tet], [Hex, Tet], [Tet, Hex]] {
+        // The last pair, a fine slave over a coarse master, is solved by
+        // elimination (reduced Cholesky) for dual multipliers; the others by
+        // the saddle point (the elimination would fill in on such small meshes).
+        let (usual, coarse, fine) = ([[3, 4, 2], [4, 3, 2]], [2, 2, 1], [6, 6, 6]);
+        for (kinds, n) in [
+            ([Hex, Hex], usual),
+            ([Tet, Tet], usual),
+            ([Hex, Tet], usual),
+            ([Tet, Hex], usual),
+            ([Hex, Hex], [coarse, fine]),
+        ] {
             for multiplier in ["standard", "dual"] {
                 for solver in ["direct", "pcg"] {
                     let tmp = tempfile::tempdir().unwrap();
-                    rollers_case(tmp.path(), slope, kinds, multiplier);
+                    rollers_case(tmp.path(), slope, kinds, n, multiplier);
                     let s = solve(tmp.path(), solver);
                     let out = tmp.path().join("out");
                     let (u, sigma) = body_errors(&out, &["lower", "upper"], |_, x| exact(x), |_| voigt());
@@ -300,8 +313,9 @@ fn rollers_on_both_bodies_touching_a_flat_or_tilted_glued_interface() {
                         |_| false,
                         max_abs(&S),
                     );
-                    assert_eq!(points, 20, "the upper block's 5×4 bottom points");
-                    let label = format!("slope {slope} {kinds:?} {multiplier} {solver}");
+                    assert_eq!(points, (n[1][0] + 1) * (n[1][1] + 1), "the upper block's bottom points");
+                    let label = format!("slope {slope} {kinds:?} {:?} {multiplier} {solver}", n[1]);
+                    methods.insert(s["method"].as_str().unwrap().to_string());
                     println!(
                         "  {label:<40} u {u:.1e}  σ {sigma:.1e}  t {t:.1e}  ({})",
                         s["method"].as_str().unwrap()
@@ -316,6 +330,9 @@ fn rollers_on_both_bodies_touching_a_flat_or_tilted_glued_interface() {
         }
     }
     println!("  rollers: largest error {worst:.1e}");
+    let expected =
+        ["reduced Cholesky (u_s = T u_m)", "reduced PCG, matrix-free (u_s = T u_m)", "saddle-point LDLᵀ"];
+    assert_eq!(methods, expected.map(String::from).into(), "every glue solver ran");
 }
 
 /// Blocks a, b, c meeting along the line x = 1, z = 1 (see the module doc).
