@@ -1,0 +1,166 @@
+"""A case whose meshes Gmsh makes: two boxes (OpenCASCADE), meshed apart with
+unstructured tetrahedra of different sizes (the interface does not match),
+physical groups named, written as MSH 4.1 by ``gmsh.write``. Solved by
+``seam.solve(...).write(dir)`` and by the `seam solve` binary that `cargo
+test` builds (target/debug/seam, or $SEAM_BIN): the files must be the same,
+byte for byte (summary.json up to the paths, timings and thread count).
+Errors are ``seam.SolveError`` with the CLI's one-line message.
+
+Needs the ``gmsh`` wheel (scripts/test installs it) and, headless, the X11
+and OpenGL runtime libraries it links to (.ci/run installs them).
+"""
+
+import json
+import sys
+from pathlib import Path
+
+import gmsh
+import numpy as np
+import pytest
+
+import seam
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests" / "python"))
+from seam_cli import seam as run_cli  # noqa: E402
+
+# name: (box (x0, y0, z0, dx, dy, dz), mesh size)
+BOXES = {
+    "lower": ((0.0, 0.0, 0.0, 1.0, 1.0, 0.5), 0.22),
+    "upper": ((0.0, 0.0, 0.5, 1.0, 1.0, 0.5), 0.31),
+}
+EPS = 1e-6
+
+
+def mesh_box(path, box, size):
+    """One box meshed by Gmsh with the physical surfaces bottom, top, xmin,
+    ymin, xmax, ymax and the physical volume "body", written as MSH 4.1."""
+    gmsh.initialize(readConfigFiles=False, interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.NumThreads", 1)
+        gmsh.model.add(path.stem)
+        x0, y0, z0, dx, dy, dz = box
+        volume = gmsh.model.occ.addBox(x0, y0, z0, dx, dy, dz)
+        gmsh.model.occ.synchronize()
+        lo, hi = np.array([x0, y0, z0]), np.array([x0 + dx, y0 + dy, z0 + dz])
+        for name, axis, at in (("xmin", 0, lo), ("xmax", 0, hi), ("ymin", 1, lo), ("ymax", 1, hi),
+                               ("bottom", 2, lo), ("top", 2, hi)):
+            a, b = lo - EPS, hi + EPS
+            a[axis], b[axis] = at[axis] - EPS, at[axis] + EPS
+            (surface,) = gmsh.model.getEntitiesInBoundingBox(*a, *b, dim=2)
+            gmsh.model.addPhysicalGroup(2, [surface[1]], name=name)
+        gmsh.model.addPhysicalGroup(3, [volume], name="body")
+        gmsh.option.setNumber("Mesh.MeshSizeMin", size)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+        gmsh.model.mesh.generate(3)
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        gmsh.option.setNumber("Mesh.Binary", 0)
+        gmsh.write(str(path))
+    finally:
+        gmsh.finalize()
+
+
+def case_text(interface):
+    """lower (master) and upper (slave) coupled at lower:top / upper:bottom
+    with the `interface` keys; lower clamped at the bottom; upper on rollers
+    at x = 0 and y = 0 and loaded on its top."""
+    text = "".join(f'[[body]]\nname = "{b}"\nmesh = "{b}.msh"\nyoung = {e}\npoisson = {nu}\n\n'
+                   for b, e, nu in (("lower", 1000.0, 0.3), ("upper", 400.0, 0.25)))
+    text += f'[[interface]]\nmaster = "lower:top"\nslave = "upper:bottom"\n{interface}\n\n'
+    text += '[[dirichlet]]\nboundary = "lower:bottom"\nux = 0.0\nuy = 0.0\nuz = 0.0\n\n'
+    text += '[[dirichlet]]\nboundary = "upper:xmin"\nux = 0.0\n\n'
+    text += '[[dirichlet]]\nboundary = "upper:ymin"\nuy = 0.0\n\n'
+    text += '[[traction]]\nboundary = "upper:top"\nt = [0.0, 0.1, -1.0]\n\n'
+    return text
+
+
+INTERFACES = {
+    "glue-standard": 'kind = "glue"\nmultiplier = "standard"',
+    "glue-dual": 'kind = "glue"\nmultiplier = "dual"',
+    "contact": 'kind = "contact"',
+}
+
+
+@pytest.fixture(scope="module")
+def meshes(tmp_path_factory):
+    """lower.msh and upper.msh, made once by Gmsh."""
+    d = tmp_path_factory.mktemp("gmsh")
+    for name, (box, size) in BOXES.items():
+        mesh_box(d / f"{name}.msh", box, size)
+    return d
+
+
+def setup_case(meshes, tmp_path, interface):
+    for name in BOXES:
+        (tmp_path / f"{name}.msh").write_bytes((meshes / f"{name}.msh").read_bytes())
+    (tmp_path / "case.toml").write_text(case_text(INTERFACES[interface]))
+
+
+def without_paths_times_and_threads(summary):
+    s = dict(summary)
+    for key in ("seconds", "case", "output_dir", "threads"):
+        s.pop(key)
+    s["bodies"] = [{k: v for k, v in b.items() if k != "mesh"} for b in s["bodies"]]
+    return s
+
+
+def test_gmsh_writes_msh41_tetrahedra_with_named_groups(meshes):
+    import meshio
+
+    sizes = []
+    for name in BOXES:
+        text = (meshes / f"{name}.msh").read_text()
+        assert text.startswith("$MeshFormat\n4.1 0 8\n"), text[:40]
+        m = meshio.read(meshes / f"{name}.msh")
+        assert {c.type for c in m.cells} == {"triangle", "tetra"}
+        assert {"bottom", "top", "xmin", "ymin", "body"} <= set(m.field_data)
+        sizes.append(sum(len(c.data) for c in m.cells if c.type == "tetra"))
+    assert sizes[0] != sizes[1] and min(sizes) > 20  # unstructured, non-matching
+
+
+@pytest.mark.parametrize("interface", sorted(INTERFACES))
+def test_python_and_cli_write_the_same_bytes(meshes, tmp_path, monkeypatch, interface):
+    setup_case(meshes, tmp_path, interface)
+    monkeypatch.chdir(tmp_path)
+    solution = seam.solve("case.toml", threads=1)
+    written = solution.write(tmp_path / "py")
+    cli = run_cli("solve", "case.toml", cwd=tmp_path)
+    assert cli.returncode == 0, cli.stderr
+    names = sorted(p.name for p in (tmp_path / "out").iterdir())
+    assert names == ["lower.vtu", "summary.json", "upper.vtu", "upper_bottom_interface.vtu"]
+    assert sorted(p.name for p in (tmp_path / "py").iterdir()) == names
+    for name in names:
+        a, b = (tmp_path / "out" / name).read_bytes(), (tmp_path / "py" / name).read_bytes()
+        if name == "summary.json":
+            a, b = json.loads(a), json.loads(b)
+            assert b == written
+            assert without_paths_times_and_threads(a) == without_paths_times_and_threads(b)
+            assert b["interfaces"][0]["kind"] == interface.split("-")[0]
+        else:
+            assert a == b, name
+    # Something was solved: the upper block moved down under its load.
+    assert solution.bodies["upper"].displacement[:, 2].max() < 0.0
+    assert len(solution.bodies["lower"].stress) > 20
+
+
+def test_errors_are_the_cli_one_line_messages(meshes, tmp_path, monkeypatch):
+    setup_case(meshes, tmp_path, "glue-dual")
+    monkeypatch.chdir(tmp_path)
+    text = (tmp_path / "case.toml").read_text()
+    for name, bad, part in (
+        ("surface.toml", text.replace('"upper:bottom"', '"upper:underside"'), "underside"),
+        ("body.toml", text.replace('master = "lower:top"', 'master = "middle:top"'), "middle"),
+        ("mesh.toml", text.replace('"lower.msh"', '"nowhere.msh"'), "nowhere.msh"),
+    ):
+        (tmp_path / name).write_text(bad)
+        with pytest.raises(seam.SolveError) as e:
+            seam.solve(name)
+        message = str(e.value)
+        assert part in message and "\n" not in message, message
+        cli = run_cli("solve", name, cwd=tmp_path)
+        assert cli.returncode == 2
+        assert cli.stderr == f"seam: error: {message}\n"
+    # The missing surface's message lists the surfaces the mesh has.
+    with pytest.raises(seam.SolveError, match="underside.*(bottom|top)"):
+        seam.solve("surface.toml")
+    assert not (tmp_path / "out").exists()
