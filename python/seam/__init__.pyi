@@ -309,10 +309,14 @@ def solve(
     case: Union[str, "os.PathLike[str]", dict],
     solver: Literal["direct", "pcg"] = "direct",
     threads: Optional[int] = None,
+    *,
+    rtol: float = 1e-10,
 ) -> Solution:
     """Solves a case (a case file, or a dict with its schema) as ``seam solve`` does, without writing.
 
+    ``rtol``: PCG stops when ‖r‖₂ ≤ rtol ‖b‖₂ (``seam solve --rtol``), in (0, 1).
+
     Raises:
-        SolveError: The one-line message of ``seam solve``.
+        SolveError: The one-line message of ``seam solve`` (also an rtol outside (0, 1)).
         ValueError: An unknown solver, threads < 1.
     """

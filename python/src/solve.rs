@@ -134,6 +134,7 @@ impl PySolution {
 ///         current working directory.
 ///     solver: "direct" or "pcg".
 ///     threads: Worker threads (default: all cores).
+///     rtol: PCG stops when ‖r‖₂ ≤ rtol ‖b‖₂ (`seam solve --rtol`), in (0, 1).
 ///
 /// Returns:
 ///     A Solution: `summary`, `bodies`, `interfaces`, `write(dir, force)`.
@@ -143,12 +144,13 @@ impl PySolution {
 ///         a missing mesh, surfaces that do not meet, a singular system, …).
 ///     ValueError: an unknown solver, threads < 1.
 #[pyfunction]
-#[pyo3(signature = (case, solver = "direct", threads = None))]
+#[pyo3(signature = (case, solver = "direct", threads = None, *, rtol = 1e-10))]
 pub fn solve(
     py: Python<'_>,
     case: &Bound<'_, PyAny>,
     solver: &str,
     threads: Option<i64>,
+    rtol: f64,
 ) -> PyResult<PySolution> {
     let solver = match solver {
         "direct" => LinearSolver::Direct,
@@ -159,7 +161,7 @@ pub fn solve(
             )))
         }
     };
-    let options = SolveOptions { solver, ..SolveOptions::default() };
+    let options = SolveOptions { solver, rtol };
     let pool = thread_pool(threads)?;
     let source = match case.cast::<PyDict>() {
         Ok(dict) => {

@@ -12,10 +12,8 @@ the stress is diagonal, σ = diag(S), u = ε x. Meshes: structured hexahedra or
 Kuhn tetrahedra written as MSH 2.2 by patch_meshes.py; all interfaces are
 non-matching.
 
-Only the direct solver: seam.solve has no ``rtol`` (the CLI's ``--rtol``), and
-PCG's default 1e-10 on the residual leaves errors up to 5e-10 relative in
-these tractions, so PCG is tested to 1e-10 through the CLI (``--rtol 1e-13``,
-seam-cli's tests/supports.rs).
+Direct and PCG (``rtol=1e-13``: PCG's default 1e-10 on the residual leaves
+errors up to 5e-10 relative in these tractions).
 """
 
 import numpy as np
@@ -85,8 +83,11 @@ def traction_error(interface, sigma, normal, scale, elsewhere=None):
     return np.abs(interface.traction - exact).max() / scale
 
 
+SOLVERS = ["direct", "pcg"]
+
+
 def solve(case, solver):
-    s = seam.solve(case, solver=solver)
+    s = seam.solve(case, solver=solver, rtol=1e-13)
     assert s.summary["residual"] <= 1e-10
     return s
 
@@ -100,10 +101,12 @@ MESHES = [(("hex", "hex"), USUAL), (("tet", "tet"), USUAL), (("hex", "tet"), USU
           (("hex", "hex"), FINE_OVER_COARSE)]
 
 
+@pytest.mark.parametrize("solver", SOLVERS)
 @pytest.mark.parametrize("multiplier", ["standard", "dual"])
 @pytest.mark.parametrize("kinds,sizes", MESHES, ids=lambda v: "|".join(map(str, v)))
 @pytest.mark.parametrize("slope", [0.0, 0.2])
-def test_rollers_on_both_bodies_touching_a_glued_interface(tmp_path, monkeypatch, slope, kinds, sizes, multiplier):
+def test_rollers_on_both_bodies_touching_a_glued_interface(tmp_path, monkeypatch, slope, kinds, sizes, multiplier,
+                                                           solver):
     """A lower block (master, 3×4×2, or 2×2×1) under an upper one (slave,
     4×3×2, or 6×6×6, up to z = 1.2), meeting on z = 1/2 + slope (x − 1/2); both on rollers at x = 0
     and y = 0 (both touch the interface), the lower one at z = 0; σ n on the
@@ -125,23 +128,26 @@ def test_rollers_on_both_bodies_touching_a_glued_interface(tmp_path, monkeypatch
     for b in ("lower", "upper"):
         case["dirichlet"] += [roller(f"{b}:xmin", "ux"), roller(f"{b}:ymin", "uy")]
         case["traction"] += [load(f"{b}:xmax", [S[0], 0, 0]), load(f"{b}:ymax", [0, S[1], 0])]
-    s = solve(case, "direct")
+    s = solve(case, solver)
     eps = strain()
     u, sigma = body_errors(s, lambda _, x: x * eps, lambda _: voigt(S))
     (f,) = s.interfaces
     assert len(f.points) == (sizes[1][0] + 1) * (sizes[1][1] + 1)
     eliminated = multiplier == "dual" and sizes == FINE_OVER_COARSE
-    assert s.summary["method"] == ("reduced Cholesky (u_s = T u_m)" if eliminated else "saddle-point LDLᵀ")
+    direct = "reduced Cholesky (u_s = T u_m)" if eliminated else "saddle-point LDLᵀ"
+    pcg = "reduced PCG, matrix-free (u_s = T u_m)"
+    assert s.summary["method"] == (direct if solver == "direct" else pcg)
     norm = np.hypot(1.0, slope)
     t = traction_error(f, voigt(S), [slope / norm, 0.0, -1.0 / norm], np.abs(S).max())
     print(f"u {u:.1e} σ {sigma:.1e} t {t:.1e} ({s.summary['method']})")
     assert u <= RTOL and sigma <= RTOL and t <= RTOL, (u, sigma, t)
 
 
+@pytest.mark.parametrize("solver", SOLVERS)
 @pytest.mark.parametrize("multiplier", ["standard", "dual"])
 @pytest.mark.parametrize("kinds", [("hex",) * 3, ("tet",) * 3, ("hex", "tet", "hex"), ("tet", "hex", "tet")],
                          ids="|".join)
-def test_three_blocks_meeting_along_a_crossline(tmp_path, monkeypatch, kinds, multiplier):
+def test_three_blocks_meeting_along_a_crossline(tmp_path, monkeypatch, kinds, multiplier, solver):
     """a = [0,1]³, b = [1,2]×[0,1]², c = [0,2]×[0,1]×[1,1.6] glued a|b (x = 1),
     a|c and b|c (z = 1; c's bottom split at x = 1): c's points on the line
     x = 1, z = 1 are slave of two interfaces, b's slave of a|b and master of
@@ -161,7 +167,7 @@ def test_three_blocks_meeting_along_a_crossline(tmp_path, monkeypatch, kinds, mu
         "traction": [load(f"{b}:ymax", [0, S[1], 0]) for b in "abc"]
         + [load("b:xmax", [S[0], 0, 0]), load("c:xmax", [S[0], 0, 0]), load("c:top", [0, 0, S[2]])],
     }
-    s = solve(case, "direct")
+    s = solve(case, solver)
     eps = strain()
     u, sigma = body_errors(s, lambda _, x: x * eps, lambda _: voigt(S))
     t = 0.0
@@ -205,12 +211,13 @@ def stack_case(tmp_path, kinds, contact, glue_multiplier):
     }
 
 
+@pytest.mark.parametrize("solver", SOLVERS)
 @pytest.mark.parametrize("glue_multiplier", ["dual", "standard"])
 @pytest.mark.parametrize("contact", ["dual", "lumped"])
 @pytest.mark.parametrize("kinds", [("hex", "tet", "hex"), ("tet", "hex", "tet")], ids="|".join)
-def test_glue_and_contact_carry_a_uniform_pressure(tmp_path, monkeypatch, kinds, contact, glue_multiplier):
+def test_glue_and_contact_carry_a_uniform_pressure(tmp_path, monkeypatch, kinds, contact, glue_multiplier, solver):
     monkeypatch.chdir(tmp_path)
-    s = solve(stack_case(tmp_path, kinds, contact, glue_multiplier), "direct")
+    s = solve(stack_case(tmp_path, kinds, contact, glue_multiplier), solver)
     stress = voigt([0.0, 0.0, -P])
     u, sigma = body_errors(s, stack_exact, lambda _: stress)
     c, g = s.interfaces
@@ -222,12 +229,3 @@ def test_glue_and_contact_carry_a_uniform_pressure(tmp_path, monkeypatch, kinds,
     kkt = s.summary["contact"]["kkt"]["max"]
     print(f"u {u:.1e} σ {sigma:.1e} pressure {p:.1e} t {t:.1e} KKT {kkt:.1e} ({s.summary['method']})")
     assert u <= RTOL and sigma <= RTOL and p <= RTOL and t <= RTOL and kkt <= RTOL, (u, sigma, p, t, kkt)
-
-
-def test_standard_glue_next_to_contact_with_pcg_is_refused(tmp_path, monkeypatch):
-    """Refused before any work, naming the glued interface and the direct
-    solver. (If PCG learns this case, move it into the test above.)"""
-    monkeypatch.chdir(tmp_path)
-    case = stack_case(tmp_path, ("hex",) * 3, "dual", "standard")
-    with pytest.raises(seam.SolveError, match=r"interface 2 \(cap:bottom → block:top\).*direct solver"):
-        seam.solve(case, solver="pcg")
