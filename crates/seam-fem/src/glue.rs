@@ -31,7 +31,8 @@
 //!   system PᵀKP u_R = Pᵀf is symmetric positive definite.
 //! - [`Solver::Direct`]: the reduced system by sparse Cholesky
 //!   ([`crate::solve::solve`]) for dual and lumped multipliers, unless T
-//!   would fill PᵀKP in (a slave side much coarser than the master side); with
+//!   would fill PᵀKP in (a slave side much coarser than the master side, or
+//!   many interface rows against K's size, as in small meshes); with
 //!   standard multipliers (C_S is the slave mass matrix, T is dense), or on
 //!   fill-in, the saddle point itself by sparse LDLᵀ with iterative refinement
 //!   ([`crate::saddle`]). [`crate::Report::method`] says which ran.
