@@ -3,9 +3,9 @@
 
 use crate::args::CheckArgs;
 use crate::assemble::{options, thread_pool};
-use crate::input::Surface;
 use crate::Failure;
 use anyhow::{anyhow, Context};
+use seam_case::input::Surface;
 use seam_case::output::Staged;
 use seam_case::{Check, CheckError, CheckReport};
 use seam_io::Field;

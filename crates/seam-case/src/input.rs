@@ -2,17 +2,20 @@
 //! a VTU file (point data), and the nodal values to transfer: a field of the
 //! file or an expression evaluated at its nodes, every value checked finite.
 
+use crate::{Expression, ExpressionError};
 use anyhow::{anyhow, bail, Result};
 use seam::SurfaceMesh;
-use seam_case::{Expression, ExpressionError};
 use seam_io::Field;
 use std::path::{Path, PathBuf};
 
 /// A surface mesh, the nodal fields its file carries, and how its file names
 /// its nodes.
 pub struct Surface {
+    /// The file read.
     pub path: PathBuf,
+    /// The surface (a physical group's faces, or all of them).
     pub mesh: SurfaceMesh,
+    /// The point fields of the file.
     pub fields: Vec<Field>,
     /// Gmsh node tags (MSH files); `None` for VTU files, whose points are
     /// named by their 0-based index, as in ParaView.
@@ -22,6 +25,9 @@ pub struct Surface {
 impl Surface {
     /// Reads `path`: `.vtu` as VTU (point data), anything else as Gmsh MSH
     /// ($NodeData; `group` selects a physical surface).
+    ///
+    /// # Errors
+    /// An unreadable file, or a group in a VTU file or missing from the MSH file.
     pub fn read(path: &Path, group: Option<&str>) -> Result<Surface> {
         if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("vtu")) {
             if let Some(g) = group {
