@@ -18,7 +18,7 @@
 //! at fault.
 //!
 //! The other direction, a [`seam_fem::Problem`] in memory written as a case
-//! (meshes and `case.toml`): [`write`]. The human report of a solved case:
+//! (meshes and `case.toml`): [`write`](mod@write). The human report of a solved case:
 //! [`report`]. Failures sorted by exit code: [`Failure`].
 //!
 //! And what both front ends report: [`check()`], how two surfaces meet

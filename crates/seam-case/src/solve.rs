@@ -448,7 +448,8 @@ fn prepare(case: &Case, case_path: &Path, dir: &Path, force: bool) -> Result<(Ou
 }
 
 /// Reads the meshes of a checked case and looks up every surface it names:
-/// the case's [`Problem`].
+/// the case's [`Problem`]. The other direction, a [`Problem`] written as a
+/// case, is [`crate::write`].
 ///
 /// # Errors
 /// A [`SolveFailure`] naming the case file, the body and the mesh file.

@@ -1,5 +1,8 @@
-//! The `seam` command-line tool: argument parsing and glue around the `seam`
-//! library (the maths) and `seam-io` (the files).
+//! The `seam` command-line tool: argument parsing and glue, as in ripgrep:
+//! parse the flags, call the library, print its report. The computation is in
+//! `seam` (the maths), `seam-io` (the files), `seam-case` (case files and the
+//! pipelines of `solve`, `assemble`, `transfer`, `check`) and `seam-examples`
+//! (the built-in examples, the benchmark, the pictures).
 //!
 //! Exit codes: 0 = success; 1 = ran, but the meshes do not couple (no overlap;
 //! for `solve`, an interface whose surfaces do not meet);

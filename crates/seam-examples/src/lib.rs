@@ -16,7 +16,7 @@
 //! DIR/case.toml --force`, and solve the problem in memory exactly as that
 //! case is solved ([`seam_case::solve::solve_problem`]).
 //!
-//! [`bench`]: the assembly benchmark's meshes, measurement and table.
+//! [`bench`](mod@bench): the assembly benchmark's meshes, measurement and table.
 //! [`picture`]: the small software rasteriser of the pictures.
 //!
 //! Every example returns the lines of its report; failures keep the exit
