@@ -3,6 +3,7 @@
 //! `T.mtx` (when D is diagonal) and `summary.json` all-or-nothing
 //! ([`Staged`]), optionally the mortar segments as VTU.
 
+pub use crate::input::Pair;
 use crate::output::Staged;
 use crate::Failure;
 use anyhow::Context;
@@ -14,19 +15,6 @@ use seam_io::Field;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-/// Two surfaces: the files and, for MSH files, their physical groups.
-#[derive(Clone, Debug)]
-pub struct Pair {
-    /// The master side's file.
-    pub master: PathBuf,
-    /// The slave side's file.
-    pub slave: PathBuf,
-    /// The master's physical surface (MSH files only).
-    pub master_group: Option<String>,
-    /// The slave's physical surface (MSH files only).
-    pub slave_group: Option<String>,
-}
 
 /// What to assemble and where to write it.
 #[derive(Clone, Debug)]

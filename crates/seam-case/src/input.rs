@@ -1,6 +1,7 @@
 //! Reading a surface with its point fields from a Gmsh MSH file ($NodeData) or
 //! a VTU file (point data), and the nodal values to transfer: a field of the
 //! file or an expression evaluated at its nodes, every value checked finite.
+//! [`Pair`]: the two surfaces of `seam assemble` and `seam check`.
 
 use crate::{Expression, ExpressionError};
 use anyhow::{anyhow, bail, Result};
@@ -117,4 +118,17 @@ pub fn check_finite(values: &[f64], k: usize, surface: &Surface, what: &str) -> 
             surface.node(i / k.max(1))
         ),
     }
+}
+
+/// Two surfaces: the files and, for MSH files, their physical groups.
+#[derive(Clone, Debug)]
+pub struct Pair {
+    /// The master side's file.
+    pub master: PathBuf,
+    /// The slave side's file.
+    pub slave: PathBuf,
+    /// The master's physical surface (MSH files only).
+    pub master_group: Option<String>,
+    /// The slave's physical surface (MSH files only).
+    pub slave_group: Option<String>,
 }
