@@ -65,7 +65,7 @@ pub struct CaseError {
 }
 
 impl CaseError {
-    fn new(message: impl Into<String>) -> CaseError {
+    pub(crate) fn new(message: impl Into<String>) -> CaseError {
         CaseError { path: None, message: message.into() }
     }
 

@@ -5,13 +5,20 @@
 //! coverage, normal gaps, orientation, face quality and the invariants I1 and
 //! I2 of DESIGN.md §2 on it. The [`CheckReport`] serializes to the JSON of
 //! `seam check --json`; its field order is the key order of that file, which
-//! scripts rely on.
+//! scripts rely on. [`check_files`] is the file-level pipeline of `seam
+//! check`: read the two surfaces, check, write the fields and the report.
 
+use crate::input::{Pair, Surface};
+use crate::output::Staged;
+use crate::Failure;
+use anyhow::Context;
 use seam::{
     assemble, face_integrals, face_quality, normal_gaps, orientation_conflicts, warped_quad_degree,
     FaceElement, Mortar, MortarError, MortarOptions, SurfaceMesh, Transfer,
 };
+use seam_io::Field;
 use serde::Serialize;
+use std::path::PathBuf;
 
 /// Tolerance of the invariants I1 and I2 on B and D: "exact" in DESIGN.md §2.
 const EXACT: f64 = 1e-13;
@@ -252,6 +259,81 @@ fn histogram(values: &[f64], lo: f64, hi: f64, bins: usize) -> Vec<GapBin> {
         .enumerate()
         .map(|(i, n)| GapBin { from: lo + i as f64 * width, to: lo + (i + 1) as f64 * width, nodes: n })
         .collect()
+}
+
+/// `seam check MASTER SLAVE`: the two files, the options, and where to write
+/// the per-node fields (VTU) and the report (JSON).
+#[derive(Clone, Debug)]
+pub struct CheckFiles {
+    /// The two surfaces.
+    pub pair: Pair,
+    /// The mortar options.
+    pub options: MortarOptions,
+    /// The slave surface with `coverage` and `normal_gap`, as VTU.
+    pub vtu: Option<PathBuf>,
+    /// The report as JSON.
+    pub json: Option<PathBuf>,
+    /// Replace existing outputs.
+    pub force: bool,
+}
+
+/// A check of two files, its outputs staged but not yet written
+/// ([`Checked::write`]).
+pub struct Checked {
+    /// The report.
+    pub report: CheckReport,
+    slave: SurfaceMesh,
+    coverage: Vec<f64>,
+    normal_gaps: Vec<f64>,
+    vtu: Option<PathBuf>,
+    json: Option<PathBuf>,
+    out: Staged,
+}
+
+/// Checks the outputs (none exists unless `force`), reads the two surfaces
+/// and [`check`]s them on the current rayon pool; the outputs are written by
+/// [`Checked::write`].
+///
+/// # Errors
+/// [`Failure::NoCoupling`] when the surfaces do not overlap; anything else
+/// (an unreadable file, an existing output without `force`) is a
+/// [`Failure::Error`] naming the file.
+pub fn check_files(c: &CheckFiles) -> Result<Checked, Failure> {
+    let targets: Vec<PathBuf> = c.vtu.iter().chain(&c.json).cloned().collect();
+    let pair = &c.pair;
+    let inputs = [pair.master.clone(), pair.slave.clone()];
+    let out = Staged::prepare(&targets, &inputs, c.force)?;
+    let master = Surface::read(&pair.master, pair.master_group.as_deref())?.mesh;
+    let slave = Surface::read(&pair.slave, pair.slave_group.as_deref())?.mesh;
+    let names = (pair.master.display().to_string(), pair.slave.display().to_string());
+    let Check { report, coverage, normal_gaps } = check(&master, &slave, &c.options, (&names.0, &names.1))
+        .map_err(|e| match e {
+            CheckError::Assembly(e) => Failure::from_coupling(e, &pair.slave, &pair.master),
+            e => Failure::Error(e.into()),
+        })?;
+    Ok(Checked { report, slave, coverage, normal_gaps, vtu: c.vtu.clone(), json: c.json.clone(), out })
+}
+
+impl Checked {
+    /// Writes the outputs all-or-nothing; returns the report.
+    ///
+    /// # Errors
+    /// An output that cannot be written.
+    pub fn write(self) -> Result<CheckReport, Failure> {
+        let Checked { report, slave, coverage, normal_gaps, vtu, json, mut out } = self;
+        if let Some(path) = &vtu {
+            let fields = [Field::scalars("coverage", coverage), Field::scalars("normal_gap", normal_gaps)];
+            out.write(path, |p| {
+                seam_io::write_vtu_file(p, &slave, &fields, &[]).map_err(std::io::Error::other)
+            })?;
+        }
+        if let Some(path) = &json {
+            let text = serde_json::to_string_pretty(&report).context("report")?;
+            out.write(path, |p| std::fs::write(p, text + "\n"))?;
+        }
+        out.commit(&[])?;
+        Ok(report)
+    }
 }
 
 #[cfg(test)]

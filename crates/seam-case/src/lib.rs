@@ -10,22 +10,34 @@
 //!
 //! And the pipeline of `seam solve` and `seam.solve`: [`solve`] reads the
 //! meshes of a checked case, solves it and writes its results all-or-nothing
-//! ([`output::Staged`]).
+//! ([`output::Staged`]). The file-level pipelines of `seam assemble`
+//! ([`assemble`]) and `seam transfer` ([`transfer`]), on surfaces read with
+//! their fields ([`input`]).
 //!
 //! Errors display as one line naming the file (or the expression) and the item
 //! at fault.
+//!
+//! The other direction, a [`seam_fem::Problem`] in memory written as a case
+//! (meshes and `case.toml`): [`write`](mod@write). The human report of a solved case:
+//! [`report`]. Failures sorted by exit code: [`Failure`].
 //!
 //! And what both front ends report: [`check()`], how two surfaces meet
 //! (`seam check`, `seam.check`).
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+pub mod assemble;
 pub mod case;
 pub mod check;
 pub mod expression;
+mod failure;
+pub mod input;
 pub mod output;
+pub mod report;
 pub mod solve;
 pub mod threads;
+pub mod transfer;
+pub mod write;
 
 pub use case::{
     Body, Case, CaseError, CaseMultiplier, ContactSettings, Dirichlet, Interface, InterfaceKind, Output,
@@ -33,3 +45,4 @@ pub use case::{
 };
 pub use check::{check, Check, CheckError, CheckReport, GapBin, Invariant, Quality};
 pub use expression::{Expression, ExpressionError};
+pub use failure::Failure;

@@ -35,6 +35,7 @@
 //! character becomes `_`.
 
 use crate::output::Staged;
+use crate::Failure;
 use crate::{Case, CaseMultiplier, InterfaceKind, SurfaceRef};
 use anyhow::{anyhow, Context};
 use rayon::prelude::*;
@@ -352,23 +353,11 @@ impl SolveFailure {
     }
 }
 
-/// A failure while the error chain is still an [`anyhow::Error`].
-enum Failure {
-    NoCoupling(anyhow::Error),
-    Error(anyhow::Error),
-}
-
-impl<E: Into<anyhow::Error>> From<E> for Failure {
-    fn from(e: E) -> Self {
-        Failure::Error(e.into())
-    }
-}
-
 impl From<Failure> for SolveFailure {
     fn from(f: Failure) -> Self {
         match f {
             Failure::NoCoupling(e) => SolveFailure::NoCoupling(one_line(&e)),
-            Failure::Error(e) => SolveFailure::Error(one_line(&e)),
+            Failure::Error(e) | Failure::CheckFailed(e) => SolveFailure::Error(one_line(&e)),
         }
     }
 }
@@ -459,7 +448,8 @@ fn prepare(case: &Case, case_path: &Path, dir: &Path, force: bool) -> Result<(Ou
 }
 
 /// Reads the meshes of a checked case and looks up every surface it names:
-/// the case's [`Problem`].
+/// the case's [`Problem`]. The other direction, a [`Problem`] written as a
+/// case, is [`crate::write`].
 ///
 /// # Errors
 /// A [`SolveFailure`] naming the case file, the body and the mesh file.

@@ -1,42 +1,27 @@
 //! `seam check MASTER SLAVE`: how the two surfaces meet, for a person at a
-//! terminal (and as JSON/VTU for scripts and ParaView).
+//! terminal (and as JSON/VTU for scripts and ParaView). Flags and the
+//! printed report; the pipeline is [`seam_case::check::check_files`].
 
 use crate::args::CheckArgs;
-use crate::assemble::{options, thread_pool};
-use crate::input::Surface;
+use crate::assemble::{options, pair, thread_pool};
 use crate::Failure;
-use anyhow::{anyhow, Context};
-use seam_case::output::Staged;
-use seam_case::{Check, CheckError, CheckReport};
-use seam_io::Field;
-use std::path::PathBuf;
+use anyhow::anyhow;
+use seam_case::check::{check_files, CheckFiles};
+use seam_case::CheckReport;
 
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     let options = options(&args.coupling)?;
     let pool = thread_pool(args.coupling.threads)?;
-    let targets: Vec<PathBuf> = args.vtu.iter().chain(&args.json).cloned().collect();
-    let inputs = [args.pair.master.clone(), args.pair.slave.clone()];
-    let mut out = Staged::prepare(&targets, &inputs, args.force)?;
-    let pair = &args.pair;
-    let master = Surface::read(&pair.master, pair.master_group.as_deref())?.mesh;
-    let slave = Surface::read(&pair.slave, pair.slave_group.as_deref())?.mesh;
-    let names = (pair.master.display().to_string(), pair.slave.display().to_string());
-    let Check { report, coverage, normal_gaps } = pool
-        .install(|| seam_case::check(&master, &slave, &options, (&names.0, &names.1)))
-        .map_err(|e| match e {
-            CheckError::Assembly(e) => Failure::from_coupling(e, &pair.slave, &pair.master),
-            e => Failure::Error(e.into()),
-        })?;
-    print_report(&report);
-    if let Some(path) = &args.vtu {
-        let fields = [Field::scalars("coverage", coverage), Field::scalars("normal_gap", normal_gaps)];
-        out.write(path, |p| seam_io::write_vtu_file(p, &slave, &fields, &[]).map_err(std::io::Error::other))?;
-    }
-    if let Some(path) = &args.json {
-        let json = serde_json::to_string_pretty(&report).context("report")?;
-        out.write(path, |p| std::fs::write(p, json + "\n"))?;
-    }
-    out.commit(&[])?;
+    let files = CheckFiles {
+        pair: pair(&args.pair),
+        options,
+        vtu: args.vtu.clone(),
+        json: args.json.clone(),
+        force: args.force,
+    };
+    let checked = pool.install(|| check_files(&files))?;
+    print_report(&checked.report);
+    let report = checked.write()?;
     if args.strict && !report.ok {
         return Err(Failure::CheckFailed(anyhow!(
             "{} and {}: incomplete coverage or a violated invariant (--strict)",

@@ -1,136 +1,27 @@
-//! `seam example NAME -o DIR`: built-in examples that make their own meshes.
+//! `seam example NAME -o DIR`: the built-in examples of [`seam_examples`],
+//! run on `--threads` worker threads, their report printed.
 
-use crate::args::{AssembleArgs, CouplingArgs, ExampleArgs, ExampleName, FacingArg, MultiplierArg, PairArgs};
-use crate::assemble::{self, Assembled};
+use crate::args::{ExampleArgs, ExampleName};
+use crate::assemble::thread_pool;
 use crate::Failure;
-use seam::generate::{patch, Pattern};
-use seam::{Mortar, Point3, SurfaceMesh};
-use seam_case::output::Staged;
-use std::path::Path;
+use seam_examples::{Example, Options};
 
 pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
-    match args.name {
-        ExampleName::Operator => operator(args),
-        ExampleName::WarpedGlue => crate::warped_glue::run(args),
-        ExampleName::BulgingContact => crate::bulging_contact::run(args),
-        ExampleName::Hertz => crate::hertz::run(args),
-    }
-}
-
-/// A barrel of radius r(z) = s (1 + 0.1 sin πz), z ∈ [0, 1], gridded along
-/// twisted lines θ = 1.2u + 0.3v: its bilinear quads are warped. (On an untwisted
-/// θ–z grid a surface of revolution has planar, trapezoidal quads.)
-fn barrel(scale: f64) -> impl Fn(f64, f64) -> Point3 {
-    move |u, v| {
-        let (t, z) = (1.2 * u + 0.3 * v, v);
-        let r = scale * (1.0 + 0.1 * (std::f64::consts::PI * z).sin());
-        [r * t.cos(), r * t.sin(), z]
-    }
-}
-
-fn operator(args: &ExampleArgs) -> Result<(), Failure> {
-    let dir = &args.output;
-    let slave = patch(24, 20, Pattern::Quads, barrel(1.0));
-    let master = patch(31, 26, Pattern::JitteredTriangles { amplitude: 0.25, seed: 2026 }, barrel(1.002));
-    let (slave_path, master_path) = (dir.join("slave.msh"), dir.join("master.msh"));
-    // Every output of the example is checked before the meshes are written.
-    let results = ["B.mtx", "D.mtx", "T.mtx", "summary.json"].map(|f| dir.join(f));
-    if !args.force {
-        if let Some(path) = results.iter().find(|p| p.exists()) {
-            return Err(
-                anyhow::anyhow!("{} already exists; pass --force to overwrite it", path.display()).into()
-            );
-        }
-    }
-    let mut meshes = Staged::prepare(&[slave_path.clone(), master_path.clone()], &[], args.force)?;
-    for (path, mesh) in [(&slave_path, &slave), (&master_path, &master)] {
-        meshes
-            .write(path, |p| seam_io::write_msh_file(p, mesh, "interface").map_err(std::io::Error::other))?;
-    }
-    meshes.commit(&[])?;
-    let assembled = assemble::run(&AssembleArgs {
-        pair: PairArgs {
-            master: master_path,
-            slave: slave_path,
-            master_group: Some("interface".into()),
-            slave_group: Some("interface".into()),
-        },
-        output: dir.clone(),
-        coupling: CouplingArgs {
-            multiplier: MultiplierArg::Dual,
-            max_gap: None,
-            facing: FacingArg::Any,
-            max_angle: 45.0,
-            quad_order: None,
-            threads: args.threads,
-        },
-        segments: None,
+    let example = match args.name {
+        ExampleName::Operator => Example::Operator,
+        ExampleName::WarpedGlue => Example::WarpedGlue,
+        ExampleName::BulgingContact => Example::BulgingContact,
+        ExampleName::Hertz => Example::Hertz,
+    };
+    let options = Options {
+        output: args.output.clone(),
         force: args.force,
-    })?;
-    print_report(dir, &slave, &master, &assembled)?;
-    Ok(())
-}
-
-fn print_report(dir: &Path, slave: &SurfaceMesh, master: &SurfaceMesh, a: &Assembled) -> anyhow::Result<()> {
-    let (m, s, i) = (&a.mortar, &a.summary, &a.summary.interface);
-    let warped = (0..slave.n_faces()).filter(|&f| !seam::FaceElement::of(slave, f).is_planar()).count();
-    println!("seam example operator → {}", dir.display());
-    println!(
-        "  slave   slave.msh   {} quads ({warped} warped), {} nodes, on a twisted barrel r = 1 + 0.1 sin πz",
-        i.slave_faces, i.slave_nodes
-    );
-    println!(
-        "  master  master.msh  {} unstructured triangles, {} nodes, 0.2 % farther out",
-        i.master_faces, i.master_nodes
-    );
-    println!(
-        "  pairs   {} candidates, {} intersecting, {} segments; multiplier {}",
-        i.candidate_pairs, i.intersecting_pairs, i.segments, s.multiplier
-    );
-    println!(
-        "  area    slave {:.6}, covered {:.6} ({:.3} %), uncovered slave nodes {}",
-        i.slave_area,
-        i.covered_area,
-        100.0 * s.covered_fraction,
-        i.uncovered_slave_nodes
-    );
-    println!("  gap     max gap {:.2e}, max overlap {:.2e}", i.max_gap, i.max_overlap);
-    println!("  invariants (measured on the assembled operator):");
-    for (name, value, tol) in invariants(m, slave, master)? {
-        let verdict = if value <= tol { "ok" } else { "VIOLATED" };
-        println!("    {name:<48} {value:9.1e}  (≤ {tol:.0e}) {verdict}");
+        ratio: args.ratio,
+        slave_cells: args.slave_cells,
+    };
+    let pool = thread_pool(args.threads)?;
+    for line in pool.install(|| seam_examples::run(example, &options))? {
+        println!("{line}");
     }
-    let t = &s.seconds;
-    println!(
-        "  seconds read {:.3}, search {:.3}, assemble {:.3}, write {:.3}, total {:.3} on {} threads",
-        t.read, t.search, t.assemble, t.write, t.total, s.threads
-    );
-    println!("  wrote   B.mtx D.mtx T.mtx summary.json slave.msh master.msh");
     Ok(())
-}
-
-/// (name, measured value, tolerance) of the invariant checks.
-fn invariants(
-    m: &Mortar,
-    slave: &SurfaceMesh,
-    master: &SurfaceMesh,
-) -> anyhow::Result<Vec<(&'static str, f64, f64)>> {
-    let (d1, b1) = (m.d.row_sums(), m.b.row_sums());
-    let scale = d1.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let i1 = d1.iter().zip(&b1).map(|(d, b)| (d - b).abs()).fold(0.0, f64::max) / scale;
-    let area = m.summary.covered_area;
-    let i2 = (m.d.sum() - area).abs().max((m.b.sum() - area).abs()) / area;
-    let t = m.transfer()?;
-    let t1 = t.apply(&vec![1.0; master.n_points()], 1);
-    let ones = (0..t1.len()).filter(|&p| m.covered[p]).map(|p| (t1[p] - 1.0).abs()).fold(0.0, f64::max);
-    let loads: Vec<f64> =
-        (0..slave.n_points()).map(|p| if m.covered[p] { 1.0 + (p % 7) as f64 } else { 0.0 }).collect();
-    let total: f64 = loads.iter().sum();
-    let i6 = (t.apply_transpose(&loads, 1).iter().sum::<f64>() - total).abs() / total;
-    Ok(vec![
-        ("I1  max |D·1 − B·1| / max D·1", i1, 1e-13),
-        ("I2  |1ᵀD1 − covered area|, |1ᵀB1 − …| (rel.)", i2, 1e-13),
-        ("I1  max |T·1 − 1| on covered nodes", ones, 1e-12),
-        ("I6  |1ᵀTᵀf − 1ᵀf| / 1ᵀf (conservative transfer)", i6, 1e-12),
-    ])
 }

@@ -1,5 +1,8 @@
-//! The `seam` command-line tool: argument parsing and glue around the `seam`
-//! library (the maths) and `seam-io` (the files).
+//! The `seam` command-line tool: argument parsing and glue, as in ripgrep:
+//! parse the flags, call the library, print its report. The computation is in
+//! `seam` (the maths), `seam-io` (the files), `seam-case` (case files and the
+//! pipelines of `solve`, `assemble`, `transfer`, `check`) and `seam-examples`
+//! (the built-in examples, the benchmark, the pictures).
 //!
 //! Exit codes: 0 = success; 1 = ran, but the meshes do not couple (no overlap;
 //! for `solve`, an interface whose surfaces do not meet);
@@ -10,50 +13,18 @@
 mod args;
 mod assemble;
 mod bench;
-mod bulging_contact;
 mod check;
 mod example;
-mod hertz;
-mod input;
-mod render;
-mod scene_case;
 mod solve;
 mod transfer;
-mod warped_glue;
 
 use args::{Cli, Command};
 use clap::Parser;
 use seam_case::solve::one_line;
 use std::process::ExitCode;
 
-/// What went wrong, sorted by exit code.
-pub enum Failure {
-    /// The run finished but found nothing to couple (exit 1).
-    NoCoupling(anyhow::Error),
-    /// Anything else (exit 2).
-    Error(anyhow::Error),
-    /// `check --strict` found a problem (exit 3).
-    CheckFailed(anyhow::Error),
-}
-
-impl Failure {
-    /// An assembly error: no overlap is "ran, found nothing to couple" (exit 1),
-    /// naming the two files; anything else an error.
-    pub fn from_coupling(e: seam::MortarError, slave: &std::path::Path, master: &std::path::Path) -> Failure {
-        match e {
-            e @ seam::MortarError::NoOverlap { .. } => Failure::NoCoupling(
-                anyhow::anyhow!(e).context(format!("{} (slave) and {}", slave.display(), master.display())),
-            ),
-            e => Failure::Error(e.into()),
-        }
-    }
-}
-
-impl<E: Into<anyhow::Error>> From<E> for Failure {
-    fn from(e: E) -> Self {
-        Failure::Error(e.into())
-    }
-}
+/// What went wrong, sorted by exit code (1, 2, 3).
+pub use seam_case::Failure;
 
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
@@ -61,7 +32,7 @@ fn main() -> ExitCode {
         Err(e) => return usage_error(e),
     };
     let result = match cli.command {
-        Command::Assemble(a) => assemble::run(&a).map(|_| ()),
+        Command::Assemble(a) => assemble::run(&a),
         Command::Transfer(t) => transfer::run(&t),
         Command::Check(c) => check::run(&c),
         Command::Solve(s) => solve::run(&s),

@@ -1,8 +1,8 @@
-//! Built-in examples as case files: a [`Problem`] made in memory (a scene of
-//! `seam_fem::scene`) is written as one Gmsh mesh per body and a `case.toml`
-//! ([`write_problem_case`]), and that case is solved exactly as `seam solve`
-//! solves it ([`solve_example`]), so the example's results are `seam solve`'s
-//! and `seam solve DIR/case.toml --force` reruns it.
+//! The other direction of [`crate::solve::read_problem`]: a [`Problem`] made
+//! in memory (a scene of `seam_fem::scene`, a built-in example) written as a
+//! case, one Gmsh mesh per body and a `case.toml` ([`write_problem_case`];
+//! the text alone: [`case_toml`]), so that `seam solve DIR/case.toml` solves
+//! it again.
 //!
 //! What a case file can say is less than what a [`Problem`] can: the writer
 //! refuses (with an error naming the item) interfaces whose options a case
@@ -11,20 +11,32 @@
 //! standard multipliers for contact,
 //! and names that are not plain (letters, digits, `-`, `_`, `.`).
 
-use crate::args::{ExampleArgs, SolveArgs, SolverArg};
-use crate::solve::{self, Solved};
-use crate::Failure;
-use anyhow::{anyhow, bail, Result};
+use crate::output::Staged;
+use crate::CaseError;
+use anyhow::Result;
 use seam::{Facing, MaxGap, MortarOptions, Multiplier};
-use seam_case::output::Staged;
 use seam_fem::{Coupling, Problem};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// Returns a [`CaseError`] with the formatted message.
+macro_rules! refuse {
+    ($($arg:tt)*) => {
+        return Err(CaseError::new(format!($($arg)*)))
+    };
+}
+
+/// Writing into a `String` cannot fail; `writeln!(…)?` needs the conversion.
+impl From<std::fmt::Error> for CaseError {
+    fn from(e: std::fmt::Error) -> CaseError {
+        CaseError::new(e.to_string())
+    }
+}
+
 /// The case's output directory, relative to the case file.
 pub const OUTPUT_DIR: &str = "out";
 
-/// The files an example writes for `problem` in `dir`: the inputs (one
+/// The files of `problem` written as a case in `dir`: the inputs (one
 /// `<body>.msh` per body, `case.toml`) and the results of `seam solve` in
 /// `dir/out` (`<body>.vtu`, `<slave body>_<surface>_interface.vtu`,
 /// `summary.json`).
@@ -86,35 +98,6 @@ pub fn write_problem_case(problem: &Problem, dir: &Path, about: &[String], force
     Ok(files.case)
 }
 
-/// Writes `problem` as a case in the example's output directory and solves it
-/// as `seam solve` does. Before anything is written, it checks that none of
-/// the case's files, its results and `extra` (the example's own outputs)
-/// exists, unless `--force`.
-///
-/// # Errors
-/// As [`write_problem_case`] and `seam solve`.
-pub fn solve_example(
-    problem: &Problem,
-    args: &ExampleArgs,
-    about: &[String],
-    extra: &[PathBuf],
-) -> Result<Solved, Failure> {
-    let files = CaseFiles::of(problem, &args.output);
-    if !args.force {
-        if let Some(path) = files.all().chain(extra).find(|p| p.exists()) {
-            return Err(anyhow!("{} already exists; pass --force to overwrite it", path.display()).into());
-        }
-    }
-    let case = write_problem_case(problem, &args.output, about, args.force)?;
-    solve::solve(&SolveArgs {
-        case,
-        solver: SolverArg::Direct,
-        rtol: 1e-10,
-        force: args.force,
-        threads: args.threads,
-    })
-}
-
 /// Writes each (path, bytes) all-or-nothing; existing files are only
 /// replaced with `force`.
 ///
@@ -141,7 +124,7 @@ fn plain(name: &str) -> bool {
 ///
 /// # Errors
 /// A problem a case file cannot express (module doc).
-pub fn case_toml(problem: &Problem, about: &[String]) -> Result<String> {
+pub fn case_toml(problem: &Problem, about: &[String]) -> Result<String, CaseError> {
     let mut t = String::new();
     for line in about {
         writeln!(t, "# {line}")?;
@@ -159,7 +142,10 @@ pub fn case_toml(problem: &Problem, about: &[String]) -> Result<String> {
     for (b, body) in problem.bodies.iter().enumerate() {
         for name in [&body.name].into_iter().chain(body.surfaces.iter().map(|s| &s.0)) {
             if !plain(name) {
-                bail!("body \"{}\": the name \"{name}\" is not plain (letters, digits, -, _, .)", body.name);
+                refuse!(
+                    "body \"{}\": the name \"{name}\" is not plain (letters, digits, -, _, .)",
+                    body.name
+                );
             }
         }
         writeln!(t, "{}", commented("[[body]]", role(b)))?;
@@ -181,7 +167,8 @@ pub fn case_toml(problem: &Problem, about: &[String]) -> Result<String> {
             problem.surface_name(f.slave),
             problem.surface_name(f.master)
         );
-        let multiplier = multiplier(&f.options, kind == "contact").map_err(|e| anyhow!("{what}: {e}"))?;
+        let multiplier =
+            multiplier(&f.options, kind == "contact").map_err(|e| CaseError::new(format!("{what}: {e}")))?;
         writeln!(t, "[[interface]]")?;
         writeln!(
             t,
@@ -193,7 +180,9 @@ pub fn case_toml(problem: &Problem, about: &[String]) -> Result<String> {
         match f.options.max_gap {
             MaxGap::Absolute(g) => writeln!(t, "max_gap = {g:?}")?,
             g if g == MaxGap::DEFAULT => {}
-            g => bail!("{what}: the gap limit {g:?} is not expressible in a case (a length or the default)"),
+            g => {
+                refuse!("{what}: the gap limit {g:?} is not expressible in a case (a length or the default)")
+            }
         }
         writeln!(t)?;
     }
@@ -236,18 +225,18 @@ fn array(v: [f64; 3]) -> String {
 
 /// The case file's multiplier of an interface with `options`, after checking
 /// that the rest of the options is what a case gives.
-fn multiplier(options: &MortarOptions, contact: bool) -> Result<&'static str> {
+fn multiplier(options: &MortarOptions, contact: bool) -> Result<&'static str, CaseError> {
     if options.facing != Facing::Opposite {
-        bail!("a case pairs faces facing each other only (facing {:?})", options.facing);
+        refuse!("a case pairs faces facing each other only (facing {:?})", options.facing);
     }
     if options.max_angle_degrees != MortarOptions::default().max_angle_degrees {
-        bail!("a case keeps the angle limit at 45° (not {}°)", options.max_angle_degrees);
+        refuse!("a case keeps the angle limit at 45° (not {}°)", options.max_angle_degrees);
     }
     if options.warped_quad_degree.is_some() {
-        bail!("a case chooses the quadrature degree of warped quads itself");
+        refuse!("a case chooses the quadrature degree of warped quads itself");
     }
     Ok(match options.multiplier {
-        Multiplier::Standard if contact => bail!("contact needs lumped or dual multipliers"),
+        Multiplier::Standard if contact => refuse!("contact needs lumped or dual multipliers"),
         Multiplier::Standard => "standard",
         Multiplier::Dual => "dual",
         Multiplier::Lumped => "lumped",

@@ -7,20 +7,21 @@
 //! into contact around the touching point. Frictionless contact with lumped
 //! multipliers; E = 1000, ν = 0.3.
 //!
-//! It writes the two meshes and `case.toml`, solves that case exactly as
-//! `seam solve` does, and draws `bulging-contact.png`: left, the initial
+//! It writes the two meshes and `case.toml`, solves the problem in memory
+//! exactly as `seam solve` solves that case, and draws `bulging-contact.png`: left, the initial
 //! geometry (the cut y = 1/2, and the initial gap between the bulges seen from
 //! above); centre, the cuts y = 1/2 and x = 1/2 through the deformed bodies
 //! coloured by the von Mises stress; right, the contact pressure on the slave
 //! side seen from above (zero where inactive, the active zone outlined) and
 //! the gap after deformation.
 
-use crate::args::ExampleArgs;
-use crate::render::{add_cut, Image, Plot, P2};
-use crate::scene_case::{solve_example, write_files};
-use crate::solve::{self, InterfaceResult, Solved};
-use crate::Failure;
+use crate::case::solve_example;
+use crate::picture::{add_cut, Image, Plot, P2};
+use crate::{Failure, Options};
 use anyhow::{anyhow, bail, Context};
+use seam_case::report::{report, vector};
+use seam_case::solve::{InterfaceResult, Solved};
+use seam_case::write::write_files;
 use seam_fem::scene::{bulging_contact, BulgingContact};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -33,7 +34,12 @@ pub const SLAVE_CELLS: usize = 16;
 /// counts across are even.
 const CUT: f64 = 0.5;
 
-pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
+/// Writes the meshes and case, solves, draws `bulging-contact.png` (module
+/// doc); returns the report.
+///
+/// # Errors
+/// As [`crate::run`].
+pub fn run(args: &Options) -> Result<Vec<String>, Failure> {
     let cells = args.slave_cells.unwrap_or(SLAVE_CELLS);
     let params = BulgingContact { cells, layers: (cells / 2).max(1), ..BulgingContact::default() };
     if cells < 2 || cells % 2 != 0 || params.master_cells() % 2 != 0 {
@@ -49,18 +55,17 @@ pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
             .to_string(),
         format!(
             "pressed together by the displacement {} of the upper top (the paper's Fig. 3).",
-            solve::vector(params.press)
+            vector(params.press)
         ),
     ];
-    let solved = solve_example(&problem, args, &about, std::slice::from_ref(&picture))?;
+    let solved = solve_example(problem, args, &about, std::slice::from_ref(&picture))?;
 
     let clock = std::time::Instant::now();
     let image = draw(&solved, &params)?;
     write_files(&[(picture, image.png()?)], args.force)?;
     let seconds = clock.elapsed().as_secs_f64();
 
-    print_report(&args.output, &params, &solved, seconds);
-    Ok(())
+    Ok(report_lines(&args.output, &params, &solved, seconds))
 }
 
 /// The six panels (module doc).
@@ -142,29 +147,29 @@ fn outline(f: &InterfaceResult, active: &[f64]) -> Vec<(P2, P2)> {
     edges.into_iter().filter(|&(_, count)| count == 1).map(|((a, b), _)| (xy(a), xy(b))).collect()
 }
 
-fn print_report(dir: &Path, p: &BulgingContact, s: &Solved, picture_seconds: f64) {
+fn report_lines(dir: &Path, p: &BulgingContact, s: &Solved, picture_seconds: f64) -> Vec<String> {
+    let mut lines = Vec::new();
     let (nm, lm, ns, ls) = (p.master_cells(), p.master_layers(), p.cells, p.layers);
     let [tx, ty] = p.touching_point();
-    println!("seam example bulging-contact → {}", dir.display());
-    println!(
+    lines.push(format!("seam example bulging-contact → {}", dir.display()));
+    lines.push(format!(
         "  meshes     lower.msh {nm}×{nm}×{lm} hexahedra (master), upper.msh {ns}×{ns}×{ls} hexahedra (slave), h_s/h_m = {}",
         p.ratio
-    );
-    println!(
+    ));
+    lines.push(format!(
         "  geometry   bulges of height {} (lower top) and {} (upper bottom) touching at ({tx:.4}, {ty:.4}); gap far from them {:.4}",
         p.master_bulge.height,
         p.slave_bulge.height,
         p.lift()
-    );
-    println!(
+    ));
+    lines.push(format!(
         "  conditions lower bottom clamped, upper top moved by {}; E = 1000, ν = 0.3; frictionless contact",
-        solve::vector(p.press)
-    );
-    for line in solve::report(s) {
-        println!("  {line}");
-    }
-    println!(
+        vector(p.press)
+    ));
+    lines.extend(report(s).into_iter().map(|line| format!("  {line}")));
+    lines.push(format!(
         "  picture    bulging-contact.png: initial geometry, von Mises on the cuts y = 1/2 and x = 1/2, contact pressure and gap; {picture_seconds:.2} s"
-    );
-    println!("  rerun      seam solve {} --force", dir.join("case.toml").display());
+    ));
+    lines.push(format!("  rerun      seam solve {} --force", dir.join("case.toml").display()));
+    lines
 }

@@ -21,6 +21,7 @@
 
 use font8x8::{UnicodeFonts, BASIC_FONTS, GREEK_FONTS, LATIN_FONTS};
 use seam::VolumeMesh;
+pub use seam_case::report::label;
 use std::collections::BTreeSet;
 use std::io::{self, Write};
 
@@ -316,17 +317,6 @@ pub fn label_factor(m: f64) -> String {
 
 /// Text colour and the edge colour of the panels.
 const INK: Rgb = [20, 20, 20];
-
-/// A number for a colour-bar label, 4 significant digits.
-pub fn label(v: f64) -> String {
-    if v == 0.0 {
-        "0".into()
-    } else if (1e-2..1e4).contains(&v.abs()) {
-        format!("{v:.4}").trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        format!("{v:.3e}")
-    }
-}
 
 impl Image {
     /// Draws `plot` into the pixel rectangle (x, y, w, h): the title lines at

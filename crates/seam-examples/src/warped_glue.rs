@@ -5,18 +5,20 @@
 //! (0.2, 0, −1); E = 1000, ν = 0.3 for both.
 //!
 //! It writes the two meshes (Gmsh MSH 4.1, physical surfaces "bottom" and
-//! "top") and `case.toml`, solves that case exactly as `seam solve` does
-//! (so `seam solve DIR/case.toml --force` reruns it), and draws
+//! "top") and `case.toml`, solves the problem in memory exactly as `seam
+//! solve` solves that case (so `seam solve DIR/case.toml --force` reruns
+//! it), and draws
 //! `warped-glue.png`: a cut y = 1/2 through the deformed bodies coloured by
 //! u₁ and by u₃, and the slave interface seen from above coloured by the
 //! normal traction and by its tangential x component.
 
-use crate::args::ExampleArgs;
-use crate::render::{add_cut, label_factor, nice_below, Image, Plot, P2};
-use crate::scene_case::{solve_example, write_files};
-use crate::solve::{self, Solved};
-use crate::Failure;
+use crate::case::solve_example;
+use crate::picture::{add_cut, label_factor, nice_below, Image, Plot, P2};
+use crate::{Failure, Options};
 use anyhow::{anyhow, bail, Context};
+use seam_case::report::{report, vector};
+use seam_case::solve::Solved;
+use seam_case::write::write_files;
 use seam_fem::scene::{warped_glue, WarpedGlue};
 use std::path::{Path, PathBuf};
 
@@ -29,7 +31,12 @@ pub const RATIO: usize = 8;
 /// counts across y are even).
 const CUT_Y: f64 = 0.5;
 
-pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
+/// Writes the meshes and case, solves, draws `warped-glue.png` (module doc);
+/// returns the report.
+///
+/// # Errors
+/// As [`crate::run`].
+pub fn run(args: &Options) -> Result<Vec<String>, Failure> {
     let params = WarpedGlue {
         slave_cells: args.slave_cells.unwrap_or(SLAVE_CELLS),
         ratio: args.ratio.unwrap_or(RATIO),
@@ -47,15 +54,14 @@ pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
         ),
         format!("the upper one (slave) {}× coarser than the lower one (master).", params.ratio),
     ];
-    let solved = solve_example(&problem, args, &about, std::slice::from_ref(&picture))?;
+    let solved = solve_example(problem, args, &about, std::slice::from_ref(&picture))?;
 
     let clock = std::time::Instant::now();
     let (image, magnification) = draw(&solved, &params)?;
     write_files(&[(picture, image.png()?)], args.force)?;
     let seconds = clock.elapsed().as_secs_f64();
 
-    print_report(&args.output, &params, &solved, magnification, seconds);
-    Ok(())
+    Ok(report_lines(&args.output, &params, &solved, magnification, seconds))
 }
 
 /// The four panels (module doc); returns the picture and the displacement
@@ -107,25 +113,31 @@ fn draw(s: &Solved, params: &WarpedGlue) -> anyhow::Result<(Image, f64)> {
     Ok((image, magnification))
 }
 
-fn print_report(dir: &Path, p: &WarpedGlue, s: &Solved, magnification: f64, picture_seconds: f64) {
+fn report_lines(
+    dir: &Path,
+    p: &WarpedGlue,
+    s: &Solved,
+    magnification: f64,
+    picture_seconds: f64,
+) -> Vec<String> {
+    let mut lines = Vec::new();
     let (nm, ns) = (p.slave_cells * p.ratio, p.slave_cells);
-    println!("seam example warped-glue → {}", dir.display());
-    println!(
+    lines.push(format!("seam example warped-glue → {}", dir.display()));
+    lines.push(format!(
         "  meshes     lower.msh {nm}×{nm}×{} hexahedra (master), upper.msh {ns}×{ns}×{} hexahedra (slave), h_s/h_m = {}",
         p.master_layers, p.slave_layers, p.ratio
-    );
-    println!(
+    ));
+    lines.push(format!(
         "  interface  z = 1/2 + {} sin 2πx sin πy; clamped at z = 0, traction {} at z = 1; E = 1000, ν = 0.3",
         p.amplitude,
-        solve::vector(p.traction)
-    );
-    for line in solve::report(s) {
-        println!("  {line}");
-    }
-    println!(
+        vector(p.traction)
+    ));
+    lines.extend(report(s).into_iter().map(|line| format!("  {line}")));
+    lines.push(format!(
         "  picture    warped-glue.png: u_1 and u_3 on the cut y = 1/2 (deformation ×{}), interface tractions; {picture_seconds:.2} s",
         label_factor(magnification)
-    );
+    ));
     let case = dir.join("case.toml");
-    println!("  rerun      seam solve {} --force", PathBuf::from(&case).display());
+    lines.push(format!("  rerun      seam solve {} --force", PathBuf::from(&case).display()));
+    lines
 }

@@ -1,18 +1,22 @@
 //! Reading a surface with its point fields from a Gmsh MSH file ($NodeData) or
 //! a VTU file (point data), and the nodal values to transfer: a field of the
 //! file or an expression evaluated at its nodes, every value checked finite.
+//! [`Pair`]: the two surfaces of `seam assemble` and `seam check`.
 
+use crate::{Expression, ExpressionError};
 use anyhow::{anyhow, bail, Result};
 use seam::SurfaceMesh;
-use seam_case::{Expression, ExpressionError};
 use seam_io::Field;
 use std::path::{Path, PathBuf};
 
 /// A surface mesh, the nodal fields its file carries, and how its file names
 /// its nodes.
 pub struct Surface {
+    /// The file read.
     pub path: PathBuf,
+    /// The surface (a physical group's faces, or all of them).
     pub mesh: SurfaceMesh,
+    /// The point fields of the file.
     pub fields: Vec<Field>,
     /// Gmsh node tags (MSH files); `None` for VTU files, whose points are
     /// named by their 0-based index, as in ParaView.
@@ -22,6 +26,9 @@ pub struct Surface {
 impl Surface {
     /// Reads `path`: `.vtu` as VTU (point data), anything else as Gmsh MSH
     /// ($NodeData; `group` selects a physical surface).
+    ///
+    /// # Errors
+    /// An unreadable file, or a group in a VTU file or missing from the MSH file.
     pub fn read(path: &Path, group: Option<&str>) -> Result<Surface> {
         if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("vtu")) {
             if let Some(g) = group {
@@ -111,4 +118,17 @@ pub fn check_finite(values: &[f64], k: usize, surface: &Surface, what: &str) -> 
             surface.node(i / k.max(1))
         ),
     }
+}
+
+/// Two surfaces: the files and, for MSH files, their physical groups.
+#[derive(Clone, Debug)]
+pub struct Pair {
+    /// The master side's file.
+    pub master: PathBuf,
+    /// The slave side's file.
+    pub slave: PathBuf,
+    /// The master's physical surface (MSH files only).
+    pub master_group: Option<String>,
+    /// The slave's physical surface (MSH files only).
+    pub slave_group: Option<String>,
 }

@@ -6,8 +6,8 @@
 //! a uniform traction on the indenter's top (force control). The block's top
 //! is the slave side, with lumped multipliers.
 //!
-//! It writes the meshes and `case.toml`, solves that case exactly as
-//! `seam solve` does, and compares with Hertz:
+//! It writes the meshes and `case.toml`, solves the problem in memory
+//! exactly as `seam solve` solves that case, and compares with Hertz:
 //!
 //! - `hertz.csv`: per slave node on the symmetry axes of the block's top
 //!   (axis "x": the nodes on y = 0, axis "y": those on x = 0; the pole on
@@ -20,12 +20,13 @@
 //!   with the errors; also printed;
 //! - `hertz.png`: seam's pressures along both axes as dots over Hertz's curve.
 
-use crate::args::ExampleArgs;
-use crate::render::{viridis, Chart, Image, Series};
-use crate::scene_case::{solve_example, write_files};
-use crate::solve::{self, Solved};
-use crate::Failure;
+use crate::case::solve_example;
+use crate::picture::{viridis, Chart, Image, Series};
+use crate::{Failure, Options};
 use anyhow::{anyhow, Context};
+use seam_case::report::report;
+use seam_case::solve::Solved;
+use seam_case::write::write_files;
 use seam_fem::scene::{hertz, Hertz};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -54,7 +55,12 @@ struct Row {
     note: String,
 }
 
-pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
+/// Writes the meshes and case, solves, compares with Hertz (module doc);
+/// returns the report.
+///
+/// # Errors
+/// As [`crate::run`].
+pub fn run(args: &Options) -> Result<Vec<String>, Failure> {
     let params = Hertz { fine_cells: args.slave_cells.unwrap_or(FINE_CELLS), ..Hertz::default() };
     if params.fine_cells == 0 {
         return Err(anyhow!("--slave-cells must be at least 1").into());
@@ -72,7 +78,7 @@ pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
             sig(params.peak_pressure())
         ),
     ];
-    let solved = solve_example(&problem, args, &about, &[md.clone(), csv.clone(), png.clone()])?;
+    let solved = solve_example(problem, args, &about, &[md.clone(), csv.clone(), png.clone()])?;
 
     let clock = std::time::Instant::now();
     let nodes = axis_nodes(&solved, &params)?;
@@ -86,8 +92,7 @@ pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
     )?;
     let seconds = clock.elapsed().as_secs_f64();
 
-    print_report(dir, &params, &solved, &table, seconds);
-    Ok(())
+    Ok(report_lines(dir, &params, &solved, &table, seconds))
 }
 
 /// The slave nodes on the symmetry axes, sorted by axis and r.
@@ -274,9 +279,9 @@ fn draw(p: &Hertz, nodes: &[AxisNode], rows: &[Row]) -> Image {
     image
 }
 
-fn print_report(dir: &Path, p: &Hertz, s: &Solved, table: &[String], picture_seconds: f64) {
-    println!("seam example hertz → {}", dir.display());
-    println!(
+fn report_lines(dir: &Path, p: &Hertz, s: &Solved, table: &[String], picture_seconds: f64) -> Vec<String> {
+    let mut lines = vec![format!("seam example hertz → {}", dir.display())];
+    lines.push(format!(
         "  model      quarter: indenter (sphere R = {}, E = {}, ν = {}) on a block (E = {}, ν = {}), force F/4 = {}",
         p.radius,
         p.indenter.young(),
@@ -284,20 +289,17 @@ fn print_report(dir: &Path, p: &Hertz, s: &Solved, table: &[String], picture_sec
         p.block.young(),
         p.block.poisson(),
         sig(p.force() / 4.0)
-    );
-    println!(
+    ));
+    lines.push(format!(
         "  meshes     indenter.msh, block.msh: hexahedra, {} slave cells across 1.5a (h = {}), master {}× finer",
         p.fine_cells,
         sig(p.slave_size()),
         p.master_ratio
-    );
-    for line in solve::report(s) {
-        println!("  {line}");
-    }
-    println!("  Hertz      analytic vs seam (hertz.md):");
-    for line in table {
-        println!("    {line}");
-    }
-    println!("  wrote      hertz.csv hertz.md hertz.png ({picture_seconds:.2} s)");
-    println!("  rerun      seam solve {} --force", dir.join("case.toml").display());
+    ));
+    lines.extend(report(s).into_iter().map(|line| format!("  {line}")));
+    lines.push("  Hertz      analytic vs seam (hertz.md):".to_string());
+    lines.extend(table.iter().map(|line| format!("    {line}")));
+    lines.push(format!("  wrote      hertz.csv hertz.md hertz.png ({picture_seconds:.2} s)"));
+    lines.push(format!("  rerun      seam solve {} --force", dir.join("case.toml").display()));
+    lines
 }

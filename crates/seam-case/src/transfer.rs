@@ -1,0 +1,255 @@
+//! The pipeline of `seam transfer SOURCE TARGET -o OUT.vtu`: move a field
+//! across the interface, consistently (T, values) or conservatively (Tᵀ,
+//! loads), and write the target with the field, `coverage` and `normal_gap`
+//! as VTU and a summary as `OUT.json`, all-or-nothing.
+
+use crate::input::{check_finite, Surface};
+use crate::output::Staged;
+use crate::{Expression, Failure};
+use anyhow::{bail, Context};
+use seam::{assemble, normal_gaps, Mortar, MortarOptions, Multiplier, SurfaceMesh};
+use seam_io::Field;
+use serde::Serialize;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Values (consistent) or loads (conservative).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Nodal values by T, TARGET the slave side.
+    Consistent,
+    /// Nodal loads by Tᵀ, SOURCE the slave side.
+    Conservative,
+}
+
+/// What is moved.
+pub enum Values {
+    /// A point field of the source file, by name.
+    Field(String),
+    /// An expression in x, y, z sampled at the source nodes, and the name of
+    /// the field it gives; the summary reports the L2 error against it.
+    Expression(Box<Expression>, String),
+}
+
+/// A transfer: the two files, what to move, how, and where to write it.
+pub struct Transfer {
+    /// The surface that carries the field (MSH or VTU).
+    pub source: PathBuf,
+    /// The surface that receives it (MSH or VTU).
+    pub target: PathBuf,
+    /// The source's physical surface (MSH only).
+    pub source_group: Option<String>,
+    /// The target's physical surface (MSH only).
+    pub target_group: Option<String>,
+    /// What is moved.
+    pub values: Values,
+    /// Consistent or conservative.
+    pub mode: Mode,
+    /// The mortar options.
+    pub options: MortarOptions,
+    /// The VTU output; the summary goes beside it with the extension `.json`.
+    pub output: PathBuf,
+    /// Replace existing outputs.
+    pub force: bool,
+}
+
+/// `OUT.json`: what was moved, how well the target is covered, totals and errors.
+#[derive(Serialize)]
+pub struct Summary {
+    /// The source file.
+    pub source: String,
+    /// The target file.
+    pub target: String,
+    /// The field's name.
+    pub field: String,
+    /// Its components per node.
+    pub components: usize,
+    /// "consistent" or "conservative".
+    pub mode: &'static str,
+    /// The multiplier space.
+    pub multiplier: String,
+    /// Nodes of the source.
+    pub source_nodes: usize,
+    /// Nodes of the target.
+    pub target_nodes: usize,
+    /// Area of the target.
+    pub target_area: f64,
+    /// Its area covered by the source.
+    pub covered_area: f64,
+    /// Covered area over target area.
+    pub covered_fraction: f64,
+    /// Target nodes the source does not cover.
+    pub uncovered_target_nodes: usize,
+    /// Largest normal gap.
+    pub max_gap: f64,
+    /// Largest normal overlap.
+    pub max_overlap: f64,
+    /// Conservative mode: the totals per component before.
+    pub total_source: Option<Vec<f64>>,
+    /// Conservative mode: the totals per component after.
+    pub total_target: Option<Vec<f64>>,
+    /// With --expr in consistent mode: ‖T f − f‖ on the covered target, in the
+    /// target mass-matrix norm, absolute and relative to ‖f‖.
+    pub l2_error: Option<f64>,
+    /// The L2 error relative to ‖f‖.
+    pub l2_relative_error: Option<f64>,
+    /// Wall-clock seconds of the run.
+    pub seconds: f64,
+}
+
+/// Reads, moves, checks and writes (module doc) on the current rayon pool;
+/// returns the summary written.
+///
+/// # Errors
+/// [`Failure::NoCoupling`] when the surfaces do not overlap; anything else
+/// (unreadable input, a missing field, a non-finite value, an existing output
+/// without `force`) is a [`Failure::Error`] naming the file.
+pub fn transfer_files(args: &Transfer) -> Result<Summary, Failure> {
+    let start = Instant::now();
+    let options = args.options;
+    let expression = match &args.values {
+        Values::Expression(e, _) => Some(&**e),
+        Values::Field(_) => None,
+    };
+    let summary_path = args.output.with_extension("json");
+    let inputs = [args.source.clone(), args.target.clone()];
+    let mut out = Staged::prepare(&[args.output.clone(), summary_path.clone()], &inputs, args.force)?;
+
+    let (source, target) = rayon::join(
+        || Surface::read(&args.source, args.source_group.as_deref()),
+        || Surface::read(&args.target, args.target_group.as_deref()),
+    );
+    let (source, target) = (source?, target?);
+    let (name, k, values) = match &args.values {
+        Values::Expression(e, name) => (name.clone(), 1, source.sample(e)?),
+        Values::Field(field) => {
+            let f = source.field(field)?;
+            (f.name.clone(), f.components, f.values.clone())
+        }
+    };
+
+    // The consistent operator (TARGET as slave) gives the field in consistent
+    // mode, and the coverage and normal gaps of the target in both modes.
+    let couple =
+        |master: &SurfaceMesh, slave: &SurfaceMesh, o: &MortarOptions, which: (&PathBuf, &PathBuf)| {
+            assemble(master, slave, o).map_err(|e| Failure::from_coupling(e, which.0, which.1))
+        };
+    let consistent = couple(&source.mesh, &target.mesh, &options, (&args.target, &args.source))?;
+    let t = consistent.transfer().context("the transfer operator")?;
+    let (transferred, totals) = match args.mode {
+        Mode::Consistent => (t.apply(&values, k), None),
+        Mode::Conservative => {
+            let reverse = couple(&target.mesh, &source.mesh, &options, (&args.source, &args.target))?;
+            let loads = masked(&values, k, &reverse.covered);
+            let moved = reverse.transfer().context("the transfer operator")?.apply_transpose(&loads, k);
+            (moved.clone(), Some((totals_of(&values, k), totals_of(&moved, k))))
+        }
+    };
+    let gaps = normal_gaps(&target.mesh, &source.mesh, &t, &consistent.covered);
+    let (l2_error, l2_relative) = match (&expression, args.mode) {
+        (Some(e), Mode::Consistent) => {
+            let (err, rel) = l2_error(&consistent, &source, &target, &options, &transferred, e)?;
+            (Some(err), Some(rel))
+        }
+        _ => (None, None),
+    };
+    // Nothing non-finite is written: the transferred values, the coverage, the
+    // gaps where they are defined (NaN marks an uncovered node, documented),
+    // and the numbers of the summary.
+    check_finite(&transferred, k, &target, "the transferred field")?;
+    check_finite(&consistent.node_coverage, 1, &target, "the coverage")?;
+    let defined: Vec<f64> =
+        gaps.iter().zip(&consistent.covered).map(|(&g, &c)| if c { g } else { 0.0 }).collect();
+    check_finite(&defined, 1, &target, "the normal gap")?;
+    if let Some((before, after)) = &totals {
+        if before.iter().chain(after).any(|t| !t.is_finite()) {
+            let e = anyhow::anyhow!(
+                "{}: the total load overflows (sum of the field '{name}')",
+                args.source.display()
+            );
+            return Err(e.into());
+        }
+    }
+
+    let point_data = [
+        Field::new(name.clone(), k, transferred),
+        Field::scalars("coverage", consistent.node_coverage.clone()),
+        Field::scalars("normal_gap", gaps),
+    ];
+    out.write(&args.output, |p| {
+        seam_io::write_vtu_file(p, &target.mesh, &point_data, &[]).map_err(std::io::Error::other)
+    })?;
+    let s = &consistent.summary;
+    let summary = Summary {
+        source: args.source.display().to_string(),
+        target: args.target.display().to_string(),
+        field: name,
+        components: k,
+        mode: match args.mode {
+            Mode::Consistent => "consistent",
+            Mode::Conservative => "conservative",
+        },
+        multiplier: format!("{:?}", options.multiplier).to_lowercase(),
+        source_nodes: s.master_nodes,
+        target_nodes: s.slave_nodes,
+        target_area: s.slave_area,
+        covered_area: s.covered_area,
+        covered_fraction: s.covered_area / s.slave_area,
+        uncovered_target_nodes: s.uncovered_slave_nodes,
+        max_gap: s.max_gap,
+        max_overlap: s.max_overlap,
+        total_source: totals.as_ref().map(|t| t.0.clone()),
+        total_target: totals.as_ref().map(|t| t.1.clone()),
+        l2_error,
+        l2_relative_error: l2_relative,
+        seconds: start.elapsed().as_secs_f64(),
+    };
+    let json = serde_json::to_string_pretty(&summary).context("summary")?;
+    out.write(&summary_path, |p| std::fs::write(p, json + "\n"))?;
+    out.commit(&[])?;
+    Ok(summary)
+}
+
+/// The loads on covered nodes only: Tᵀ moves what the covered part carries.
+fn masked(values: &[f64], k: usize, covered: &[bool]) -> Vec<f64> {
+    values.iter().enumerate().map(|(i, &v)| if covered[i / k] { v } else { 0.0 }).collect()
+}
+
+fn totals_of(values: &[f64], k: usize) -> Vec<f64> {
+    (0..k).map(|c| values.iter().skip(c).step_by(k).sum()).collect()
+}
+
+/// ‖T f − f‖ on the covered target nodes in the target mass-matrix norm (the
+/// standard D), absolute and relative to ‖f‖ there.
+fn l2_error(
+    consistent: &Mortar,
+    source: &Surface,
+    target: &Surface,
+    options: &MortarOptions,
+    transferred: &[f64],
+    e: &Expression,
+) -> anyhow::Result<(f64, f64)> {
+    let standard;
+    let mass = if consistent.multiplier == Multiplier::Standard {
+        &consistent.d
+    } else {
+        let o = MortarOptions { multiplier: Multiplier::Standard, ..*options };
+        standard = assemble(&source.mesh, &target.mesh, &o)?;
+        &standard.d
+    };
+    let exact = target.sample(e)?;
+    let covered = |p: usize| if consistent.covered[p] { 1.0 } else { 0.0 };
+    let err: Vec<f64> = (0..exact.len()).map(|p| covered(p) * (transferred[p] - exact[p])).collect();
+    let f: Vec<f64> = (0..exact.len()).map(|p| covered(p) * exact[p]).collect();
+    // vᵀDv ≥ 0 for the mass matrix D; a tiny negative value is round-off, a
+    // non-finite one an overflow, reported rather than turned into 0.
+    let norm = |v: &[f64], what: &str| -> anyhow::Result<f64> {
+        let squared: f64 = v.iter().zip(mass.mul_vec(v, 1)).map(|(a, b)| a * b).sum();
+        if !squared.is_finite() {
+            bail!("{}: the L2 norm of {what} is not finite (an overflow)", target.path.display());
+        }
+        Ok(squared.max(0.0).sqrt())
+    };
+    let (a, b) = (norm(&err, "the error")?, norm(&f, "the expression")?);
+    Ok((a, if b > 0.0 { a / b } else { a }))
+}
