@@ -1,0 +1,466 @@
+//! Second-order (curved) faces: Tri6, Quad8 and Quad9 shape functions and
+//! their gradients, the curved face map x(ξ) = Σ N_i(ξ) x_i with its tangents
+//! and surface Jacobian, and the inverse projection of a point along a
+//! direction onto the true curved face (paper step D2 for isoparametric
+//! faces). Groundwork of second-order interfaces: nothing in the operator
+//! uses it yet.
+//!
+//! Reference cells and node order are those of the first-order faces
+//! ([`crate::FaceKind`]) and Gmsh:
+//! vertices first, then the mid-edge nodes of edges (0,1), (1,2), (2,0) or
+//! (0,1), (1,2), (2,3), (3,0), then (Quad9) the centre.
+//!
+//! | face | reference cell | shape functions |
+//! |---|---|---|
+//! | Tri6 | {(0,0), (1,0), (0,1)} | L_i(2L_i − 1) at vertices, 4 L_i L_j at mid-edges (L = 1−ξ−η, ξ, η) |
+//! | Quad9 | \[0,1\]² | tensor products of ℓ₀ = (1−s)(1−2s), ℓ₁ = s(2s−1), ℓ_m = 4s(1−s) |
+//! | Quad8 | \[0,1\]² | serendipity: Quad9 without the centre bubble, its share given to the others |
+//!
+//! Tri6 and Quad9 reproduce every quadratic polynomial in (ξ, η), Quad8 every
+//! one of degree 2 (and ξ²η, ξη²).
+
+use crate::element::{cross, dot, norm, sub, Xi};
+use crate::mesh::Point3;
+
+/// A second-order face type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurvedKind {
+    /// 6-node triangle (Gmsh type 9).
+    Tri6,
+    /// 8-node serendipity quadrangle (Gmsh type 16).
+    Quad8,
+    /// 9-node Lagrange quadrangle (Gmsh type 10).
+    Quad9,
+}
+
+impl CurvedKind {
+    /// The number of nodes.
+    pub fn n_nodes(self) -> usize {
+        match self {
+            CurvedKind::Tri6 => 6,
+            CurvedKind::Quad8 => 8,
+            CurvedKind::Quad9 => 9,
+        }
+    }
+
+    /// The reference coordinates of the nodes, in node order.
+    pub fn nodes(self) -> &'static [Xi] {
+        const TRI6: [Xi; 6] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5]];
+        const QUAD9: [Xi; 9] = [
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+            [0.5, 0.0],
+            [1.0, 0.5],
+            [0.5, 1.0],
+            [0.0, 0.5],
+            [0.5, 0.5],
+        ];
+        match self {
+            CurvedKind::Tri6 => &TRI6,
+            CurvedKind::Quad8 => &QUAD9[..8],
+            CurvedKind::Quad9 => &QUAD9,
+        }
+    }
+
+    /// True for a point of the reference cell, enlarged by `tol`.
+    pub fn contains(self, xi: Xi, tol: f64) -> bool {
+        let [s, t] = xi;
+        match self {
+            CurvedKind::Tri6 => s >= -tol && t >= -tol && s + t <= 1.0 + tol,
+            CurvedKind::Quad8 | CurvedKind::Quad9 => {
+                (-tol..=1.0 + tol).contains(&s) && (-tol..=1.0 + tol).contains(&t)
+            }
+        }
+    }
+
+    /// The reference centroid.
+    fn centre(self) -> Xi {
+        match self {
+            CurvedKind::Tri6 => [1.0 / 3.0, 1.0 / 3.0],
+            CurvedKind::Quad8 | CurvedKind::Quad9 => [0.5, 0.5],
+        }
+    }
+}
+
+/// Quadratic Lagrange polynomials on [0, 1] with nodes 0, 1, 1/2 and their
+/// derivatives: ([ℓ₀, ℓ₁, ℓ_m], [ℓ₀', ℓ₁', ℓ_m']).
+#[inline]
+fn lagrange(s: f64) -> ([f64; 3], [f64; 3]) {
+    (
+        [(1.0 - s) * (1.0 - 2.0 * s), s * (2.0 * s - 1.0), 4.0 * s * (1.0 - s)],
+        [4.0 * s - 3.0, 4.0 * s - 1.0, 4.0 - 8.0 * s],
+    )
+}
+
+/// Shape functions N_i(ξ) and gradients ∂N_i/∂(ξ, η) of `kind`; entries past
+/// `kind.n_nodes()` are 0.
+pub fn shape_and_gradients(kind: CurvedKind, xi: Xi) -> ([f64; 9], [[f64; 2]; 9]) {
+    let (mut n, mut g) = ([0.0; 9], [[0.0; 2]; 9]);
+    match kind {
+        CurvedKind::Tri6 => {
+            let [s, t] = xi;
+            let l = [1.0 - s - t, s, t];
+            let dl = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
+            for i in 0..3 {
+                n[i] = l[i] * (2.0 * l[i] - 1.0);
+                g[i] = dl[i].map(|d| (4.0 * l[i] - 1.0) * d);
+                let j = (i + 1) % 3;
+                n[3 + i] = 4.0 * l[i] * l[j];
+                g[3 + i] = [0, 1].map(|k| 4.0 * (dl[i][k] * l[j] + l[i] * dl[j][k]));
+            }
+        }
+        CurvedKind::Quad8 | CurvedKind::Quad9 => {
+            // (index along ξ, index along η) of each node in the tensor grid.
+            const GRID: [(usize, usize); 9] =
+                [(0, 0), (1, 0), (1, 1), (0, 1), (2, 0), (1, 2), (2, 1), (0, 2), (2, 2)];
+            let ((a, da), (b, db)) = (lagrange(xi[0]), lagrange(xi[1]));
+            for (i, &(p, q)) in GRID.iter().enumerate() {
+                n[i] = a[p] * b[q];
+                g[i] = [da[p] * b[q], a[p] * db[q]];
+            }
+            if kind == CurvedKind::Quad8 {
+                // Serendipity: the bubble N₈ = ℓ_m ℓ_m goes back to the other
+                // nodes by its values there (−1/4 at vertices, +1/2 at mid-edges).
+                let (bubble, grad) = (n[8], g[8]);
+                for i in 0..8 {
+                    let w = if i < 4 { -0.25 } else { 0.5 };
+                    n[i] += w * bubble;
+                    g[i] = [g[i][0] + w * grad[0], g[i][1] + w * grad[1]];
+                }
+                n[8] = 0.0;
+                g[8] = [0.0; 2];
+            }
+        }
+    }
+    (n, g)
+}
+
+/// A curved face: its kind and node coordinates (entries past
+/// `kind.n_nodes()` unused).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurvedFace {
+    /// Tri6, Quad8 or Quad9.
+    pub kind: CurvedKind,
+    /// The nodes, in node order.
+    pub x: [Point3; 9],
+}
+
+/// Where a line meets a curved face ([`CurvedFace::inverse_project`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Reference coordinates on the face.
+    pub xi: Xi,
+    /// The line parameter: x(ξ) = p + t d.
+    pub t: f64,
+    /// Inside the reference cell (within 1e-10).
+    pub inside: bool,
+}
+
+impl CurvedFace {
+    /// The face of `kind` with `nodes` (at least `kind.n_nodes()`).
+    ///
+    /// # Panics
+    /// If fewer nodes are given.
+    pub fn new(kind: CurvedKind, nodes: &[Point3]) -> CurvedFace {
+        let mut x = [[0.0; 3]; 9];
+        x[..kind.n_nodes()].copy_from_slice(&nodes[..kind.n_nodes()]);
+        CurvedFace { kind, x }
+    }
+
+    /// x(ξ) and the tangents ∂x/∂ξ, ∂x/∂η.
+    pub fn map_and_tangents(&self, xi: Xi) -> (Point3, Point3, Point3) {
+        let (n, g) = shape_and_gradients(self.kind, xi);
+        let (mut x, mut a, mut b) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+        for i in 0..self.kind.n_nodes() {
+            for k in 0..3 {
+                x[k] += n[i] * self.x[i][k];
+                a[k] += g[i][0] * self.x[i][k];
+                b[k] += g[i][1] * self.x[i][k];
+            }
+        }
+        (x, a, b)
+    }
+
+    /// x(ξ).
+    pub fn map(&self, xi: Xi) -> Point3 {
+        self.map_and_tangents(xi).0
+    }
+
+    /// The surface Jacobian |∂x/∂ξ × ∂x/∂η|.
+    pub fn jacobian(&self, xi: Xi) -> f64 {
+        let (_, a, b) = self.map_and_tangents(xi);
+        norm(cross(a, b))
+    }
+
+    /// The unit normal ∂x/∂ξ × ∂x/∂η / |…| at ξ (outward for a face
+    /// numbered counter-clockwise seen from outside).
+    pub fn normal(&self, xi: Xi) -> Point3 {
+        let (_, a, b) = self.map_and_tangents(xi);
+        let n = cross(a, b);
+        let l = norm(n);
+        n.map(|v| v / l)
+    }
+
+    /// Where the line p + t d meets the face: x(ξ) = p + t d, solved by Newton
+    /// on (ξ, η, t) from the centroid with backtracking on |x(ξ) − p − t d|
+    /// and steps held to a bounded neighbourhood of the cell (the safeguard:
+    /// on a strongly curved face the undamped iteration can jump to a root
+    /// far outside, where the quadratic map folds back). `None` when the
+    /// iteration stalls (d tangent to the face) or the root lies far
+    /// outside the cell; otherwise the root, [`Hit::inside`] telling whether
+    /// it is on the face. Converges quadratically near a transversal root.
+    pub fn inverse_project(&self, p: Point3, d: Point3) -> Option<Hit> {
+        let scale = self.x[..self.kind.n_nodes()]
+            .iter()
+            .map(|&x| norm(sub(x, self.x[0])))
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE);
+        let residual = |xi: Xi, t: f64| {
+            let x = self.map(xi);
+            [x[0] - p[0] - t * d[0], x[1] - p[1] - t * d[1], x[2] - p[2] - t * d[2]]
+        };
+        let dd = dot(d, d);
+        let mut xi = self.kind.centre();
+        let mut t = dot(sub(self.map(xi), p), d) / dd;
+        let mut r = residual(xi, t);
+        for _ in 0..50 {
+            if norm(r) <= 1e-14 * scale {
+                break;
+            }
+            let (_, a, b) = self.map_and_tangents(xi);
+            // [a b −d] (δξ, δη, δt) = −r by Cramer's rule.
+            let minus_d = d.map(|v| -v);
+            let det = dot(a, cross(b, minus_d));
+            if det.abs() <= 1e-14 * norm(a) * norm(b) * dd.sqrt() {
+                return None;
+            }
+            let rhs = r.map(|v| -v);
+            let step = [
+                dot(rhs, cross(b, minus_d)) / det,
+                dot(a, cross(rhs, minus_d)) / det,
+                dot(a, cross(b, rhs)) / det,
+            ];
+            // Hold ξ within a bounded neighbourhood of the cell, then halve
+            // the step until the residual decreases.
+            let mut lambda: f64 = 1.0;
+            let reach = step[0].abs().max(step[1].abs());
+            if reach > 0.5 {
+                lambda = 0.5 / reach;
+            }
+            let mut accepted = false;
+            for _ in 0..30 {
+                let trial = [xi[0] + lambda * step[0], xi[1] + lambda * step[1]];
+                let tt = t + lambda * step[2];
+                let rt = residual(trial, tt);
+                if norm(rt) < norm(r) {
+                    (xi, t, r, accepted) = (trial, tt, rt, true);
+                    break;
+                }
+                lambda *= 0.5;
+            }
+            if !accepted {
+                break;
+            }
+            if !self.kind.contains(xi, 1.0) {
+                return None;
+            }
+        }
+        if norm(r) > 1e-10 * scale {
+            return None;
+        }
+        Some(Hit { xi, t, inside: self.kind.contains(xi, 1e-10) })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const KINDS: [CurvedKind; 3] = [CurvedKind::Tri6, CurvedKind::Quad8, CurvedKind::Quad9];
+
+    /// Points of the reference cell (and a little outside) to test at.
+    fn samples(kind: CurvedKind) -> Vec<Xi> {
+        let mut out = Vec::new();
+        for i in 0..=6 {
+            for j in 0..=6 {
+                let xi = [-0.1 + 1.2 * i as f64 / 6.0, -0.1 + 1.2 * j as f64 / 6.0];
+                if kind.contains(xi, 0.1) {
+                    out.push(xi);
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn shape_functions_are_a_partition_of_unity_and_nodal() {
+        for kind in KINDS {
+            for xi in samples(kind) {
+                let (n, g) = shape_and_gradients(kind, xi);
+                assert!((n.iter().sum::<f64>() - 1.0).abs() < 1e-14, "{kind:?} {xi:?}");
+                for k in 0..2 {
+                    assert!(g.iter().map(|g| g[k]).sum::<f64>().abs() < 1e-13, "{kind:?} {xi:?}");
+                }
+            }
+            for (i, &node) in kind.nodes().iter().enumerate() {
+                let (n, _) = shape_and_gradients(kind, node);
+                for (j, &v) in n.iter().enumerate().take(kind.n_nodes()) {
+                    let expected = if i == j { 1.0 } else { 0.0 };
+                    assert!((v - expected).abs() < 1e-15, "{kind:?}: N_{j}(node {i}) = {v}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn gradients_match_finite_differences() {
+        let h = 1e-6;
+        for kind in KINDS {
+            for xi in samples(kind) {
+                let (_, g) = shape_and_gradients(kind, xi);
+                for k in 0..2 {
+                    let (mut a, mut b) = (xi, xi);
+                    a[k] += h;
+                    b[k] -= h;
+                    let (na, nb) = (shape_and_gradients(kind, a).0, shape_and_gradients(kind, b).0);
+                    for i in 0..9 {
+                        let fd = (na[i] - nb[i]) / (2.0 * h);
+                        assert!(
+                            (g[i][k] - fd).abs() < 1e-8,
+                            "{kind:?} {xi:?} ∂N_{i}/∂ξ_{k}: {} vs {fd}",
+                            g[i][k]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn quadratic_fields_are_reproduced() {
+        // Every quadratic monomial (and, for the quads, ξ²η and ξη²; Quad9 also ξ²η²).
+        type Field = fn(f64, f64) -> f64;
+        let fields: [(Field, [bool; 3]); 9] = [
+            (|_, _| 1.0, [true; 3]),
+            (|s, _| s, [true; 3]),
+            (|_, t| t, [true; 3]),
+            (|s, _| s * s, [true; 3]),
+            (|s, t| s * t, [true; 3]),
+            (|_, t| t * t, [true; 3]),
+            (|s, t| s * s * t, [false, true, true]),
+            (|s, t| s * t * t, [false, true, true]),
+            (|s, t| s * s * t * t, [false, false, true]),
+        ];
+        for (f, exact_for) in fields {
+            for (k, kind) in KINDS.into_iter().enumerate().filter(|&(k, _)| exact_for[k]) {
+                let values: Vec<f64> = kind.nodes().iter().map(|x| f(x[0], x[1])).collect();
+                for xi in samples(kind) {
+                    let (n, _) = shape_and_gradients(kind, xi);
+                    let interpolated: f64 = values.iter().zip(&n).map(|(v, n)| v * n).sum();
+                    assert!((interpolated - f(xi[0], xi[1])).abs() < 1e-14, "{kind:?} field {k} at {xi:?}");
+                }
+            }
+        }
+    }
+
+    /// A face of `kind` on the sphere of radius `r` around the origin over
+    /// the angular patch θ ∈ [0, a], φ ∈ [−a/2, a/2] (nodes on the sphere).
+    fn sphere_face(kind: CurvedKind, r: f64, a: f64) -> CurvedFace {
+        let nodes: Vec<Point3> = kind
+            .nodes()
+            .iter()
+            .map(|&[s, t]| {
+                let (theta, phi) = (a * s, a * (t - 0.5));
+                [r * phi.cos() * theta.cos(), r * phi.cos() * theta.sin(), r * phi.sin()]
+            })
+            .collect();
+        CurvedFace::new(kind, &nodes)
+    }
+
+    #[test]
+    fn points_come_back_from_strongly_curved_faces() {
+        // A quarter of a great circle across each face: strongly curved.
+        for kind in KINDS {
+            let face = sphere_face(kind, 1.0, std::f64::consts::FRAC_PI_2);
+            for xi in samples(kind).into_iter().filter(|&xi| kind.contains(xi, 0.0)) {
+                let (x, _, _) = face.map_and_tangents(xi);
+                // From a point off the face along the face normal, and along
+                // a tilted direction.
+                let n = face.normal(xi);
+                for d in [n, [n[0] + 0.3, n[1] - 0.2, n[2] + 0.1]] {
+                    let p = [x[0] - 0.2 * d[0], x[1] - 0.2 * d[1], x[2] - 0.2 * d[2]];
+                    let hit = face.inverse_project(p, d).unwrap_or_else(|| panic!("{kind:?} {xi:?}: no hit"));
+                    assert!(hit.inside, "{kind:?} {xi:?}: {hit:?}");
+                    let e = (hit.xi[0] - xi[0]).abs().max((hit.xi[1] - xi[1]).abs());
+                    assert!(e < 1e-12 && (hit.t - 0.2).abs() < 1e-12, "{kind:?} {xi:?}: {hit:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_line_that_misses_or_grazes_gives_no_inside_hit() {
+        let face = sphere_face(CurvedKind::Quad9, 1.0, 0.5);
+        // Parallel to the face's tangent plane at its centre, far above it.
+        let (x, a, _) = face.map_and_tangents([0.5, 0.5]);
+        let n = face.normal([0.5, 0.5]);
+        let p = [x[0] + 5.0 * n[0], x[1] + 5.0 * n[1], x[2] + 5.0 * n[2]];
+        assert!(face.inverse_project(p, a).is_none_or(|h| !h.inside));
+        // Along the normal, but beside the patch.
+        let beside = face.map([1.8, 0.5]);
+        let hit = face.inverse_project(beside, n);
+        assert!(hit.is_none_or(|h| !h.inside), "{hit:?}");
+    }
+
+    #[test]
+    fn the_jacobian_integrates_the_sphere_patch_area() {
+        // Area of θ ∈ [0, a], φ ∈ [−a/2, a/2] on the unit sphere: 2a sin(a/2);
+        // the quadratic face approximates it closely, and a flat face is exact.
+        let a = 0.2f64;
+        let exact = 2.0 * a * (0.5 * a).sin();
+        for kind in [CurvedKind::Quad8, CurvedKind::Quad9] {
+            let face = sphere_face(kind, 1.0, a);
+            // 8-point Gauss–Legendre product rule on [0,1]².
+            let (x, w) = gauss(8);
+            let mut area = 0.0;
+            for i in 0..8 {
+                for j in 0..8 {
+                    area += w[i] * w[j] * face.jacobian([x[i], x[j]]);
+                }
+            }
+            assert!((area - exact).abs() < 1e-4 * exact, "{kind:?}: {area} vs {exact}");
+        }
+        let flat = CurvedFace::new(
+            CurvedKind::Quad9,
+            &CurvedKind::Quad9.nodes().iter().map(|&[s, t]| [2.0 * s, 3.0 * t, 0.0]).collect::<Vec<_>>(),
+        );
+        assert!((flat.jacobian([0.3, 0.7]) - 6.0).abs() < 1e-14);
+    }
+
+    /// Gauss–Legendre points and weights on [0, 1], by Newton on P_n.
+    fn gauss(n: usize) -> (Vec<f64>, Vec<f64>) {
+        let (mut x, mut w) = (vec![0.0; n], vec![0.0; n]);
+        for i in 0..n {
+            let mut z = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+            let mut dp = 0.0;
+            for _ in 0..100 {
+                let (mut p0, mut p1) = (1.0, z);
+                for k in 2..=n {
+                    let p2 = ((2 * k - 1) as f64 * z * p1 - (k - 1) as f64 * p0) / k as f64;
+                    (p0, p1) = (p1, p2);
+                }
+                dp = n as f64 * (z * p1 - p0) / (z * z - 1.0);
+                let dz = p1 / dp;
+                z -= dz;
+                if dz.abs() < 1e-16 {
+                    break;
+                }
+            }
+            x[i] = 0.5 * (1.0 - z);
+            w[i] = 1.0 / ((1.0 - z * z) * dp * dp);
+        }
+        (x, w)
+    }
+}
