@@ -1,5 +1,6 @@
 //! Integration tests of the MSH reader: Gmsh-written fixtures in four flavours
-//! (see `tests/data/make_fixtures.py` and `tests/data/expected.txt`), hand-written
+//! (see `tests/data/make_fixtures.py`, `tests/data/expected.txt` and
+//! `tests/data/second_order.txt`), hand-written
 //! inputs for every error, and truncation / corruption robustness.
 
 use std::collections::HashMap;
@@ -315,6 +316,66 @@ fn second_order_triangles_are_refused_by_element_tag_and_type() {
             assert!(matches!(err.kind(), MshErrorKind::UnsupportedElement { gmsh_type: 9, .. }));
         }
     }
+}
+
+/// The second-order fixtures of `second_order.txt` (Gmsh `setOrder(2)`,
+/// complete and incomplete: Tri6, Quad8, Quad9, Tet10, Hex20, Hex27, Prism15,
+/// Prism18, Pyramid13, Pyramid14): every flavour reads with the element
+/// counts Gmsh recorded, and selecting a surface or a volume refuses the first
+/// second-order element by its tag and type, until seam supports them.
+#[test]
+fn second_order_fixtures_read_and_are_refused_by_element_tag_and_type() {
+    let text = std::fs::read_to_string(data_dir().join("second_order.txt")).unwrap();
+    let fixtures: Vec<(&str, Vec<(u32, usize)>)> = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("ref "))
+        .map(|l| {
+            let mut words = l.split_whitespace();
+            let name = words.next().unwrap();
+            let counts = words
+                .map(|w| {
+                    let (t, n) = w.strip_prefix("type").unwrap().split_once('=').unwrap();
+                    (t.parse().unwrap(), n.parse().unwrap())
+                })
+                .collect();
+            (name, counts)
+        })
+        .collect();
+    assert_eq!(fixtures.len(), 7);
+    let mut types = std::collections::BTreeSet::new();
+    for (name, counts) in &fixtures {
+        for flavour in FLAVOURS {
+            let msh = read(name, flavour);
+            for &(gmsh_type, count) in counts {
+                let found = msh.elements.iter().filter(|e| e.gmsh_type == gmsh_type).count();
+                assert_eq!(found, count, "{name}.{flavour}: type {gmsh_type}");
+                types.insert(gmsh_type);
+            }
+            // The top (a named surface group) and the cells (all volumes).
+            for (what, selected, refused) in [
+                ("top", msh.surface(Some("top")).map(|_| ()), &[9, 10, 16][..]),
+                ("volume", msh.volume(None).map(|_| ()), &[11, 12, 13, 14, 17, 18, 19][..]),
+            ] {
+                let err = selected.unwrap_err();
+                let MshErrorKind::UnsupportedElement { element_tag, gmsh_type, .. } = err.kind() else {
+                    panic!("{name}.{flavour} {what}: {err}")
+                };
+                assert!(refused.contains(gmsh_type), "{name}.{flavour} {what}: {err}");
+                let element = msh.elements.iter().find(|e| e.tag == *element_tag).unwrap();
+                assert_eq!(element.gmsh_type, *gmsh_type, "{name}.{flavour} {what}");
+                let (start, size) =
+                    (format!("element {element_tag} is a"), format!(" {}-node ", element.nodes.len()));
+                let message = err.to_string();
+                assert!(
+                    message.starts_with(&start) && message.contains(&size),
+                    "{name}.{flavour} {what}: {err}"
+                );
+                assert!(err.to_string().contains(&format!("(type {gmsh_type})")), "{err}");
+            }
+        }
+    }
+    // Every second-order face and cell type of Gmsh appears.
+    assert_eq!(types.into_iter().collect::<Vec<_>>(), vec![9, 10, 11, 12, 13, 14, 16, 17, 18, 19]);
 }
 
 #[test]

@@ -314,6 +314,32 @@ mod tests {
         }
     }
 
+    /// The node order is Gmsh's: the reference nodes Gmsh reports for types
+    /// 9 (Tri6), 16 (Quad8) and 10 (Quad9), recorded by seam-io's fixture
+    /// script (Gmsh's quads live on [−1,1]², ours on [0,1]²).
+    #[test]
+    fn nodes_are_in_gmsh_order() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../seam-io/tests/data/second_order.txt");
+        let text = std::fs::read_to_string(path).unwrap();
+        for (gmsh_type, kind) in [(9, CurvedKind::Tri6), (16, CurvedKind::Quad8), (10, CurvedKind::Quad9)] {
+            let line = text.lines().find(|l| l.starts_with(&format!("ref {gmsh_type} "))).unwrap();
+            let gmsh: Vec<Xi> = line
+                .split_whitespace()
+                .nth(3)
+                .unwrap()
+                .split(';')
+                .map(|node| {
+                    let c: Vec<f64> = node.split(',').map(|v| v.parse().unwrap()).collect();
+                    match kind {
+                        CurvedKind::Tri6 => [c[0], c[1]],
+                        _ => [(c[0] + 1.0) / 2.0, (c[1] + 1.0) / 2.0],
+                    }
+                })
+                .collect();
+            assert_eq!(gmsh, kind.nodes(), "{kind:?}");
+        }
+    }
+
     #[test]
     fn gradients_match_finite_differences() {
         let h = 1e-6;

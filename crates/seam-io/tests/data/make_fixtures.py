@@ -4,6 +4,9 @@
 Every mesh is written in four flavours, `<name>.v22.ascii.msh`, `<name>.v22.bin.msh`,
 `<name>.v41.ascii.msh` and `<name>.v41.bin.msh`, and `expected.txt` records what
 the tests should find in them (counted with the Gmsh API, areas from the geometry).
+The tet, hex, prism and hybrid meshes are also raised to order 2 (`<name>_o2`,
+and the incomplete variants `<name>_o2s`); `second_order.txt` records their
+element counts and Gmsh's reference nodes of every second-order type.
 
 Needs `pip install gmsh` (tested with Gmsh 4.15). Meshing is single-threaded and
 the algorithms are fixed, so re-running gives the same files.
@@ -261,12 +264,56 @@ def square_tri6():
     write_flavours("square_tri6")
 
 
+second_order_manifest = []
+SECOND_ORDER_TYPES = {}
+
+
+def raise_order(name, variants):
+    """The current model's mesh raised to order 2 and written as `<name>_o2`
+    (complete: Tri6, Quad9, Tet10, Hex27, Prism18, Pyramid14) and, with
+    `variants` = 2, as `<name>_o2s` too (incomplete, serendipity: Quad8, Hex20,
+    Prism15, Pyramid13). Records the element count of each type and every
+    type's reference nodes (Gmsh's node order)."""
+    for incomplete in range(variants):
+        gmsh.model.mesh.setOrder(1)
+        gmsh.option.setNumber("Mesh.SecondOrderIncomplete", incomplete)
+        gmsh.model.mesh.setOrder(2)
+        fixture = f"{name}_o2{'s' if incomplete else ''}"
+        write_flavours(fixture)
+        # What Gmsh writes: the elements of the entities in physical groups.
+        counts = {}
+        for dim in (2, 3):
+            entities = {t for _, g in gmsh.model.getPhysicalGroups(dim)
+                        for t in gmsh.model.getEntitiesForPhysicalGroup(dim, g)}
+            for tag in sorted(entities):
+                types, elements, _ = gmsh.model.mesh.getElements(dim, tag)
+                for t, e in zip(types, elements):
+                    counts[int(t)] = counts.get(int(t), 0) + len(e)
+                    SECOND_ORDER_TYPES[int(t)] = gmsh.model.mesh.getElementProperties(int(t))
+        fields = " ".join(f"type{t}={n}" for t, n in sorted(counts.items()))
+        second_order_manifest.append(f"{fixture} {fields}")
+    gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 0)
+
+
 def main():
     gmsh.initialize(readConfigFiles=False)
     gmsh.option.setNumber("General.Terminal", 0)
     for make in (square_tri, square_mixed, box_tet, box_hex, slab_prism, hybrid_pyramid, sparse_tags, square_tri6):
         make()
+        # Second order: Tet10 has no incomplete variant; the others have one.
+        variants = {box_tet: 1, box_hex: 2, slab_prism: 2, hybrid_pyramid: 2}.get(make, 0)
+        if variants:
+            raise_order(make.__name__, variants)
     gmsh.finalize()
+    with open(os.path.join(HERE, "second_order.txt"), "w") as f:
+        f.write("# written by make_fixtures.py: the second-order fixtures and their elements\n")
+        f.write("# <fixture> type<gmsh type>=<count> ...   (2D and 3D elements)\n")
+        f.write("\n".join(second_order_manifest) + "\n")
+        f.write("# reference nodes of each type, Gmsh's node order: ref <type> <name> <u,v,w;...>\n")
+        for t, (name, dim, _, n, local, _) in sorted(SECOND_ORDER_TYPES.items()):
+            coords = [float(x) for x in local]
+            nodes = ";".join(",".join(repr(c) for c in coords[i * dim:(i + 1) * dim]) for i in range(n))
+            f.write(f"ref {t} {name.replace(' ', '_')} {nodes}\n")
     with open(os.path.join(HERE, "expected.txt"), "w") as f:
         f.write("# written by make_fixtures.py: what the tests expect to read from the fixtures\n")
         f.write("# surface <fixture> <group|-> nodes= tri3= quad4= area= [centre=x,y,z]\n")
