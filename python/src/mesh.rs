@@ -121,7 +121,7 @@ impl PyMesh {
     fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
         let rows = self.inner.faces().iter().filter_map(|f| match f {
             Face::Tri3(n) => Some(*n),
-            Face::Quad4(_) => None,
+            _ => None,
         });
         index_rows(py, rows.collect())
     }
@@ -132,7 +132,7 @@ impl PyMesh {
     fn quads<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
         let rows = self.inner.faces().iter().filter_map(|f| match f {
             Face::Quad4(n) => Some(*n),
-            Face::Tri3(_) => None,
+            _ => None,
         });
         index_rows(py, rows.collect())
     }

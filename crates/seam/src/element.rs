@@ -42,11 +42,12 @@ pub struct FaceElement {
 pub const PLANAR_WARP: f64 = 1e-7;
 
 impl FaceElement {
-    /// The element of face `f` of `mesh`.
+    /// The element of face `f` of `mesh`; for a second-order face, the
+    /// first-order element through its corners (its chordal approximation).
     pub fn of(mesh: &SurfaceMesh, f: usize) -> Self {
         let kind = match mesh.faces()[f] {
-            Face::Tri3(_) => FaceKind::Tri3,
-            Face::Quad4(_) => FaceKind::Quad4,
+            Face::Tri3(_) | Face::Tri6(_) => FaceKind::Tri3,
+            Face::Quad4(_) | Face::Quad8(_) | Face::Quad9(_) => FaceKind::Quad4,
         };
         FaceElement { kind, x: mesh.corners(f) }
     }

@@ -1,5 +1,7 @@
-//! Plain mesh data: surface meshes of Tri3/Quad4 faces and volume meshes of
-//! Tet4/Hex8/Prism6/Pyramid5 cells, with extraction of outward boundary faces.
+//! Plain mesh data: surface meshes of Tri3/Quad4 faces and their second-order
+//! versions Tri6/Quad8/Quad9, and volume meshes of Tet4/Hex8/Prism6/Pyramid5
+//! cells and their second-order versions (Tet10, Hex20/27, Prism15/18,
+//! Pyramid13/14), with extraction of outward boundary faces.
 //!
 //! # Storage
 //!
@@ -24,55 +26,92 @@ use std::fmt;
 /// A point or vector in 3D space.
 pub type Point3 = [f64; 3];
 
-/// A surface face: a linear triangle or a bilinear quadrilateral.
+/// A surface face: a linear triangle, a bilinear quadrilateral, or one of their
+/// second-order (curved) versions.
 ///
-/// Corners are 0-based point indices in cyclic order; the face normal follows the
-/// right-hand rule.
+/// Nodes are 0-based point indices in Gmsh order: the corners in cyclic order
+/// (the face normal follows the right-hand rule), then for second-order faces
+/// the mid-edge nodes of edges 0–1, 1–2, … and, for Quad9, the centre.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Face {
     /// Three-node linear triangle.
     Tri3([usize; 3]),
     /// Four-node bilinear quadrilateral, possibly warped.
     Quad4([usize; 4]),
+    /// Six-node quadratic triangle: corners, then the mid-edge nodes.
+    Tri6([usize; 6]),
+    /// Eight-node serendipity quadrilateral: corners, then the mid-edge nodes.
+    Quad8([usize; 8]),
+    /// Nine-node biquadratic quadrilateral: corners, mid-edge nodes, centre.
+    Quad9([usize; 9]),
 }
 
 impl Face {
-    /// The corner point indices, in cyclic order.
+    /// All node indices, in Gmsh order.
     pub fn nodes(&self) -> &[usize] {
         match self {
             Face::Tri3(n) => n,
             Face::Quad4(n) => n,
+            Face::Tri6(n) => n,
+            Face::Quad8(n) => n,
+            Face::Quad9(n) => n,
         }
     }
 
-    /// Number of corners (3 or 4).
+    /// Number of nodes (3, 4, 6, 8 or 9).
     pub fn len(&self) -> usize {
         self.nodes().len()
     }
 
-    /// Always false: a face has at least three corners.
+    /// Always false: a face has at least three nodes.
     pub fn is_empty(&self) -> bool {
         false
     }
 
-    /// The same face with reversed orientation (first corner kept).
+    /// Number of corners (3 or 4).
+    pub fn n_corners(&self) -> usize {
+        match self {
+            Face::Tri3(_) | Face::Tri6(_) => 3,
+            Face::Quad4(_) | Face::Quad8(_) | Face::Quad9(_) => 4,
+        }
+    }
+
+    /// The corner indices, in cyclic order.
+    pub fn corner_nodes(&self) -> &[usize] {
+        &self.nodes()[..self.n_corners()]
+    }
+
+    /// True for the second-order faces Tri6, Quad8 and Quad9.
+    pub fn is_curved(&self) -> bool {
+        matches!(self, Face::Tri6(_) | Face::Quad8(_) | Face::Quad9(_))
+    }
+
+    /// The same face with reversed orientation (first corner kept; mid-edge
+    /// nodes follow their edges).
     #[must_use]
     pub fn reversed(&self) -> Face {
         match *self {
             Face::Tri3([a, b, c]) => Face::Tri3([a, c, b]),
             Face::Quad4([a, b, c, d]) => Face::Quad4([a, d, c, b]),
+            Face::Tri6([a, b, c, ab, bc, ca]) => Face::Tri6([a, c, b, ca, bc, ab]),
+            Face::Quad8([a, b, c, d, ab, bc, cd, da]) => Face::Quad8([a, d, c, b, da, cd, bc, ab]),
+            Face::Quad9([a, b, c, d, ab, bc, cd, da, m]) => Face::Quad9([a, d, c, b, da, cd, bc, ab, m]),
         }
     }
 
-    /// Builds a face from 3 or 4 corner indices.
+    /// Builds a face from its nodes: 3 (Tri3), 4 (Quad4), 6 (Tri6), 8 (Quad8)
+    /// or 9 (Quad9).
     ///
     /// # Panics
-    /// If `nodes.len()` is not 3 or 4.
+    /// If `nodes.len()` is none of these.
     pub fn from_nodes(nodes: &[usize]) -> Face {
-        match *nodes {
-            [a, b, c] => Face::Tri3([a, b, c]),
-            [a, b, c, d] => Face::Quad4([a, b, c, d]),
-            _ => panic!("a face has 3 or 4 corners, got {}", nodes.len()),
+        match nodes.len() {
+            3 => Face::Tri3(nodes.try_into().unwrap()),
+            4 => Face::Quad4(nodes.try_into().unwrap()),
+            6 => Face::Tri6(nodes.try_into().unwrap()),
+            8 => Face::Quad8(nodes.try_into().unwrap()),
+            9 => Face::Quad9(nodes.try_into().unwrap()),
+            n => panic!("a face has 3, 4, 6, 8 or 9 nodes, got {n}"),
         }
     }
 }
@@ -165,7 +204,7 @@ impl MeshError {
     }
 }
 
-/// A surface mesh of Tri3 and Quad4 faces, possibly mixed.
+/// A surface mesh of Tri3, Quad4, Tri6, Quad8 and Quad9 faces, possibly mixed.
 ///
 /// # Invariants (checked by [`SurfaceMesh::new`])
 /// - every coordinate is finite, of magnitude at most [`MAX_MAGNITUDE`];
@@ -216,7 +255,7 @@ impl SurfaceMesh {
         }
         for (f, face) in self.faces.iter().enumerate() {
             check_element("face", f, face.nodes(), self.points.len())?;
-            check_face_shape(&self.corners(f)[..face.len()], f)?;
+            check_face_shape(&self.corners(f)[..face.n_corners()], f)?;
         }
         Ok(())
     }
@@ -243,7 +282,7 @@ impl SurfaceMesh {
 
     /// Corner coordinates of face `f`; a triangle leaves the fourth entry as its third.
     pub fn corners(&self, f: usize) -> [Point3; 4] {
-        let n = self.faces[f].nodes();
+        let n = self.faces[f].corner_nodes();
         let p = |i: usize| self.points[n[i.min(n.len() - 1)]];
         [p(0), p(1), p(2), p(3)]
     }
@@ -265,7 +304,8 @@ impl SurfaceMesh {
     }
 }
 
-/// A volume cell in Gmsh node order.
+/// A volume cell in Gmsh node order: corners first, then (second order) the
+/// mid-edge nodes, face centres and cell centre as Gmsh numbers them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Cell {
     /// Four-node tetrahedron.
@@ -276,6 +316,20 @@ pub enum Cell {
     Prism6([usize; 6]),
     /// Five-node pyramid: base 0-1-2-3, apex 4.
     Pyramid5([usize; 5]),
+    /// Ten-node quadratic tetrahedron (Gmsh type 11).
+    Tet10([usize; 10]),
+    /// Twenty-node serendipity hexahedron (Gmsh type 17).
+    Hex20([usize; 20]),
+    /// Twenty-seven-node triquadratic hexahedron (Gmsh type 12).
+    Hex27([usize; 27]),
+    /// Fifteen-node serendipity prism (Gmsh type 18).
+    Prism15([usize; 15]),
+    /// Eighteen-node prism with quadrilateral face centres (Gmsh type 13).
+    Prism18([usize; 18]),
+    /// Thirteen-node serendipity pyramid (Gmsh type 19).
+    Pyramid13([usize; 13]),
+    /// Fourteen-node pyramid with the base centre (Gmsh type 14).
+    Pyramid14([usize; 14]),
 }
 
 const TET4_FACES: &[&[usize]] = &[&[0, 2, 1], &[0, 1, 3], &[0, 3, 2], &[1, 2, 3]];
@@ -284,14 +338,109 @@ const HEX8_FACES: &[&[usize]] =
 const PRISM6_FACES: &[&[usize]] = &[&[0, 2, 1], &[3, 4, 5], &[0, 1, 4, 3], &[1, 2, 5, 4], &[2, 0, 3, 5]];
 const PYRAMID5_FACES: &[&[usize]] = &[&[0, 3, 2, 1], &[0, 1, 4], &[1, 2, 4], &[2, 3, 4], &[3, 0, 4]];
 
+/// Gmsh's numbering of the higher-order nodes of a cell family: the mid-edge
+/// node of edge `edges[k]` is node `first + k`; `centres` lists the node of each
+/// face centre by the face's sorted corners.
+struct HigherOrderNodes {
+    first: usize,
+    edges: &'static [[usize; 2]],
+    centres: &'static [(usize, [usize; 4])],
+}
+
+const TET_NODES: HigherOrderNodes =
+    HigherOrderNodes { first: 4, edges: &[[0, 1], [1, 2], [0, 2], [0, 3], [2, 3], [1, 3]], centres: &[] };
+const HEX_EDGES: &[[usize; 2]] =
+    &[[0, 1], [0, 3], [0, 4], [1, 2], [1, 5], [2, 3], [2, 6], [3, 7], [4, 5], [4, 7], [5, 6], [6, 7]];
+const HEX20_NODES: HigherOrderNodes = HigherOrderNodes { first: 8, edges: HEX_EDGES, centres: &[] };
+const HEX27_NODES: HigherOrderNodes = HigherOrderNodes {
+    first: 8,
+    edges: HEX_EDGES,
+    centres: &[
+        (20, [0, 1, 2, 3]),
+        (21, [0, 1, 4, 5]),
+        (22, [0, 3, 4, 7]),
+        (23, [1, 2, 5, 6]),
+        (24, [2, 3, 6, 7]),
+        (25, [4, 5, 6, 7]),
+    ],
+};
+const PRISM_EDGES: &[[usize; 2]] = &[[0, 1], [0, 2], [0, 3], [1, 2], [1, 4], [2, 5], [3, 4], [3, 5], [4, 5]];
+const PRISM15_NODES: HigherOrderNodes = HigherOrderNodes { first: 6, edges: PRISM_EDGES, centres: &[] };
+const PRISM18_NODES: HigherOrderNodes = HigherOrderNodes {
+    first: 6,
+    edges: PRISM_EDGES,
+    centres: &[(15, [0, 1, 3, 4]), (16, [0, 2, 3, 5]), (17, [1, 2, 4, 5])],
+};
+const PYRAMID_EDGES: &[[usize; 2]] = &[[0, 1], [0, 3], [0, 4], [1, 2], [1, 4], [2, 3], [2, 4], [3, 4]];
+const PYRAMID13_NODES: HigherOrderNodes = HigherOrderNodes { first: 5, edges: PYRAMID_EDGES, centres: &[] };
+const PYRAMID14_NODES: HigherOrderNodes =
+    HigherOrderNodes { first: 5, edges: PYRAMID_EDGES, centres: &[(13, [0, 1, 2, 3])] };
+
+impl HigherOrderNodes {
+    /// The local node in the middle of the edge between corners `a` and `b`.
+    fn edge(&self, a: usize, b: usize) -> usize {
+        let key = [a.min(b), a.max(b)];
+        let k = self.edges.iter().position(|&e| e == key).expect("every face edge is a cell edge");
+        self.first + k
+    }
+
+    /// The local node at the centre of the quadrilateral face with these corners.
+    fn centre(&self, corners: &[usize]) -> Option<usize> {
+        let mut key = [0; 4];
+        key.copy_from_slice(corners);
+        key.sort_unstable();
+        self.centres.iter().find(|(_, c)| *c == key).map(|&(node, _)| node)
+    }
+}
+
 impl Cell {
-    /// The corner point indices in Gmsh order.
+    /// All node indices in Gmsh order.
     pub fn nodes(&self) -> &[usize] {
         match self {
             Cell::Tet4(n) => n,
             Cell::Hex8(n) => n,
             Cell::Prism6(n) => n,
             Cell::Pyramid5(n) => n,
+            Cell::Tet10(n) => n,
+            Cell::Hex20(n) => n,
+            Cell::Hex27(n) => n,
+            Cell::Prism15(n) => n,
+            Cell::Prism18(n) => n,
+            Cell::Pyramid13(n) => n,
+            Cell::Pyramid14(n) => n,
+        }
+    }
+
+    /// Number of corners (4, 5, 6 or 8).
+    pub fn n_corners(&self) -> usize {
+        match self {
+            Cell::Tet4(_) | Cell::Tet10(_) => 4,
+            Cell::Pyramid5(_) | Cell::Pyramid13(_) | Cell::Pyramid14(_) => 5,
+            Cell::Prism6(_) | Cell::Prism15(_) | Cell::Prism18(_) => 6,
+            Cell::Hex8(_) | Cell::Hex20(_) | Cell::Hex27(_) => 8,
+        }
+    }
+
+    /// The corner indices, in Gmsh order.
+    pub fn corner_nodes(&self) -> &[usize] {
+        &self.nodes()[..self.n_corners()]
+    }
+
+    /// True for second-order cells.
+    pub fn is_second_order(&self) -> bool {
+        self.higher_order().is_some()
+    }
+
+    fn higher_order(&self) -> Option<&'static HigherOrderNodes> {
+        match self {
+            Cell::Tet4(_) | Cell::Hex8(_) | Cell::Prism6(_) | Cell::Pyramid5(_) => None,
+            Cell::Tet10(_) => Some(&TET_NODES),
+            Cell::Hex20(_) => Some(&HEX20_NODES),
+            Cell::Hex27(_) => Some(&HEX27_NODES),
+            Cell::Prism15(_) => Some(&PRISM15_NODES),
+            Cell::Prism18(_) => Some(&PRISM18_NODES),
+            Cell::Pyramid13(_) => Some(&PYRAMID13_NODES),
+            Cell::Pyramid14(_) => Some(&PYRAMID14_NODES),
         }
     }
 
@@ -299,25 +448,44 @@ impl Cell {
     /// cell; [`VolumeMesh::boundary`] orients geometrically and does not rely on it).
     pub fn local_faces(&self) -> &'static [&'static [usize]] {
         match self {
-            Cell::Tet4(_) => TET4_FACES,
-            Cell::Hex8(_) => HEX8_FACES,
-            Cell::Prism6(_) => PRISM6_FACES,
-            Cell::Pyramid5(_) => PYRAMID5_FACES,
+            Cell::Tet4(_) | Cell::Tet10(_) => TET4_FACES,
+            Cell::Hex8(_) | Cell::Hex20(_) | Cell::Hex27(_) => HEX8_FACES,
+            Cell::Prism6(_) | Cell::Prism15(_) | Cell::Prism18(_) => PRISM6_FACES,
+            Cell::Pyramid5(_) | Cell::Pyramid13(_) | Cell::Pyramid14(_) => PYRAMID5_FACES,
         }
     }
 
-    /// The cell's faces as [`Face`]s of global point indices.
+    /// The cell's faces as [`Face`]s of global point indices: first-order faces
+    /// for first-order cells; Tri6, Quad8 or Quad9 (where the cell has the face
+    /// centre) for second-order cells.
     pub fn faces(&self) -> impl Iterator<Item = Face> + '_ {
         let n = self.nodes();
-        self.local_faces().iter().map(move |lf| match **lf {
-            [a, b, c] => Face::Tri3([n[a], n[b], n[c]]),
-            [a, b, c, d] => Face::Quad4([n[a], n[b], n[c], n[d]]),
-            _ => unreachable!("cell faces have 3 or 4 corners"),
+        let higher = self.higher_order();
+        self.local_faces().iter().map(move |corners| {
+            let mut local = [0usize; 9];
+            let k = corners.len();
+            local[..k].copy_from_slice(corners);
+            let mut len = k;
+            if let Some(h) = higher {
+                for i in 0..k {
+                    local[k + i] = h.edge(corners[i], corners[(i + 1) % k]);
+                }
+                len = 2 * k;
+                if let Some(centre) = (k == 4).then(|| h.centre(corners)).flatten() {
+                    local[len] = centre;
+                    len += 1;
+                }
+            }
+            let mut global = [0usize; 9];
+            for i in 0..len {
+                global[i] = n[local[i]];
+            }
+            Face::from_nodes(&global[..len])
         })
     }
 }
 
-/// A volume mesh of Tet4, Hex8, Prism6 and Pyramid5 cells, possibly mixed.
+/// A volume mesh of first- and second-order cells ([`Cell`]), possibly mixed.
 ///
 /// # Invariants (checked by [`VolumeMesh::new`])
 /// finite coordinates of magnitude at most [`MAX_MAGNITUDE`], corner indices in
@@ -367,7 +535,7 @@ impl VolumeMesh {
         }
         boundary.sort_unstable_by_key(|&(c, l, _)| (c, l));
         for &(cell, local_face, face) in &boundary {
-            let corners: Vec<Point3> = face.nodes().iter().map(|&i| self.points[i]).collect();
+            let corners: Vec<Point3> = face.corner_nodes().iter().map(|&i| self.points[i]).collect();
             if let Err(e) = check_face_shape(&corners, 0) {
                 let why =
                     if matches!(e, MeshError::TooSmall { .. }) { "is too small" } else { "has zero area" };
@@ -389,7 +557,7 @@ impl VolumeMesh {
         let oriented = faces
             .iter()
             .map(|f| {
-                let key = face_key(f.nodes());
+                let key = face_key(f.corner_nodes());
                 let start = all.partition_point(|e| e.key < key);
                 match &all[start..] {
                     [first, rest @ ..] if first.key == key && rest.first().is_none_or(|e| e.key != key) => {
@@ -414,7 +582,7 @@ impl VolumeMesh {
             .enumerate()
             .flat_map_iter(|(c, cell)| {
                 cell.faces().enumerate().map(move |(l, face)| CellFace {
-                    key: face_key(face.nodes()),
+                    key: face_key(face.corner_nodes()),
                     cell: c,
                     local: l,
                     face,
@@ -428,9 +596,9 @@ impl VolumeMesh {
     /// `face` flipped if needed so that its normal points away from the centroid
     /// of `cell` (a geometric test, independent of the cell's node order).
     fn outward(&self, face: Face, cell: usize) -> Face {
-        let cn = self.cells[cell].nodes();
+        let cn = self.cells[cell].corner_nodes();
         let centre = centroid(cn.iter().map(|&i| self.points[i]));
-        let fc: Vec<Point3> = face.nodes().iter().map(|&i| self.points[i]).collect();
+        let fc: Vec<Point3> = face.corner_nodes().iter().map(|&i| self.points[i]).collect();
         let normal = area_vector(&fc);
         let out = sub(centroid(fc.iter().copied()), centre);
         if dot(normal, out) < 0.0 {
@@ -553,6 +721,9 @@ impl fmt::Display for Face {
         match self {
             Face::Tri3(n) => write!(f, "Tri3{n:?}"),
             Face::Quad4(n) => write!(f, "Quad4{n:?}"),
+            Face::Tri6(n) => write!(f, "Tri6{n:?}"),
+            Face::Quad8(n) => write!(f, "Quad8{n:?}"),
+            Face::Quad9(n) => write!(f, "Quad9{n:?}"),
         }
     }
 }
@@ -673,5 +844,68 @@ mod tests {
         let e = tet.boundary().unwrap_err();
         assert!(matches!(e, MeshError::DegenerateCellFace { cell: 0, why: "has zero area", .. }), "{e:?}");
         assert_eq!(e.element(), Some(0));
+    }
+
+    /// Gmsh's reference nodes of the second-order cells (from
+    /// `crates/seam-io/tests/data/second_order.txt`, written by Gmsh).
+    fn gmsh_reference(cell: &str) -> Vec<Point3> {
+        let text = include_str!("../../seam-io/tests/data/second_order.txt");
+        let line = text.lines().find(|l| l.starts_with("ref ") && l.contains(cell)).unwrap();
+        let coords = line.rsplit(' ').next().unwrap();
+        coords
+            .split(';')
+            .map(|p| {
+                let v: Vec<f64> = p.split(',').map(|c| c.parse().unwrap()).collect();
+                [v[0], v[1], v[2]]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn second_order_cells_have_second_order_boundary_faces_through_their_edge_midpoints() {
+        let cells: [(&str, fn(&[usize]) -> Cell, usize, usize); 7] = [
+            ("Tetrahedron_10", |n| Cell::Tet10(n.try_into().unwrap()), 4, 0),
+            ("Hexahedron_20", |n| Cell::Hex20(n.try_into().unwrap()), 6, 0),
+            ("Hexahedron_27", |n| Cell::Hex27(n.try_into().unwrap()), 6, 6),
+            ("Prism_15", |n| Cell::Prism15(n.try_into().unwrap()), 5, 0),
+            ("Prism_18", |n| Cell::Prism18(n.try_into().unwrap()), 5, 3),
+            ("Pyramid_13", |n| Cell::Pyramid13(n.try_into().unwrap()), 5, 0),
+            ("Pyramid_14", |n| Cell::Pyramid14(n.try_into().unwrap()), 5, 1),
+        ];
+        for (name, make, n_faces, n_centres) in cells {
+            let points = gmsh_reference(name);
+            let nodes: Vec<usize> = (0..points.len()).collect();
+            let cell = make(&nodes);
+            assert!(cell.is_second_order());
+            let mesh = VolumeMesh::new(points.clone(), vec![cell]).unwrap();
+            let boundary = mesh.boundary().unwrap();
+            assert_eq!(boundary.n_faces(), n_faces, "{name}");
+            let mut centres = 0;
+            for face in boundary.faces() {
+                assert!(face.is_curved(), "{name}: {face}");
+                let n = face.nodes();
+                let k = face.n_corners();
+                for i in 0..k {
+                    let (a, b) = (points[n[i]], points[n[(i + 1) % k]]);
+                    let mid = points[n[k + i]];
+                    for c in 0..3 {
+                        assert_eq!(mid[c], 0.5 * (a[c] + b[c]), "{name}: {face} edge {i}");
+                    }
+                }
+                if let Face::Quad9(n) = face {
+                    centres += 1;
+                    for c in 0..3 {
+                        let mean = n[..4].iter().map(|&i| points[i][c]).sum::<f64>() / 4.0;
+                        assert_eq!(points[n[8]][c], mean, "{name}: {face} centre");
+                    }
+                }
+                // Outward: the reversed face is the same face read the other way.
+                assert_eq!(face.reversed().reversed(), *face);
+            }
+            assert_eq!(centres, n_centres, "{name}");
+            // The boundary covers all but the interior nodes (Hex27's centre).
+            let used = boundary.used_points().iter().filter(|&&u| u).count();
+            assert_eq!(used, points.len() - usize::from(name == "Hexahedron_27"), "{name}");
+        }
     }
 }

@@ -116,6 +116,13 @@ pub fn kind_name(c: &Cell) -> &'static str {
         Cell::Hex8(_) => "hex",
         Cell::Prism6(_) => "prism",
         Cell::Pyramid5(_) => "pyramid",
+        Cell::Tet10(_) => "tet10",
+        Cell::Hex20(_) => "hex20",
+        Cell::Hex27(_) => "hex27",
+        Cell::Prism15(_) => "prism15",
+        Cell::Prism18(_) => "prism18",
+        Cell::Pyramid13(_) => "pyramid13",
+        Cell::Pyramid14(_) => "pyramid14",
     }
 }
 

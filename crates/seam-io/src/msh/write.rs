@@ -82,20 +82,33 @@ struct Entity<'a> {
     blocks: Vec<(u32, Vec<&'a [usize]>)>,
 }
 
-/// Faces as blocks of consecutive faces of one Gmsh type (3-node triangle 2,
-/// 4-node quad 3), keeping their order.
+/// Faces as blocks of consecutive faces of one Gmsh type, keeping their order.
 fn face_blocks(faces: &[Face]) -> Vec<(u32, Vec<&[usize]>)> {
-    runs(faces.iter().map(|f| (if matches!(f, Face::Tri3(_)) { 2 } else { 3 }, f.nodes())))
+    let type_of = |f: &Face| match f {
+        Face::Tri3(_) => 2,
+        Face::Quad4(_) => 3,
+        Face::Tri6(_) => 9,
+        Face::Quad8(_) => 16,
+        Face::Quad9(_) => 10,
+    };
+    runs(faces.iter().map(|f| (type_of(f), f.nodes())))
 }
 
-/// Cells as blocks of consecutive cells of one Gmsh type (tetrahedron 4,
-/// hexahedron 5, prism 6, pyramid 7), keeping their order.
+/// Cells as blocks of consecutive cells of one Gmsh type, keeping their order
+/// (Seam's node order is Gmsh's).
 fn cell_blocks(cells: &[Cell]) -> Vec<(u32, Vec<&[usize]>)> {
     let type_of = |c: &Cell| match c {
         Cell::Tet4(_) => 4,
         Cell::Hex8(_) => 5,
         Cell::Prism6(_) => 6,
         Cell::Pyramid5(_) => 7,
+        Cell::Tet10(_) => 11,
+        Cell::Hex20(_) => 17,
+        Cell::Hex27(_) => 12,
+        Cell::Prism15(_) => 18,
+        Cell::Prism18(_) => 13,
+        Cell::Pyramid13(_) => 19,
+        Cell::Pyramid14(_) => 14,
     };
     runs(cells.iter().map(|c| (type_of(c), c.nodes())))
 }
