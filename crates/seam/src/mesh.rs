@@ -863,7 +863,8 @@ mod tests {
 
     #[test]
     fn second_order_cells_have_second_order_boundary_faces_through_their_edge_midpoints() {
-        let cells: [(&str, fn(&[usize]) -> Cell, usize, usize); 7] = [
+        type MakeCell = fn(&[usize]) -> Cell;
+        let cells: [(&str, MakeCell, usize, usize); 7] = [
             ("Tetrahedron_10", |n| Cell::Tet10(n.try_into().unwrap()), 4, 0),
             ("Hexahedron_20", |n| Cell::Hex20(n.try_into().unwrap()), 6, 0),
             ("Hexahedron_27", |n| Cell::Hex27(n.try_into().unwrap()), 6, 6),
