@@ -55,6 +55,12 @@ impl Frame {
         [dot(self.rows[0], d), dot(self.rows[1], d)]
     }
 
+    /// The in-plane components of a vector (the projection's derivative).
+    #[inline]
+    pub fn project_vector(&self, v: Point3) -> Point2 {
+        [dot(self.rows[0], v), dot(self.rows[1], v)]
+    }
+
     /// Height of `p` along the normal, n·(p − origin).
     #[inline]
     pub fn height(&self, p: Point3) -> f64 {

@@ -1,9 +1,10 @@
-//! Second-order (curved) faces: Tri6, Quad8 and Quad9 shape functions and
-//! their gradients, the curved face map x(ξ) = Σ N_i(ξ) x_i with its tangents
-//! and surface Jacobian, and the inverse projection of a point along a
-//! direction onto the true curved face (paper step D2 for isoparametric
-//! faces). Groundwork of second-order interfaces: nothing in the operator
-//! uses it yet.
+//! Isoparametric faces, in particular the second-order (curved) ones: Tri6,
+//! Quad8 and Quad9 shape functions and their gradients (and, as the flat
+//! special cases, Tri3 and Quad4), the face map x(ξ) = Σ N_i(ξ) x_i with its
+//! tangents and surface Jacobian, its Bernstein control net (whose convex hull
+//! encloses the face), and the inverse projection of a point along a direction
+//! onto the true curved face (paper step D2 for isoparametric faces). The
+//! operator uses it for every pair with a second-order face.
 //!
 //! Reference cells and node order are those of the first-order faces
 //! ([`crate::FaceKind`]) and Gmsh:
@@ -19,12 +20,18 @@
 //! Tri6 and Quad9 reproduce every quadratic polynomial in (ξ, η), Quad8 every
 //! one of degree 2 (and ξ²η, ξη²).
 
+use crate::clip::Frame;
 use crate::element::{cross, dot, norm, sub, Xi};
-use crate::mesh::Point3;
+use crate::mesh::{Face, Point3, SurfaceMesh};
 
-/// A second-order face type.
+/// A face type as an isoparametric map: the second-order ones and, as their
+/// flat special cases, Tri3 and Quad4.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CurvedKind {
+    /// 3-node triangle (Gmsh type 2).
+    Tri3,
+    /// 4-node bilinear quadrangle (Gmsh type 3).
+    Quad4,
     /// 6-node triangle (Gmsh type 9).
     Tri6,
     /// 8-node serendipity quadrangle (Gmsh type 16).
@@ -37,6 +44,8 @@ impl CurvedKind {
     /// The number of nodes.
     pub fn n_nodes(self) -> usize {
         match self {
+            CurvedKind::Tri3 => 3,
+            CurvedKind::Quad4 => 4,
             CurvedKind::Tri6 => 6,
             CurvedKind::Quad8 => 8,
             CurvedKind::Quad9 => 9,
@@ -58,6 +67,8 @@ impl CurvedKind {
             [0.5, 0.5],
         ];
         match self {
+            CurvedKind::Tri3 => &TRI6[..3],
+            CurvedKind::Quad4 => &QUAD9[..4],
             CurvedKind::Tri6 => &TRI6,
             CurvedKind::Quad8 => &QUAD9[..8],
             CurvedKind::Quad9 => &QUAD9,
@@ -68,18 +79,35 @@ impl CurvedKind {
     pub fn contains(self, xi: Xi, tol: f64) -> bool {
         let [s, t] = xi;
         match self {
-            CurvedKind::Tri6 => s >= -tol && t >= -tol && s + t <= 1.0 + tol,
-            CurvedKind::Quad8 | CurvedKind::Quad9 => {
+            CurvedKind::Tri3 | CurvedKind::Tri6 => s >= -tol && t >= -tol && s + t <= 1.0 + tol,
+            CurvedKind::Quad4 | CurvedKind::Quad8 | CurvedKind::Quad9 => {
                 (-tol..=1.0 + tol).contains(&s) && (-tol..=1.0 + tol).contains(&t)
             }
         }
     }
 
     /// The reference centroid.
-    fn centre(self) -> Xi {
-        match self {
-            CurvedKind::Tri6 => [1.0 / 3.0, 1.0 / 3.0],
-            CurvedKind::Quad8 | CurvedKind::Quad9 => [0.5, 0.5],
+    pub fn centre(self) -> Xi {
+        if self.is_triangle() {
+            [1.0 / 3.0, 1.0 / 3.0]
+        } else {
+            [0.5, 0.5]
+        }
+    }
+
+    /// True for Tri3 and Tri6.
+    pub fn is_triangle(self) -> bool {
+        matches!(self, CurvedKind::Tri3 | CurvedKind::Tri6)
+    }
+
+    /// The kind of a mesh face.
+    pub fn of(face: &Face) -> CurvedKind {
+        match face {
+            Face::Tri3(_) => CurvedKind::Tri3,
+            Face::Quad4(_) => CurvedKind::Quad4,
+            Face::Tri6(_) => CurvedKind::Tri6,
+            Face::Quad8(_) => CurvedKind::Quad8,
+            Face::Quad9(_) => CurvedKind::Quad9,
         }
     }
 }
@@ -99,6 +127,16 @@ fn lagrange(s: f64) -> ([f64; 3], [f64; 3]) {
 pub fn shape_and_gradients(kind: CurvedKind, xi: Xi) -> ([f64; 9], [[f64; 2]; 9]) {
     let (mut n, mut g) = ([0.0; 9], [[0.0; 2]; 9]);
     match kind {
+        CurvedKind::Tri3 => {
+            let [s, t] = xi;
+            n[..3].copy_from_slice(&[1.0 - s - t, s, t]);
+            g[..3].copy_from_slice(&[[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]]);
+        }
+        CurvedKind::Quad4 => {
+            let [s, t] = xi;
+            n[..4].copy_from_slice(&[(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t]);
+            g[..4].copy_from_slice(&[[t - 1.0, s - 1.0], [1.0 - t, -s], [t, s], [-t, 1.0 - s]]);
+        }
         CurvedKind::Tri6 => {
             let [s, t] = xi;
             let l = [1.0 - s - t, s, t];
@@ -137,6 +175,12 @@ pub fn shape_and_gradients(kind: CurvedKind, xi: Xi) -> ([f64; 9], [[f64; 2]; 9]
     (n, g)
 }
 
+/// Newton iterations of [`CurvedFace::plane_inverse`].
+const MAX_NEWTON: usize = 30;
+
+/// Residual of [`CurvedFace::plane_inverse`] relative to the face size.
+const NEWTON_RTOL: f64 = 1e-13;
+
 /// A curved face: its kind and node coordinates (entries past
 /// `kind.n_nodes()` unused).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -167,6 +211,85 @@ impl CurvedFace {
         let mut x = [[0.0; 3]; 9];
         x[..kind.n_nodes()].copy_from_slice(&nodes[..kind.n_nodes()]);
         CurvedFace { kind, x }
+    }
+
+    /// Face `f` of `mesh`.
+    pub fn of(mesh: &SurfaceMesh, f: usize) -> CurvedFace {
+        let face = &mesh.faces()[f];
+        let mut x = [[0.0; 3]; 9];
+        for (i, &n) in face.nodes().iter().enumerate() {
+            x[i] = mesh.points()[n];
+        }
+        CurvedFace { kind: CurvedKind::of(face), x }
+    }
+
+    /// The nodes in use.
+    pub fn nodes(&self) -> &[Point3] {
+        &self.x[..self.kind.n_nodes()]
+    }
+
+    /// The Bernstein control net of the map (its first `n` entries): the face
+    /// lies in the convex hull of these points, so their box encloses it. For a
+    /// quadratic edge with end values a, b and mid value m the inner control
+    /// point is 2m − (a + b)/2; Quad8 is first written as the Quad9 with the
+    /// same map (serendipity ⊂ biquadratic), Quad9 is the tensor product.
+    pub fn control_net(&self) -> ([Point3; 9], usize) {
+        let x = &self.x;
+        let inner = |a: Point3, m: Point3, b: Point3| -> Point3 {
+            std::array::from_fn(|k| 2.0 * m[k] - 0.5 * (a[k] + b[k]))
+        };
+        let mut c = *x;
+        match self.kind {
+            CurvedKind::Tri3 | CurvedKind::Quad4 => {}
+            CurvedKind::Tri6 => {
+                for i in 0..3 {
+                    c[3 + i] = inner(x[i], x[3 + i], x[(i + 1) % 3]);
+                }
+            }
+            CurvedKind::Quad8 | CurvedKind::Quad9 => {
+                let centre = self.map([0.5, 0.5]);
+                for i in 0..4 {
+                    c[4 + i] = inner(x[i], x[4 + i], x[(i + 1) % 4]);
+                }
+                // Along ξ through the middle row (nodes 7, 8, 5), then along η.
+                let middle = inner(x[7], centre, x[5]);
+                c[8] = inner(c[4], middle, c[6]);
+            }
+        }
+        (c, if self.kind == CurvedKind::Quad8 { 9 } else { self.kind.n_nodes() })
+    }
+
+    /// The point ξ whose image projects to `target` in `frame`'s plane: the
+    /// inverse projection along the frame normal (D1–D2), by Newton on the
+    /// 2×2 system P x(ξ) = target from `guess`, steps bounded to the size of
+    /// the cell. Returns ξ and whether the iteration converged (to 1e-13 of
+    /// the face size); on failure the best iterate.
+    pub fn plane_inverse(&self, frame: &Frame, target: [f64; 2], guess: Xi) -> (Xi, bool) {
+        let mut xi = guess;
+        let mut best = (f64::INFINITY, xi);
+        for _ in 0..MAX_NEWTON {
+            let (x, a, b) = self.map_and_tangents(xi);
+            let q = frame.project(x);
+            let r = [q[0] - target[0], q[1] - target[1]];
+            let (pa, pb) = (frame.project_vector(a), frame.project_vector(b));
+            let det = pa[0] * pb[1] - pa[1] * pb[0];
+            let size = (pa[0].abs() + pa[1].abs()).max(pb[0].abs() + pb[1].abs());
+            let err = r[0].abs() + r[1].abs();
+            if err < best.0 {
+                best = (err, xi);
+            }
+            if err <= NEWTON_RTOL * size {
+                return (xi, true);
+            }
+            if det.abs() <= 1e-14 * size * size {
+                break;
+            }
+            let step = [(pb[1] * r[0] - pb[0] * r[1]) / det, (pa[0] * r[1] - pa[1] * r[0]) / det];
+            let reach = step[0].abs().max(step[1].abs());
+            let lambda = if reach > 0.5 { 0.5 / reach } else { 1.0 };
+            xi = [xi[0] - lambda * step[0], xi[1] - lambda * step[1]];
+        }
+        (best.1, false)
     }
 
     /// x(ξ) and the tangents ∂x/∂ξ, ∂x/∂η.

@@ -349,6 +349,14 @@ impl PlaneFace {
         [a[0] + b[0] * xi[0] + c[0] * xi[1] + d[0] * st, a[1] + b[1] * xi[0] + c[1] * xi[1] + d[1] * st]
     }
 
+    /// det ∂q/∂ξ at ξ (constant for a triangle).
+    #[inline]
+    pub fn det(&self, xi: Xi) -> f64 {
+        let ja = [self.b[0] + self.d[0] * xi[1], self.b[1] + self.d[1] * xi[1]];
+        let jb = [self.c[0] + self.d[0] * xi[0], self.c[1] + self.d[1] * xi[0]];
+        cross2(ja, jb)
+    }
+
     /// ±1: the sign of det ∂q/∂ξ at the centre of the reference cell.
     pub fn orientation(&self) -> f64 {
         let m = match self.kind {

@@ -84,7 +84,14 @@ impl FaceTree {
         let face_boxes: Vec<Aabb> = (0..n)
             .into_par_iter()
             .map(|f| {
-                let (lo, hi) = face_box(&mesh.corners(f), 0.0);
+                // A curved face lies in the convex hull of its control net.
+                let (lo, hi) = match mesh.faces()[f].is_curved() {
+                    true => {
+                        let (net, n) = crate::curved::CurvedFace::of(mesh, f).control_net();
+                        face_box(&net[..n], 0.0)
+                    }
+                    false => face_box(&mesh.corners(f), 0.0),
+                };
                 Aabb { lo, hi }
             })
             .collect();

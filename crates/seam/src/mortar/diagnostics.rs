@@ -12,7 +12,7 @@ pub fn nodal_normals(mesh: &SurfaceMesh) -> Vec<Point3> {
     let mut n = vec![[0.0; 3]; mesh.n_points()];
     for (f, face) in mesh.faces().iter().enumerate() {
         let c = mesh.corners(f);
-        let a = crate::mesh::area_vector(&c[..face.len()]);
+        let a = crate::mesh::area_vector(&c[..face.n_corners()]);
         for &p in face.nodes() {
             for k in 0..3 {
                 n[p][k] += a[k];

@@ -8,10 +8,12 @@
 //! dual and lumped multipliers transform them per face afterwards
 //! (`multiplier`).
 
-use super::multiplier::apply_multiplier;
+use super::isoparametric::{self, CurvedSlave, MAX_NODES};
+use super::multiplier::{apply_multiplier, FaceMeasures};
 use super::rows::Blocks;
 use super::{face_integrals, warped_quad_degree, FaceStats, Facing, MortarOptions, Segment};
 use crate::clip::{face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame, MAX_POLYGON};
+use crate::curved::CurvedFace;
 use crate::element::{dot, FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
 use crate::mesh::{Point3, SurfaceMesh};
 use crate::quadrature::{triangle_rule, TriangleRule};
@@ -39,6 +41,8 @@ pub(super) struct Rules {
     /// Warped slave quad: |J| is not a polynomial; the rule is fixed by the
     /// options or chosen per face.
     fixed_warped: Option<TriangleRule>,
+    /// Pairs with a second-order face ([`isoparametric`]).
+    curved: TriangleRule,
 }
 
 impl Rules {
@@ -49,6 +53,7 @@ impl Rules {
             planar_quad: rule(5),
             parallelogram: rule(4),
             fixed_warped: warped_degree.map(rule),
+            curved: rule(isoparametric::CURVED_DEGREE),
         }
     }
 
@@ -77,8 +82,11 @@ pub(super) struct Kernel<'a> {
     options: &'a MortarOptions,
     rules: Rules,
     cos_max_angle: f64,
-    /// Unit normals of the master faces.
+    /// Unit normals of the master faces (at the centre for curved faces).
     master_normals: Vec<Point3>,
+    /// The master surface has second-order faces: every pair takes the
+    /// general path of [`isoparametric`].
+    curved_master: bool,
 }
 
 /// Buffers reused from face to face (one per chunk of faces, never per pair).
@@ -87,7 +95,7 @@ pub(super) struct Scratch {
     candidates: Vec<usize>,
     /// Master points touched by this slave face (the block's columns).
     cols: Vec<usize>,
-    /// Column-major n_s × |cols| block of B: `b[j * 4 + p]`.
+    /// Column-major n_s × |cols| block of B: `b[j * n_s + p]`.
     b: Vec<f64>,
 }
 
@@ -134,38 +142,115 @@ impl<'a> Kernel<'a> {
             cos_max_angle: options.max_angle_degrees.to_radians().cos(),
             master_normals: (0..master.n_faces())
                 .into_par_iter()
-                .map(|m| FaceElement::of(master, m).normal())
+                .map(|m| match master.faces()[m].is_curved() {
+                    true => {
+                        let face = CurvedFace::of(master, m);
+                        face.normal(face.kind.centre())
+                    }
+                    false => FaceElement::of(master, m).normal(),
+                })
                 .collect(),
+            curved_master: master.faces().iter().any(|f| f.is_curved()),
         }
     }
 
     /// (B1)–(B2) for slave face `s`; appends its block to `out`.
     pub(super) fn face(&self, s: usize, scratch: &mut Scratch, out: &mut Blocks) {
-        let sf = self.prepare(s);
-        let n_s = sf.element.n_nodes();
+        let n_s = self.slave.faces()[s].len();
         let mut stats = FaceStats::default();
-        let mut d = [0.0; 16];
+        let mut d = [0.0; MAX_NODES * MAX_NODES];
         scratch.cols.clear();
         scratch.b.clear();
+        let full = if self.curved_master || self.slave.faces()[s].is_curved() {
+            self.curved_face(s, scratch, out, &mut d, &mut stats)
+        } else {
+            self.flat_face(s, scratch, out, &mut d, &mut stats)
+        };
+        stats.area += full.iter().sum::<f64>();
+        sort_columns(&mut scratch.cols, &mut scratch.b, n_s);
+        let kind = crate::curved::CurvedKind::of(&self.slave.faces()[s]);
+        let measures = FaceMeasures::new(kind, &d, &full);
+        let dual_fallback = apply_multiplier(self.options.multiplier, kind, &mut d, &mut scratch.b);
+        stats.dual_fallbacks = dual_fallback as u32;
+        out.push(&scratch.cols, &scratch.b, &d, n_s, &measures, stats);
+    }
+
+    /// The first-order path: returns the full-face integrals ∫_e λ_p |J|.
+    fn flat_face(
+        &self,
+        s: usize,
+        scratch: &mut Scratch,
+        out: &mut Blocks,
+        d: &mut [f64; MAX_NODES * MAX_NODES],
+        stats: &mut FaceStats,
+    ) -> [f64; MAX_NODES] {
+        let sf = self.prepare(s);
+        let n_s = sf.element.n_nodes();
         let (lo, hi) = swept_box(sf.element.corners(), sf.frame.normal(), sf.gap_tol);
         self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates);
         stats.candidates = scratch.candidates.len() as u32;
         for &m in &scratch.candidates {
             let record = self.options.record_segments.then_some(&mut out.segments);
-            let Some(pair) = self.pair(&sf, s, m, &mut stats, record) else { continue };
+            let Some(pair) = self.pair(&sf, s, m, stats, record) else { continue };
             stats.intersecting += 1;
             stats.segments += pair.segments;
             stats.covered_area += pair.covered_area;
-            for k in 0..16 {
-                d[k] += pair.d[k / 4][k % 4];
+            for p in 0..n_s {
+                for q in 0..n_s {
+                    d[p * MAX_NODES + q] += pair.d[p][q];
+                }
             }
-            add_columns(&mut scratch.cols, &mut scratch.b, self.master.faces()[m].nodes(), &pair.b);
+            add_columns(&mut scratch.cols, &mut scratch.b, n_s, self.master.faces()[m].nodes(), &pair.b);
         }
-        sort_columns(&mut scratch.cols, &mut scratch.b);
-        let full = self.full_face_integrals(&sf, &mut stats);
-        let dual_fallback = apply_multiplier(self.options.multiplier, n_s, &mut d, &mut scratch.b);
-        stats.dual_fallbacks = dual_fallback as u32;
-        out.push(&scratch.cols, &scratch.b, d, full, stats);
+        let full = face_integrals(&sf.element, self.rules.select(&sf, sf.element.kind).degree);
+        std::array::from_fn(|p| if p < 4 { full[p] } else { 0.0 })
+    }
+
+    /// The general path ([`isoparametric`]): any pair with a curved face.
+    fn curved_face(
+        &self,
+        s: usize,
+        scratch: &mut Scratch,
+        out: &mut Blocks,
+        d: &mut [f64; MAX_NODES * MAX_NODES],
+        stats: &mut FaceStats,
+    ) -> [f64; MAX_NODES] {
+        let face = CurvedFace::of(self.slave, s);
+        let h = face
+            .nodes()
+            .iter()
+            .fold(0.0f64, |m, &x| m.max(crate::element::norm(crate::element::sub(x, face.x[0]))));
+        let cs = CurvedSlave::new(face, self.options.max_gap.at(h), CLIP_RTOL, AREA_RTOL);
+        let n_s = face.kind.n_nodes();
+        let (lo, hi) = isoparametric::control_box(&face, cs.normal(), cs.gap_tol);
+        self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates);
+        stats.candidates = scratch.candidates.len() as u32;
+        for &m in &scratch.candidates {
+            if !isoparametric::facing_ok(
+                self.options.facing,
+                cs.normal(),
+                self.master_normals[m],
+                self.cos_max_angle,
+            ) {
+                stats.rejected_angle += 1;
+                continue;
+            }
+            let master = CurvedFace::of(self.master, m);
+            let record = self.options.record_segments.then_some((&mut out.segments, s, m));
+            let Some(pair) = isoparametric::pair(&cs, &master, &self.rules.curved, stats, record) else {
+                continue;
+            };
+            stats.intersecting += 1;
+            stats.segments += pair.segments;
+            stats.covered_area += pair.covered_area;
+            for p in 0..n_s {
+                for q in 0..n_s {
+                    d[p * MAX_NODES + q] += pair.d[p][q];
+                }
+            }
+            add_columns(&mut scratch.cols, &mut scratch.b, n_s, self.master.faces()[m].nodes(), &pair.b);
+        }
+        isoparametric::face_integrals(&face)
     }
 
     fn prepare(&self, s: usize) -> SlaveFace {
@@ -261,13 +346,6 @@ impl<'a> Kernel<'a> {
             }
         }
         Some(block)
-    }
-
-    /// ∫_e λ_p |J| over the whole slave face; adds its area to `stats`.
-    fn full_face_integrals(&self, sf: &SlaveFace, stats: &mut FaceStats) -> [f64; 4] {
-        let full = face_integrals(&sf.element, self.rules.select(sf, sf.element.kind).degree);
-        stats.area += full.iter().sum::<f64>();
-        full
     }
 }
 
@@ -406,33 +484,40 @@ fn signed_area(t: [Xi; 3]) -> f64 {
 }
 
 /// Sorts a face block's columns by master point (insertion sort: a dozen
-/// columns), so that the rows later merge sorted runs.
-fn sort_columns(cols: &mut [usize], block: &mut [f64]) {
+/// columns), so that the rows later merge sorted runs; columns have `n_s` rows.
+fn sort_columns(cols: &mut [usize], block: &mut [f64], n_s: usize) {
     for i in 1..cols.len() {
         let mut j = i;
         while j > 0 && cols[j - 1] > cols[j] {
             cols.swap(j - 1, j);
-            for p in 0..4 {
-                block.swap((j - 1) * 4 + p, j * 4 + p);
+            for p in 0..n_s {
+                block.swap((j - 1) * n_s + p, j * n_s + p);
             }
             j -= 1;
         }
     }
 }
 
-/// Adds a pair's n_s × n_m block to the face's block, one column per master point.
-fn add_columns(cols: &mut Vec<usize>, block: &mut Vec<f64>, master_nodes: &[usize], b: &[[f64; 4]; 4]) {
+/// Adds a pair's n_s × n_m block `b` to the face's block (columns of `n_s`
+/// rows), one column per master point.
+fn add_columns<const N: usize>(
+    cols: &mut Vec<usize>,
+    block: &mut Vec<f64>,
+    n_s: usize,
+    master_nodes: &[usize],
+    b: &[[f64; N]; N],
+) {
     for (q, &node) in master_nodes.iter().enumerate() {
         let j = match cols.iter().position(|&c| c == node) {
             Some(j) => j,
             None => {
                 cols.push(node);
-                block.extend_from_slice(&[0.0; 4]);
+                block.extend(std::iter::repeat_n(0.0, n_s));
                 cols.len() - 1
             }
         };
-        for p in 0..4 {
-            block[j * 4 + p] += b[p][q];
+        for p in 0..n_s {
+            block[j * n_s + p] += b[p][q];
         }
     }
 }

@@ -18,12 +18,14 @@
 //! are therefore bit-for-bit the same for any number of threads.
 
 mod diagnostics;
+mod isoparametric;
 mod kernel;
 mod multiplier;
 mod rows;
 mod transfer;
 
 pub use diagnostics::{face_quality, nodal_normals, normal_gaps, orientation_conflicts, FaceQuality};
+pub use multiplier::BASIS_ALPHA;
 pub use transfer::Transfer;
 
 use crate::element::FaceElement;
@@ -304,6 +306,12 @@ pub struct Mortar {
     pub d: CsrMatrix,
     /// The multiplier the matrices were built with.
     pub multiplier: Multiplier,
+    /// For dual multipliers on a slave surface with second-order faces: the
+    /// basis transformation Q (slave points × slave points, rows the
+    /// transformed functions λ̃ = Q λ, see [`BASIS_ALPHA`]) in which D is
+    /// diagonal and positive; B and D are then written in the λ̃ basis and the
+    /// nodal transfer is T = Qᵀ D⁻¹ B. `None` otherwise (T = D⁻¹ B).
+    pub basis: Option<CsrMatrix>,
     /// Per slave face.
     pub faces: Vec<FaceStats>,
     /// Per slave point: covered fraction of ∫ λ_p (0 off the surface).

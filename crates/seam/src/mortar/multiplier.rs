@@ -11,74 +11,157 @@
 //!
 //! Because both are linear in the per-face blocks, nothing is integrated twice.
 
+use super::isoparametric::MAX_NODES;
 use super::Multiplier;
-use nalgebra::Matrix4;
+use crate::curved::CurvedKind;
+use nalgebra::{SMatrix, SVector};
 
 /// Smallest ratio of a Cholesky pivot to the largest diagonal entry of M_e
 /// accepted for the dual basis; below it the covered part is a sliver and the
 /// face falls back to lumping (counted in `FaceStats::dual_fallbacks`).
 const DUAL_PIVOT_RTOL: f64 = 1e-12;
 
-/// Applies `multiplier` to a face's blocks in place: `d` is n_s × n_s row-major
-/// (`d[p * 4 + q]`), `b` column-major with 4 rows (`b[j * 4 + p]`). Returns true
-/// when the dual basis had to fall back to lumping.
-pub(super) fn apply_multiplier(multiplier: Multiplier, n_s: usize, d: &mut [f64; 16], b: &mut [f64]) -> bool {
-    let row_sums: [f64; 4] = std::array::from_fn(|p| (0..n_s).map(|q| d[p * 4 + q]).sum());
-    match multiplier {
-        Multiplier::Standard => false,
-        Multiplier::Lumped => {
-            *d = diagonal(row_sums);
-            false
+/// The weight α of the basis transformation of second-order slave faces
+/// (Popp, Wohlmuth, Gee and Wall, SIAM J. Sci. Comput. 34 (2012)):
+/// λ̃_v = λ_v + α Σ_{edges e at v} λ_e at corners, λ̃_e = (1 − 2α) λ_e at
+/// mid-edge nodes, a Quad9 centre unchanged. The λ̃ still sum to one, are
+/// continuous across faces, and have positive integrals (on a flat face Tri6
+/// corners 2αA/3 = 2A/15 instead of 0, Quad8 corners A/20 instead of −A/12).
+pub const BASIS_ALPHA: f64 = 0.2;
+
+/// Row `p` of the transformation λ̃ = Q_e λ of a face of `kind`, as
+/// (column, value) pairs; identity for first-order faces.
+pub(super) fn transformation_row(kind: CurvedKind, p: usize) -> impl Iterator<Item = (usize, f64)> {
+    let k = if kind.is_triangle() { 3 } else { 4 };
+    let second = matches!(kind, CurvedKind::Tri6 | CurvedKind::Quad8 | CurvedKind::Quad9);
+    let entries: [(usize, f64); 3] = match (second, p) {
+        (false, _) => [(p, 1.0), (0, 0.0), (0, 0.0)],
+        // Corner p: its two edges are k + p (to p + 1) and k + (p + k − 1) % k.
+        (true, p) if p < k => [(p, 1.0), (k + p, BASIS_ALPHA), (k + (p + k - 1) % k, BASIS_ALPHA)],
+        (true, p) if p < 2 * k => [(p, 1.0 - 2.0 * BASIS_ALPHA), (0, 0.0), (0, 0.0)],
+        (true, p) => [(p, 1.0), (0, 0.0), (0, 0.0)],
+    };
+    entries.into_iter().filter(|&(_, v)| v != 0.0)
+}
+
+/// Q_e as a matrix.
+fn transformation<const N: usize>(kind: CurvedKind) -> SMatrix<f64, N, N> {
+    let mut q = SMatrix::zeros();
+    for p in 0..N {
+        for (c, v) in transformation_row(kind, p) {
+            q[(p, c)] = v;
         }
-        Multiplier::Dual => {
-            if row_sums.iter().all(|&s| s == 0.0) {
-                return false; // an uncovered face contributes nothing
-            }
-            let fallback = match dual_coefficients(n_s, d, row_sums) {
-                Some(a) => {
-                    for column in b.chunks_exact_mut(4) {
-                        let old = [column[0], column[1], column[2], column[3]];
-                        for p in 0..n_s {
-                            column[p] = (0..n_s).map(|r| a[(p, r)] * old[r]).sum();
-                        }
-                    }
-                    false
+    }
+    q
+}
+
+/// What decides whether a slave node is covered: per local node, the
+/// covered and the full integral of its (for second-order faces transformed,
+/// positive) basis function over the face.
+pub(super) struct FaceMeasures {
+    /// (Q_e M_e 1)_p = ∫_{e,cov} λ̃_p.
+    pub(super) covered: [f64; MAX_NODES],
+    /// (Q_e ∫_e λ)_p = ∫_e λ̃_p.
+    pub(super) full: [f64; MAX_NODES],
+}
+
+impl FaceMeasures {
+    /// From a face's standard D block (stride [`MAX_NODES`]) and full integrals.
+    pub(super) fn new(kind: CurvedKind, d: &[f64; MAX_NODES * MAX_NODES], full: &[f64; MAX_NODES]) -> Self {
+        let n = kind.n_nodes();
+        let row_sums: [f64; MAX_NODES] = std::array::from_fn(|p| (0..n).map(|q| d[p * MAX_NODES + q]).sum());
+        let apply = |v: &[f64; MAX_NODES]| -> [f64; MAX_NODES] {
+            std::array::from_fn(|p| {
+                if p < n {
+                    transformation_row(kind, p).map(|(c, a)| a * v[c]).sum()
+                } else {
+                    0.0
                 }
-                None => true,
-            };
-            *d = diagonal(row_sums);
-            fallback
-        }
+            })
+        };
+        FaceMeasures { covered: apply(&row_sums), full: apply(full) }
     }
 }
 
-/// A = D_e M_e⁻¹ (the n_s × n_s leading block of the result), or `None` when
-/// M_e is numerically singular.
-fn dual_coefficients(n_s: usize, d: &[f64; 16], row_sums: [f64; 4]) -> Option<Matrix4<f64>> {
-    // Pad a triangle's 3×3 block with a unit (3,3) entry: block-diagonal, SPD.
-    let m = Matrix4::from_fn(|p, q| {
-        if p < n_s && q < n_s {
-            d[p * 4 + q]
-        } else if p == q {
-            1.0
-        } else {
-            0.0
+/// Applies `multiplier` to a face's blocks in place: `d` is n_s × n_s row-major
+/// with stride [`MAX_NODES`] (`d[p * MAX_NODES + q]`), `b` column-major with
+/// n_s rows (`b[j * n_s + p]`). For dual multipliers on a second-order face
+/// the blocks are first written in the transformed basis λ̃ = Q_e λ. Returns
+/// true when the dual basis had to fall back to lumping.
+pub(super) fn apply_multiplier(
+    multiplier: Multiplier,
+    kind: CurvedKind,
+    d: &mut [f64; MAX_NODES * MAX_NODES],
+    b: &mut [f64],
+) -> bool {
+    let n_s = kind.n_nodes();
+    match multiplier {
+        Multiplier::Standard => false,
+        Multiplier::Lumped => {
+            let row_sums: [f64; MAX_NODES] =
+                std::array::from_fn(|p| (0..n_s).map(|q| d[p * MAX_NODES + q]).sum());
+            *d = diagonal(&row_sums[..n_s]);
+            false
         }
-    });
+        Multiplier::Dual => match n_s {
+            3 => dual::<3>(kind, d, b),
+            4 => dual::<4>(kind, d, b),
+            6 => dual::<6>(kind, d, b),
+            8 => dual::<8>(kind, d, b),
+            _ => dual::<9>(kind, d, b),
+        },
+    }
+}
+
+/// The dual basis of a face with `N` nodes: with M the (transformed) standard
+/// block on the covered part, A = diag(M 1) M⁻¹, D_e = diag(M 1), B_e ← A B_e.
+fn dual<const N: usize>(kind: CurvedKind, d: &mut [f64; MAX_NODES * MAX_NODES], b: &mut [f64]) -> bool {
+    let mut m = SMatrix::<f64, N, N>::from_fn(|p, q| d[p * MAX_NODES + q]);
+    if N > 4 {
+        let q = transformation::<N>(kind);
+        m = q * m * q.transpose();
+        for column in b.chunks_exact_mut(N) {
+            let v = q * SVector::<f64, N>::from_column_slice(column);
+            column.copy_from_slice(v.as_slice());
+        }
+    }
+    let row_sums: [f64; N] = std::array::from_fn(|p| m.row(p).sum());
+    if row_sums.iter().all(|&s| s == 0.0) {
+        return false; // an uncovered face contributes nothing
+    }
+    let fallback = match dual_coefficients(&m, &row_sums) {
+        Some(a) => {
+            for column in b.chunks_exact_mut(N) {
+                let v = a * SVector::<f64, N>::from_column_slice(column);
+                column.copy_from_slice(v.as_slice());
+            }
+            false
+        }
+        None => true,
+    };
+    *d = diagonal(&row_sums);
+    fallback
+}
+
+/// A = diag(M 1) M⁻¹, or `None` when M is numerically singular.
+fn dual_coefficients<const N: usize>(
+    m: &SMatrix<f64, N, N>,
+    row_sums: &[f64; N],
+) -> Option<SMatrix<f64, N, N>> {
     let chol = m.cholesky()?;
-    let max_diag = (0..n_s).map(|p| m[(p, p)]).fold(0.0, f64::max);
-    let min_pivot = (0..n_s).map(|p| chol.l_dirty()[(p, p)].powi(2)).fold(f64::INFINITY, f64::min);
+    let max_diag = (0..N).map(|p| m[(p, p)]).fold(0.0, f64::max);
+    let min_pivot = (0..N).map(|p| chol.l_dirty()[(p, p)].powi(2)).fold(f64::INFINITY, f64::min);
     if min_pivot.is_nan() || min_pivot <= DUAL_PIVOT_RTOL * max_diag {
         return None;
     }
     let inv = chol.inverse();
-    Some(Matrix4::from_fn(|p, q| if p < n_s { row_sums[p] * inv[(p, q)] } else { 0.0 }))
+    Some(SMatrix::from_fn(|p, q| row_sums[p] * inv[(p, q)]))
 }
 
-fn diagonal(v: [f64; 4]) -> [f64; 16] {
-    let mut d = [0.0; 16];
-    for p in 0..4 {
-        d[p * 4 + p] = v[p];
+fn diagonal(v: &[f64]) -> [f64; MAX_NODES * MAX_NODES] {
+    let mut d = [0.0; MAX_NODES * MAX_NODES];
+    for (p, &x) in v.iter().enumerate() {
+        d[p * MAX_NODES + p] = x;
     }
     d
 }
@@ -87,12 +170,14 @@ fn diagonal(v: [f64; 4]) -> [f64; 16] {
 mod tests {
     use super::*;
 
+    const N: usize = MAX_NODES;
+
     /// The mass matrix of the unit right triangle (area ½): (1 + δ_pq)/24.
-    fn tri_mass() -> [f64; 16] {
-        let mut d = [0.0; 16];
+    fn tri_mass() -> [f64; N * N] {
+        let mut d = [0.0; N * N];
         for p in 0..3 {
             for q in 0..3 {
-                d[p * 4 + q] = if p == q { 2.0 } else { 1.0 } / 24.0;
+                d[p * N + q] = if p == q { 2.0 } else { 1.0 } / 24.0;
             }
         }
         d
@@ -103,10 +188,10 @@ mod tests {
         // Classical linear dual basis: ψ_p = 3λ_p − Σ_{q≠p} λ_q, i.e. A = 4I − 𝟙.
         let mut d = tri_mass();
         // One master column equal to M·e_0 (B block of an identical master face).
-        let mut b = vec![2.0 / 24.0, 1.0 / 24.0, 1.0 / 24.0, 0.0];
-        assert!(!apply_multiplier(Multiplier::Dual, 3, &mut d, &mut b));
+        let mut b = vec![2.0 / 24.0, 1.0 / 24.0, 1.0 / 24.0];
+        assert!(!apply_multiplier(Multiplier::Dual, CurvedKind::Tri3, &mut d, &mut b));
         for p in 0..3 {
-            assert!((d[p * 4 + p] - 1.0 / 6.0).abs() < 1e-16);
+            assert!((d[p * N + p] - 1.0 / 6.0).abs() < 1e-16);
             let expected = if p == 0 { 1.0 / 6.0 } else { 0.0 };
             assert!((b[p] - expected).abs() < 1e-16, "b[{p}] = {}", b[p]);
         }
@@ -115,24 +200,47 @@ mod tests {
     #[test]
     fn lumped_is_the_row_sum() {
         let mut d = tri_mass();
-        let mut b = vec![1.0, 2.0, 3.0, 0.0];
-        apply_multiplier(Multiplier::Lumped, 3, &mut d, &mut b);
+        let mut b = vec![1.0, 2.0, 3.0];
+        apply_multiplier(Multiplier::Lumped, CurvedKind::Tri3, &mut d, &mut b);
         assert_eq!(d[0], 4.0 / 24.0);
         assert_eq!(d[1], 0.0);
-        assert_eq!(b, vec![1.0, 2.0, 3.0, 0.0]);
+        assert_eq!(b, vec![1.0, 2.0, 3.0]);
     }
 
     #[test]
     fn singular_mass_falls_back_to_lumping() {
-        let mut d = [0.0; 16];
+        let mut d = [0.0; N * N];
         for p in 0..3 {
             for q in 0..3 {
-                d[p * 4 + q] = 1.0; // rank one
+                d[p * N + q] = 1.0; // rank one
             }
         }
-        let mut b = vec![1.0, 1.0, 1.0, 0.0];
-        assert!(apply_multiplier(Multiplier::Dual, 3, &mut d, &mut b));
+        let mut b = vec![1.0, 1.0, 1.0];
+        assert!(apply_multiplier(Multiplier::Dual, CurvedKind::Tri3, &mut d, &mut b));
         assert_eq!(d[0], 3.0);
         assert_eq!(d[1], 0.0);
+    }
+
+    #[test]
+    fn transformed_basis_sums_to_one_and_has_positive_integrals() {
+        // Integrals of the Lagrange functions on a unit-area flat face.
+        let cases: [(CurvedKind, Vec<f64>); 3] = [
+            (CurvedKind::Tri6, [[0.0; 3], [1.0 / 3.0; 3]].concat()),
+            (CurvedKind::Quad8, [[-1.0 / 12.0; 4], [1.0 / 3.0; 4]].concat()),
+            (CurvedKind::Quad9, [&[1.0 / 36.0; 4][..], &[1.0 / 9.0; 4], &[4.0 / 9.0]].concat()),
+        ];
+        for (kind, integrals) in cases {
+            let n = kind.n_nodes();
+            for c in 0..n {
+                let column: f64 =
+                    (0..n).flat_map(|p| transformation_row(kind, p)).filter(|e| e.0 == c).map(|e| e.1).sum();
+                assert!((column - 1.0).abs() < 1e-15, "{kind:?}: λ_{c} appears with total weight {column}");
+            }
+            let mut full = [0.0; N];
+            full[..n].copy_from_slice(&integrals);
+            let measures = FaceMeasures::new(kind, &[0.0; N * N], &full);
+            assert!(measures.full[..n].iter().all(|&v| v > 0.04), "{kind:?}: {:?}", &measures.full[..n]);
+            assert!((measures.full.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+        }
     }
 }

@@ -6,24 +6,33 @@
 //! of the block rows for p — so the result does not depend on how faces were
 //! spread over threads (I7).
 
+use super::isoparametric::MAX_NODES;
+use super::multiplier::{transformation_row, FaceMeasures};
 use super::{FaceStats, Mortar, MortarSummary, Multiplier, Segment, COVERED_FRACTION};
+use crate::curved::CurvedKind;
 use crate::mesh::SurfaceMesh;
 use crate::sparse::CsrMatrix;
 use rayon::prelude::*;
 
-/// Per-face blocks of a range of slave faces, in face order.
+/// Per-face blocks of a range of slave faces, in face order, each stored
+/// with its own node count n_s (3 to 9).
 #[derive(Default)]
 pub(super) struct Blocks {
     /// `col_ptr[f]..col_ptr[f + 1]` indexes face f's columns in `cols`.
     col_ptr: Vec<usize>,
     /// Master point indices (u32: half the memory; checked in `assemble_with_tree`).
     cols: Vec<u32>,
-    /// Column-major 4-row blocks: `b[j * 4 + p]` for column j of `cols`.
+    /// Column-major n_s-row blocks: `b[b_ptr[f] + j * n_s + p]` for column j of face f.
     b: Vec<f64>,
-    /// Row-major 4×4 blocks of D.
-    d: Vec<[f64; 16]>,
-    /// ∫_e λ_p |J| over the whole face.
-    full: Vec<[f64; 4]>,
+    b_ptr: Vec<usize>,
+    /// Row-major n_s × n_s blocks of D, from `node_ptr[f]²`-free offsets `d_ptr[f]`.
+    d: Vec<f64>,
+    d_ptr: Vec<usize>,
+    /// Per local node: the covered and full measures of the face
+    /// (`multiplier::FaceMeasures`), from `node_ptr[f]`.
+    covered: Vec<f64>,
+    full: Vec<f64>,
+    node_ptr: Vec<usize>,
     pub(super) faces: Vec<FaceStats>,
     /// Intersection triangles, when recorded.
     pub(super) segments: Vec<Segment>,
@@ -35,26 +44,64 @@ impl Blocks {
             col_ptr: Vec::with_capacity(faces + 1),
             cols: Vec::with_capacity(faces * 12),
             b: Vec::with_capacity(faces * 48),
-            d: Vec::with_capacity(faces),
-            full: Vec::with_capacity(faces),
+            b_ptr: Vec::with_capacity(faces + 1),
+            d: Vec::with_capacity(faces * 16),
+            d_ptr: Vec::with_capacity(faces + 1),
+            covered: Vec::with_capacity(faces * 4),
+            full: Vec::with_capacity(faces * 4),
+            node_ptr: Vec::with_capacity(faces + 1),
             faces: Vec::with_capacity(faces),
             segments: Vec::new(),
         };
         b.col_ptr.push(0);
+        b.b_ptr.push(0);
+        b.d_ptr.push(0);
+        b.node_ptr.push(0);
         b
     }
 
-    pub(super) fn push(&mut self, cols: &[usize], b: &[f64], d: [f64; 16], full: [f64; 4], stats: FaceStats) {
+    /// Appends a face's blocks: `b` column-major with `n_s` rows, `d` row-major
+    /// with stride [`MAX_NODES`].
+    pub(super) fn push(
+        &mut self,
+        cols: &[usize],
+        b: &[f64],
+        d: &[f64; MAX_NODES * MAX_NODES],
+        n_s: usize,
+        measures: &FaceMeasures,
+        stats: FaceStats,
+    ) {
         self.cols.extend(cols.iter().map(|&c| c as u32));
         self.b.extend_from_slice(b);
         self.col_ptr.push(self.cols.len());
-        self.d.push(d);
-        self.full.push(full);
+        self.b_ptr.push(self.b.len());
+        for p in 0..n_s {
+            self.d.extend_from_slice(&d[p * MAX_NODES..p * MAX_NODES + n_s]);
+        }
+        self.d_ptr.push(self.d.len());
+        self.covered.extend_from_slice(&measures.covered[..n_s]);
+        self.full.extend_from_slice(&measures.full[..n_s]);
+        self.node_ptr.push(self.full.len());
         self.faces.push(stats);
     }
 
-    fn cols(&self, f: usize) -> std::ops::Range<usize> {
-        self.col_ptr[f]..self.col_ptr[f + 1]
+    fn n_s(&self, f: usize) -> usize {
+        self.node_ptr[f + 1] - self.node_ptr[f]
+    }
+
+    /// Row `l` of face f's B block as (master point, value) pairs.
+    fn b_row(&self, f: usize, l: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let n_s = self.n_s(f);
+        let base = self.b_ptr[f];
+        (self.col_ptr[f]..self.col_ptr[f + 1])
+            .enumerate()
+            .map(move |(j, c)| (self.cols[c] as usize, self.b[base + j * n_s + l]))
+    }
+
+    /// Row `l` of face f's D block.
+    fn d_row(&self, f: usize, l: usize) -> &[f64] {
+        let n_s = self.n_s(f);
+        &self.d[self.d_ptr[f] + l * n_s..self.d_ptr[f] + (l + 1) * n_s]
     }
 }
 
@@ -121,21 +168,18 @@ pub(super) fn into_mortar(
     let n = slave.n_points();
     let b = sum_rows(n, master.n_points(), &around, |f, l, out| {
         let (c, k) = blocks.at(f);
-        for j in c.cols(k) {
-            out.push((c.cols[j] as usize, c.b[j * 4 + l]));
-        }
+        out.extend(c.b_row(k, l));
     });
     // The B blocks are done with: free them before D is built (peak memory).
     for c in &mut blocks.chunks {
         c.cols = Vec::new();
         c.b = Vec::new();
         c.col_ptr = Vec::new();
+        c.b_ptr = Vec::new();
     }
     let d = sum_rows(n, n, &around, |f, l, out| {
         let (c, k) = blocks.at(f);
-        for (q, &node) in slave.faces()[f].nodes().iter().enumerate() {
-            out.push((node, c.d[k][l * 4 + q]));
-        }
+        out.extend(slave.faces()[f].nodes().iter().copied().zip(c.d_row(k, l).iter().copied()));
     });
     let node_coverage: Vec<f64> = (0..n)
         .into_par_iter()
@@ -143,9 +187,8 @@ pub(super) fn into_mortar(
             let (mut covered, mut full) = (0.0, 0.0);
             for &(f, l) in around.around(p) {
                 let (c, k) = blocks.at(f);
-                // Row sums of a face's D block are ∫_{e,cov} λ_l for every multiplier.
-                covered += c.d[k][l * 4..l * 4 + 4].iter().sum::<f64>();
-                full += c.full[k][l];
+                covered += c.covered[c.node_ptr[k] + l];
+                full += c.full[c.node_ptr[k] + l];
             }
             if full > 0.0 {
                 covered / full
@@ -155,11 +198,48 @@ pub(super) fn into_mortar(
         })
         .collect();
     let on_surface = slave.used_points();
-    let covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
+    let mut covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
+    let basis = (multiplier == Multiplier::Dual && slave.faces().iter().any(|f| f.is_curved()))
+        .then(|| slave_basis(slave));
+    if let Some(q) = &basis {
+        // T = Qᵀ D⁻¹ B mixes the rows of the λ̃ around a node: it is covered
+        // only when all of them are.
+        let qt = q.transpose();
+        covered = (0..n).map(|r| covered[r] && qt.row(r).0.iter().all(|&p| covered[p])).collect();
+    }
     summary.uncovered_slave_nodes = (0..n).filter(|&p| on_surface[p] && !covered[p]).count();
     let faces = blocks.chunks.iter_mut().flat_map(|c| std::mem::take(&mut c.faces)).collect();
     let segments = blocks.chunks.iter_mut().flat_map(|c| std::mem::take(&mut c.segments)).collect();
-    Mortar { b, d, multiplier, faces, node_coverage, covered, on_surface, segments, summary }
+    Mortar { b, d, multiplier, basis, faces, node_coverage, covered, on_surface, segments, summary }
+}
+
+/// The global basis transformation λ̃ = Q λ of a slave surface with
+/// second-order faces (`multiplier::BASIS_ALPHA`): rows are the transformed
+/// functions, the union of the faces' Q_e (which agree on shared nodes).
+fn slave_basis(slave: &SurfaceMesh) -> CsrMatrix {
+    let n = slave.n_points();
+    let mut entries: Vec<(usize, usize, f64)> = Vec::new();
+    for face in slave.faces() {
+        let kind = CurvedKind::of(face);
+        let nodes = face.nodes();
+        for p in 0..nodes.len() {
+            entries.extend(transformation_row(kind, p).map(|(c, v)| (nodes[p], nodes[c], v)));
+        }
+    }
+    entries.sort_by_key(|e| (e.0, e.1));
+    entries.dedup_by(|a, b| a.0 == b.0 && a.1 == b.1);
+    let used = slave.used_points();
+    let mut rows: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+    for (r, c, v) in entries {
+        rows[r].push((c, v));
+    }
+    for (p, row) in rows.iter_mut().enumerate() {
+        if !used[p] {
+            row.push((p, 1.0));
+        }
+    }
+    let split: Vec<(Vec<usize>, Vec<f64>)> = rows.into_iter().map(|r| r.into_iter().unzip()).collect();
+    CsrMatrix::from_rows(n, split.iter().map(|(c, v)| (c.as_slice(), v.as_slice())))
 }
 
 /// Builds an nrows × ncols CSR matrix whose row p collects, for each face around

@@ -6,6 +6,9 @@
 //!   sparse Cholesky factorisation of D_CC (faer); T is dense in general and is
 //!   never formed.
 //!
+//! - Dual multipliers on second-order slave faces: D is diagonal in the
+//!   transformed basis λ̃ = Q λ, and the nodal transfer is T = Qᵀ D⁻¹ B.
+//!
 //! Uncovered slave nodes get zero rows: T v is 0 there, never a division by zero.
 //! Conservative transfer f_m = Tᵀ f_s keeps the total, 1ᵀ f_m = 1ᵀ f_s (I6),
 //! because T 1 = 1 on the covered nodes (I1) — for loads carried by covered
@@ -44,15 +47,19 @@ impl Mortar {
         let (nrows, ncols) = (self.b.nrows, self.b.ncols);
         if self.d.is_diagonal() {
             let diag = self.d.diagonal();
+            // With a basis transformation every row of D⁻¹B with D_pp > 0 is
+            // needed; T = Qᵀ (D⁻¹B) is then cut to the covered rows.
+            let keep = |p: usize| diag[p] > 0.0 && (self.covered[p] || self.basis.is_some());
             let rows: Vec<(&[usize], Vec<f64>)> = (0..nrows)
                 .map(|p| match self.b.row(p) {
-                    (cols, vals) if self.covered[p] && diag[p] > 0.0 => {
-                        (cols, vals.iter().map(|v| v / diag[p]).collect())
-                    }
+                    (cols, vals) if keep(p) => (cols, vals.iter().map(|v| v / diag[p]).collect()),
                     _ => (&[][..], Vec::new()),
                 })
                 .collect();
-            let t = CsrMatrix::from_rows(ncols, rows.iter().map(|(c, v)| (*c, v.as_slice())));
+            let mut t = CsrMatrix::from_rows(ncols, rows.iter().map(|(c, v)| (*c, v.as_slice())));
+            if let Some(q) = &self.basis {
+                t = transpose_times(q, &t, &self.covered);
+            }
             return Ok(Transfer { kind: Kind::Explicit(t), nrows, ncols });
         }
         let covered: Vec<usize> = (0..nrows).filter(|&p| self.covered[p]).collect();
@@ -125,6 +132,34 @@ impl Transfer {
     pub fn ncols(&self) -> usize {
         self.ncols
     }
+}
+
+/// The rows `keep` of Qᵀ A (Q square sparse, A sparse), the others empty.
+fn transpose_times(q: &CsrMatrix, a: &CsrMatrix, keep: &[bool]) -> CsrMatrix {
+    let qt = q.transpose();
+    let mut dense = vec![0.0; a.ncols];
+    let mut touched: Vec<usize> = Vec::new();
+    let rows: Vec<(Vec<usize>, Vec<f64>)> = (0..qt.nrows)
+        .map(|r| {
+            if !keep[r] {
+                return (Vec::new(), Vec::new());
+            }
+            let (ps, ws) = qt.row(r);
+            for (&p, &w) in ps.iter().zip(ws) {
+                let (cols, vals) = a.row(p);
+                for (&c, &v) in cols.iter().zip(vals) {
+                    if dense[c] == 0.0 && !touched.contains(&c) {
+                        touched.push(c);
+                    }
+                    dense[c] += w * v;
+                }
+            }
+            touched.sort_unstable();
+            let vals = touched.iter().map(|&c| std::mem::take(&mut dense[c])).collect();
+            (std::mem::take(&mut touched), vals)
+        })
+        .collect();
+    CsrMatrix::from_rows(a.ncols, rows.iter().map(|(c, v)| (c.as_slice(), v.as_slice())))
 }
 
 /// x with x_C = D_CC⁻¹ r_C on the covered rows C and 0 elsewhere (k components).

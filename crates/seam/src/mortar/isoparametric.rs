@@ -1,0 +1,368 @@
+//! (C2)–(D5) for pairs with a second-order (curved) face.
+//!
+//! The projections of curved faces onto the slave plane have curved edges, so
+//! the exact intersection is not a polygon. As 4C does, each face is cut for
+//! the segmentation only into [`SUBDIVISION`]² first-order sub-faces through
+//! points of the true face (C3); sub-face pairs are clipped as convex polygons
+//! (C4) and fan-triangulated; quadrature points are placed in the plane on each
+//! triangle.
+//!
+//! - Slave side: a point p of the projected slave sub-face S (a triangle or a
+//!   quad of the plane) is taken back to the slave's reference cell by the
+//!   inverse of S's own first-order map χ_S (reference sub-face → projected
+//!   sub-face, affine or bilinear): a bijection, so the pieces of a fully
+//!   covered face tile its reference cell exactly, and the covered area is the
+//!   true area of the curved slave face. The weight is the slave's true area
+//!   element, ω'_l = ω_l |T| |J_s(ξ_s)| / |det ∂χ_S/∂ξ| (D3–D4).
+//! - Master side: the slave point x_s(ξ_s) is inverse-projected along the
+//!   slave normal onto the *true* curved master face (D1–D2, Newton on
+//!   P x_m(ξ_m) = P x_s(ξ_s)).
+//!
+//! So D and B integrate ψ_p λ_q over the covered part of the true slave
+//! surface; the segmentation only decides, to O(h³) near master face edges,
+//! which master face a point belongs to, where neighbouring master fields
+//! agree. On a first-order face χ_S is the face's own (projected) map, so the
+//! region of integration in the plane is exact.
+//!
+//! I1 (D·1 = B·1) and I2 hold to round-off whatever the rule, since D and B
+//! use the same points and Σ_q λ^m_q = 1.
+
+use super::kernel::barycentric;
+use super::{FaceStats, Facing, Segment};
+use crate::clip::{face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame, MAX_POLYGON};
+use crate::curved::{shape_and_gradients, CurvedFace, CurvedKind};
+use crate::element::{cross, dot, norm, FaceKind, PlaneFace, Xi};
+use crate::mesh::Point3;
+use crate::quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};
+use arrayvec::ArrayVec;
+
+/// The most nodes of a face (Quad9).
+pub(super) const MAX_NODES: usize = 9;
+
+/// Sub-faces per reference edge for the segmentation (C3).
+pub(super) const SUBDIVISION: usize = 2;
+
+const MAX_SUB: usize = SUBDIVISION * SUBDIVISION;
+
+/// Triangle-rule degree on the intersection triangles of a curved pair.
+pub(super) const CURVED_DEGREE: usize = 8;
+
+/// A sub-face of the reference cell: its corners in reference coordinates.
+type SubFace = ArrayVec<Xi, 4>;
+
+/// The first-order sub-faces of the reference cell of `kind`, [`SUBDIVISION`]
+/// per edge, corners counter-clockwise.
+fn reference_subfaces(kind: CurvedKind) -> ArrayVec<SubFace, MAX_SUB> {
+    let k = SUBDIVISION;
+    let at = |i: usize, j: usize| [i as f64 / k as f64, j as f64 / k as f64];
+    let mut out = ArrayVec::new();
+    for j in 0..k {
+        for i in 0..k {
+            if kind.is_triangle() {
+                if i + j < k {
+                    out.push([at(i, j), at(i + 1, j), at(i, j + 1)].into_iter().collect());
+                }
+                if i + j + 1 < k {
+                    out.push([at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)].into_iter().collect());
+                }
+            } else {
+                out.push([at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)].into_iter().collect());
+            }
+        }
+    }
+    out
+}
+
+fn centroid(sub: &SubFace) -> Xi {
+    let n = sub.len() as f64;
+    let s = sub.iter().fold([0.0; 2], |a, x| [a[0] + x[0], a[1] + x[1]]);
+    [s[0] / n, s[1] / n]
+}
+
+/// The projected sub-faces of `face`: (reference corners, convex polygon).
+fn projected_subfaces(
+    face: &CurvedFace,
+    frame: &Frame,
+) -> ArrayVec<(SubFace, crate::clip::Polygon), MAX_SUB> {
+    reference_subfaces(face.kind)
+        .into_iter()
+        .map(|sub| {
+            let q: ArrayVec<[f64; 2], 4> = sub.iter().map(|&xi| frame.project(face.map(xi))).collect();
+            (sub, face_polygon(&q))
+        })
+        .collect()
+}
+
+/// A projected slave sub-face: where it lies in the reference cell, its map
+/// χ_S from there to the plane, and its clipper.
+struct SlaveSub {
+    /// The first corner ξ₀ and the reference edge vectors (ξ₁ − ξ₀, ξ_last − ξ₀).
+    origin: Xi,
+    edges: [Xi; 2],
+    /// |det| of the reference sub-face's map from the unit cell.
+    ref_det: f64,
+    /// χ_S as a map from the unit triangle or square.
+    chord: PlaneFace,
+    clipper: ConvexClipper,
+}
+
+impl SlaveSub {
+    /// ξ_s of plane point `p` (χ_S⁻¹) and the area ratio |det ∂ξ_s/∂p|.
+    #[inline]
+    fn pull_back(&self, p: [f64; 2], stats: &mut FaceStats) -> (Xi, f64) {
+        let r = self.chord.inverse(p);
+        if matches!(r, crate::element::InverseMap::NotConverged { .. }) {
+            stats.inverse_failures += 1;
+        }
+        let u = r.xi();
+        let xi = [
+            self.origin[0] + u[0] * self.edges[0][0] + u[1] * self.edges[1][0],
+            self.origin[1] + u[0] * self.edges[0][1] + u[1] * self.edges[1][1],
+        ];
+        (xi, self.ref_det / self.chord.det(u).abs())
+    }
+}
+
+/// A slave face prepared for pairing on the general path.
+pub(super) struct CurvedSlave {
+    pub(super) face: CurvedFace,
+    pub(super) frame: Frame,
+    subfaces: ArrayVec<SlaveSub, MAX_SUB>,
+    pub(super) gap_tol: f64,
+    area_tol: f64,
+}
+
+impl CurvedSlave {
+    /// (B1)–(C2): the frame at the face centre, normal the true normal there.
+    pub(super) fn new(face: CurvedFace, gap_tol: f64, clip_rtol: f64, area_rtol: f64) -> CurvedSlave {
+        let centre = face.kind.centre();
+        let frame = Frame::householder(face.normal(centre), face.map(centre));
+        let h = diameter(face.nodes());
+        let mut area = 0.0;
+        let subfaces = reference_subfaces(face.kind)
+            .into_iter()
+            .map(|sub| {
+                let mut q = [[0.0; 2]; 4];
+                for (i, &xi) in sub.iter().enumerate() {
+                    q[i] = frame.project(face.map(xi));
+                }
+                let kind = if sub.len() == 3 { FaceKind::Tri3 } else { FaceKind::Quad4 };
+                if kind == FaceKind::Tri3 {
+                    q[3] = q[2];
+                }
+                let polygon = face_polygon(&q[..sub.len()]);
+                area += polygon_area(&polygon);
+                let last = sub[sub.len() - 1];
+                let edges = [
+                    [sub[1][0] - sub[0][0], sub[1][1] - sub[0][1]],
+                    [last[0] - sub[0][0], last[1] - sub[0][1]],
+                ];
+                SlaveSub {
+                    origin: sub[0],
+                    edges,
+                    ref_det: (edges[0][0] * edges[1][1] - edges[0][1] * edges[1][0]).abs(),
+                    chord: PlaneFace::new(kind, q),
+                    clipper: ConvexClipper::new(&polygon, clip_rtol * h),
+                }
+            })
+            .collect();
+        CurvedSlave { face, frame, subfaces, gap_tol, area_tol: area_rtol * area }
+    }
+
+    /// The unit normal of the frame (C2).
+    pub(super) fn normal(&self) -> Point3 {
+        self.frame.normal()
+    }
+}
+
+/// What one curved pair contributes: n_s × n_s and n_s × n_m blocks.
+pub(super) struct CurvedBlock {
+    pub(super) d: [[f64; MAX_NODES]; MAX_NODES],
+    pub(super) b: [[f64; MAX_NODES]; MAX_NODES],
+    pub(super) covered_area: f64,
+    pub(super) segments: u32,
+}
+
+/// The angle filter of (C1): whether master normal `nm` faces the slave normal.
+pub(super) fn facing_ok(facing: Facing, ns: Point3, nm: Point3, cos_max: f64) -> bool {
+    let cos = dot(ns, nm);
+    let aligned = match facing {
+        Facing::Any => cos.abs(),
+        Facing::Opposite => -cos,
+    };
+    aligned >= cos_max
+}
+
+/// (C3)–(D5) for the slave face `cs` against master face `master`; `None`
+/// when the projections do not overlap (`stats.empty`) or a point pair is
+/// farther apart than the gap limit (`stats.rejected_gap`).
+pub(super) fn pair(
+    cs: &CurvedSlave,
+    master: &CurvedFace,
+    rule: &TriangleRule,
+    stats: &mut FaceStats,
+    mut record: Option<(&mut Vec<Segment>, usize, usize)>,
+) -> Option<CurvedBlock> {
+    let (ks, km) = (cs.face.kind, master.kind);
+    let (n_s, n_m) = (ks.n_nodes(), km.n_nodes());
+    let mut block = CurvedBlock {
+        d: [[0.0; MAX_NODES]; MAX_NODES],
+        b: [[0.0; MAX_NODES]; MAX_NODES],
+        covered_area: 0.0,
+        segments: 0,
+    };
+    let (mut gap, mut overlap) = (0.0f64, 0.0f64);
+    let mut any = false;
+    for (msub, q) in projected_subfaces(master, &cs.frame) {
+        let guess_m = centroid(&msub);
+        for sub in &cs.subfaces {
+            let polygon = sub.clipper.clip(&q);
+            if polygon.len() < 3 || polygon_area(&polygon) <= cs.area_tol {
+                continue;
+            }
+            any = true;
+            let mut xs = [[0.0; 2]; MAX_POLYGON];
+            let mut xm = [[0.0; 2]; MAX_POLYGON];
+            for (v, &p) in polygon.iter().enumerate() {
+                xs[v] = sub.pull_back(p, stats).0;
+                let x = cs.face.map(xs[v]);
+                xm[v] = inverse(master, &cs.frame, cs.frame.project(x), guess_m, stats);
+                let g = cs.frame.height(master.map(xm[v])) - cs.frame.height(x);
+                if g.abs() > cs.gap_tol {
+                    stats.rejected_gap += 1;
+                    return None;
+                }
+                gap = gap.max(g);
+                overlap = overlap.max(-g);
+            }
+            for [a, b, c] in fan_triangles(polygon.len()) {
+                let plane = [polygon[a], polygon[b], polygon[c]];
+                let area = 0.5
+                    * ((plane[1][0] - plane[0][0]) * (plane[2][1] - plane[0][1])
+                        - (plane[1][1] - plane[0][1]) * (plane[2][0] - plane[0][0]));
+                if area <= 0.0 {
+                    continue;
+                }
+                block.segments += 1;
+                let tm = [xm[a], xm[b], xm[c]];
+                for (pt, &w) in rule.points.iter().zip(rule.weights) {
+                    let (xi_s, ratio) = sub.pull_back(barycentric(plane, *pt), stats);
+                    let (phi, grad) = shape_and_gradients(ks, xi_s);
+                    let (x, ta, tb) = map_and_tangents(&cs.face, &phi, &grad);
+                    let xi_m = inverse(master, &cs.frame, cs.frame.project(x), barycentric(tm, *pt), stats);
+                    let wj = w * area * ratio * norm(cross(ta, tb));
+                    let lam = shape_and_gradients(km, xi_m).0;
+                    block.covered_area += wj;
+                    for p in 0..n_s {
+                        let wp = wj * phi[p];
+                        for q in p..n_s {
+                            block.d[p][q] += wp * phi[q];
+                        }
+                        for q in 0..n_m {
+                            block.b[p][q] += wp * lam[q];
+                        }
+                    }
+                }
+                if let Some((segments, s, m)) = record.as_mut() {
+                    let corners = [xs[a], xs[b], xs[c]].map(|xi| cs.face.map(xi));
+                    segments.push(Segment { slave: *s, master: *m, corners });
+                }
+            }
+        }
+    }
+    if !any || block.segments == 0 {
+        stats.empty += 1;
+        return None;
+    }
+    stats.max_gap = stats.max_gap.max(gap);
+    stats.max_overlap = stats.max_overlap.max(overlap);
+    for p in 0..n_s {
+        for q in 0..p {
+            block.d[p][q] = block.d[q][p];
+        }
+    }
+    Some(block)
+}
+
+/// x(ξ), ∂x/∂ξ, ∂x/∂η of `face` from its shape values and gradients at ξ.
+#[inline]
+fn map_and_tangents(face: &CurvedFace, phi: &[f64; 9], grad: &[[f64; 2]; 9]) -> (Point3, Point3, Point3) {
+    let (mut x, mut a, mut b) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+    for ((y, g), n) in face.nodes().iter().zip(grad).zip(phi) {
+        for k in 0..3 {
+            x[k] += n * y[k];
+            a[k] += g[0] * y[k];
+            b[k] += g[1] * y[k];
+        }
+    }
+    (x, a, b)
+}
+
+fn inverse(face: &CurvedFace, frame: &Frame, p: [f64; 2], guess: Xi, stats: &mut FaceStats) -> Xi {
+    let (xi, converged) = face.plane_inverse(frame, p, guess);
+    if !converged {
+        stats.inverse_failures += 1;
+    }
+    xi
+}
+
+/// ∫_e λ_p |J| over the whole curved face, with the degree-20 triangle rule on
+/// its reference triangles (one for a triangle, two for a quad).
+pub(super) fn face_integrals(face: &CurvedFace) -> [f64; MAX_NODES] {
+    let rule = triangle_rule(MAX_TRIANGLE_DEGREE).expect("tabulated");
+    let triangles: &[[Xi; 3]] = if face.kind.is_triangle() {
+        &[[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]]
+    } else {
+        &[[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]]]
+    };
+    let mut full = [0.0; MAX_NODES];
+    for t in triangles {
+        for (pt, &w) in rule.points.iter().zip(rule.weights) {
+            let xi = barycentric(*t, *pt);
+            let (phi, grad) = shape_and_gradients(face.kind, xi);
+            let (_, a, b) = map_and_tangents(face, &phi, &grad);
+            let wj = 0.5 * w * norm(cross(a, b));
+            for p in 0..face.kind.n_nodes() {
+                full[p] += wj * phi[p];
+            }
+        }
+    }
+    full
+}
+
+/// The box of the face's control net (which encloses the curved face) moved
+/// by ±`reach` along `normal` (A1).
+pub(super) fn control_box(face: &CurvedFace, normal: Point3, reach: f64) -> (Point3, Point3) {
+    let (net, n) = face.control_net();
+    crate::search::swept_box(&net[..n], normal, reach)
+}
+
+fn diameter(x: &[Point3]) -> f64 {
+    let mut d: f64 = 0.0;
+    for i in 0..x.len() {
+        for j in i + 1..x.len() {
+            d = d.max(norm(crate::element::sub(x[i], x[j])));
+        }
+    }
+    d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sub_faces_tile_the_reference_cell() {
+        for kind in [CurvedKind::Tri6, CurvedKind::Quad9] {
+            let area: f64 = reference_subfaces(kind)
+                .iter()
+                .map(|s| {
+                    let p: ArrayVec<[f64; 2], 4> = s.iter().copied().collect();
+                    polygon_area(&p)
+                })
+                .sum();
+            let expected = if kind.is_triangle() { 0.5 } else { 1.0 };
+            assert!((area - expected).abs() < 1e-15, "{kind:?}: {area}");
+        }
+    }
+}

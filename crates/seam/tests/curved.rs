@@ -1,0 +1,243 @@
+//! The operator on second-order (curved) faces: I1–I3 and I5 as for first
+//! order, I4 on flat interfaces (where second-order spaces reproduce every
+//! quadratic field), and I9: on curved interfaces with gaps of O(h³) the
+//! transfer error ‖T f − I f‖ in the slave mass norm falls like h³.
+
+use seam::{assemble, Face, MaxGap, Mortar, MortarOptions, Multiplier, Point3, SurfaceMesh};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    Tri6,
+    Quad8,
+    Quad9,
+}
+
+const KINDS: [Kind; 3] = [Kind::Tri6, Kind::Quad8, Kind::Quad9];
+
+/// A structured second-order mesh of `n`×`n` cells of the parameter square
+/// [a, b]², every node (mid-edge and centre ones included) placed on the
+/// surface by `map`.
+fn patch(kind: Kind, n: usize, (a, b): (f64, f64), map: impl Fn(f64, f64) -> Point3) -> SurfaceMesh {
+    let m = 2 * n + 1;
+    let at = |i: usize| a + (b - a) * i as f64 / (2 * n) as f64;
+    let points: Vec<Point3> = (0..m * m).map(|k| map(at(k % m), at(k / m))).collect();
+    let id = |i: usize, j: usize| j * m + i;
+    let mut faces = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let (i, j) = (2 * i, 2 * j);
+            let [c0, c1, c2, c3] = [id(i, j), id(i + 2, j), id(i + 2, j + 2), id(i, j + 2)];
+            let [m0, m1, m2, m3] = [id(i + 1, j), id(i + 2, j + 1), id(i + 1, j + 2), id(i, j + 1)];
+            let centre = id(i + 1, j + 1);
+            match kind {
+                Kind::Quad9 => faces.push(Face::Quad9([c0, c1, c2, c3, m0, m1, m2, m3, centre])),
+                Kind::Quad8 => faces.push(Face::Quad8([c0, c1, c2, c3, m0, m1, m2, m3])),
+                Kind::Tri6 => {
+                    faces.push(Face::Tri6([c0, c1, c2, m0, m1, centre]));
+                    faces.push(Face::Tri6([c0, c2, c3, centre, m2, m3]));
+                }
+            }
+        }
+    }
+    SurfaceMesh::new(points, faces).unwrap()
+}
+
+fn cylinder(r: f64) -> impl Fn(f64, f64) -> Point3 {
+    move |u, v| {
+        let t = 0.3 + u;
+        [r * t.cos(), r * t.sin(), v]
+    }
+}
+
+fn sphere(r: f64) -> impl Fn(f64, f64) -> Point3 {
+    move |u, v| {
+        let (t, p) = (0.2 + u, v - 0.5);
+        [r * p.cos() * t.cos(), r * p.cos() * t.sin(), r * p.sin()]
+    }
+}
+
+fn options(multiplier: Multiplier) -> MortarOptions {
+    MortarOptions { multiplier, max_gap: MaxGap::Relative(0.5), ..Default::default() }
+}
+
+fn field(x: Point3) -> f64 {
+    (1.3 * x[0]).sin() + (0.7 * x[1]).cos() * x[2] + 0.5 * x[2] * x[2]
+}
+
+/// ‖T f − I f‖ in the slave mass norm (the standard D of a full slave).
+fn transfer_error(master: &SurfaceMesh, slave: &SurfaceMesh, multiplier: Multiplier) -> f64 {
+    let mortar = assemble(master, slave, &options(multiplier)).unwrap();
+    assert_eq!(mortar.summary.uncovered_slave_nodes, 0);
+    let mass = assemble(master, slave, &options(Multiplier::Standard)).unwrap().d;
+    let fm: Vec<f64> = master.points().iter().map(|&x| field(x)).collect();
+    let ts = mortar.transfer().unwrap().apply(&fm, 1);
+    let used = slave.used_points();
+    let e: Vec<f64> = slave
+        .points()
+        .iter()
+        .zip(&ts)
+        .zip(&used)
+        .map(|((&x, &t), &u)| if u { t - field(x) } else { 0.0 })
+        .collect();
+    let me = mass.mul_vec(&e, 1);
+    e.iter().zip(&me).map(|(a, b)| a * b).sum::<f64>().sqrt()
+}
+
+fn fitted_rate(h: &[f64], e: &[f64]) -> f64 {
+    let n = h.len() as f64;
+    let (x, y): (Vec<f64>, Vec<f64>) = h.iter().zip(e).map(|(h, e)| (h.ln(), e.ln())).unzip();
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
+    sxy / sxx
+}
+
+/// I1 row by row and I2, relative to the row scale.
+fn check_rows(mortar: &Mortar, what: &str) {
+    let (d1, b1) = (mortar.d.row_sums(), mortar.b.row_sums());
+    let scale = d1.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for (p, (a, b)) in d1.iter().zip(&b1).enumerate() {
+        assert!((a - b).abs() <= 1e-13 * scale, "{what}: I1 row {p}: D1 = {a}, B1 = {b}");
+    }
+    let total: f64 = d1.iter().sum();
+    let covered = mortar.summary.covered_area;
+    assert!((total - covered).abs() <= 1e-12 * covered, "{what}: I2 1ᵀD1 = {total}, covered {covered}");
+}
+
+#[test]
+fn rows_agree_and_the_covered_area_is_the_true_curved_area() {
+    // Slave: a cylinder patch of radius 2 over [0,1]² (area 2 exactly);
+    // master: a coarser, larger patch of radius 2.0005 (fully covering).
+    for ks in KINDS {
+        for km in [Kind::Tri6, Kind::Quad9] {
+            let slave = patch(ks, 4, (0.0, 1.0), cylinder(2.0));
+            let master = patch(km, 3, (-0.1, 1.1), cylinder(2.0005));
+            for multiplier in [Multiplier::Standard, Multiplier::Dual] {
+                let what = format!("{ks:?} slave, {km:?} master, {multiplier:?}");
+                let mortar = assemble(&master, &slave, &options(multiplier)).unwrap();
+                check_rows(&mortar, &what);
+                assert_eq!(mortar.summary.inverse_failures, 0, "{what}");
+                assert_eq!(mortar.summary.uncovered_slave_nodes, 0, "{what}");
+                // The covered area (the plane quadrature over the segments)
+                // is the area of the isoparametric slave surface (degree-20
+                // rule on each face), itself that of the cylinder patch, 2, up
+                // to the geometric error of quadratic faces.
+                let (area, full) = (mortar.summary.covered_area, mortar.summary.slave_area);
+                assert!((area - full).abs() < 1e-10 * full, "{what}: covered {area}, slave area {full}");
+                assert!((full - 2.0).abs() < 1e-3, "{what}: slave area {full}");
+            }
+        }
+    }
+}
+
+#[test]
+fn identical_curved_meshes_give_the_identity() {
+    for kind in KINDS {
+        let mesh = patch(kind, 3, (0.0, 1.0), sphere(1.5));
+        for multiplier in [Multiplier::Standard, Multiplier::Dual] {
+            let mortar = assemble(&mesh, &mesh, &options(multiplier)).unwrap();
+            let used = mesh.used_points();
+            let t = mortar.transfer().unwrap();
+            for p in (0..mesh.n_points()).filter(|&p| used[p]) {
+                let mut e = vec![0.0; mesh.n_points()];
+                e[p] = 1.0;
+                let column = t.apply(&e, 1);
+                for (q, &v) in column.iter().enumerate() {
+                    let expected = if q == p { 1.0 } else { 0.0 };
+                    assert!((v - expected).abs() < 1e-11, "{kind:?} {multiplier:?}: T[{q}][{p}] = {v}");
+                }
+            }
+        }
+    }
+}
+
+/// Max |T f − f| over the slave nodes for the master's nodal values of `f`.
+fn reproduction_error(
+    master: &SurfaceMesh,
+    slave: &SurfaceMesh,
+    multiplier: Multiplier,
+    f: &dyn Fn(Point3) -> f64,
+) -> f64 {
+    let mortar = assemble(master, slave, &options(multiplier)).unwrap();
+    let fm: Vec<f64> = master.points().iter().map(|&x| f(x)).collect();
+    let ts = mortar.transfer().unwrap().apply(&fm, 1);
+    let used = slave.used_points();
+    (0..slave.n_points())
+        .filter(|&p| used[p])
+        .map(|p| (ts[p] - f(slave.points()[p])).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn flat_interfaces_reproduce_quadratic_fields_on_affine_faces_and_linear_ones_on_distorted_faces() {
+    // Affine faces (a sheared plane): every space contains the quadratics.
+    let sheared = |u: f64, v: f64| -> Point3 { [u + 0.3 * v, 0.9 * v, 0.0] };
+    let quadratic =
+        |x: Point3| 1.0 + 2.0 * x[0] - x[1] + 0.7 * x[0] * x[0] - 0.4 * x[0] * x[1] + 0.3 * x[1] * x[1];
+    // Distorted faces: mid-side nodes moved along the plane, so the faces'
+    // spaces contain the linear fields only (isoparametric).
+    let wavy = |u: f64, v: f64| -> Point3 { [u + 0.05 * (3.0 * v).sin(), v + 0.04 * (2.0 * u).sin(), 0.0] };
+    let linear = |x: Point3| 1.0 + 2.0 * x[0] - 3.0 * x[1];
+    for ks in KINDS {
+        for km in KINDS {
+            for multiplier in [Multiplier::Standard, Multiplier::Dual] {
+                let what = format!("{ks:?} slave, {km:?} master, {multiplier:?}");
+                let slave = patch(ks, 3, (0.1, 0.9), sheared);
+                let master = patch(km, 4, (0.0, 1.0), |u, v| sheared(1.0 - v, u));
+                let e = reproduction_error(&master, &slave, multiplier, &quadratic);
+                assert!(e < 1e-11, "{what}: quadratic on affine faces: {e:e}");
+                let slave = patch(ks, 3, (0.1, 0.9), wavy);
+                let master = patch(km, 4, (0.0, 1.0), |u, v| wavy(1.0 - v, u));
+                let e = reproduction_error(&master, &slave, multiplier, &linear);
+                assert!(e < 1e-11, "{what}: linear on distorted faces: {e:e}");
+            }
+        }
+    }
+}
+
+/// A family of surfaces by radius.
+type Surface = dyn Fn(f64) -> Box<dyn Fn(f64, f64) -> Point3>;
+
+/// I9 for one surface and one (slave, master) kind pair.
+fn i9_rate(
+    surface: &Surface,
+    ks: Kind,
+    km: Kind,
+    multiplier: Multiplier,
+) -> f64 {
+    let levels = [3usize, 6, 12];
+    let mut h = Vec::new();
+    let mut e = Vec::new();
+    for &n in &levels {
+        let hs = 1.0 / n as f64;
+        let slave = patch(ks, n, (0.0, 1.0), surface(1.5));
+        // Non-matching: a master of 4/3 the resolution over a larger square,
+        // with a gap of h³.
+        let master = patch(km, (4 * n).div_ceil(3) + 1, (-0.1, 1.1), surface(1.5 + hs.powi(3)));
+        h.push(hs);
+        e.push(transfer_error(&master, &slave, multiplier));
+    }
+    let rate = fitted_rate(&h, &e);
+    eprintln!("I9 {ks:?} slave, {km:?} master, {multiplier:?}: errors {e:.3?}, rate {rate:.2}");
+    rate
+}
+
+#[test]
+fn i9_transfer_error_falls_like_h_cubed_on_curved_interfaces() {
+    let cyl = |r: f64| -> Box<dyn Fn(f64, f64) -> Point3> { Box::new(cylinder(r)) };
+    let sph = |r: f64| -> Box<dyn Fn(f64, f64) -> Point3> { Box::new(sphere(r)) };
+    let surfaces: [(&str, &Surface); 2] = [("cylinder", &cyl), ("sphere", &sph)];
+    for (name, surface) in surfaces {
+        for (ks, km) in [
+            (Kind::Quad9, Kind::Tri6),
+            (Kind::Quad8, Kind::Tri6),
+            (Kind::Tri6, Kind::Tri6),
+            (Kind::Tri6, Kind::Quad9),
+        ] {
+            for multiplier in [Multiplier::Standard, Multiplier::Dual] {
+                let rate = i9_rate(surface, ks, km, multiplier);
+                assert!(rate >= 2.8, "{name}: {ks:?} slave, {km:?} master, {multiplier:?}: rate {rate:.2}");
+            }
+        }
+    }
+}
