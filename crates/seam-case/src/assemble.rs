@@ -1,6 +1,7 @@
 //! The pipeline of `seam assemble MASTER SLAVE -o DIR`: read the two
 //! surfaces, search, assemble the mortar operator and write `B.mtx`, `D.mtx`,
-//! `T.mtx` (when D is diagonal) and `summary.json` all-or-nothing
+//! `T.mtx` (when D is diagonal), `Q.mtx` (the slave basis transformation of
+//! dual multipliers on second-order faces) and `summary.json` all-or-nothing
 //! ([`Staged`]), optionally the mortar segments as VTU.
 
 pub use crate::input::Pair;
@@ -83,6 +84,11 @@ pub struct Summary {
     pub facing: String,
     /// The multiplier space.
     pub multiplier: String,
+    /// The slave basis D and B are written in: "lagrange" (nodal), or for
+    /// dual multipliers on second-order slave faces "transformed": λ̃ = Q λ
+    /// (Popp et al. 2012, α = `seam::BASIS_ALPHA`), Q in `Q.mtx`, and the
+    /// nodal transfer T = Qᵀ D⁻¹ B in `T.mtx`.
+    pub slave_basis: &'static str,
     /// The quadrature degree of warped quads, or "per face".
     pub quad_order: String,
     /// Stored entries of B, D and T.
@@ -135,7 +141,7 @@ pub fn assemble_files(args: &Assemble, progress: &dyn Progress) -> Result<Assemb
     let start = Instant::now();
     let options = MortarOptions { record_segments: args.segments.is_some(), ..args.options };
     let file = |name: &str| args.output.join(name);
-    let mut targets = vec![file("B.mtx"), file("D.mtx"), file("T.mtx"), file("summary.json")];
+    let mut targets = vec![file("B.mtx"), file("D.mtx"), file("T.mtx"), file("Q.mtx"), file("summary.json")];
     targets.extend(args.segments.clone());
     let inputs = [args.pair.master.clone(), args.pair.slave.clone()];
     let mut out = Staged::prepare(&targets, &inputs, args.force)?;
@@ -189,6 +195,13 @@ pub fn assemble_files(args: &Assemble, progress: &dyn Progress) -> Result<Assemb
             seam_io::write_matrix_market_file(p, t, &[&rows, &cols(&args.pair.master)])
         })?;
     }
+    if let Some(q) = &mortar.basis {
+        let q_rows =
+            format!("rows: transformed slave basis functions, by the node of {}", args.pair.slave.display());
+        out.write(&file("Q.mtx"), |p| {
+            seam_io::write_matrix_market_file(p, q, &[&q_rows, &cols(&args.pair.slave)])
+        })?;
+    }
     if let Some(path) = &args.segments {
         out.write(path, |p| write_segments(p, &mortar.segments))?;
     }
@@ -199,7 +212,7 @@ pub fn assemble_files(args: &Assemble, progress: &dyn Progress) -> Result<Assemb
         summary(args, &options, &mortar, t_matrix.map(|t| t.nnz()), rayon::current_num_threads(), seconds);
     let json = serde_json::to_string_pretty(&summary).context("summary")?;
     out.write(&file("summary.json"), |p| std::fs::write(p, json + "\n"))?;
-    out.commit(&[file("T.mtx")])?;
+    out.commit(&[file("T.mtx"), file("Q.mtx")])?;
     Ok(Assembled { mortar, summary })
 }
 
@@ -243,6 +256,7 @@ fn summary(
         max_angle_degrees: options.max_angle_degrees,
         facing: format!("{:?}", options.facing).to_lowercase(),
         multiplier: format!("{:?}", options.multiplier).to_lowercase(),
+        slave_basis: if mortar.basis.is_some() { "transformed" } else { "lagrange" },
         quad_order: options.warped_quad_degree.map_or("per face".into(), |d| d.to_string()),
         nnz: Nnz { b: mortar.b.nnz(), d: mortar.d.nnz(), t: nnz_t },
         threads,

@@ -80,6 +80,9 @@ impl Constraints {
         let glued = interfaces.iter().zip(mortars).enumerate().filter(|(_, (f, _))| f.kind == Coupling::Glue);
         for (i, (f, m)) in glued {
             let (os, om) = (offsets[f.slave], offsets[f.master]);
+            // ∫ψ_p λ_r for nodal slave dofs (D itself unless dual multipliers
+            // on second-order faces work in a transformed basis).
+            let d = m.nodal_d();
             let covered: Vec<usize> = (0..m.covered.len()).filter(|&p| m.covered[p]).collect();
             let removed: [Vec<bool>; 3] = std::array::from_fn(|comp| {
                 let mut removed = vec![false; m.covered.len()];
@@ -99,7 +102,7 @@ impl Constraints {
                         std::iter::once((p, 1.0)).chain(shares[comp][p].iter().copied()).collect();
                     entries.clear();
                     for &(q, w) in &part {
-                        let (dq, dv) = m.d.row(q);
+                        let (dq, dv) = d.row(q);
                         entries.extend(dq.iter().zip(dv).map(|(&k, &v)| (os + 3 * k + comp, w * v)));
                         let (bq, bv) = m.b.row(q);
                         entries.extend(bq.iter().zip(bv).map(|(&k, &v)| (om + 3 * k + comp, -w * v)));

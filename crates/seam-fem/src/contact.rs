@@ -391,6 +391,14 @@ pub(crate) fn check_couplings(interfaces: &[Interface]) -> Result<(), ProblemErr
                 "contact needs a diagonal D: multiplier \"lumped\" (the default) or \"dual\"".into(),
             );
         }
+        if f.kind == Coupling::Contact && f.slave_surface.faces().iter().any(|face| face.is_curved()) {
+            return bad(
+                i,
+                "contact on second-order slave faces (Tri6, Quad8, Quad9) is not supported yet: \
+                 give the contact slave side first-order faces"
+                    .into(),
+            );
+        }
     }
     for (i, f) in interfaces.iter().enumerate().filter(|(_, f)| f.kind == Coupling::Glue) {
         for (j, c) in

@@ -199,12 +199,7 @@ fn flat_interfaces_reproduce_quadratic_fields_on_affine_faces_and_linear_ones_on
 type Surface = dyn Fn(f64) -> Box<dyn Fn(f64, f64) -> Point3>;
 
 /// I9 for one surface and one (slave, master) kind pair.
-fn i9_rate(
-    surface: &Surface,
-    ks: Kind,
-    km: Kind,
-    multiplier: Multiplier,
-) -> f64 {
+fn i9_rate(surface: &Surface, ks: Kind, km: Kind, multiplier: Multiplier) -> f64 {
     let levels = [3usize, 6, 12];
     let mut h = Vec::new();
     let mut e = Vec::new();
@@ -238,6 +233,65 @@ fn i9_transfer_error_falls_like_h_cubed_on_curved_interfaces() {
                 let rate = i9_rate(surface, ks, km, multiplier);
                 assert!(rate >= 2.8, "{name}: {ks:?} slave, {km:?} master, {multiplier:?}: rate {rate:.2}");
             }
+        }
+    }
+}
+
+#[test]
+fn dual_d_is_diagonal_and_positive_and_lumped_is_refused_where_its_diagonal_is_not() {
+    for ks in KINDS {
+        let slave = patch(ks, 3, (0.0, 1.0), sphere(1.5));
+        let master = patch(Kind::Tri6, 4, (-0.1, 1.1), sphere(1.5001));
+        let dual = assemble(&master, &slave, &options(Multiplier::Dual)).unwrap();
+        assert!(dual.d.is_diagonal(), "{ks:?}");
+        assert!(dual.basis.is_some(), "{ks:?}: second-order dual works in the transformed basis");
+        let used = slave.used_points();
+        for (p, &v) in dual.d.diagonal().iter().enumerate() {
+            assert!(!used[p] || v > 0.0, "{ks:?}: dual D[{p}][{p}] = {v}");
+        }
+        // I5 (standard): D symmetric positive definite on the covered nodes,
+        // here shown by its Cholesky factorisation inside the transfer.
+        let standard = assemble(&master, &slave, &options(Multiplier::Standard)).unwrap();
+        assert!(standard.transfer().is_ok(), "{ks:?}");
+        for p in 0..slave.n_points() {
+            for q in 0..slave.n_points() {
+                assert_eq!(standard.d.get(p, q), standard.d.get(q, p), "{ks:?}: D symmetric");
+            }
+        }
+        let lumped = assemble(&master, &slave, &options(Multiplier::Lumped));
+        match ks {
+            // ∫λ of a Tri6 corner is 0 up to curvature, of a Quad8 corner < 0.
+            Kind::Tri6 | Kind::Quad8 => {
+                let e = lumped.unwrap_err();
+                assert!(matches!(e, seam::MortarError::LumpedSecondOrder { face: 0, .. }), "{ks:?}: {e}");
+                assert!(e.to_string().contains("use dual multipliers"), "{e}");
+            }
+            Kind::Quad9 => {
+                let lumped = lumped.unwrap();
+                assert!(lumped.d.diagonal().iter().zip(&used).all(|(&v, &u)| !u || v > 0.0));
+                check_rows(&lumped, "Quad9 lumped");
+            }
+        }
+    }
+}
+
+#[test]
+fn nodal_d_of_the_transformed_dual_basis_constrains_nodal_values() {
+    // D_nodal u_s = B u_m for the nodal values of a field both spaces hold
+    // (a linear field on a flat interface), and D_nodal 1 = D 1 (I1).
+    let flat = |u: f64, v: f64| -> Point3 { [u, v + 0.1 * u * u, 0.0] };
+    let linear = |x: Point3| 0.5 + x[0] - 2.0 * x[1];
+    for ks in [Kind::Tri6, Kind::Quad8] {
+        let slave = patch(ks, 3, (0.1, 0.9), flat);
+        let master = patch(Kind::Quad9, 4, (0.0, 1.0), flat);
+        let mortar = assemble(&master, &slave, &options(Multiplier::Dual)).unwrap();
+        let nodal = mortar.nodal_d();
+        let us: Vec<f64> = slave.points().iter().map(|&x| linear(x)).collect();
+        let um: Vec<f64> = master.points().iter().map(|&x| linear(x)).collect();
+        let (du, bu) = (nodal.mul_vec(&us, 1), mortar.b.mul_vec(&um, 1));
+        let scale = du.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for p in (0..slave.n_points()).filter(|&p| mortar.covered[p]) {
+            assert!((du[p] - bu[p]).abs() < 1e-12 * scale, "{ks:?}: row {p}: {} vs {}", du[p], bu[p]);
         }
     }
 }

@@ -197,6 +197,32 @@ pub enum MortarError {
         /// box (a lower bound of the distance between the surfaces).
         nearest_distance: Option<f64>,
     },
+    /// Lumped multipliers with a row sum of D that is not positive: on
+    /// second-order faces ∫ λ_p vanishes (Tri6 corners) or is negative
+    /// (Quad8 corners).
+    #[error(
+        "lumped multipliers need positive row sums of D, but slave node {row} (0-based) has ∫λ = {value:.3e}: \
+         the corner functions of second-order faces (Tri6, Quad8) do not have positive integrals; use dual multipliers"
+    )]
+    LumpedNotPositive {
+        /// The row (slave point index).
+        row: usize,
+        /// Its row sum.
+        value: f64,
+    },
+    /// Lumped multipliers on a slave surface with Tri6 or Quad8 faces, whose
+    /// corner functions have ∫λ = 0 (Tri6) or < 0 (Quad8) on flat faces and
+    /// only by the face's curvature otherwise.
+    #[error(
+        "lumped multipliers are refused on {kind} slave faces (face {face}, 0-based): their corner functions \
+         have no positive integral, so D would not be positive; use dual multipliers"
+    )]
+    LumpedSecondOrder {
+        /// The first such face.
+        face: usize,
+        /// "Tri6" or "Quad8".
+        kind: &'static str,
+    },
     /// D restricted to the covered slave nodes could not be factorised.
     #[error("the slave mass matrix D is not positive definite on the covered nodes ({0})")]
     Factorization(String),
@@ -275,6 +301,30 @@ pub struct MortarSummary {
 }
 
 impl Mortar {
+    /// D in the nodal (Lagrange) slave basis, N_pr = ∫ ψ_p λ_r: the slave
+    /// block of the constraints ∫ ψ_p (u_s − u_m) = 0 for nodal u_s. Without a
+    /// basis transformation it is D; with one it is D Q⁻ᵀ, as sparse as Q:
+    /// Q has unit rows at corners (plus α towards their edge nodes) and
+    /// 1 − 2α on edge nodes, so (Q⁻¹)_pp = 1/Q_pp and (Q⁻¹)_rp = −Q_rp/(Q_rr Q_pp).
+    pub fn nodal_d(&self) -> CsrMatrix {
+        let Some(q) = &self.basis else { return self.d.clone() };
+        let qt = q.transpose();
+        let diag_q = q.diagonal();
+        let d = self.d.diagonal();
+        let rows: Vec<(Vec<usize>, Vec<f64>)> = (0..d.len())
+            .map(|p| {
+                let (rs, vs) = qt.row(p);
+                let vals = rs
+                    .iter()
+                    .zip(vs)
+                    .map(|(&r, &v)| if r == p { d[p] / v } else { -d[p] * v / (diag_q[r] * diag_q[p]) })
+                    .collect();
+                (rs.to_vec(), vals)
+            })
+            .collect();
+        CsrMatrix::from_rows(self.d.ncols, rows.iter().map(|(c, v)| (c.as_slice(), v.as_slice())))
+    }
+
     /// The slave points on the surface whose support is not covered, ascending.
     pub fn uncovered_nodes(&self) -> Vec<usize> {
         (0..self.covered.len()).filter(|&p| self.on_surface[p] && !self.covered[p]).collect()
@@ -355,6 +405,16 @@ pub fn assemble_with_tree(
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Mortar, MortarError> {
     check_options(options)?;
+    if options.multiplier == Multiplier::Lumped {
+        let refused = slave.faces().iter().enumerate().find_map(|(f, face)| match face {
+            crate::mesh::Face::Tri6(_) => Some((f, "Tri6")),
+            crate::mesh::Face::Quad8(_) => Some((f, "Quad8")),
+            _ => None,
+        });
+        if let Some((face, kind)) = refused {
+            return Err(MortarError::LumpedSecondOrder { face, kind });
+        }
+    }
     if master.n_points() > u32::MAX as usize {
         return Err(MortarError::InvalidOption(format!(
             "the master mesh has {} points; at most {} are supported",
@@ -397,6 +457,14 @@ pub fn assemble_with_tree(
     let mortar = rows::into_mortar(master, slave, blocks, options.multiplier, summary);
     if let Some(row) = mortar.b.first_non_finite_row().or_else(|| mortar.d.first_non_finite_row()) {
         return Err(MortarError::NonFinite { row });
+    }
+    if options.multiplier == Multiplier::Lumped {
+        let diagonal = mortar.d.diagonal();
+        // Relative to the largest: a row sum that is round-off of zero counts.
+        let scale = diagonal.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if let Some(row) = (0..diagonal.len()).find(|&p| mortar.covered[p] && diagonal[p] <= 1e-12 * scale) {
+            return Err(MortarError::LumpedNotPositive { row, value: diagonal[row] });
+        }
     }
     Ok(mortar)
 }
