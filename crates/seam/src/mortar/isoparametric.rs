@@ -53,7 +53,8 @@ type SubFace = ArrayVec<Xi, 4>;
 /// The first-order sub-faces of the reference cell of `kind`, [`SUBDIVISION`]
 /// per edge, corners counter-clockwise.
 fn reference_subfaces(kind: CurvedKind) -> ArrayVec<SubFace, MAX_SUB> {
-    let k = SUBDIVISION;
+    // A first-order face's projection is its own polygon: no sub-faces.
+    let k = if matches!(kind, CurvedKind::Tri3 | CurvedKind::Quad4) { 1 } else { SUBDIVISION };
     let at = |i: usize, j: usize| [i as f64 / k as f64, j as f64 / k as f64];
     let mut out = ArrayVec::new();
     for j in 0..k {
