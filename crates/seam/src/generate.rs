@@ -74,6 +74,98 @@ pub fn patch(nu: usize, nv: usize, pattern: Pattern, x: impl Fn(f64, f64) -> Poi
     SurfaceMesh::new(points, faces).expect("the parametric map makes a valid patch")
 }
 
+/// The second-order face types of [`quadratic_patch`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Quadratic {
+    /// Two Tri6 per cell, the diagonal alternating like a chequerboard.
+    Tri6,
+    /// One Quad8 per cell (the cell centres are points no face uses).
+    Quad8,
+    /// One Quad9 per cell.
+    Quad9,
+}
+
+/// A patch of `nu × nv` cells of second-order faces on the map `x`: every
+/// node, mid-edge and centre ones included, is a point of the surface, at the
+/// parameter midpoint of its edge or cell (so faces are curved where the map
+/// is; a Tri6 diagonal's mid node is the cell's centre point). With `jitter = Some((amplitude, seed))` the cell corners move as in
+/// [`Pattern::JitteredTriangles`]. Points are numbered row by row on the
+/// refined grid, `j·(2nu+1) + i` for the grid point (i, j), corners at even
+/// (i, j).
+///
+/// # Panics
+/// If `nu` or `nv` is zero, or the map makes a degenerate face.
+pub fn quadratic_patch(
+    nu: usize,
+    nv: usize,
+    kind: Quadratic,
+    jitter: Option<(f64, u64)>,
+    x: impl Fn(f64, f64) -> Point3,
+) -> SurfaceMesh {
+    assert!(nu > 0 && nv > 0, "a patch needs at least one cell in each direction");
+    let (amplitude, mut rng) = jitter.map_or((0.0, SplitMix64(0)), |(a, seed)| (a, SplitMix64(seed)));
+    let mut corners = Vec::with_capacity((nu + 1) * (nv + 1));
+    for j in 0..=nv {
+        for i in 0..=nu {
+            let mut du = amplitude * rng.symmetric() / nu as f64;
+            let mut dv = amplitude * rng.symmetric() / nv as f64;
+            if i == 0 || i == nu {
+                du = 0.0;
+            }
+            if j == 0 || j == nv {
+                dv = 0.0;
+            }
+            corners.push([i as f64 / nu as f64 + du, j as f64 / nv as f64 + dv]);
+        }
+    }
+    let (mu, mv) = (2 * nu + 1, 2 * nv + 1);
+    let corner = |i: usize, j: usize| corners[j * (nu + 1) + i];
+    // Parameters of refined grid point (i, j): the mean of the corners around it.
+    let parameter = |i: usize, j: usize| -> [f64; 2] {
+        let is = if i % 2 == 0 { vec![i / 2] } else { vec![i / 2, i / 2 + 1] };
+        let js = if j % 2 == 0 { vec![j / 2] } else { vec![j / 2, j / 2 + 1] };
+        let n = (is.len() * js.len()) as f64;
+        let mut p = [0.0; 2];
+        for &a in &is {
+            for &b in &js {
+                let c = corner(a, b);
+                p = [p[0] + c[0] / n, p[1] + c[1] / n];
+            }
+        }
+        p
+    };
+    let points: Vec<Point3> = (0..mu * mv)
+        .map(|k| {
+            let [u, v] = parameter(k % mu, k / mu);
+            x(u, v)
+        })
+        .collect();
+    let id = |i: usize, j: usize| j * mu + i;
+    let mut faces = Vec::with_capacity(nu * nv * 2);
+    for j in 0..nv {
+        for i in 0..nu {
+            let (i, j) = (2 * i, 2 * j);
+            let [c0, c1, c2, c3] = [id(i, j), id(i + 2, j), id(i + 2, j + 2), id(i, j + 2)];
+            let [m0, m1, m2, m3] = [id(i + 1, j), id(i + 2, j + 1), id(i + 1, j + 2), id(i, j + 1)];
+            let centre = id(i + 1, j + 1);
+            match kind {
+                Quadratic::Quad9 => faces.push(Face::Quad9([c0, c1, c2, c3, m0, m1, m2, m3, centre])),
+                Quadratic::Quad8 => faces.push(Face::Quad8([c0, c1, c2, c3, m0, m1, m2, m3])),
+                // The diagonal's mid node is the cell's centre point.
+                Quadratic::Tri6 if (i + j) % 4 == 0 => faces.extend([
+                    Face::Tri6([c0, c1, c2, m0, m1, centre]),
+                    Face::Tri6([c0, c2, c3, centre, m2, m3]),
+                ]),
+                Quadratic::Tri6 => faces.extend([
+                    Face::Tri6([c0, c1, c3, m0, centre, m3]),
+                    Face::Tri6([c1, c2, c3, m1, m2, centre]),
+                ]),
+            }
+        }
+    }
+    SurfaceMesh::new(points, faces).expect("the parametric map makes a valid patch")
+}
+
 /// The plane z = 0 over [0, a] × [0, b].
 pub fn flat(a: f64, b: f64) -> impl Fn(f64, f64) -> Point3 {
     move |u, v| [a * u, b * v, 0.0]

@@ -3,43 +3,16 @@
 //! quadratic field), and I9: on curved interfaces with gaps of O(h³) the
 //! transfer error ‖T f − I f‖ in the slave mass norm falls like h³.
 
-use seam::{assemble, Face, MaxGap, Mortar, MortarOptions, Multiplier, Point3, SurfaceMesh};
+use seam::{assemble, MaxGap, Mortar, MortarOptions, Multiplier, Point3, SurfaceMesh};
 
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Kind {
-    Tri6,
-    Quad8,
-    Quad9,
-}
+use seam::generate::Quadratic as Kind;
 
 const KINDS: [Kind; 3] = [Kind::Tri6, Kind::Quad8, Kind::Quad9];
 
 /// A structured second-order mesh of `n`×`n` cells of the parameter square
-/// [a, b]², every node (mid-edge and centre ones included) placed on the
-/// surface by `map`.
+/// [a, b]² on `map`.
 fn patch(kind: Kind, n: usize, (a, b): (f64, f64), map: impl Fn(f64, f64) -> Point3) -> SurfaceMesh {
-    let m = 2 * n + 1;
-    let at = |i: usize| a + (b - a) * i as f64 / (2 * n) as f64;
-    let points: Vec<Point3> = (0..m * m).map(|k| map(at(k % m), at(k / m))).collect();
-    let id = |i: usize, j: usize| j * m + i;
-    let mut faces = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let (i, j) = (2 * i, 2 * j);
-            let [c0, c1, c2, c3] = [id(i, j), id(i + 2, j), id(i + 2, j + 2), id(i, j + 2)];
-            let [m0, m1, m2, m3] = [id(i + 1, j), id(i + 2, j + 1), id(i + 1, j + 2), id(i, j + 1)];
-            let centre = id(i + 1, j + 1);
-            match kind {
-                Kind::Quad9 => faces.push(Face::Quad9([c0, c1, c2, c3, m0, m1, m2, m3, centre])),
-                Kind::Quad8 => faces.push(Face::Quad8([c0, c1, c2, c3, m0, m1, m2, m3])),
-                Kind::Tri6 => {
-                    faces.push(Face::Tri6([c0, c1, c2, m0, m1, centre]));
-                    faces.push(Face::Tri6([c0, c2, c3, centre, m2, m3]));
-                }
-            }
-        }
-    }
-    SurfaceMesh::new(points, faces).unwrap()
+    seam::generate::quadratic_patch(n, n, kind, None, |u, v| map(a + (b - a) * u, a + (b - a) * v))
 }
 
 fn cylinder(r: f64) -> impl Fn(f64, f64) -> Point3 {
