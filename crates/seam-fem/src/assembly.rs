@@ -67,7 +67,7 @@ pub struct PointGeometry {
     pub grads: [[f64; 3]; MAX_NODES],
 }
 
-/// The map x(ξ) = Σ_i N_i(ξ) x_i of a cell with corners `x` (Gmsh order).
+/// The map x(ξ) = Σ_i N_i(ξ) x_i of a cell with nodes `x` (Gmsh order).
 pub fn map_point(kind: ElementKind, x: &[Point3], xi: Xi) -> Point3 {
     let n = kind.shape(xi);
     let mut p = [0.0; 3];
@@ -184,7 +184,8 @@ pub(crate) fn corners(mesh: &VolumeMesh, c: usize) -> ([Point3; MAX_NODES], Elem
     (x, ElementKind::of(cell))
 }
 
-/// Runs `f` on every cell in parallel; the first (lowest) failing cell is the error.
+/// Runs `f` on every cell (its kind and node coordinates) in parallel; the first
+/// (lowest) failing cell is the error.
 fn per_cell<T: Send>(
     mesh: &VolumeMesh,
     f: impl Fn(ElementKind, &[Point3]) -> Option<T> + Sync,
@@ -491,5 +492,37 @@ mod tests {
         // Flat tet: degenerate.
         let flat = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]];
         assert!(element_stiffness(ElementKind::Tet4, &flat, &m).is_none());
+    }
+
+    /// A unit pressure on a flat unit face: the classic consistent loads,
+    /// Quad8 −1/12 at corners and 1/3 at mid-edges, Quad9 1/36, 1/9, 4/9,
+    /// Tri6 (area ½) 0 at corners and 1/6 at mid-edges.
+    #[test]
+    fn second_order_face_loads_are_the_consistent_ones() {
+        for (kind, face, expected) in [
+            (CurvedKind::Quad8, Face::Quad8(std::array::from_fn(|i| i)), vec![-1.0 / 12.0, 1.0 / 3.0]),
+            (
+                CurvedKind::Quad9,
+                Face::Quad9(std::array::from_fn(|i| i)),
+                vec![1.0 / 36.0, 1.0 / 9.0, 4.0 / 9.0],
+            ),
+            (CurvedKind::Tri6, Face::Tri6(std::array::from_fn(|i| i)), vec![0.0, 1.0 / 6.0]),
+        ] {
+            let points: Vec<Point3> = kind.nodes().iter().map(|x| [x[0], x[1], 0.0]).collect();
+            let surface = SurfaceMesh::new(points, vec![face]).unwrap();
+            let f = traction(&surface, |_, n| n);
+            let corners = if kind == CurvedKind::Tri6 { 3 } else { 4 };
+            for i in 0..kind.n_nodes() {
+                let e = expected[if i < corners {
+                    0
+                } else if i < 2 * corners {
+                    1
+                } else {
+                    2
+                }];
+                assert!((f[3 * i + 2] - e).abs() < 1e-14, "{kind:?} node {i}: {} vs {e}", f[3 * i + 2]);
+                assert!(f[3 * i].abs() < 1e-15 && f[3 * i + 1].abs() < 1e-15);
+            }
+        }
     }
 }

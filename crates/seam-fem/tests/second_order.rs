@@ -6,7 +6,9 @@
 mod common;
 
 use common::manufactured::{exact, gradient, load};
-use common::{affine, affine_stress, distorted, error_sums, fitted_rate, max_abs, tensor, warp, Rng, KINDS};
+use common::{
+    affine, affine_stress, distorted, error_sums, fitted_rate, hybrid, max_abs, tensor, warp, Rng, KINDS,
+};
 use faer::{Mat, Side as EigSide};
 use seam::{Cell, Point3, VolumeMesh};
 use seam_fem::assembly::element_stiffness;
@@ -303,6 +305,18 @@ fn curved_block(n: usize, kind: BlockKind, complete: bool) -> VolumeMesh {
 fn displacement_patch_test_every_second_order_element() {
     for (kind, mesh, _) in patch_meshes() {
         displacement_patch(&mesh, &format!("{kind:?} displacement patch"));
+    }
+}
+
+/// The mixed Gmsh mesh (tets, hexes, pyramids) raised both ways: conforming
+/// across tet–pyramid and hex–pyramid faces, and it passes the patch test.
+#[test]
+fn raised_mixed_mesh_conforms_and_passes_the_patch_test() {
+    let mesh = hybrid();
+    for complete in [false, true] {
+        let high = raise_order(&mesh, complete).unwrap();
+        assert_eq!(high.boundary().unwrap().n_faces(), mesh.boundary().unwrap().n_faces());
+        displacement_patch(&high, &format!("hybrid_pyramid raised (complete {complete})"));
     }
 }
 
