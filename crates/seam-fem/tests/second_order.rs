@@ -174,13 +174,20 @@ fn traces_on_faces_depend_on_face_nodes_only() {
     }
 }
 
-/// The element stiffness of every reference cell has exactly the six rigid-body
-/// zero eigenvalues.
+/// The element stiffness of every reference cell, and of a distorted cell of
+/// each kind, has exactly the six rigid-body zero eigenvalues.
 #[test]
-fn reference_element_stiffness_has_exactly_six_zero_modes() {
+fn element_stiffness_has_exactly_six_zero_modes() {
+    let mut cells: Vec<(ElementKind, Vec<Point3>)> =
+        ElementKind::SECOND_ORDER.iter().map(|&k| (k, k.reference_nodes().to_vec())).collect();
+    // And a distorted cell of each kind, touching a moved interior point.
+    for (kind, mesh, grid) in patch_meshes() {
+        let inner = grid.point(1, 1, 1);
+        let cell = mesh.cells().iter().find(|c| c.nodes().contains(&inner)).unwrap();
+        cells.push((kind, cell.nodes().iter().map(|&p| mesh.points()[p]).collect()));
+    }
     let m = Material::new(1.0, 0.3).unwrap();
-    for kind in ElementKind::SECOND_ORDER {
-        let x: Vec<Point3> = kind.reference_nodes().to_vec();
+    for (kind, x) in cells {
         let k = element_stiffness(kind, &x, &m).unwrap();
         let n = 3 * kind.n_nodes();
         let eig = Mat::from_fn(n, n, |i, j| k[i * n + j]).self_adjoint_eigenvalues(EigSide::Lower).unwrap();
