@@ -19,16 +19,29 @@
 use crate::element::{ElementKind, VolumeRule, Xi, MAX_NODES};
 use crate::material::Material;
 use rayon::prelude::*;
-use seam::{triangle_rule, CsrMatrix, FaceElement, Point3, SurfaceMesh, VolumeMesh};
+use seam::curved::{CurvedFace, CurvedKind};
+use seam::{triangle_rule, CsrMatrix, Face, FaceElement, Point3, SurfaceMesh, VolumeMesh};
 
-/// Quadrature degree of body-force loads ([`ElementKind::rule`]): exact for
-/// N_i·b with b affine on affine cells.
+/// Quadrature degree of body-force loads on first-order cells
+/// ([`ElementKind::rule`]): exact for N_i·b with b affine on affine cells.
 pub const BODY_FORCE_DEGREE: usize = 2;
+
+/// The body-force quadrature degree of `kind`: order + 1 (2 on first-order,
+/// 3 on second-order cells), exact for N_i·b with b affine on affine cells.
+pub fn body_force_degree(kind: ElementKind) -> usize {
+    BODY_FORCE_DEGREE + kind.order() - 1
+}
 
 /// Triangle-rule degree of traction loads on each reference triangle of a face:
 /// exact for N_i t |J| with t affine on triangles and planar quads (and for
 /// N_i σ·(∂x/∂ξ × ∂x/∂η) with σ constant on warped quads).
 pub const TRACTION_DEGREE: usize = 4;
+
+/// Triangle-rule degree of traction loads on second-order faces (Tri6, Quad8,
+/// Quad9): exact for N_i t |J| with t affine on flat straight-sided faces
+/// (degree ≤ 5 on each half of a quad) and for N_i σ·(∂x/∂ξ × ∂x/∂η) with σ
+/// constant on curved Tri6 faces (degree 4).
+pub const CURVED_TRACTION_DEGREE: usize = 6;
 
 /// A cell is degenerate when |det J| ≤ `DEGENERATE_RTOL` · |J e_1| |J e_2| |J e_3|
 /// at a quadrature point (a volume vanishing relative to its edge lengths).
@@ -54,7 +67,7 @@ pub struct PointGeometry {
     pub grads: [[f64; 3]; MAX_NODES],
 }
 
-/// The map x(ξ) = Σ_i N_i(ξ) x_i of a cell with corners `x` (Gmsh order).
+/// The map x(ξ) = Σ_i N_i(ξ) x_i of a cell with nodes `x` (Gmsh order).
 pub fn map_point(kind: ElementKind, x: &[Point3], xi: Xi) -> Point3 {
     let n = kind.shape(xi);
     let mut p = [0.0; 3];
@@ -161,8 +174,8 @@ pub fn element_stiffness(kind: ElementKind, x: &[Point3], material: &Material) -
     Some(k)
 }
 
-/// The corner coordinates of cell `c`.
-fn corners(mesh: &VolumeMesh, c: usize) -> ([Point3; MAX_NODES], ElementKind) {
+/// The node coordinates of cell `c` (entries past its node count are 0) and its kind.
+pub(crate) fn corners(mesh: &VolumeMesh, c: usize) -> ([Point3; MAX_NODES], ElementKind) {
     let cell = &mesh.cells()[c];
     let mut x = [[0.0; 3]; MAX_NODES];
     for (i, &p) in cell.nodes().iter().enumerate() {
@@ -171,7 +184,8 @@ fn corners(mesh: &VolumeMesh, c: usize) -> ([Point3; MAX_NODES], ElementKind) {
     (x, ElementKind::of(cell))
 }
 
-/// Runs `f` on every cell in parallel; the first (lowest) failing cell is the error.
+/// Runs `f` on every cell (its kind and node coordinates) in parallel; the first
+/// (lowest) failing cell is the error.
 fn per_cell<T: Send>(
     mesh: &VolumeMesh,
     f: impl Fn(ElementKind, &[Point3]) -> Option<T> + Sync,
@@ -276,7 +290,7 @@ pub fn stiffness(mesh: &VolumeMesh, material: &Material) -> Result<CsrMatrix, As
 }
 
 /// Body-force load f_{3i+a} = ∫_Ω N_i b_a(x) dV, with [`ElementKind::rule`] of
-/// degree [`BODY_FORCE_DEGREE`]; length 3·n_points.
+/// degree [`body_force_degree`]; length 3·n_points.
 ///
 /// # Errors
 /// [`AssemblyError::DegenerateCell`] for the first degenerate or tangled cell.
@@ -284,7 +298,7 @@ pub fn body_force(
     mesh: &VolumeMesh,
     b: impl Fn(Point3) -> [f64; 3] + Sync,
 ) -> Result<Vec<f64>, AssemblyError> {
-    let rules = ElementKind::ALL.map(|k| k.rule(BODY_FORCE_DEGREE));
+    let rules = ElementKind::ALL.map(|k| k.rule(body_force_degree(k)));
     let local = per_cell(mesh, |kind, x| {
         let rule = &rules[kind as usize];
         let geo = geometry_at_rule(kind, x, rule)?;
@@ -312,6 +326,62 @@ pub fn body_force(
     Ok(f)
 }
 
+/// A face of a surface as the traction integrates it: first-order faces through
+/// [`FaceElement`], second-order ones through [`CurvedFace`] (quads on \[0,1\]²).
+enum LoadFace {
+    Flat(FaceElement),
+    Curved(CurvedFace),
+}
+
+/// The two halves of the unit square, as reference triangles.
+const UNIT_SQUARE_HALVES: [[[f64; 2]; 3]; 2] =
+    [[[0., 0.], [1., 0.], [1., 1.]], [[0., 0.], [1., 1.], [0., 1.]]];
+/// The reference triangle.
+const UNIT_TRIANGLE: [[[f64; 2]; 3]; 1] = [[[0., 0.], [1., 0.], [0., 1.]]];
+
+impl LoadFace {
+    fn of(surface: &SurfaceMesh, f: usize) -> LoadFace {
+        let face = &surface.faces()[f];
+        let kind = match face {
+            Face::Tri3(_) | Face::Quad4(_) => return LoadFace::Flat(FaceElement::of(surface, f)),
+            Face::Tri6(_) => CurvedKind::Tri6,
+            Face::Quad8(_) => CurvedKind::Quad8,
+            Face::Quad9(_) => CurvedKind::Quad9,
+        };
+        let mut x = [[0.0; 3]; 9];
+        for (xi, &p) in x.iter_mut().zip(face.nodes()) {
+            *xi = surface.points()[p];
+        }
+        LoadFace::Curved(CurvedFace::new(kind, &x))
+    }
+
+    /// The reference triangles covering the reference face, and the rule degree.
+    fn triangles(&self) -> (&'static [[[f64; 2]; 3]], usize) {
+        match self {
+            LoadFace::Flat(e) => (e.reference_triangles(), TRACTION_DEGREE),
+            LoadFace::Curved(c) if c.kind == CurvedKind::Tri6 => (&UNIT_TRIANGLE, CURVED_TRACTION_DEGREE),
+            LoadFace::Curved(_) => (&UNIT_SQUARE_HALVES, CURVED_TRACTION_DEGREE),
+        }
+    }
+
+    /// x(ξ), ∂x/∂ξ × ∂x/∂η and the shape functions at ξ.
+    fn at(&self, xi: [f64; 2]) -> (Point3, Point3, [f64; 9]) {
+        let (x, a, b, n) = match self {
+            LoadFace::Flat(e) => {
+                let (a, b) = e.tangents(xi);
+                let mut n = [0.0; 9];
+                n[..4].copy_from_slice(&e.shape(xi));
+                (e.map(xi), a, b, n)
+            }
+            LoadFace::Curved(c) => {
+                let (x, a, b) = c.map_and_tangents(xi);
+                (x, a, b, seam::curved::shape_and_gradients(c.kind, xi).0)
+            }
+        };
+        (x, [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]], n)
+    }
+}
+
 /// Traction load f_{3i+a} = ∫_Γ N_i t_a(x, n) dA over the faces of `surface`,
 /// whose points must be the volume mesh's points (as from
 /// [`VolumeMesh::boundary`], [`VolumeMesh::orient_outward`] or `seam_io`); length
@@ -321,15 +391,23 @@ pub fn body_force(
 /// face there (outward for outward-oriented faces): a pressure p is
 /// `|_, n| [-p * n[0], -p * n[1], -p * n[2]]`. Quads are integrated as two
 /// reference triangles with [`seam::triangle_rule`] of degree [`TRACTION_DEGREE`]
-/// (as `seam::face_integrals` does), triangles as one.
+/// (as `seam::face_integrals` does), triangles as one. Second-order faces (Tri6,
+/// Quad8, Quad9) use their quadratic shape functions and the true curved map
+/// x(ξ) = Σ N_i(ξ) x_i of [`seam::curved`] (quads on \[0,1\]², the two halves of
+/// the square), with the rule of degree [`CURVED_TRACTION_DEGREE`]; dA = |∂x/∂ξ ×
+/// ∂x/∂η| dξ.
 pub fn traction(surface: &SurfaceMesh, t: impl Fn(Point3, Point3) -> [f64; 3] + Sync) -> Vec<f64> {
-    let rule = triangle_rule(TRACTION_DEGREE).expect("tabulated degree");
-    let local: Vec<[[f64; 3]; 4]> = (0..surface.n_faces())
+    let rules =
+        [TRACTION_DEGREE, CURVED_TRACTION_DEGREE].map(|d| triangle_rule(d).expect("tabulated degree"));
+    let local: Vec<[[f64; 3]; 9]> = (0..surface.n_faces())
         .into_par_iter()
         .map(|f| {
-            let e = FaceElement::of(surface, f);
-            let mut out = [[0.0; 3]; 4];
-            for tri in e.reference_triangles() {
+            let e = LoadFace::of(surface, f);
+            let n_nodes = surface.faces()[f].len();
+            let (triangles, degree) = e.triangles();
+            let rule = &rules[(degree == CURVED_TRACTION_DEGREE) as usize];
+            let mut out = [[0.0; 3]; 9];
+            for tri in triangles {
                 let (u, v) = (
                     [tri[1][0] - tri[0][0], tri[1][1] - tri[0][1]],
                     [tri[2][0] - tri[0][0], tri[2][1] - tri[0][1]],
@@ -337,14 +415,11 @@ pub fn traction(surface: &SurfaceMesh, t: impl Fn(Point3, Point3) -> [f64; 3] + 
                 let area = 0.5 * (u[0] * v[1] - u[1] * v[0]).abs();
                 for (p, &w) in rule.points.iter().zip(rule.weights) {
                     let xi = [tri[0][0] + p[0] * u[0] + p[1] * v[0], tri[0][1] + p[0] * u[1] + p[1] * v[1]];
-                    let (a, b) = e.tangents(xi);
-                    let nv =
-                        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+                    let (x, nv, n) = e.at(xi);
                     let jac = (nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]).sqrt();
-                    let tx = t(e.map(xi), [nv[0] / jac, nv[1] / jac, nv[2] / jac]);
+                    let tx = t(x, [nv[0] / jac, nv[1] / jac, nv[2] / jac]);
                     let wj = w * area * jac;
-                    let n = e.shape(xi);
-                    for i in 0..e.n_nodes() {
+                    for i in 0..n_nodes {
                         for c in 0..3 {
                             out[i][c] += wj * n[i] * tx[c];
                         }
@@ -366,7 +441,8 @@ pub fn traction(surface: &SurfaceMesh, t: impl Fn(Point3, Point3) -> [f64; 3] + 
 }
 
 /// Cell volumes ∫_e dV = Σ_q w_q |det J| with the stiffness rule (exact for
-/// every cell of the four kinds, trilinear hexes included).
+/// every first-order cell, trilinear hexes included, and for second-order
+/// cells whose map is of the first-order family's form, e.g. straight-sided).
 ///
 /// # Errors
 /// [`AssemblyError::DegenerateCell`] for the first degenerate or tangled cell.
@@ -416,5 +492,37 @@ mod tests {
         // Flat tet: degenerate.
         let flat = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]];
         assert!(element_stiffness(ElementKind::Tet4, &flat, &m).is_none());
+    }
+
+    /// A unit pressure on a flat unit face: the classic consistent loads,
+    /// Quad8 −1/12 at corners and 1/3 at mid-edges, Quad9 1/36, 1/9, 4/9,
+    /// Tri6 (area ½) 0 at corners and 1/6 at mid-edges.
+    #[test]
+    fn second_order_face_loads_are_the_consistent_ones() {
+        for (kind, face, expected) in [
+            (CurvedKind::Quad8, Face::Quad8(std::array::from_fn(|i| i)), vec![-1.0 / 12.0, 1.0 / 3.0]),
+            (
+                CurvedKind::Quad9,
+                Face::Quad9(std::array::from_fn(|i| i)),
+                vec![1.0 / 36.0, 1.0 / 9.0, 4.0 / 9.0],
+            ),
+            (CurvedKind::Tri6, Face::Tri6(std::array::from_fn(|i| i)), vec![0.0, 1.0 / 6.0]),
+        ] {
+            let points: Vec<Point3> = kind.nodes().iter().map(|x| [x[0], x[1], 0.0]).collect();
+            let surface = SurfaceMesh::new(points, vec![face]).unwrap();
+            let f = traction(&surface, |_, n| n);
+            let corners = if kind == CurvedKind::Tri6 { 3 } else { 4 };
+            for i in 0..kind.n_nodes() {
+                let e = expected[if i < corners {
+                    0
+                } else if i < 2 * corners {
+                    1
+                } else {
+                    2
+                }];
+                assert!((f[3 * i + 2] - e).abs() < 1e-14, "{kind:?} node {i}: {} vs {e}", f[3 * i + 2]);
+                assert!(f[3 * i].abs() < 1e-15 && f[3 * i + 1].abs() < 1e-15);
+            }
+        }
     }
 }

@@ -22,8 +22,13 @@
 //!   numbered after the grid points: `n_grid_points + c`, at map(centre).
 //!
 //! A map with positive Jacobian keeps every cell positively oriented.
+//!
+//! [`raise_order`] turns a first-order mesh into a second-order one with the
+//! same geometry (module doc of the function).
 
+use crate::element::ElementKind;
 use seam::{Cell, Face, MeshError, Point3, SurfaceMesh, VolumeMesh};
+use std::collections::HashMap;
 
 /// How each grid cell is filled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -139,8 +144,9 @@ impl Grid {
         (0..self.n_grid_points()).filter(|&p| self.on_boundary(p)).collect()
     }
 
-    /// The boundary faces of `mesh` (a block of this grid) on `side`, outward;
-    /// the points are the mesh's points.
+    /// The boundary faces of `mesh` (a block of this grid, possibly raised by
+    /// [`raise_order`]) on `side`, outward, chosen by their corners; the points
+    /// are the mesh's points.
     ///
     /// # Errors
     /// [`MeshError`] from [`VolumeMesh::boundary`].
@@ -149,7 +155,7 @@ impl Grid {
         let faces: Vec<Face> = boundary
             .faces()
             .iter()
-            .filter(|f| f.nodes().iter().all(|&p| self.on_side(p, side)))
+            .filter(|f| f.corner_nodes().iter().all(|&p| self.on_side(p, side)))
             .copied()
             .collect();
         SurfaceMesh::new(mesh.points().to_vec(), faces)
@@ -243,6 +249,112 @@ pub fn block(
         }
     }
     VolumeMesh::new(points, cells).expect("block meshes are valid by construction")
+}
+
+/// Why [`raise_order`] failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RaiseError {
+    /// The input has a cell that is already of second order.
+    #[error("cell {cell} is already of second order")]
+    SecondOrder {
+        /// The cell index.
+        cell: usize,
+    },
+    /// The raised mesh is invalid (it cannot be when the input is valid).
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+}
+
+/// The local corners whose mean is each node's reference position, per node of
+/// `kind` in Gmsh order: the corner itself, the two ends of a mid-edge node's
+/// edge, the four corners of a quadrilateral face centre, all corners for the
+/// Hex27 centre. Edges and faces are those of [`Cell::local_faces`].
+pub fn node_supports(kind: ElementKind) -> Vec<Vec<usize>> {
+    let family = kind.family();
+    let corners = family.reference_nodes();
+    let probe = family.cell(&vec![0; corners.len()]).expect("the family's corner count");
+    let mut candidates: Vec<Vec<usize>> = Vec::new();
+    for face in probe.local_faces() {
+        for i in 0..face.len() {
+            let mut e = vec![face[i], face[(i + 1) % face.len()]];
+            e.sort_unstable();
+            if !candidates.contains(&e) {
+                candidates.push(e);
+            }
+        }
+    }
+    candidates.extend(probe.local_faces().iter().filter(|f| f.len() == 4).map(|f| f.to_vec()));
+    candidates.push((0..corners.len()).collect());
+    let mean = |set: &[usize]| -> [f64; 3] {
+        std::array::from_fn(|k| set.iter().map(|&c| corners[c][k]).sum::<f64>() / set.len() as f64)
+    };
+    kind.reference_nodes()
+        .iter()
+        .enumerate()
+        .map(|(i, x)| {
+            if i < corners.len() {
+                return vec![i];
+            }
+            let close = |set: &&Vec<usize>| (0..3).all(|k| (mean(set)[k] - x[k]).abs() < 1e-12);
+            candidates.iter().find(close).expect("every node is an edge, face or cell centre").clone()
+        })
+        .collect()
+}
+
+/// The second-order mesh of a first-order one: Tet4 → Tet10, Hex8 → Hex20
+/// (Hex27 if `complete`), Prism6 → Prism15 (Prism18), Pyramid5 → Pyramid13
+/// (Pyramid14).
+///
+/// Each new node is placed at the mean of its supporting corners
+/// ([`node_supports`]): edge midpoints, quadrilateral face centres and the hex
+/// centre, which are the images of the reference nodes under the first-order
+/// map, so the raised mesh has exactly the geometry of the input. Existing points
+/// keep their indices; new points are appended in the order they are first met
+/// (cells in order, nodes in Gmsh order) and shared between the cells that share
+/// the edge or face.
+///
+/// # Errors
+/// [`RaiseError::SecondOrder`] for a cell that is already of second order.
+pub fn raise_order(mesh: &VolumeMesh, complete: bool) -> Result<VolumeMesh, RaiseError> {
+    let target = |kind: ElementKind| match kind {
+        ElementKind::Tet4 => Some(ElementKind::Tet10),
+        ElementKind::Hex8 => Some(if complete { ElementKind::Hex27 } else { ElementKind::Hex20 }),
+        ElementKind::Prism6 => Some(if complete { ElementKind::Prism18 } else { ElementKind::Prism15 }),
+        ElementKind::Pyramid5 => Some(if complete { ElementKind::Pyramid14 } else { ElementKind::Pyramid13 }),
+        _ => None,
+    };
+    let supports: Vec<Vec<Vec<usize>>> =
+        ElementKind::ALL.iter().map(|&k| target(k).map(node_supports).unwrap_or_default()).collect();
+    let mut points = mesh.points().to_vec();
+    // Key: the sorted global corners of a support, padded with usize::MAX.
+    let mut index: HashMap<[usize; 8], usize> = HashMap::new();
+    let mut cells = Vec::with_capacity(mesh.cells().len());
+    for (c, cell) in mesh.cells().iter().enumerate() {
+        let kind = ElementKind::of(cell);
+        let high = target(kind).ok_or(RaiseError::SecondOrder { cell: c })?;
+        let corners = cell.nodes();
+        let mut nodes = [0usize; 27];
+        for (i, support) in supports[kind as usize].iter().enumerate() {
+            if let [single] = support[..] {
+                nodes[i] = corners[single];
+                continue;
+            }
+            let mut key = [usize::MAX; 8];
+            for (k, &l) in key.iter_mut().zip(support) {
+                *k = corners[l];
+            }
+            key.sort_unstable();
+            nodes[i] = *index.entry(key).or_insert_with(|| {
+                let x = std::array::from_fn(|k| {
+                    support.iter().map(|&l| mesh.points()[corners[l]][k]).sum::<f64>() / support.len() as f64
+                });
+                points.push(x);
+                points.len() - 1
+            });
+        }
+        cells.push(high.cell(&nodes[..high.n_nodes()]).expect("node count of the target kind"));
+    }
+    Ok(VolumeMesh::new(points, cells)?)
 }
 
 #[cfg(test)]

@@ -7,14 +7,15 @@
 //! ε = (∂_x u_x, ∂_y u_y, ∂_z u_z, ∂_z u_y + ∂_y u_z, ∂_z u_x + ∂_x u_z, ∂_y u_x + ∂_x u_y),   σ = C ε,
 //! ```
 //!
-//! Voigt order xx yy zz yz xz xy. Nodal stresses are volume-weighted averages of
-//! the cells around each point, σ_p = Σ_{e∋p} |e| σ_e / Σ_{e∋p} |e|; von Mises
+//! Voigt order xx yy zz yz xz xy. Nodal stresses (at every point a cell uses:
+//! corners and, on second-order cells, mid-edge and centre nodes alike) are
+//! volume-weighted averages of the cells around each point, σ_p = Σ_{e∋p} |e| σ_e / Σ_{e∋p} |e|; von Mises
 //!
 //! ```text
 //! σ_vm = √(½[(σxx−σyy)² + (σyy−σzz)² + (σzz−σxx)²] + 3(τyz² + τxz² + τxy²)).
 //! ```
 
-use crate::assembly::{cell_volumes, geometry, point_cells, AssemblyError};
+use crate::assembly::{cell_volumes, corners as node_coordinates, geometry, point_cells, AssemblyError};
 use crate::element::ElementKind;
 use crate::material::Material;
 use rayon::prelude::*;
@@ -72,10 +73,10 @@ pub fn recover_stresses(
     let strains: Vec<Option<[f64; 6]>> = mesh
         .cells()
         .par_iter()
-        .map(|cell| {
-            let kind = ElementKind::of(cell);
-            let x: Vec<Point3> = cell.nodes().iter().map(|&p| mesh.points()[p]).collect();
-            strain_at(kind, &x, cell.nodes(), u)
+        .enumerate()
+        .map(|(c, cell)| {
+            let (x, kind) = node_coordinates(mesh, c);
+            strain_at(kind, &x[..kind.n_nodes()], cell.nodes(), u)
         })
         .collect();
     if let Some(cell) = strains.iter().position(Option::is_none) {
