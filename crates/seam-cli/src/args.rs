@@ -279,6 +279,9 @@ pub enum BenchShape {
     Flat,
     /// A quarter cylinder (radius 1, height 1), the master at radius 1.001.
     Cylinder,
+    /// The quarter cylinder with Quad9 slave and Tri6 master faces.
+    #[value(name = "cylinder-o2")]
+    CylinderO2,
 }
 
 impl BenchShape {
@@ -286,6 +289,7 @@ impl BenchShape {
         match self {
             BenchShape::Flat => "flat",
             BenchShape::Cylinder => "cylinder",
+            BenchShape::CylinderO2 => "cylinder-o2",
         }
     }
 }

@@ -2,12 +2,13 @@
 //!
 //! Slave bilinear quads against master triangles whose legs are ≈ 1.41× the quad
 //! edge (about as many faces on both sides, as in the dune-grid-glue peer's
-//! meshes), on a flat square and on a cylinder patch. Every (case, size, threads) runs in a fresh
+//! meshes), on a flat square and on a cylinder patch; and the cylinder with
+//! second-order faces (Quad9 slaves, Tri6 masters). Every (case, size, threads) runs in a fresh
 //! process (`seam bench-case`, [`measure`]) so that its peak memory is its own; the driver
 //! prints one Markdown table ([`HEADER`], [`Row::table_line`]).
 
 use anyhow::{bail, Context};
-use seam::generate::{cylinder, flat, patch, Pattern};
+use seam::generate::{cylinder, flat, patch, quadratic_patch, Pattern, Quadratic};
 use seam::{assemble_with_tree, FaceTree, MaxGap, MortarOptions, SurfaceMesh};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -19,6 +20,9 @@ pub enum Shape {
     Flat,
     /// A quarter cylinder (radius 1, height 1), the master at radius 1.001.
     Cylinder,
+    /// The quarter cylinder with second-order faces: Quad9 slaves against
+    /// jittered Tri6 masters, at the face counts of `Cylinder`.
+    CylinderQuadratic,
 }
 
 impl Shape {
@@ -27,6 +31,7 @@ impl Shape {
         match self {
             Shape::Flat => "flat",
             Shape::Cylinder => "cylinder",
+            Shape::CylinderQuadratic => "cylinder-o2",
         }
     }
 }
@@ -90,6 +95,8 @@ impl Row {
     }
 }
 
+const QUARTER: f64 = std::f64::consts::FRAC_PI_2;
+
 /// The meshes of one case: n × n slave quads (n² ≈ `faces`) and m × m cells of
 /// two jittered master triangles with m = n/√2, so h_m/h_s ≈ 1.41 and the face
 /// counts match.
@@ -99,13 +106,14 @@ fn meshes(shape: Shape, faces: usize) -> (SurfaceMesh, SurfaceMesh) {
     let master = Pattern::JitteredTriangles { amplitude: 0.2, seed: 42 };
     match shape {
         Shape::Flat => (patch(m, m, master, flat(1.0, 1.0)), patch(n, n, Pattern::Quads, flat(1.0, 1.0))),
-        Shape::Cylinder => {
-            let quarter = std::f64::consts::FRAC_PI_2;
-            (
-                patch(m, m, master, cylinder(1.001, quarter, 1.0)),
-                patch(n, n, Pattern::Quads, cylinder(1.0, quarter, 1.0)),
-            )
-        }
+        Shape::Cylinder => (
+            patch(m, m, master, cylinder(1.001, QUARTER, 1.0)),
+            patch(n, n, Pattern::Quads, cylinder(1.0, QUARTER, 1.0)),
+        ),
+        Shape::CylinderQuadratic => (
+            quadratic_patch(m, m, Quadratic::Tri6, Some((0.2, 42)), cylinder(1.001, QUARTER, 1.0)),
+            quadratic_patch(n, n, Quadratic::Quad9, None, cylinder(1.0, QUARTER, 1.0)),
+        ),
     }
 }
 
@@ -128,7 +136,9 @@ pub fn measure(shape: Shape, faces: usize, threads: usize) -> anyhow::Result<Row
         Shape::Flat => MortarOptions::default(),
         // The gap of 0.001 is more than half a face at 1M faces: an absolute limit of
         // twice the gap.
-        Shape::Cylinder => MortarOptions { max_gap: MaxGap::Absolute(0.002), ..Default::default() },
+        Shape::Cylinder | Shape::CylinderQuadratic => {
+            MortarOptions { max_gap: MaxGap::Absolute(0.002), ..Default::default() }
+        }
     };
     let mortar = assemble_with_tree(&master, &tree, &slave, &options, &|_| {})?;
     let assemble = t.elapsed().as_secs_f64();
