@@ -72,8 +72,9 @@ pub enum VtuErrorKind {
         /// What is wrong, one line, naming the piece, array or cell at fault.
         message: String,
     },
-    /// A cell of a type seam cannot use (anything but triangles and quads, apart
-    /// from vertex and line cells, which are skipped).
+    /// A cell of a type seam cannot use (anything but linear and quadratic
+    /// triangles and quads, apart from vertex and line cells, which are
+    /// skipped).
     #[error("cell {cell} is {} (VTK type {vtk_type}); only triangles (5, 22) and quads (9, 23, 28) are read, vertices and lines are skipped", describe_cell_type(*.vtk_type))]
     UnsupportedCell {
         /// The 0-based cell index in the file.
