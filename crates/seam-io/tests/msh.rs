@@ -469,20 +469,17 @@ fn second_order_fixtures_read_with_gmsh_counts_and_second_order_boundaries() {
     assert_eq!(types.into_iter().collect::<Vec<_>>(), vec![9, 10, 11, 12, 13, 14, 16, 17, 18, 19]);
 }
 
-/// The fixtures with faces of both orders in one mesh: a hand-written second-order
-/// fixture with its top lowered to first order reads, and the faces keep their
-/// orders.
+/// Elements of both orders in one mesh: a second-order fixture with every
+/// other face of its top and every other cell lowered to first order reads,
+/// the faces keep their orders and are oriented outward.
 #[test]
 fn first_and_second_order_elements_mix() {
     let mut msh = read("box_tet_o2", "v41.bin");
     let top = msh.group_tag(2, "top").unwrap();
-    let mut lowered = 0;
-    for e in msh.elements.iter_mut().filter(|e| e.dim == 2 && e.physical_tags.contains(&top)) {
-        if lowered % 2 == 0 {
-            e.gmsh_type = 2;
-            e.nodes.truncate(3);
-        }
-        lowered += 1;
+    // Every other face of the top first order.
+    for e in msh.elements.iter_mut().filter(|e| e.dim == 2 && e.physical_tags.contains(&top)).step_by(2) {
+        e.gmsh_type = 2;
+        e.nodes.truncate(3);
     }
     // Half the cells first order too.
     for e in msh.elements.iter_mut().filter(|e| e.dim == 3).step_by(2) {

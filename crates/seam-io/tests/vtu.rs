@@ -1318,18 +1318,20 @@ fn second_order_cells(curved: bool) -> (seam::VolumeMesh, Vec<u32>, Vec<f64>) {
         - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0])
         + A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
     assert!(det > 0.0);
-    // (Gmsh type, reference volume, cell from its nodes)
-    let types: [(u32, f64, fn(&[usize]) -> Cell); 7] = [
-        (11, 1.0 / 6.0, |n| Cell::Tet10(n.try_into().unwrap())),
-        (17, 8.0, |n| Cell::Hex20(n.try_into().unwrap())),
-        (12, 8.0, |n| Cell::Hex27(n.try_into().unwrap())),
-        (18, 1.0, |n| Cell::Prism15(n.try_into().unwrap())),
-        (13, 1.0, |n| Cell::Prism18(n.try_into().unwrap())),
-        (19, 4.0 / 3.0, |n| Cell::Pyramid13(n.try_into().unwrap())),
-        (14, 4.0 / 3.0, |n| Cell::Pyramid14(n.try_into().unwrap())),
-    ];
+    // (Gmsh type, reference volume)
+    let types =
+        [(11, 1.0 / 6.0), (17, 8.0), (12, 8.0), (18, 1.0), (13, 1.0), (19, 4.0 / 3.0), (14, 4.0 / 3.0)];
+    let cell = |gmsh_type: u32, n: &[usize]| match gmsh_type {
+        11 => Cell::Tet10(n.try_into().unwrap()),
+        17 => Cell::Hex20(n.try_into().unwrap()),
+        12 => Cell::Hex27(n.try_into().unwrap()),
+        18 => Cell::Prism15(n.try_into().unwrap()),
+        13 => Cell::Prism18(n.try_into().unwrap()),
+        19 => Cell::Pyramid13(n.try_into().unwrap()),
+        _ => Cell::Pyramid14(n.try_into().unwrap()),
+    };
     let (mut points, mut cells, mut gmsh_types, mut volumes) = (vec![], vec![], vec![], vec![]);
-    for (k, &(gmsh_type, reference_volume, make)) in types.iter().enumerate() {
+    for (k, &(gmsh_type, reference_volume)) in types.iter().enumerate() {
         let first = points.len();
         let pyramid = matches!(gmsh_type, 14 | 19);
         for [u, v, w] in gmsh_reference_nodes(gmsh_type) {
@@ -1346,7 +1348,7 @@ fn second_order_cells(curved: bool) -> (seam::VolumeMesh, Vec<u32>, Vec<f64>) {
             points.push(x);
         }
         let nodes: Vec<usize> = (first..points.len()).collect();
-        cells.push(make(&nodes));
+        cells.push(cell(gmsh_type, &nodes));
         gmsh_types.push(gmsh_type);
         volumes.push(reference_volume * det);
     }
