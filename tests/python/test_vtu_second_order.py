@@ -124,3 +124,55 @@ def test_curved_cells_are_curved(written):
     curved = vtk_to_numpy(read_grid(written / "second_order_curved.vtu").GetPoints().GetData())
     assert straight.shape == curved.shape
     assert np.abs(straight - curved).max() > 0.1
+
+
+def face_area(cell):
+    """∫ |x_r × x_s| over the face's parametric domain (the unit triangle or
+    square), with VTK's interpolation."""
+    n = cell.GetNumberOfPoints()
+    x = np.array([cell.GetPoints().GetPoint(i) for i in range(n)])
+    derivs = [0.0] * (2 * n)
+    g, w = np.polynomial.legendre.leggauss(8)
+    g, w = (g + 1) / 2, w / 2
+    area = 0.0
+    for a, wa in zip(g, w):
+        for b, wb in zip(g, w):
+            if cell.GetCellType() == 22:  # the triangle, collapsed
+                p, weight = (a, b * (1 - a), 0.0), wa * wb * (1 - a)
+            else:
+                p, weight = (a, b, 0.0), wa * wb
+            cell.InterpolateDerivs(p, derivs)
+            jacobian = np.reshape(derivs, (2, n)) @ x
+            area += weight * np.linalg.norm(np.cross(jacobian[0], jacobian[1]))
+    return area
+
+
+def test_vtk_sees_flat_second_order_faces_with_their_exact_areas(written):
+    """The faces of the straight-sided cells are flat: VTK's interpolation gives
+    each the area of the polygon of its corners, which a misplaced mid-edge or
+    centre node would fold and enlarge."""
+    grid = read_grid(written / "second_order_faces.vtu")
+    kinds = {grid.GetCellType(i) for i in range(grid.GetNumberOfCells())}
+    assert kinds == {22, 23, 28}
+    for i in range(grid.GetNumberOfCells()):
+        cell = grid.GetCell(i)
+        corners = np.array([cell.GetPoints().GetPoint(k) for k in range(3 if cell.GetCellType() == 22 else 4)])
+        polygon = 0.5 * np.linalg.norm(sum(np.cross(corners[k], corners[(k + 1) % len(corners)]) for k in range(len(corners))))
+        assert face_area(cell) == pytest.approx(polygon, rel=1e-12), (i, cell.GetCellType())
+
+
+def test_seam_reads_the_second_order_faces_vtk_writes(written, tmp_path):
+    """VTK's reader and writer (ASCII, appended raw, zlib-compressed binary)
+    keep the faces; seam reads them all back as the faces it wrote."""
+    grid = read_grid(written / "second_order_faces.vtu")
+    for name, configure in [
+        ("ascii.vtu", lambda w: w.SetDataModeToAscii()),
+        ("appended.vtu", lambda w: (w.SetDataModeToAppended(), w.EncodeAppendedDataOff())),
+        ("zlib.vtu", lambda w: (w.SetDataModeToBinary(), w.SetCompressorTypeToZLib())),
+    ]:
+        writer = vtk.vtkXMLUnstructuredGridWriter()
+        writer.SetInputData(grid)
+        writer.SetFileName(str(tmp_path / name))
+        configure(writer)
+        assert writer.Write() == 1
+    run_rust_test("second_order_faces_written_by_vtk_are_read", SEAM_VTU_IN=str(tmp_path))

@@ -1355,10 +1355,18 @@ fn second_order_cells(curved: bool) -> (seam::VolumeMesh, Vec<u32>, Vec<f64>) {
     (VolumeMesh::new(points, cells).unwrap(), gmsh_types, volumes)
 }
 
+/// The boundary of the straight-sided second-order cells: flat Tri6, Quad8 and
+/// Quad9 faces.
+fn second_order_faces() -> SurfaceMesh {
+    second_order_cells(false).0.boundary().unwrap()
+}
+
 /// One cell of each second-order type, straight-sided (`second_order_affine.vtu`)
 /// and curved (`second_order_curved.vtu`), with the cell fields `gmsh_type` and
-/// `volume` (exact), for `tests/python/test_vtu_second_order.py`, which checks
-/// the volumes VTK computes (written to `$SEAM_VTU_OUT` when set).
+/// `volume` (exact), and the faces of [`second_order_faces`]
+/// (`second_order_faces.vtu`), for `tests/python/test_vtu_second_order.py`,
+/// which checks the volumes and areas VTK computes (written to `$SEAM_VTU_OUT`
+/// when set).
 #[test]
 fn write_second_order_cells_for_python() {
     let temp = tempfile::tempdir().unwrap();
@@ -1371,6 +1379,35 @@ fn write_second_order_cells_for_python() {
         let volumes = Field::scalars("volume", volumes);
         seam_io::write_volume_vtu_file(dir.join(name), &mesh, &[], &[types, volumes]).unwrap();
     }
+    write_vtu_file(dir.join("second_order_faces.vtu"), &second_order_faces(), &[], &[]).unwrap();
+}
+
+/// Reads every `.vtu` file of `SEAM_VTU_IN` (set by
+/// `tests/python/test_vtu_second_order.py`, which rewrites
+/// `second_order_faces.vtu` with VTK's writer in several encodings): each holds
+/// the faces of [`second_order_faces`]. Without `SEAM_VTU_IN`, reads what seam
+/// writes.
+#[test]
+fn second_order_faces_written_by_vtk_are_read() {
+    let expected = second_order_faces();
+    let temp = tempfile::tempdir().unwrap();
+    let dir = match std::env::var_os("SEAM_VTU_IN") {
+        Some(dir) => PathBuf::from(dir),
+        None => {
+            write_vtu_file(temp.path().join("seam.vtu"), &expected, &[], &[]).unwrap();
+            temp.path().to_path_buf()
+        }
+    };
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "vtu") {
+            let read = read_vtu_file(&path).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(read.mesh, expected, "{}", path.display());
+            n += 1;
+        }
+    }
+    assert!(n > 0, "no .vtu file in {}", dir.display());
 }
 
 /// Second-order faces (VTK's quadratic triangle and quad, biquadratic quad) read
