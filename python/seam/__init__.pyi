@@ -31,7 +31,7 @@ __all__ = [
 __version__: str
 
 _Faces = Union[npt.ArrayLike, Sequence[npt.ArrayLike]]
-"""An (m, 3) or (m, 4) integer array, or a list of such arrays and single faces."""
+"""An (m, k) integer array, k = 3, 4, 6, 8 or 9, or a list of such arrays and single faces."""
 
 _MeshLike = Union["Mesh", Tuple[npt.ArrayLike, _Faces]]
 """A Mesh, or a ``(points, faces)`` tuple."""
@@ -56,15 +56,19 @@ class FactorizationError(MortarError):
 
 @final
 class Mesh:
-    """A surface mesh of linear triangles and bilinear quads (possibly mixed).
+    """A surface mesh of linear triangles and bilinear quads and their
+    second-order versions Tri6, Quad8 and Quad9 (possibly mixed).
 
     Args:
         points: Array-like of shape (n, 3), real numbers.
-        faces: Integer array of shape (m, 3) or (m, 4) of 0-based point indices,
-            or a list of such arrays and/or single faces, numbered in list order.
+        faces: Integer array of shape (m, k) of 0-based point indices, k = 3
+            (triangles), 4 (quads), 6 (Tri6), 8 (Quad8) or 9 (Quad9), nodes in
+            Gmsh order (corners, mid-edge nodes of edges 0-1, 1-2, ..., Quad9
+            centre); or a list of such arrays and/or single faces, numbered in
+            list order.
 
     Raises:
-        ValueError: A wrong shape.
+        ValueError: A wrong shape (also a face width other than 3, 4, 6, 8, 9).
         TypeError: Points that are not real numbers, faces that are not integers.
         MeshError: Non-finite coordinate, index out of range or negative,
             repeated corner, zero-area face, no faces.
@@ -80,6 +84,15 @@ class Mesh:
     @property
     def quads(self) -> npt.NDArray[np.int64]:
         """Quadrilaterals in face order, shape (n_quads, 4), 0-based."""
+    @property
+    def tri6(self) -> npt.NDArray[np.int64]:
+        """6-node triangles in face order, shape (n, 6): corners, mid-edge nodes."""
+    @property
+    def quad8(self) -> npt.NDArray[np.int64]:
+        """8-node quadrilaterals in face order, shape (n, 8): corners, mid-edge nodes."""
+    @property
+    def quad9(self) -> npt.NDArray[np.int64]:
+        """9-node quadrilaterals in face order, shape (n, 9): corners, mid-edge nodes, centre."""
     @property
     def n_points(self) -> int:
         """Number of points, including points no face uses."""
@@ -169,7 +182,8 @@ def read_mesh(path: Union[str, "os.PathLike[str]"], group: Union[str, int, None]
     Args:
         path: The file.
         group: A physical group of dimension 2, by name or number; None for all
-            2-D elements (or the boundary of the volume cells, if any).
+            2-D elements (or the boundary of the volume cells, if any). Faces
+            may be of first or second order (``tri6``, ``quad8``, ``quad9``).
 
     Returns:
         The surface; points are all the file's nodes, in file order.

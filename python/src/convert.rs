@@ -73,8 +73,17 @@ pub fn points_from(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Point3>> {
     Ok(points.as_array().rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect())
 }
 
-/// Faces from an m×3 or m×4 integer array, or a list/tuple whose items are such
-/// arrays or single faces (3 or 4 indices); faces are numbered in that order.
+/// The face widths (nodes per face) and what they make, for messages.
+const WIDTHS: &str = "3 (triangles), 4 (quads), 6 (Tri6), 8 (Quad8) or 9 (Quad9)";
+
+/// Whether `n` nodes make a face: 3 (Tri3), 4 (Quad4), 6 (Tri6), 8 (Quad8), 9 (Quad9).
+fn is_face_width(n: usize) -> bool {
+    matches!(n, 3 | 4 | 6 | 8 | 9)
+}
+
+/// Faces from an m×k integer array (k = 3, 4, 6, 8 or 9: Tri3, Quad4, Tri6,
+/// Quad8, Quad9, nodes in Gmsh order), or a list/tuple whose items are such
+/// arrays or single faces (k indices); faces are numbered in that order.
 pub fn faces_from(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Face>> {
     let mut faces = Vec::new();
     if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {
@@ -82,22 +91,22 @@ pub fn faces_from(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Face>> {
             let what = format!("faces[{i}]");
             let array = as_array(&item?, &what)?;
             match array.ndim() {
-                1 if matches!(array.len(), 3 | 4) => {
+                1 if is_face_width(array.len()) => {
                     let row =
                         array.call_method1("reshape", (1, array.len()))?.cast_into::<PyUntypedArray>()?;
                     push_faces(&row, &what, &mut faces)?
                 }
                 1 => {
                     return Err(PyValueError::new_err(format!(
-                        "{what} must list 3 or 4 node indices, got {}",
+                        "{what} must list {WIDTHS} node indices, got {}",
                         array.len()
                     )))
                 }
                 2 => push_faces(&array, &what, &mut faces)?,
                 _ => {
                     return Err(PyValueError::new_err(format!(
-                        "{what} must be one face (3 or 4 node indices) or an m×3 or m×4 array of faces, \
-                         got shape {}",
+                        "{what} must be one face or an m×k array of faces, with k = {WIDTHS} \
+                         node indices per face, got shape {}",
                         shape_str(array.shape())
                     )))
                 }
@@ -107,7 +116,8 @@ pub fn faces_from(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Face>> {
         let array = as_array(obj, "faces")?;
         if array.ndim() != 2 {
             return Err(PyValueError::new_err(format!(
-                "faces must be an m×3 (triangles) or m×4 (quads) array, or a list of such arrays, got shape {}",
+                "faces must be an m×k array with k = {WIDTHS} node indices per face, or a list of \
+                 such arrays, got shape {}",
                 shape_str(array.shape())
             )));
         }
@@ -119,9 +129,9 @@ pub fn faces_from(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Face>> {
 /// Appends the rows of a 2-D array as faces.
 fn push_faces(array: &Bound<'_, PyUntypedArray>, what: &str, faces: &mut Vec<Face>) -> PyResult<()> {
     let shape = array.shape();
-    if !matches!(shape[1], 3 | 4) {
+    if !is_face_width(shape[1]) {
         return Err(PyValueError::new_err(format!(
-            "{what} must have 3 columns (triangles) or 4 (quads), got shape {}",
+            "{what} must have {WIDTHS} columns, got shape {}",
             shape_str(shape)
         )));
     }
@@ -144,7 +154,7 @@ fn push_rows<T: Element + Copy + Into<i128>>(
     let array = array.cast::<PyArray2<T>>()?.readonly();
     for row in array.as_array().rows() {
         let f = faces.len();
-        let mut nodes = [0usize; 4];
+        let mut nodes = [0usize; 9];
         for (corner, &v) in row.iter().enumerate() {
             let v: i128 = v.into();
             nodes[corner] = usize::try_from(v).map_err(|_| {
@@ -153,10 +163,8 @@ fn push_rows<T: Element + Copy + Into<i128>>(
                 ))
             })?;
         }
-        faces.push(match row.len() {
-            3 => Face::Tri3([nodes[0], nodes[1], nodes[2]]),
-            _ => Face::Quad4(nodes),
-        });
+        // The width was checked by `push_faces`.
+        faces.push(Face::from_nodes(&nodes[..row.len()]));
     }
     Ok(())
 }

@@ -12,8 +12,9 @@ use seam::{Face, SurfaceMesh};
 use crate::convert::{faces_from, index_rows, points_from, short};
 use crate::error::{mesh_error, msh_error};
 
-/// A surface mesh of linear triangles and bilinear quadrilaterals (possibly
-/// mixed, quads possibly warped).
+/// A surface mesh of linear triangles and bilinear quadrilaterals (quads
+/// possibly warped) and their second-order (curved) versions: 6-node triangles
+/// (Tri6), 8-node (Quad8) and 9-node (Quad9) quadrilaterals, possibly mixed.
 ///
 /// Points are kept in the order given (or the order of the file), including
 /// points no face uses, so that matrix rows and columns follow that numbering.
@@ -21,12 +22,14 @@ use crate::error::{mesh_error, msh_error};
 /// Args:
 ///     points: Array-like of shape (n, 3) with the point coordinates (real
 ///         numbers; converted to float64).
-///     faces: Integer array of shape (m, 3) (triangles) or (m, 4) (quads) of
-///         0-based point indices, corners in cyclic order; or a list of such
-///         arrays and/or single faces (3 or 4 indices), numbered in list order.
+///     faces: Integer array of shape (m, k) of 0-based point indices, k = 3
+///         (triangles), 4 (quads), 6 (Tri6), 8 (Quad8) or 9 (Quad9); nodes in
+///         Gmsh order: corners in cyclic order, then (second order) the
+///         mid-edge nodes of edges 0-1, 1-2, ..., then (Quad9) the centre. Or a
+///         list of such arrays and/or single faces, numbered in list order.
 ///
 /// Raises:
-///     ValueError: A wrong shape.
+///     ValueError: A wrong shape (also a face width other than 3, 4, 6, 8, 9).
 ///     TypeError: Points that are not real numbers, faces that are not integers.
 ///     MeshError: A non-finite coordinate, an index out of range or negative, a
 ///         repeated corner, a zero-area face, no faces (a ValueError).
@@ -99,6 +102,17 @@ impl<'py> MeshArg<'py> {
     }
 }
 
+impl PyMesh {
+    /// The faces `pick` maps to rows, in face order, as an int64 array.
+    fn rows<'py, const N: usize>(
+        &self,
+        py: Python<'py>,
+        pick: impl Fn(&Face) -> Option<[usize; N]>,
+    ) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        index_rows(py, self.inner.faces().iter().filter_map(pick).collect())
+    }
+}
+
 #[pymethods]
 impl PyMesh {
     #[new]
@@ -115,26 +129,56 @@ impl PyMesh {
         Ok(array.to_pyarray(py))
     }
 
-    /// Triangles in face order, int64 array of shape (n_triangles, 3) of 0-based
+    /// Linear triangles in face order, int64 array of shape (n, 3) of 0-based
     /// point indices.
     #[getter]
     fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        let rows = self.inner.faces().iter().filter_map(|f| match f {
+        self.rows(py, |f| match f {
             Face::Tri3(n) => Some(*n),
             _ => None,
-        });
-        index_rows(py, rows.collect())
+        })
     }
 
-    /// Quadrilaterals in face order, int64 array of shape (n_quads, 4) of 0-based
-    /// point indices.
+    /// Bilinear quadrilaterals in face order, int64 array of shape (n, 4) of
+    /// 0-based point indices.
     #[getter]
     fn quads<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        let rows = self.inner.faces().iter().filter_map(|f| match f {
+        self.rows(py, |f| match f {
             Face::Quad4(n) => Some(*n),
             _ => None,
-        });
-        index_rows(py, rows.collect())
+        })
+    }
+
+    /// Second-order 6-node triangles in face order, int64 array of shape
+    /// (n, 6): corners, then the mid-edge nodes of edges 0-1, 1-2, 2-0.
+    #[getter]
+    fn tri6<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        self.rows(py, |f| match f {
+            Face::Tri6(n) => Some(*n),
+            _ => None,
+        })
+    }
+
+    /// Second-order 8-node (serendipity) quadrilaterals in face order, int64
+    /// array of shape (n, 8): corners, then the mid-edge nodes of edges 0-1,
+    /// 1-2, 2-3, 3-0.
+    #[getter]
+    fn quad8<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        self.rows(py, |f| match f {
+            Face::Quad8(n) => Some(*n),
+            _ => None,
+        })
+    }
+
+    /// Second-order 9-node (biquadratic) quadrilaterals in face order, int64
+    /// array of shape (n, 9): corners, the mid-edge nodes of edges 0-1, 1-2,
+    /// 2-3, 3-0, then the centre.
+    #[getter]
+    fn quad9<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        self.rows(py, |f| match f {
+            Face::Quad9(n) => Some(*n),
+            _ => None,
+        })
     }
 
     /// Number of points (including points no face uses).
@@ -143,7 +187,7 @@ impl PyMesh {
         self.inner.n_points()
     }
 
-    /// Number of faces (triangles and quads).
+    /// Number of faces (of every kind).
     #[getter]
     fn n_faces(&self) -> usize {
         self.inner.n_faces()
@@ -151,7 +195,19 @@ impl PyMesh {
 
     fn __repr__(&self) -> String {
         let faces = self.inner.faces();
-        let tris = faces.iter().filter(|f| matches!(f, Face::Tri3(_))).count();
+        let count = |kind: fn(&Face) -> bool| faces.iter().filter(|f| kind(f)).count();
+        let tris = count(|f| matches!(f, Face::Tri3(_)));
+        let quads = count(|f| matches!(f, Face::Quad4(_)));
+        let mut kinds = vec![format!("{tris} triangles"), format!("{quads} quads")];
+        for (name, n) in [
+            ("Tri6", count(|f| matches!(f, Face::Tri6(_)))),
+            ("Quad8", count(|f| matches!(f, Face::Quad8(_)))),
+            ("Quad9", count(|f| matches!(f, Face::Quad9(_)))),
+        ] {
+            if n > 0 {
+                kinds.push(format!("{n} {name}"));
+            }
+        }
         let used = self.inner.used_points().iter().filter(|&&u| u).count();
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
@@ -164,11 +220,7 @@ impl PyMesh {
         let bounds: Vec<String> = (0..3).map(|a| format!("[{}, {}]", short(lo[a]), short(hi[a]))).collect();
         let n = self.inner.n_points();
         let unused = if used < n { format!(" ({} not on a face)", n - used) } else { String::new() };
-        format!(
-            "<seam.Mesh: {n} points{unused}, {tris} triangles, {} quads, bounds {}>",
-            faces.len() - tris,
-            bounds.join(" × ")
-        )
+        format!("<seam.Mesh: {n} points{unused}, {}, bounds {}>", kinds.join(", "), bounds.join(" × "))
     }
 }
 
@@ -176,9 +228,13 @@ impl PyMesh {
 /// ASCII or binary).
 ///
 /// Points are all the nodes of the file, in file order (0-based), whether or not
-/// a selected face uses them. Faces are the 3-node triangles and 4-node quads of
-/// the physical group `group`; without a group, the 2-D elements of the file, or
-/// the boundary of its volume cells if it has any.
+/// a selected face uses them. Faces are the elements of the physical group
+/// `group`; without a group, the 2-D elements of the file, or the boundary of
+/// its volume cells if it has any. Faces may be 3-node triangles, 4-node quads
+/// and their second-order versions (6-node triangles, 8- and 9-node quads; see
+/// the `tri6`, `quad8` and `quad9` properties of Mesh), volume cells
+/// tetrahedra, hexahedra, prisms and pyramids of first or second order (the
+/// boundary of second-order cells is second order).
 ///
 /// Args:
 ///     path: The file (str or os.PathLike).
@@ -191,8 +247,9 @@ impl PyMesh {
 ///     FileNotFoundError: The file does not exist (other I/O failures raise
 ///         the matching OSError).
 ///     MshError: The file is not a valid MSH file, the group does not exist
-///         (the message lists those that do), it has unsupported elements or
-///         degenerate faces (a ValueError).
+///         (the message lists those that do), it has unsupported elements
+///         (for example third order; the message names the element tag and
+///         type) or degenerate faces (a ValueError).
 #[pyfunction]
 #[pyo3(signature = (path, group = None))]
 pub fn read_mesh(py: Python<'_>, path: PathBuf, group: Option<&Bound<'_, PyAny>>) -> PyResult<PyMesh> {

@@ -135,3 +135,91 @@ def test_truncated_file_names_the_section(tmp_path):
     path.write_text(text[: text.index("$EndNodes")])
     with pytest.raises(seam.MshError, match=r"cut\.msh: .*truncated file.*\$Nodes"):
         seam.read_mesh(pathlib.Path(path))
+
+
+# From crates/seam-io/tests/data/second_order.txt (top: a physical surface).
+SECOND_ORDER_TOPS = [
+    # fixture, (triangles, quads, tri6, quad8, quad9) of "top", of the boundary
+    ("box_tet_o2", (0, 0, 14, 0, 0), (0, 0, 84, 0, 0)),
+    ("box_hex_o2", (0, 0, 0, 0, 8), (0, 0, 0, 0, 40)),
+    ("box_hex_o2s", (0, 0, 0, 8, 0), (0, 0, 0, 40, 0)),
+    ("slab_prism_o2", (0, 0, 26, 0, 0), (0, 0, 52, 0, 24)),
+    ("slab_prism_o2s", (0, 0, 26, 0, 0), (0, 0, 52, 24, 0)),
+    ("hybrid_pyramid_o2", (0, 0, 14, 0, 4), (0, 0, 70, 0, 20)),
+    ("hybrid_pyramid_o2s", (0, 0, 14, 4, 0), (0, 0, 70, 20, 0)),
+]
+FACE_KINDS = ("triangles", "quads", "tri6", "quad8", "quad9")
+
+
+def assert_mid_nodes_on_straight_edges(mesh, block):
+    """The fixtures have flat sides: Gmsh puts mid-edge nodes in the middle of
+    their edges, a Quad9 centre at the mean of the corners."""
+    p = mesh.points
+    k = 3 if block.shape[1] == 6 else 4
+    corners = p[block[:, :k]]
+    middles = 0.5 * (corners + np.roll(corners, -1, axis=1))
+    np.testing.assert_allclose(p[block[:, k : 2 * k]], middles, rtol=0, atol=1e-12)
+    if block.shape[1] == 9:
+        np.testing.assert_allclose(p[block[:, 8]], corners.mean(axis=1), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("flavour", ["v41.ascii", "v41.bin", "v22.ascii", "v22.bin"])
+@pytest.mark.parametrize("fixture, top, boundary", SECOND_ORDER_TOPS)
+def test_second_order_fixtures_read_as_second_order_faces(fixture, top, boundary, flavour):
+    path = MSH_DATA / f"{fixture}.{flavour}.msh"
+    for group, counts in (("top", top), (None, boundary)):
+        mesh = seam.read_mesh(path, group=group)
+        shapes = [getattr(mesh, kind).shape for kind in FACE_KINDS]
+        assert shapes == [(n, w) for n, w in zip(counts, (3, 4, 6, 8, 9))], (group, shapes)
+        assert mesh.n_faces == sum(counts)
+        for kind in ("tri6", "quad8", "quad9"):
+            block = getattr(mesh, kind)
+            assert block.dtype == np.int64
+            if len(block):
+                assert_mid_nodes_on_straight_edges(mesh, block)
+    assert "Tri6" in repr(mesh) or "Quad" in repr(mesh)
+
+
+@pytest.mark.parametrize("fixture", ["box_tet_o2", "hybrid_pyramid_o2", "hybrid_pyramid_o2s"])
+def test_second_order_top_has_the_nodes_gmsh_gives(fixture):
+    """Gmsh's own API (the gmsh package) and seam agree on the top's faces:
+    the same node coordinates, face by face (seam may start a face at another
+    corner or reverse it to point outward)."""
+    gmsh = pytest.importorskip("gmsh")
+    path = MSH_DATA / f"{fixture}.v41.bin.msh"
+    mesh = seam.read_mesh(path, group="top")
+    ours = sorted(
+        tuple(sorted(map(tuple, mesh.points[row].round(12).tolist())))
+        for kind in ("tri6", "quad8", "quad9")
+        for row in getattr(mesh, kind)
+    )
+    gmsh.initialize(readConfigFiles=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.open(str(path))
+        tag = next(t for d, t in gmsh.model.getPhysicalGroups(2) if gmsh.model.getPhysicalName(d, t) == "top")
+        theirs = []
+        for entity in gmsh.model.getEntitiesForPhysicalGroup(2, tag):
+            types, _, node_tags = gmsh.model.mesh.getElements(2, entity)
+            for t, nodes in zip(types, node_tags):
+                n = gmsh.model.mesh.getElementProperties(t)[3]
+                for row in np.asarray(nodes).reshape(-1, n):
+                    coords = [tuple(np.round(gmsh.model.mesh.getNode(int(v))[0], 12).tolist()) for v in row]
+                    theirs.append(tuple(sorted(coords)))
+    finally:
+        gmsh.finalize()
+    assert ours == sorted(theirs)
+
+
+def test_third_order_elements_are_refused_naming_tag_and_type(tmp_path):
+    nodes = "\n".join(f"{i + 1} {x} {y} 0" for i, (x, y) in enumerate(
+        [(0, 0), (1, 0), (0, 1), (1 / 3, 0), (2 / 3, 0), (2 / 3, 1 / 3), (1 / 3, 2 / 3), (0, 2 / 3), (0, 1 / 3), (1 / 3, 1 / 3)]
+    ))
+    path = tmp_path / "p3.msh"
+    path.write_text(
+        f"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n10\n{nodes}\n$EndNodes\n"
+        "$Elements\n1\n57 21 2 3 1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n"
+    )
+    with pytest.raises(seam.MshError, match=r"element 57 is a 10-node triangle \(type 21\); only triangles "
+                       r"\(3 or 6 nodes\) and quadrangles \(4, 8 or 9 nodes\) are supported"):
+        seam.read_mesh(path, group=3)

@@ -2,9 +2,9 @@
 //!
 //! | format | versions | read | write |
 //! |---|---|---|---|
-//! | [Gmsh MSH](https://gmsh.info/doc/texinfo/gmsh.html#MSH-file-format) | 4.1 and 2.2, ASCII and binary | [`read_msh`], [`read_surface_file`], [`read_volume_file`] | 4.1 ASCII: surfaces [`write_msh`], volumes with named boundaries [`write_volume_msh`] |
+//! | [Gmsh MSH](https://gmsh.info/doc/texinfo/gmsh.html#MSH-file-format) | 4.1 and 2.2, ASCII and binary; first- and second-order triangles, quadrangles, tetrahedra, hexahedra, prisms, pyramids | [`read_msh`], [`read_surface_file`], [`read_volume_file`] | 4.1 ASCII: surfaces [`write_msh`], volumes with named boundaries [`write_volume_msh`] |
 //! | [Matrix Market](https://math.nist.gov/MatrixMarket/formats.html) | coordinate real general, 1-based | [`read_matrix_market_str`] | [`write_matrix_market`] |
-//! | [VTU](https://docs.vtk.org/en/latest/design_documents/VTKFileFormats.html#unstructuredgrid) (VTK XML UnstructuredGrid) | ASCII, binary, appended (base64 or raw), compressed (zlib, LZ4, LZMA) or not, 0.1 to 2.x; triangles and quads | [`read_vtu_file`], [`read_vtu`] | inline base64, uncompressed: [`write_vtu`], [`write_vtu_file`] |
+//! | [VTU](https://docs.vtk.org/en/latest/design_documents/VTKFileFormats.html#unstructuredgrid) (VTK XML UnstructuredGrid) | ASCII, binary, appended (base64 or raw), compressed (zlib, LZ4, LZMA) or not, 0.1 to 2.x; linear and quadratic triangles and quads | [`read_vtu_file`], [`read_vtu`] | inline base64, uncompressed: surfaces [`write_vtu`], [`write_vtu_file`], volumes (first and second order, VTK node order) [`write_volume_vtu`] |
 //!
 //! MSH 2.2 is described in the [legacy section](https://gmsh.info/doc/texinfo/gmsh.html#MSH-file-format-version-2-_0028Legacy_0029)
 //! of the Gmsh manual. Meshes from Gmsh 4.x are 4.1 by default; set

@@ -6,9 +6,15 @@
 //! # Writing
 //!
 //! [`write_vtu`] writes one piece with every point of the mesh, in order, and one
-//! cell per face: `VTK_TRIANGLE` (5) for [`Face::Tri3`] and `VTK_QUAD` (9) for
-//! [`Face::Quad4`], in face order, so point and cell numbers in ParaView are seam's
-//! 0-based indices. Every data array is inline binary (`format="binary"`): base64,
+//! cell per face: `VTK_TRIANGLE` (5) for [`Face::Tri3`], `VTK_QUAD` (9) for
+//! [`Face::Quad4`], `VTK_QUADRATIC_TRIANGLE` (22) for [`Face::Tri6`],
+//! `VTK_QUADRATIC_QUAD` (23) for [`Face::Quad8`] and `VTK_BIQUADRATIC_QUAD` (28)
+//! for [`Face::Quad9`] (VTK numbers the nodes of these as Gmsh and seam do), in
+//! face order, so point and cell numbers in ParaView are seam's 0-based indices.
+//! [`write_volume_vtu`] writes the cells of a volume mesh, the second-order ones
+//! as VTK's quadratic cells with their nodes in VTK's order (a
+//! [`Cell::Pyramid14`](seam::Cell::Pyramid14) as the 13-node `VTK_QUADRATIC_PYRAMID`,
+//! VTK having no 14-node pyramid: its base centre is left out). Every data array is inline binary (`format="binary"`): base64,
 //! uncompressed, little-endian, with a `UInt64` size header (`version="1.0"`),
 //! which ParaView/VTK and meshio both read. Points and fields are `Float64` (values
 //! round-trip bit for bit), connectivity and offsets `Int64` (as VTK writes them), cell types `UInt8`.
@@ -26,7 +32,7 @@
 //! | compression | none, `vtkZLibDataCompressor`, `vtkLZ4DataCompressor`, `vtkLZMADataCompressor` |
 //! | values | `Int8` … `UInt64`, `Float32`, `Float64`, becoming `f64` [`Field`]s |
 //! | pieces | one or more, concatenated (not pieces in other files) |
-//! | cells | triangles (5) and quads (9) become faces; vertex, poly-vertex, line and poly-line cells (1–4) are skipped with their cell data; any other type is an error naming the cell |
+//! | cells | triangles (5), quads (9), quadratic triangles (22), quadratic quads (23) and biquadratic quads (28) become faces; vertex, poly-vertex, line and poly-line cells (1–4) are skipped with their cell data; any other type is an error naming the cell |
 //!
 //! Anything else (another data set type, compressor, encoding...) is an
 //! [`VtuErrorKind::Unsupported`] error.
@@ -147,8 +153,8 @@ impl VtuMesh {
     }
 }
 
-/// Writes `mesh` as a VTU file: `VTK_TRIANGLE` (5) / `VTK_QUAD` (9) cells, all
-/// points in order, with the given point fields and cell fields (1, 2, 3, 6 or 9
+/// Writes `mesh` as a VTU file: a cell per face (`VTK_TRIANGLE` (5),
+/// `VTK_QUAD` (9), or for second-order faces 22, 23, 28), all points in order, with the given point fields and cell fields (1, 2, 3, 6 or 9
 /// components; 3 → a vector in ParaView). See the [module docs](self) for the
 /// encoding.
 ///
@@ -192,8 +198,8 @@ fn write_file(path: &Path, bytes: Result<Vec<u8>, VtuError>) -> Result<(), VtuEr
     file.write_all(&bytes).and_then(|()| file.flush()).map_err(|e| VtuError::io(true, e).with_path(path))
 }
 
-/// Writes a volume mesh (tetrahedra, hexahedra, prisms, pyramids, mixed) as a
-/// VTU file, with point fields and cell fields, encoded as [`write_vtu`] does.
+/// Writes a volume mesh (tetrahedra, hexahedra, prisms, pyramids, first or
+/// second order, mixed) as a VTU file, in VTK's node order, with point fields and cell fields, encoded as [`write_vtu`] does.
 ///
 /// # Errors
 /// As [`write_vtu`], with cell fields of `n_cells × components` values.
@@ -229,8 +235,8 @@ pub fn write_volume_vtu_file(
 /// [`VtuErrorKind::Unsupported`] for a feature the reader does not read,
 /// [`VtuErrorKind::Malformed`] if its content is inconsistent (sizes, headers,
 /// compressed data, numbers, cell offsets and point indices),
-/// [`VtuErrorKind::UnsupportedCell`] for a cell that is neither a triangle nor a
-/// quad (nor a vertex or line), [`VtuErrorKind::InvalidMesh`],
+/// [`VtuErrorKind::UnsupportedCell`] for a cell that is not a face (a linear or
+/// quadratic triangle or quad), a vertex or a line, [`VtuErrorKind::InvalidMesh`],
 /// [`VtuErrorKind::NoCells`].
 pub fn read_vtu_file(path: impl AsRef<Path>) -> Result<VtuMesh, VtuError> {
     let path = path.as_ref();
@@ -298,24 +304,28 @@ impl Builder {
                 };
                 return Err(VtuErrorKind::InvalidMesh(problem).into());
             }
-            let corners = match ty {
+            // VTK numbers the nodes of these faces as Gmsh, and so seam, does.
+            let len = match ty {
                 5 => 3,
                 9 => 4,
+                22 => 6,
+                23 => 8,
+                28 => 9,
                 1..=4 => continue,
                 other => return Err(VtuErrorKind::UnsupportedCell { cell, vtk_type: other }.into()),
             };
-            if nodes.len() != corners {
+            if nodes.len() != len {
                 return Err(VtuError::malformed(format!(
                     "cell {cell} is {} but lists {} points",
                     error::describe_cell_type(ty),
                     nodes.len()
                 )));
             }
-            let mut face = [0usize; 4];
+            let mut face = [0usize; 9];
             for (&node, slot) in nodes.iter().zip(&mut face) {
                 *slot = point_base + node;
             }
-            self.faces.push(Face::from_nodes(&face[..corners]));
+            self.faces.push(Face::from_nodes(&face[..len]));
             self.face_cells.push(cell);
             kept.push(i);
         }

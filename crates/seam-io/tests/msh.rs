@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use seam::{area_vector, Face, Point3, SurfaceMesh};
+use seam::{area_vector, Cell, Face, Point3, SurfaceMesh};
 use seam_io::{
     read_msh, read_msh_file, read_surface_file, read_volume_file, Degeneracy, Location, Msh, MshErrorKind,
     MshVersion,
@@ -84,7 +84,7 @@ fn count_faces(surface: &SurfaceMesh) -> (usize, usize) {
 }
 
 fn face_area_and_outwardness(surface: &SurfaceMesh, f: usize, centre: Point3) -> (f64, f64) {
-    let n = surface.faces()[f].len();
+    let n = surface.faces()[f].n_corners();
     let corners = surface.corners(f);
     let a = area_vector(&corners[..n]);
     let mut centroid = [0.0; 3];
@@ -303,36 +303,29 @@ fn sparse_tags_are_kept_and_nodes_keep_their_file_position() {
 }
 
 #[test]
-fn second_order_triangles_are_refused_by_element_tag_and_type() {
+fn second_order_triangles_read_as_tri6_with_mid_edge_nodes_on_their_edges() {
     for flavour in FLAVOURS {
         let msh = read("square_tri6", flavour);
-        let first = msh.elements.iter().find(|e| e.gmsh_type == 9).unwrap();
-        let expected = format!(
-            "element {} is a 6-node triangle (type 9); only 3-node triangles and 4-node quadrangles are supported",
-            first.tag
-        );
+        let n_tri6 = msh.elements.iter().filter(|e| e.gmsh_type == 9).count();
+        assert!(n_tri6 > 0);
         for group in [Some("interface"), None] {
-            let err = msh.surface(group).unwrap_err();
-            assert_eq!(err.to_string(), expected);
-            assert!(matches!(err.kind(), MshErrorKind::UnsupportedElement { gmsh_type: 9, .. }));
+            let surface = msh.surface(group).unwrap_or_else(|e| panic!("{flavour}: {e}"));
+            assert_eq!(surface.n_faces(), n_tri6, "{flavour}");
+            assert!(surface.faces().iter().all(|f| matches!(f, Face::Tri6(_))), "{flavour}");
+            assert!((total_area(&surface) - 1.0).abs() < 1e-12, "{flavour}");
+            assert_straight_sided(&surface, flavour);
         }
     }
 }
 
-/// The second-order fixtures of `second_order.txt` (Gmsh `setOrder(2)`,
-/// complete and incomplete: Tri6, Quad8, Quad9, Tet10, Hex20, Hex27, Prism15,
-/// Prism18, Pyramid13, Pyramid14): every flavour reads with the element
-/// counts Gmsh recorded, and selecting a surface or a volume refuses the first
-/// second-order element by its tag and type, until seam supports them.
-#[test]
-fn second_order_fixtures_read_and_are_refused_by_element_tag_and_type() {
+/// The fixtures and their element counts per Gmsh type, from `second_order.txt`.
+fn second_order_fixtures() -> Vec<(String, Vec<(u32, usize)>)> {
     let text = std::fs::read_to_string(data_dir().join("second_order.txt")).unwrap();
-    let fixtures: Vec<(&str, Vec<(u32, usize)>)> = text
-        .lines()
+    text.lines()
         .filter(|l| !l.starts_with('#') && !l.starts_with("ref "))
         .map(|l| {
             let mut words = l.split_whitespace();
-            let name = words.next().unwrap();
+            let name = words.next().unwrap().to_string();
             let counts = words
                 .map(|w| {
                     let (t, n) = w.strip_prefix("type").unwrap().split_once('=').unwrap();
@@ -341,42 +334,171 @@ fn second_order_fixtures_read_and_are_refused_by_element_tag_and_type() {
                 .collect();
             (name, counts)
         })
-        .collect();
+        .collect()
+}
+
+/// The Gmsh type number of a cell.
+fn gmsh_cell_type(cell: &Cell) -> u32 {
+    match cell {
+        Cell::Tet4(_) => 4,
+        Cell::Hex8(_) => 5,
+        Cell::Prism6(_) => 6,
+        Cell::Pyramid5(_) => 7,
+        Cell::Tet10(_) => 11,
+        Cell::Hex20(_) => 17,
+        Cell::Hex27(_) => 12,
+        Cell::Prism15(_) => 18,
+        Cell::Prism18(_) => 13,
+        Cell::Pyramid13(_) => 19,
+        Cell::Pyramid14(_) => 14,
+    }
+}
+
+/// The fixtures have flat sides, where Gmsh puts each mid-edge node in the
+/// middle of its edge and a Quad9's centre at the mean of its corners: checks
+/// that every second-order face of `surface` has its nodes where Gmsh's order
+/// says.
+fn assert_straight_sided(surface: &SurfaceMesh, context: &str) {
+    let p = surface.points();
+    for (f, face) in surface.faces().iter().enumerate() {
+        let n = face.nodes();
+        let k = face.n_corners();
+        let mut expected: Vec<Point3> = (0..k)
+            .map(|i| {
+                let (a, b) = (p[n[i]], p[n[(i + 1) % k]]);
+                [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])]
+            })
+            .collect();
+        if n.len() == 9 {
+            let mean = |c: usize| (0..4).map(|i| p[n[i]][c]).sum::<f64>() / 4.0;
+            expected.push([mean(0), mean(1), mean(2)]);
+        }
+        for (i, e) in expected.iter().enumerate() {
+            let q = p[n[k + i]];
+            let far = (0..3).any(|c| (q[c] - e[c]).abs() > 1e-12);
+            assert!(!far, "{context}: face {f} ({face:?}) node {}: {q:?}, expected {e:?}", k + i);
+        }
+    }
+}
+
+/// A face with its nodes rotated so that its smallest corner comes first
+/// (the mid-edge nodes follow their edges): equal for the same face listed
+/// from another corner, with the same orientation.
+fn canonical(face: &Face) -> Vec<usize> {
+    let n = face.nodes();
+    let k = face.n_corners();
+    let r = (0..k).min_by_key(|&i| n[i]).unwrap();
+    let mut out: Vec<usize> = (0..k).map(|i| n[(i + r) % k]).collect();
+    if face.is_curved() {
+        out.extend((0..k).map(|i| n[k + (i + r) % k]));
+    }
+    out.extend_from_slice(&n[out.len()..]);
+    out
+}
+
+/// The second-order fixtures of `second_order.txt` (Gmsh `setOrder(2)`,
+/// complete and incomplete, made from the first-order fixtures of the same
+/// name): every flavour reads with the element counts Gmsh recorded; the
+/// volume has one cell per 3D element, of the matching type; the surfaces of
+/// `expected.txt` (boundary and physical groups) have the face counts, areas
+/// and outward orientation of the first-order fixture, all faces second order,
+/// nodes where Gmsh's order puts them; each face of a physical surface is the
+/// boundary face of its cell, node for node (up to the starting corner).
+#[test]
+fn second_order_fixtures_read_with_gmsh_counts_and_second_order_boundaries() {
+    let fixtures = second_order_fixtures();
     assert_eq!(fixtures.len(), 7);
+    let surfaces = expectations("surface");
     let mut types = std::collections::BTreeSet::new();
     for (name, counts) in &fixtures {
+        let base = name.trim_end_matches("_o2s").trim_end_matches("_o2");
+        let mut faces_of_flavours = vec![];
         for flavour in FLAVOURS {
+            let context = format!("{name}.{flavour}");
             let msh = read(name, flavour);
             for &(gmsh_type, count) in counts {
                 let found = msh.elements.iter().filter(|e| e.gmsh_type == gmsh_type).count();
-                assert_eq!(found, count, "{name}.{flavour}: type {gmsh_type}");
+                assert_eq!(found, count, "{context}: type {gmsh_type}");
                 types.insert(gmsh_type);
             }
-            // The top (a named surface group) and the cells (all volumes).
-            for (what, selected, refused) in [
-                ("top", msh.surface(Some("top")).map(|_| ()), &[9, 10, 16][..]),
-                ("volume", msh.volume(None).map(|_| ()), &[11, 12, 13, 14, 17, 18, 19][..]),
-            ] {
-                let err = selected.unwrap_err();
-                let MshErrorKind::UnsupportedElement { element_tag, gmsh_type, .. } = err.kind() else {
-                    panic!("{name}.{flavour} {what}: {err}")
-                };
-                assert!(refused.contains(gmsh_type), "{name}.{flavour} {what}: {err}");
-                let element = msh.elements.iter().find(|e| e.tag == *element_tag).unwrap();
-                assert_eq!(element.gmsh_type, *gmsh_type, "{name}.{flavour} {what}");
-                let (start, size) =
-                    (format!("element {element_tag} is a"), format!(" {}-node ", element.nodes.len()));
-                let message = err.to_string();
-                assert!(
-                    message.starts_with(&start) && message.contains(&size),
-                    "{name}.{flavour} {what}: {err}"
-                );
-                assert!(err.to_string().contains(&format!("(type {gmsh_type})")), "{err}");
+            let volume = msh.volume(None).unwrap_or_else(|e| panic!("{context}: {e}"));
+            let mut cell_counts = std::collections::BTreeMap::new();
+            for cell in volume.cells() {
+                assert!(cell.is_second_order(), "{context}");
+                *cell_counts.entry(gmsh_cell_type(cell)).or_insert(0) += 1;
             }
+            let wanted: std::collections::BTreeMap<u32, usize> =
+                counts.iter().copied().filter(|&(t, _)| ![9, 10, 16].contains(&t)).collect();
+            assert_eq!(cell_counts, wanted, "{context}");
+            let boundary = msh.surface(None).unwrap_or_else(|e| panic!("{context}: {e}"));
+            let boundary_faces: std::collections::HashSet<Vec<usize>> =
+                boundary.faces().iter().map(canonical).collect();
+            let mut faces = vec![];
+            for e in surfaces.iter().filter(|e| e.fixture == base) {
+                let context = format!("{context} group {:?}", e.group);
+                let surface =
+                    msh.surface(e.group.as_deref()).unwrap_or_else(|err| panic!("{context}: {err}"));
+                assert!(surface.faces().iter().all(Face::is_curved), "{context}");
+                let tris = surface.faces().iter().filter(|f| f.n_corners() == 3).count();
+                assert_eq!(
+                    (tris, surface.n_faces() - tris),
+                    (e.count("tri3"), e.count("quad4")),
+                    "{context}"
+                );
+                assert!((total_area(&surface) - e.number("area")).abs() < 1e-12, "{context}");
+                let centre = e.centre().expect("volume fixtures give their centre");
+                for f in 0..surface.n_faces() {
+                    assert!(face_area_and_outwardness(&surface, f, centre).1 > 0.0, "{context}: face {f}");
+                }
+                assert_straight_sided(&surface, &context);
+                for face in surface.faces() {
+                    assert!(
+                        boundary_faces.contains(&canonical(face)),
+                        "{context}: {face:?} is no boundary face"
+                    );
+                }
+                faces.push(surface.faces().to_vec());
+            }
+            assert!(faces.len() >= 2, "{context}: the boundary and a physical surface");
+            faces_of_flavours.push(faces);
         }
+        assert_eq!(faces_of_flavours[0], faces_of_flavours[1], "{name}: 2.2 ASCII and binary");
+        assert_eq!(faces_of_flavours[2], faces_of_flavours[3], "{name}: 4.1 ASCII and binary");
     }
     // Every second-order face and cell type of Gmsh appears.
     assert_eq!(types.into_iter().collect::<Vec<_>>(), vec![9, 10, 11, 12, 13, 14, 16, 17, 18, 19]);
+}
+
+/// Elements of both orders in one mesh: a second-order fixture with every
+/// other face of its top and every other cell lowered to first order reads,
+/// the faces keep their orders and are oriented outward.
+#[test]
+fn first_and_second_order_elements_mix() {
+    let mut msh = read("box_tet_o2", "v41.bin");
+    let top = msh.group_tag(2, "top").unwrap();
+    // Every other face of the top first order.
+    for e in msh.elements.iter_mut().filter(|e| e.dim == 2 && e.physical_tags.contains(&top)).step_by(2) {
+        e.gmsh_type = 2;
+        e.nodes.truncate(3);
+    }
+    // Half the cells first order too.
+    for e in msh.elements.iter_mut().filter(|e| e.dim == 3).step_by(2) {
+        e.gmsh_type = 4;
+        e.nodes.truncate(4);
+    }
+    let surface = msh.surface(Some("top")).unwrap();
+    let tri3 = surface.faces().iter().filter(|f| matches!(f, Face::Tri3(_))).count();
+    let tri6 = surface.faces().iter().filter(|f| matches!(f, Face::Tri6(_))).count();
+    assert_eq!((tri3, tri6), (7, 7));
+    assert!((total_area(&surface) - 1.0).abs() < 1e-12);
+    for f in 0..surface.n_faces() {
+        assert!(face_area_and_outwardness(&surface, f, [0.5; 3]).1 > 0.0, "face {f}");
+    }
+    let volume = msh.volume(None).unwrap();
+    assert_eq!(volume.cells().iter().filter(|c| c.is_second_order()).count(), 50);
+    let boundary = msh.surface(None).unwrap();
+    assert_eq!(boundary.n_faces(), 84);
+    assert!((total_area(&boundary) - 6.0).abs() < 1e-12);
 }
 
 #[test]
@@ -540,15 +662,46 @@ fn degenerate_faces_are_named_by_element_and_node_tag() {
     assert_eq!(err.to_string(), "element 2 is degenerate: its area is zero");
 }
 
+/// Ten nodes of a triangle (the corners, two nodes per edge, the centre) and,
+/// as element 57 of physical surface 3, `element` (type and node tags).
+fn triangle_file(element: &str) -> String {
+    format!(
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n10\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0.5 0 0\n\
+         5 0.5 0.5 0\n6 0 0.5 0\n7 0.7 0 0\n8 0.3 0.7 0\n9 0 0.3 0\n10 0.3 0.3 0\n$EndNodes\n\
+         $Elements\n1\n57 {element}\n$EndElements\n"
+    )
+}
+
 #[test]
-fn a_second_order_triangle_in_a_selected_group_is_refused() {
-    let text = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0.5 0 0\n\
-                5 0.5 0.5 0\n6 0 0.5 0\n$EndNodes\n$Elements\n1\n57 9 2 3 1 1 2 3 4 5 6\n$EndElements\n";
+fn a_second_order_triangle_in_a_selected_group_reads() {
+    let text = triangle_file("9 2 3 1 1 2 3 4 5 6");
+    let surface = read_msh(text.as_bytes()).unwrap().surface(Some("3")).unwrap();
+    assert_eq!(surface.faces(), &[Face::Tri6([0, 1, 2, 3, 4, 5])]);
+}
+
+#[test]
+fn third_order_elements_are_refused_by_element_tag_and_type() {
+    let text = triangle_file("21 2 3 1 1 2 3 4 7 5 8 6 9 10");
     let err = read_msh(text.as_bytes()).unwrap().surface(Some("3")).unwrap_err();
     assert_eq!(
         err.to_string(),
-        "element 57 is a 6-node triangle (type 9); only 3-node triangles and 4-node quadrangles are supported"
+        "element 57 is a 10-node triangle (type 21); only triangles (3 or 6 nodes) and quadrangles \
+         (4, 8 or 9 nodes) are supported"
     );
+    let mut msh = read("box_tet_o2", "v22.ascii");
+    let cell = msh.elements.iter_mut().find(|e| e.dim == 3).unwrap();
+    cell.gmsh_type = 29;
+    cell.nodes.extend_from_slice(&[0; 10]);
+    let tag = cell.tag;
+    for err in [msh.volume(None).unwrap_err(), msh.surface(None).unwrap_err()] {
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "element {tag} is a 20-node tetrahedron (type 29); only tetrahedra (4 or 10 nodes), \
+                 hexahedra (8, 20 or 27), prisms (6, 15 or 18) and pyramids (5, 13 or 14) are supported"
+            )
+        );
+    }
 }
 
 #[test]

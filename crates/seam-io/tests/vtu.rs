@@ -242,14 +242,18 @@ fn a_tetra_cell_is_an_error_naming_the_cell() {
     assert_eq!(
         e.to_string(),
         format!(
-            "{}: cell 1 is a tetrahedron (VTK type 10); only triangles (5) and quads (9) are read, \
-             vertices and lines are skipped",
+            "{}: cell 1 is a tetrahedron (VTK type 10); only triangles (5, 22) and quads (9, 23, 28) are \
+             read, vertices and lines are skipped",
             path.display()
         )
     );
-    let text = ascii_vtu(&SQUARE, &[(22, &[0, 1, 2, 3, 4, 0])], "");
+    let text = ascii_vtu(&SQUARE, &[(24, &[0, 1, 2, 3, 4, 0, 1, 2, 3, 4])], "");
     let e = read_vtu(text.as_bytes()).unwrap_err();
-    assert!(e.to_string().starts_with("cell 0 is a quadratic triangle (VTK type 22)"), "{e}");
+    assert!(e.to_string().starts_with("cell 0 is a quadratic tetrahedron (VTK type 24)"), "{e}");
+    // A second-order face listing the wrong number of points.
+    let text = ascii_vtu(&SQUARE, &[(22, &[0, 1, 2, 3, 4])], "");
+    let e = read_vtu(text.as_bytes()).unwrap_err();
+    assert!(e.to_string().contains("cell 0 is a quadratic triangle but lists 5 points"), "{e}");
 }
 
 #[test]
@@ -1277,4 +1281,154 @@ fn random_mutations_of_the_fixtures_are_errors_not_panics() {
     }
     // Most mutations break the file; some (in RangeMin, a comment...) do not.
     assert!(errors > 4 * read, "{errors} errors, {read} read");
+}
+
+/// Gmsh's reference nodes of an element type, from `second_order.txt`.
+fn gmsh_reference_nodes(gmsh_type: u32) -> Vec<[f64; 3]> {
+    let text = std::fs::read_to_string(data_dir().join("../second_order.txt")).unwrap();
+    let line = text
+        .lines()
+        .find(|l| l.starts_with(&format!("ref {gmsh_type} ")))
+        .unwrap_or_else(|| panic!("no reference nodes of type {gmsh_type}"));
+    let coordinates = line.split_whitespace().nth(3).unwrap();
+    coordinates
+        .split(';')
+        .map(|p| {
+            let mut x = [0.0; 3];
+            for (slot, v) in x.iter_mut().zip(p.split(',')) {
+                *slot = v.parse().unwrap();
+            }
+            x
+        })
+        .collect()
+}
+
+/// One cell of every second-order type, in Gmsh's node order: Gmsh's reference
+/// cell (nodes from `second_order.txt`), when `curved` first bent by a shear
+/// quadratic in the reference coordinates (u, v, w) — `w ↦ w + g(u, v)`, and
+/// for pyramids `(u, v) ↦ (u, v) + w² (0.3, −0.2)` (VTK's pyramid does not
+/// represent the other) — which keeps volumes (its Jacobian is 1) and which
+/// the quadratic cells represent exactly, then mapped by `x ↦ A x + b`
+/// (det A > 0). Returns the mesh, the Gmsh types and the exact volumes
+/// (reference volume × det A).
+fn second_order_cells(curved: bool) -> (seam::VolumeMesh, Vec<u32>, Vec<f64>) {
+    use seam::{Cell, VolumeMesh};
+    const A: [[f64; 3]; 3] = [[1.0, 0.3, 0.1], [0.2, 1.5, -0.2], [0.1, 0.1, 0.8]];
+    let det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1])
+        - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0])
+        + A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+    assert!(det > 0.0);
+    // (Gmsh type, reference volume)
+    let types =
+        [(11, 1.0 / 6.0), (17, 8.0), (12, 8.0), (18, 1.0), (13, 1.0), (19, 4.0 / 3.0), (14, 4.0 / 3.0)];
+    let cell = |gmsh_type: u32, n: &[usize]| match gmsh_type {
+        11 => Cell::Tet10(n.try_into().unwrap()),
+        17 => Cell::Hex20(n.try_into().unwrap()),
+        12 => Cell::Hex27(n.try_into().unwrap()),
+        18 => Cell::Prism15(n.try_into().unwrap()),
+        13 => Cell::Prism18(n.try_into().unwrap()),
+        19 => Cell::Pyramid13(n.try_into().unwrap()),
+        _ => Cell::Pyramid14(n.try_into().unwrap()),
+    };
+    let (mut points, mut cells, mut gmsh_types, mut volumes) = (vec![], vec![], vec![], vec![]);
+    for (k, &(gmsh_type, reference_volume)) in types.iter().enumerate() {
+        let first = points.len();
+        let pyramid = matches!(gmsh_type, 14 | 19);
+        for [u, v, w] in gmsh_reference_nodes(gmsh_type) {
+            let r = match (curved, pyramid) {
+                (false, _) => [u, v, w],
+                (true, false) => [u, v, w + 0.3 * u * u - 0.2 * u * v + 0.25 * v * v],
+                (true, true) => [u + 0.3 * w * w, v - 0.2 * w * w, w],
+            };
+            let mut x = [0.0; 3];
+            for (i, xi) in x.iter_mut().enumerate() {
+                *xi = A[i][0] * r[0] + A[i][1] * r[1] + A[i][2] * r[2];
+            }
+            x[0] += 4.0 * k as f64;
+            points.push(x);
+        }
+        let nodes: Vec<usize> = (first..points.len()).collect();
+        cells.push(cell(gmsh_type, &nodes));
+        gmsh_types.push(gmsh_type);
+        volumes.push(reference_volume * det);
+    }
+    (VolumeMesh::new(points, cells).unwrap(), gmsh_types, volumes)
+}
+
+/// The boundary of the straight-sided second-order cells: flat Tri6, Quad8 and
+/// Quad9 faces.
+fn second_order_faces() -> SurfaceMesh {
+    second_order_cells(false).0.boundary().unwrap()
+}
+
+/// One cell of each second-order type, straight-sided (`second_order_affine.vtu`)
+/// and curved (`second_order_curved.vtu`), with the cell fields `gmsh_type` and
+/// `volume` (exact), and the faces of [`second_order_faces`]
+/// (`second_order_faces.vtu`), for `tests/python/test_vtu_second_order.py`,
+/// which checks the volumes and areas VTK computes (written to `$SEAM_VTU_OUT`
+/// when set).
+#[test]
+fn write_second_order_cells_for_python() {
+    let temp = tempfile::tempdir().unwrap();
+    let dir =
+        std::env::var_os("SEAM_VTU_OUT").map(PathBuf::from).unwrap_or_else(|| temp.path().to_path_buf());
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, curved) in [("second_order_affine.vtu", false), ("second_order_curved.vtu", true)] {
+        let (mesh, types, volumes) = second_order_cells(curved);
+        let types = Field::scalars("gmsh_type", types.iter().map(|&t| f64::from(t)).collect());
+        let volumes = Field::scalars("volume", volumes);
+        seam_io::write_volume_vtu_file(dir.join(name), &mesh, &[], &[types, volumes]).unwrap();
+    }
+    write_vtu_file(dir.join("second_order_faces.vtu"), &second_order_faces(), &[], &[]).unwrap();
+}
+
+/// Reads every `.vtu` file of `SEAM_VTU_IN` (set by
+/// `tests/python/test_vtu_second_order.py`, which rewrites
+/// `second_order_faces.vtu` with VTK's writer in several encodings): each holds
+/// the faces of [`second_order_faces`]. Without `SEAM_VTU_IN`, reads what seam
+/// writes.
+#[test]
+fn second_order_faces_written_by_vtk_are_read() {
+    let expected = second_order_faces();
+    let temp = tempfile::tempdir().unwrap();
+    let dir = match std::env::var_os("SEAM_VTU_IN") {
+        Some(dir) => PathBuf::from(dir),
+        None => {
+            write_vtu_file(temp.path().join("seam.vtu"), &expected, &[], &[]).unwrap();
+            temp.path().to_path_buf()
+        }
+    };
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "vtu") {
+            let read = read_vtu_file(&path).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(read.mesh, expected, "{}", path.display());
+            n += 1;
+        }
+    }
+    assert!(n > 0, "no .vtu file in {}", dir.display());
+}
+
+/// Second-order faces (VTK's quadratic triangle and quad, biquadratic quad) read
+/// back as written, mixed with first-order ones.
+#[test]
+fn round_trip_of_second_order_faces_is_bit_exact() {
+    let (volume, _, _) = second_order_cells(true);
+    let boundary = volume.boundary().unwrap();
+    let kinds: Vec<usize> = boundary.faces().iter().map(Face::len).collect();
+    for n in [6, 8, 9] {
+        assert!(kinds.contains(&n), "a face of {n} nodes");
+    }
+    let mut faces = boundary.faces().to_vec();
+    faces.push(Face::Tri3([0, 1, 2]));
+    let mesh = SurfaceMesh::new(boundary.points().to_vec(), faces).unwrap();
+    let point_data = vec![Field::scalars("p", wavy(mesh.n_points(), 1, 0.0))];
+    let cell_data = vec![Field::new("T", 9, wavy(mesh.n_faces(), 9, 4.0))];
+    let mut bytes = Vec::new();
+    write_vtu(&mut bytes, &mesh, &point_data, &cell_data).unwrap();
+    let text = String::from_utf8(bytes.clone()).unwrap();
+    assert!(text.contains("<DataArray type=\"UInt8\" Name=\"types\""));
+    let read = read_vtu(bytes.as_slice()).unwrap();
+    assert_identical(&read, &mesh, &point_data, &cell_data);
 }

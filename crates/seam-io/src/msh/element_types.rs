@@ -86,6 +86,26 @@ pub(crate) const HEX8: u32 = 5;
 pub(crate) const PRISM6: u32 = 6;
 /// Gmsh type number of the 5-node pyramid.
 pub(crate) const PYRAMID5: u32 = 7;
+/// Gmsh type number of the 6-node (second-order) triangle.
+pub(crate) const TRI6: u32 = 9;
+/// Gmsh type number of the 8-node (serendipity) quadrangle.
+pub(crate) const QUAD8: u32 = 16;
+/// Gmsh type number of the 9-node (biquadratic) quadrangle.
+pub(crate) const QUAD9: u32 = 10;
+/// Gmsh type number of the 10-node tetrahedron.
+pub(crate) const TET10: u32 = 11;
+/// Gmsh type number of the 20-node (serendipity) hexahedron.
+pub(crate) const HEX20: u32 = 17;
+/// Gmsh type number of the 27-node (triquadratic) hexahedron.
+pub(crate) const HEX27: u32 = 12;
+/// Gmsh type number of the 15-node (serendipity) prism.
+pub(crate) const PRISM15: u32 = 18;
+/// Gmsh type number of the 18-node prism.
+pub(crate) const PRISM18: u32 = 13;
+/// Gmsh type number of the 13-node (serendipity) pyramid.
+pub(crate) const PYRAMID13: u32 = 19;
+/// Gmsh type number of the 14-node pyramid.
+pub(crate) const PYRAMID14: u32 = 14;
 
 /// Looks up a Gmsh element type number.
 pub(crate) fn element_type(number: u32) -> Option<ElementType> {
@@ -148,9 +168,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn first_order_types_have_their_corner_counts() {
+    fn supported_types_have_their_node_counts() {
         let corners = [(TRI3, 3), (QUAD4, 4), (TET4, 4), (HEX8, 8), (PRISM6, 6), (PYRAMID5, 5), (15, 1)];
-        for (number, nodes) in corners {
+        let second_order = [
+            (TRI6, 6),
+            (QUAD8, 8),
+            (QUAD9, 9),
+            (TET10, 10),
+            (HEX20, 20),
+            (HEX27, 27),
+            (PRISM15, 15),
+            (PRISM18, 18),
+            (PYRAMID13, 13),
+            (PYRAMID14, 14),
+        ];
+        for (number, nodes) in corners.into_iter().chain(second_order) {
             assert_eq!(element_type(number).unwrap().nodes, nodes);
         }
         assert_eq!(element_type(TET4).unwrap().dim(), 3);

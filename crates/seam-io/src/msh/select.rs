@@ -5,11 +5,15 @@ use std::collections::BTreeMap;
 
 use seam::{Cell, Face, MeshError, SurfaceMesh, VolumeMesh};
 
-use super::element_types::{HEX8, PRISM6, PYRAMID5, QUAD4, TET4, TRI3};
+use super::element_types::{
+    HEX20, HEX27, HEX8, PRISM15, PRISM18, PRISM6, PYRAMID13, PYRAMID14, PYRAMID5, QUAD4, QUAD8, QUAD9, TET10,
+    TET4, TRI3, TRI6,
+};
 use super::{Degeneracy, GroupId, Msh, MshElement, MshError, MshErrorKind};
 
-const FACE_TYPES: &str = "3-node triangles and 4-node quadrangles";
-const CELL_TYPES: &str = "4-node tetrahedra, 8-node hexahedra, 6-node prisms and 5-node pyramids";
+const FACE_TYPES: &str = "triangles (3 or 6 nodes) and quadrangles (4, 8 or 9 nodes)";
+const CELL_TYPES: &str =
+    "tetrahedra (4 or 10 nodes), hexahedra (8, 20 or 27), prisms (6, 15 or 18) and pyramids (5, 13 or 14)";
 
 impl Msh {
     /// The surface to couple, with all nodes of the file as its points (in file
@@ -17,15 +21,21 @@ impl Msh {
     ///
     /// - `group = Some(g)`: the elements of the dimension-2 physical group named
     ///   `g`, or else numbered `g` (`"top"` or `"3"`). If the file has volume
-    ///   cells (4-node tetrahedra, 8-node hexahedra, 6-node prisms, 5-node
-    ///   pyramids), each face is oriented outward from the cell it bounds.
+    ///   cells (see [`Msh::volume`]), each face is oriented outward from the
+    ///   cell it bounds.
     /// - `group = None`: with volume elements in the file, the boundary of all of
-    ///   them, outward; otherwise all 2D elements (lines and points are ignored).
+    ///   them, outward (second-order faces for second-order cells, see
+    ///   [`VolumeMesh::boundary`]); otherwise all 2D elements (lines and points
+    ///   are ignored).
+    ///
+    /// Faces may be 3-node triangles and 4-node quadrangles (Gmsh types 2, 3)
+    /// and their second-order versions, 6-node triangles (9), 8-node (16) and
+    /// 9-node (10) quadrangles, mixed in any way; nodes keep Gmsh's order.
     ///
     /// # Errors
-    /// Unknown group (the message lists the available ones), an element other
-    /// than a 3-node triangle or 4-node quadrangle, no faces, or a degenerate
-    /// face or non-finite node, named by its Gmsh tag.
+    /// Unknown group (the message lists the available ones), an element of
+    /// another type (for example third order), no faces, or a degenerate face
+    /// or non-finite node, named by its Gmsh tag.
     pub fn surface(&self, group: Option<&str>) -> Result<SurfaceMesh, MshError> {
         match group {
             Some(group) => self.group_surface(group),
@@ -40,9 +50,15 @@ impl Msh {
     /// The volume cells: all of them, or those of the dimension-3 physical group
     /// named or numbered `group`. Points are all nodes of the file.
     ///
+    /// Cells may be 4-node tetrahedra, 8-node hexahedra, 6-node prisms, 5-node
+    /// pyramids (Gmsh types 4 to 7) and their second-order versions: 10-node
+    /// tetrahedra (11), 20- and 27-node hexahedra (17, 12), 15- and 18-node
+    /// prisms (18, 13), 13- and 14-node pyramids (19, 14), mixed in any way;
+    /// nodes keep Gmsh's order.
+    ///
     /// # Errors
-    /// Unknown group, an element other than a 4-node tetrahedron, 8-node
-    /// hexahedron, 6-node prism or 5-node pyramid, no cells, or a degenerate cell.
+    /// Unknown group, an element of another type (for example third order),
+    /// no cells, or a degenerate cell.
     pub fn volume(&self, group: Option<&str>) -> Result<VolumeMesh, MshError> {
         let selected = self.volume_elements(group)?;
         let cells = selected.iter().map(|e| cell_of(e)).collect::<Result<Vec<_>, _>>()?;
@@ -180,26 +196,38 @@ fn tags_of(elements: &[&MshElement]) -> Vec<u64> {
     elements.iter().map(|e| e.tag).collect()
 }
 
+/// The face of a 2D element (seam's node order is Gmsh's).
 fn face_of(element: &MshElement) -> Result<Face, MshError> {
     match element.gmsh_type {
-        TRI3 => Ok(Face::Tri3(corners(element)?)),
-        QUAD4 => Ok(Face::Quad4(corners(element)?)),
+        TRI3 => Ok(Face::Tri3(nodes(element)?)),
+        QUAD4 => Ok(Face::Quad4(nodes(element)?)),
+        TRI6 => Ok(Face::Tri6(nodes(element)?)),
+        QUAD8 => Ok(Face::Quad8(nodes(element)?)),
+        QUAD9 => Ok(Face::Quad9(nodes(element)?)),
         _ => Err(unsupported(element, FACE_TYPES)),
     }
 }
 
+/// The cell of a 3D element (seam's node order is Gmsh's).
 fn cell_of(element: &MshElement) -> Result<Cell, MshError> {
     match element.gmsh_type {
-        TET4 => Ok(Cell::Tet4(corners(element)?)),
-        HEX8 => Ok(Cell::Hex8(corners(element)?)),
-        PRISM6 => Ok(Cell::Prism6(corners(element)?)),
-        PYRAMID5 => Ok(Cell::Pyramid5(corners(element)?)),
+        TET4 => Ok(Cell::Tet4(nodes(element)?)),
+        HEX8 => Ok(Cell::Hex8(nodes(element)?)),
+        PRISM6 => Ok(Cell::Prism6(nodes(element)?)),
+        PYRAMID5 => Ok(Cell::Pyramid5(nodes(element)?)),
+        TET10 => Ok(Cell::Tet10(nodes(element)?)),
+        HEX20 => Ok(Cell::Hex20(nodes(element)?)),
+        HEX27 => Ok(Cell::Hex27(nodes(element)?)),
+        PRISM15 => Ok(Cell::Prism15(nodes(element)?)),
+        PRISM18 => Ok(Cell::Prism18(nodes(element)?)),
+        PYRAMID13 => Ok(Cell::Pyramid13(nodes(element)?)),
+        PYRAMID14 => Ok(Cell::Pyramid14(nodes(element)?)),
         _ => Err(unsupported(element, CELL_TYPES)),
     }
 }
 
 /// The element's nodes as an array of the size its type needs.
-fn corners<const N: usize>(element: &MshElement) -> Result<[usize; N], MshError> {
+fn nodes<const N: usize>(element: &MshElement) -> Result<[usize; N], MshError> {
     element.nodes.as_slice().try_into().map_err(|_| {
         let kind = MshErrorKind::WrongNodeCount {
             element_tag: element.tag,

@@ -72,9 +72,10 @@ pub enum VtuErrorKind {
         /// What is wrong, one line, naming the piece, array or cell at fault.
         message: String,
     },
-    /// A cell of a type seam cannot use (anything but triangles and quads, apart
-    /// from vertex and line cells, which are skipped).
-    #[error("cell {cell} is {} (VTK type {vtk_type}); only triangles (5) and quads (9) are read, vertices and lines are skipped", describe_cell_type(*.vtk_type))]
+    /// A cell of a type seam cannot use (anything but linear and quadratic
+    /// triangles and quads, apart from vertex and line cells, which are
+    /// skipped).
+    #[error("cell {cell} is {} (VTK type {vtk_type}); only triangles (5, 22) and quads (9, 23, 28) are read, vertices and lines are skipped", describe_cell_type(*.vtk_type))]
     UnsupportedCell {
         /// The 0-based cell index in the file.
         cell: usize,
@@ -122,7 +123,7 @@ pub enum VtuErrorKind {
 /// the [`VtuErrorKind`].
 ///
 /// Displays on one line, for example
-/// `result.vtu: cell 3 is a tetrahedron (VTK type 10); only triangles (5) and quads (9) are read, ...`.
+/// `result.vtu: cell 3 is a tetrahedron (VTK type 10); only triangles (5, 22) and quads (9, 23, 28) are read, ...`.
 #[derive(Debug)]
 pub struct VtuError {
     path: Option<PathBuf>,
@@ -259,8 +260,8 @@ mod tests {
         let e = VtuError::new(VtuErrorKind::UnsupportedCell { cell: 3, vtk_type: 10 }).with_path("m.vtu");
         assert_eq!(
             e.to_string(),
-            "m.vtu: cell 3 is a tetrahedron (VTK type 10); only triangles (5) and quads (9) are read, \
-             vertices and lines are skipped"
+            "m.vtu: cell 3 is a tetrahedron (VTK type 10); only triangles (5, 22) and quads (9, 23, 28) \
+             are read, vertices and lines are skipped"
         );
         let e = VtuError::new(VtuErrorKind::WrongFieldLength { name: "p".into(), expected: 8, found: 7 });
         assert_eq!(e.to_string(), "field \"p\" has 7 values, expected 8");
