@@ -82,6 +82,10 @@ fn mortar_error_saying(e: &CoreMortarError, message: String) -> PyErr {
         CoreMortarError::NoOverlap { .. } => NoOverlapError::new_err(message),
         CoreMortarError::Factorization(_) => FactorizationError::new_err(message),
         CoreMortarError::NonFinite { .. } => MortarError::new_err(message),
+        // A multiplier the slave faces do not admit: an invalid option for them.
+        CoreMortarError::LumpedSecondOrder { .. } | CoreMortarError::LumpedNotPositive { .. } => {
+            InvalidOptionError::new_err(message)
+        }
     }
 }
 

@@ -184,7 +184,9 @@ fn patch(case: &Case, field: &Affine, multiplier: Multiplier) -> Outcome {
     let sigma = field.stress(&material);
     let (master, slave) = (&case.master, &case.slave);
     let mut master_fixed = Dirichlet::new();
-    for p in master.grid.side_points(Side::ZMin) {
+    // Every node of the bottom faces (mid-edge nodes of second-order cells too).
+    let bottom = master.grid.side_faces(&master.mesh, Side::ZMin).unwrap().used_points();
+    for p in (0..bottom.len()).filter(|&p| bottom[p]) {
         master_fixed.fix(p, field.at(master.mesh.points()[p]).map(Some));
     }
     // The master's top outside the slave's footprint is a free boundary.
@@ -277,6 +279,33 @@ fn assert_exact(case: &Case) {
     for (multiplier, o) in outcomes {
         assert!(o.max() <= RTOL, "{} {multiplier:?}: {o:?}", case.label);
         assert!(o.balance() <= RTOL, "{} {multiplier:?}: equilibrium {o:?}", case.label);
+    }
+}
+
+/// Second-order bodies (`raise_order`: mid-edge nodes at edge midpoints,
+/// complete cells with face and cell centres): the interfaces are Tri6, Quad8
+/// or Quad9 faces, and the patch test holds as for first order.
+#[test]
+fn patch_test_second_order_bodies() {
+    use seam_fem::generate::raise_order;
+    use BlockKind::*;
+    let raise = |mut b: Block, complete: bool| {
+        b.mesh = raise_order(&b.mesh, complete).unwrap();
+        b
+    };
+    for rotated in [false, true] {
+        // (master, slave, complete cells?): Tet10|Hex27, Hex20|Tet10, Prism18|Pyramid14.
+        for (m, s, cm, cs) in [
+            (([3, 2, 2], Tet), ([2, 3, 2], Hex), true, true),
+            (([3, 2, 2], Hex), ([2, 2, 2], Tet), false, true),
+            (([2, 3, 2], Prism), ([3, 2, 2], Pyramid), true, true),
+        ] {
+            let mut case = Case::stacked(m, s, rotated);
+            case.master = raise(case.master, cm);
+            case.slave = raise(case.slave, cs);
+            case.label = format!("second order {} (complete {cm}|{cs})", case.label);
+            assert_exact(&case);
+        }
     }
 }
 
