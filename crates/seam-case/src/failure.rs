@@ -25,6 +25,10 @@ impl Failure {
             e @ seam::MortarError::NoOverlap { .. } => Failure::NoCoupling(
                 anyhow::anyhow!(e).context(format!("{} (slave) and {}", slave.display(), master.display())),
             ),
+            e @ (seam::MortarError::LumpedSecondOrder { .. }
+            | seam::MortarError::LumpedNotPositive { .. }) => {
+                Failure::Error(anyhow::anyhow!(e).context(format!("{} (slave)", slave.display())))
+            }
             e => Failure::Error(e.into()),
         }
     }

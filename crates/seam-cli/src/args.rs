@@ -270,6 +270,10 @@ pub struct ExampleArgs {
     /// cells across the uniform zone [0, 1.5a] (for tests and quick runs).
     #[arg(long, hide = true, value_name = "N")]
     pub slave_cells: Option<usize>,
+    /// warped-glue: element order, 1 (Hex8) or 2 (Hex27 bodies with curved
+    /// Quad9 interface faces, at the same numbers of nodes).
+    #[arg(long, value_name = "1|2")]
+    pub order: Option<usize>,
 }
 
 /// Surfaces of the benchmark.

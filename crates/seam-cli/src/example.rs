@@ -18,6 +18,7 @@ pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
         force: args.force,
         ratio: args.ratio,
         slave_cells: args.slave_cells,
+        order: args.order,
     };
     let pool = thread_pool(args.threads)?;
     for line in pool.install(|| seam_examples::run(example, &options))? {

@@ -113,6 +113,42 @@ fn the_four_msh_flavours_give_the_same_matrices() {
     }
 }
 
+/// Gmsh second-order volumes (Hex27 master, Tet10 slave): their Quad9 and
+/// Tri6 tops couple; dual multipliers write Q.mtx, and T.mtx = Qᵀ D⁻¹ B is
+/// nodal (T·1 = 1); lumped multipliers on the Tri6 slave are refused.
+#[test]
+fn second_order_volume_files_couple_through_their_curved_faces() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (master, slave) = (fixture("box_hex_o2.v41.bin.msh"), fixture("box_tet_o2.v22.ascii.msh"));
+    let groups = ["--master-group", "top", "--slave-group", "top"];
+    let o = seam(
+        &[&["assemble", &master, &slave, "-o", "dual", "--multiplier", "dual"][..], &groups].concat(),
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = tmp.path().join("dual");
+    let s = summary(&out);
+    assert_eq!(s["slave_basis"], "transformed");
+    assert_eq!(s["uncovered_slave_nodes"], 0);
+    assert!((s["covered_fraction"].as_f64().unwrap() - 1.0).abs() < 1e-12);
+    let (t, q, d) = (matrix(&out.join("T.mtx")), matrix(&out.join("Q.mtx")), matrix(&out.join("D.mtx")));
+    assert!(d.is_diagonal());
+    assert_eq!(q.nrows, d.nrows);
+    let used = t.row_sums().iter().filter(|v| v.abs() > 0.0).count();
+    assert!(used > 0);
+    for (p, v) in t.row_sums().iter().enumerate().filter(|(_, v)| v.abs() > 0.0) {
+        assert!((v - 1.0).abs() < 1e-12, "T·1 = {v} in row {}", p + 1);
+    }
+    let o = seam(
+        &[&["assemble", &master, &slave, "-o", "lumped", "--multiplier", "lumped"][..], &groups].concat(),
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    let e = stderr(&o);
+    assert!(e.contains("box_tet_o2.v22.ascii.msh (slave)") && e.contains("use dual multipliers"), "{e}");
+    assert!(!tmp.path().join("lumped").join("D.mtx").exists());
+}
+
 #[test]
 fn volume_files_with_physical_surfaces_couple_across_the_interface() {
     // The top of the unit tet box (z = 1, [0,1]²) against the top of the 2×1×1 hex

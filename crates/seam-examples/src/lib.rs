@@ -48,6 +48,9 @@ pub struct Options {
     /// cells across the uniform zone [0, 1.5a] (defaults: each module's
     /// `SLAVE_CELLS` or `FINE_CELLS`).
     pub slave_cells: Option<usize>,
+    /// warped-glue: the element order, 1 (Hex8, the default) or 2 (Hex27 at
+    /// the same numbers of nodes).
+    pub order: Option<usize>,
 }
 
 /// A built-in example.

@@ -271,7 +271,8 @@ pub fn faces_in_plane(mesh: &VolumeMesh, axis: usize, at: f64, tol: f64) -> Vec<
                 let mut key = face.nodes().to_vec();
                 key.sort_unstable();
                 if seen.insert(key) {
-                    faces.push(face.nodes().to_vec());
+                    // Second-order faces as their first-order pieces.
+                    faces.extend(face.linear_pieces());
                 }
             }
         }

@@ -4,6 +4,10 @@
 //! block is clamped at z = 0, the upper one loaded at z = 1 by the traction
 //! (0.2, 0, −1); E = 1000, ν = 0.3 for both.
 //!
+//! With `--order 2` the bodies are Hex27 cells (half as many, so the same
+//! numbers of nodes) whose nodes all lie on the blocks' maps: the interface
+//! is made of curved Quad9 faces of the true warped surface.
+//!
 //! It writes the two meshes (Gmsh MSH 4.1, physical surfaces "bottom" and
 //! "top") and `case.toml`, solves the problem in memory exactly as `seam
 //! solve` solves that case (so `seam solve DIR/case.toml --force` reruns
@@ -37,10 +41,20 @@ const CUT_Y: f64 = 0.5;
 /// # Errors
 /// As [`crate::run`].
 pub fn run(args: &Options) -> Result<Vec<String>, Failure> {
+    let order = args.order.unwrap_or(1);
+    if !(1..=2).contains(&order) {
+        return Err(anyhow!("--order must be 1 or 2, got {order}").into());
+    }
+    // Order 2: Hex27 cells, half as many across and in z, so the numbers of
+    // nodes are those of order 1.
+    let defaults = WarpedGlue::default();
     let params = WarpedGlue {
-        slave_cells: args.slave_cells.unwrap_or(SLAVE_CELLS),
+        slave_cells: args.slave_cells.unwrap_or(SLAVE_CELLS / order),
         ratio: args.ratio.unwrap_or(RATIO),
-        ..WarpedGlue::default()
+        slave_layers: defaults.slave_layers / order,
+        master_layers: defaults.master_layers / order,
+        order,
+        ..defaults
     };
     if params.ratio == 0 || params.slave_cells == 0 || params.slave_cells % 2 != 0 {
         return Err(anyhow!("--ratio must be at least 1 and --slave-cells even and at least 2").into());
@@ -84,11 +98,11 @@ fn draw(s: &Solved, params: &WarpedGlue) -> anyhow::Result<(Image, f64)> {
     u3.title = vec!["u_3 on the cut y = 1/2".into(), h];
     let f = s.interfaces.first().ok_or_else(|| anyhow!("the example has an interface"))?;
     let (mut normal, mut tangential) = (Plot::default(), Plot::default());
-    for face in f.mesh.faces() {
+    for piece in f.mesh.faces().iter().flat_map(|face| face.linear_pieces()) {
         let corners: Vec<P2> =
-            face.nodes().iter().map(|&p| [f.mesh.points()[p][0], f.mesh.points()[p][1]]).collect();
-        let tn: Vec<f64> = face.nodes().iter().map(|&p| f.normal_traction[p]).collect();
-        let tt: Vec<f64> = face.nodes().iter().map(|&p| f.tangential_traction[p][0]).collect();
+            piece.iter().map(|&p| [f.mesh.points()[p][0], f.mesh.points()[p][1]]).collect();
+        let tn: Vec<f64> = piece.iter().map(|&p| f.normal_traction[p]).collect();
+        let tt: Vec<f64> = piece.iter().map(|&p| f.tangential_traction[p][0]).collect();
         normal.add_polygon(&corners, &tn);
         tangential.add_polygon(&corners, &tt);
     }
@@ -122,9 +136,10 @@ fn report_lines(
 ) -> Vec<String> {
     let mut lines = Vec::new();
     let (nm, ns) = (p.slave_cells * p.ratio, p.slave_cells);
+    let cells = if p.order == 2 { "Hex27 cells" } else { "hexahedra" };
     lines.push(format!("seam example warped-glue → {}", dir.display()));
     lines.push(format!(
-        "  meshes     lower.msh {nm}×{nm}×{} hexahedra (master), upper.msh {ns}×{ns}×{} hexahedra (slave), h_s/h_m = {}",
+        "  meshes     lower.msh {nm}×{nm}×{} {cells} (master), upper.msh {ns}×{ns}×{} {cells} (slave), h_s/h_m = {}",
         p.master_layers, p.slave_layers, p.ratio
     ));
     lines.push(format!(

@@ -99,6 +99,22 @@ impl Face {
         }
     }
 
+    /// The face cut into first-order faces through its nodes, for drawing:
+    /// itself at first order, four triangles for a Tri6, four quads for a
+    /// Quad9, and for a Quad8 the polygon of its eight nodes in cyclic order.
+    pub fn linear_pieces(&self) -> Vec<Vec<usize>> {
+        match *self {
+            Face::Tri3(_) | Face::Quad4(_) => vec![self.nodes().to_vec()],
+            Face::Tri6([a, b, c, ab, bc, ca]) => {
+                vec![vec![a, ab, ca], vec![ab, b, bc], vec![ca, bc, c], vec![ab, bc, ca]]
+            }
+            Face::Quad8([a, b, c, d, ab, bc, cd, da]) => vec![vec![a, ab, b, bc, c, cd, d, da]],
+            Face::Quad9([a, b, c, d, ab, bc, cd, da, m]) => {
+                vec![vec![a, ab, m, da], vec![ab, b, bc, m], vec![m, bc, c, cd], vec![da, m, cd, d]]
+            }
+        }
+    }
+
     /// Builds a face from its nodes: 3 (Tri3), 4 (Quad4), 6 (Tri6), 8 (Quad8)
     /// or 9 (Quad9).
     ///

@@ -1,7 +1,7 @@
 //! The paper's first example (Fig. 2), glued.
 
 use super::{block_body, BOTTOM_TOP};
-use crate::generate::{block, BlockKind, Grid};
+use crate::generate::{block, raise_order, BlockKind, Grid};
 use crate::material::Material;
 use crate::multibody::Coupling;
 use crate::problem::{Load, Problem, ProblemInterface, Support, SurfaceId};
@@ -24,6 +24,11 @@ pub struct WarpedGlue {
     pub multiplier: Multiplier,
     /// Traction on the top face.
     pub traction: [f64; 3],
+    /// 1: Hex8 cells; 2: Hex27 cells, every node (mid-edge, face and cell
+    /// centres too) on the blocks' maps, so the interface faces are curved
+    /// Quad9 faces of the true warped surface. Cell counts are those of the
+    /// cells of either order: for equal numbers of nodes halve them at order 2.
+    pub order: usize,
 }
 
 impl Default for WarpedGlue {
@@ -37,6 +42,7 @@ impl Default for WarpedGlue {
             amplitude: 0.1,
             multiplier: Multiplier::Standard,
             traction: [0.2, 0.0, -1.0],
+            order: 1,
         }
     }
 }
@@ -72,10 +78,10 @@ impl WarpedGlue {
 pub fn warped_glue(p: &WarpedGlue) -> Result<Problem, MeshError> {
     let material = Material::new(1000.0, 0.3).expect("valid constants");
     let nm = p.slave_cells * p.ratio;
-    let lower = block(nm, nm, p.master_layers, |u, v, w| p.lower(u, v, w), BlockKind::Hex);
+    let lower = hexes(nm, p.master_layers, p.order, |u, v, w| p.lower(u, v, w));
     let lower_grid = Grid::new(nm, nm, p.master_layers);
     let ns = p.slave_cells;
-    let upper = block(ns, ns, p.slave_layers, |u, v, w| p.upper(u, v, w), BlockKind::Hex);
+    let upper = hexes(ns, p.slave_layers, p.order, |u, v, w| p.upper(u, v, w));
     let upper_grid = Grid::new(ns, ns, p.slave_layers);
     let bodies = vec![
         block_body("lower", lower, &lower_grid, material, &BOTTOM_TOP)?,
@@ -95,4 +101,17 @@ pub fn warped_glue(p: &WarpedGlue) -> Result<Problem, MeshError> {
         supports: vec![Support { boundary: SurfaceId { body: 0, surface: bottom }, values: [Some(0.0); 3] }],
         loads: vec![Load { boundary: SurfaceId { body: 1, surface: top }, t: p.traction }],
     })
+}
+
+/// An n × n × `layers` block of hexahedra of `order` 1 (Hex8) or 2 (Hex27) on
+/// `map`: at order 2 the block is raised on the unit cube and every node mapped,
+/// so that the higher-order nodes lie on the map, not on straight edges.
+fn hexes(n: usize, layers: usize, order: usize, map: impl Fn(f64, f64, f64) -> Point3) -> seam::VolumeMesh {
+    if order < 2 {
+        return block(n, n, layers, map, BlockKind::Hex);
+    }
+    let unit = block(n, n, layers, |u, v, w| [u, v, w], BlockKind::Hex);
+    let raised = raise_order(&unit, true).expect("a first-order block");
+    let points = raised.points().iter().map(|&[u, v, w]| map(u, v, w)).collect();
+    seam::VolumeMesh::new(points, raised.cells().to_vec()).expect("finite points, valid cells")
 }
