@@ -153,16 +153,6 @@ impl VolumeRule {
 }
 
 const TET4_NODES: [Xi; 4] = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
-const HEX8_NODES: [Xi; 8] = [
-    [-1., -1., -1.],
-    [1., -1., -1.],
-    [1., 1., -1.],
-    [-1., 1., -1.],
-    [-1., -1., 1.],
-    [1., -1., 1.],
-    [1., 1., 1.],
-    [-1., 1., 1.],
-];
 const PRISM6_NODES: [Xi; 6] =
     [[0., 0., -1.], [1., 0., -1.], [0., 1., -1.], [0., 0., 1.], [1., 0., 1.], [0., 1., 1.]];
 const PYRAMID5_NODES: [Xi; 5] = [[-1., -1., 0.], [1., -1., 0.], [1., 1., 0.], [-1., 1., 0.], [0., 0., 1.]];
@@ -476,7 +466,7 @@ impl ElementKind {
     pub fn reference_nodes(self) -> &'static [Xi] {
         match self {
             ElementKind::Tet4 => &TET4_NODES,
-            ElementKind::Hex8 => &HEX8_NODES,
+            ElementKind::Hex8 => &HEX27_NODES[..8],
             ElementKind::Prism6 => &PRISM6_NODES,
             ElementKind::Pyramid5 => &PYRAMID5_NODES,
             ElementKind::Tet10 => &TET10_NODES,
@@ -517,7 +507,7 @@ impl ElementKind {
         match self {
             ElementKind::Tet4 => n[..4].copy_from_slice(&[1.0 - x - y - z, x, y, z]),
             ElementKind::Hex8 => {
-                for (i, p) in HEX8_NODES.iter().enumerate() {
+                for (i, p) in HEX27_NODES[..8].iter().enumerate() {
                     n[i] = 0.125 * (1.0 + p[0] * x) * (1.0 + p[1] * y) * (1.0 + p[2] * z);
                 }
             }
@@ -554,7 +544,7 @@ impl ElementKind {
                 g[3] = [0.0, 0.0, 1.0];
             }
             ElementKind::Hex8 => {
-                for (i, p) in HEX8_NODES.iter().enumerate() {
+                for (i, p) in HEX27_NODES[..8].iter().enumerate() {
                     let (a, b, c) = (1.0 + p[0] * x, 1.0 + p[1] * y, 1.0 + p[2] * z);
                     g[i] = [0.125 * p[0] * b * c, 0.125 * a * p[1] * c, 0.125 * a * b * p[2]];
                 }

@@ -5,39 +5,15 @@
 
 mod common;
 
-use common::{affine, affine_stress, distorted, hybrid, kind_name, max_abs, tensor, KINDS};
+use common::{
+    affine, affine_stress, check_affine, distorted, hybrid, kind_name, material, max_abs, tensor, KINDS,
+};
 use seam::{Point3, SurfaceMesh, VolumeMesh};
 use seam_fem::generate::{block, Grid, Side};
 use seam_fem::solve::solve;
-use seam_fem::{recover_stresses, stiffness, traction, Dirichlet, Material};
+use seam_fem::{recover_stresses, stiffness, traction, Dirichlet};
 
 const RTOL: f64 = 1e-10;
-
-fn material() -> Material {
-    Material::new(210e3, 0.3).unwrap()
-}
-
-/// Max nodal error of u against the affine field, relative to max |u_exact|, and
-/// max cell and nodal stress errors relative to max |σ|.
-fn check_affine(mesh: &VolumeMesh, u: &[f64], label: &str) {
-    let exact: Vec<f64> = mesh.points().iter().flat_map(|&x| affine(x)).collect();
-    let diff: Vec<f64> = u.iter().zip(&exact).map(|(a, b)| a - b).collect();
-    let err = max_abs(&diff) / max_abs(&exact);
-    assert!(err < RTOL, "{label}: displacement error {err:e}");
-    let s = recover_stresses(mesh, &material(), u).unwrap();
-    let sigma = affine_stress(&material());
-    let scale = max_abs(&sigma);
-    for (c, cs) in s.cell.iter().enumerate() {
-        let e = (0..6).map(|k| (cs[k] - sigma[k]).abs()).fold(0.0, f64::max) / scale;
-        assert!(e < RTOL, "{label}: {} cell {c} stress error {e:e}", kind_name(&mesh.cells()[c]));
-    }
-    for ns in &s.nodal {
-        let e = (0..6).map(|k| (ns[k] - sigma[k]).abs()).fold(0.0, f64::max) / scale;
-        assert!(e < RTOL, "{label}: nodal stress error {e:e}");
-    }
-    let vm = seam_fem::von_mises(&sigma);
-    assert!(s.cell_von_mises.iter().all(|v| (v - vm).abs() < RTOL * vm));
-}
 
 /// Dirichlet u = A x + c on every boundary point; the interior nodes must follow.
 fn displacement_patch(mesh: &VolumeMesh, label: &str) {

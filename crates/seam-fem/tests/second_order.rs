@@ -7,7 +7,8 @@ mod common;
 
 use common::manufactured::{exact, gradient, load};
 use common::{
-    affine, affine_stress, distorted, error_sums, fitted_rate, hybrid, max_abs, tensor, warp, Rng, KINDS,
+    affine, affine_stress, check_affine, distorted, error_sums, fitted_rate, hybrid, material, max_abs,
+    tensor, warp, Rng, KINDS,
 };
 use faer::{Mat, Side as EigSide};
 use seam::{Cell, Point3, VolumeMesh};
@@ -16,8 +17,7 @@ use seam_fem::element::Xi;
 use seam_fem::generate::{block, node_supports, raise_order, BlockKind, Grid, RaiseError};
 use seam_fem::solve::solve;
 use seam_fem::{
-    body_force, cell_volumes, recover_stresses, rigid_body_modes, stiffness, traction, Dirichlet,
-    ElementKind, Material,
+    body_force, cell_volumes, rigid_body_modes, stiffness, traction, Dirichlet, ElementKind, Material,
 };
 
 const GMSH_REFERENCE: &str = include_str!("../../seam-io/tests/data/second_order.txt");
@@ -244,26 +244,6 @@ fn raise_order_shares_nodes_and_keeps_the_geometry() {
     assert_eq!(tets.points().len(), 27 + (27 + 120 - 48 - 1));
     assert!(matches!(raise_order(&tets, true), Err(RaiseError::SecondOrder { cell: 0 })));
     assert_eq!(node_supports(ElementKind::Hex27)[26], (0..8).collect::<Vec<_>>());
-}
-
-fn material() -> Material {
-    Material::new(210e3, 0.3).unwrap()
-}
-
-/// Max displacement error relative to max |u|, and cell and nodal (every node,
-/// mid-edge and centre nodes included) stress errors relative to max |σ|.
-fn check_affine(mesh: &VolumeMesh, u: &[f64], label: &str) {
-    let ex: Vec<f64> = mesh.points().iter().flat_map(|&x| affine(x)).collect();
-    let diff: Vec<f64> = u.iter().zip(&ex).map(|(a, b)| a - b).collect();
-    let err = max_abs(&diff) / max_abs(&ex);
-    assert!(err < 1e-10, "{label}: displacement error {err:e}");
-    let s = recover_stresses(mesh, &material(), u).unwrap();
-    let sigma = affine_stress(&material());
-    let scale = max_abs(&sigma);
-    for cs in s.cell.iter().chain(&s.nodal) {
-        let e = (0..6).map(|k| (cs[k] - sigma[k]).abs()).fold(0.0, f64::max) / scale;
-        assert!(e < 1e-10, "{label}: stress error {e:e}");
-    }
 }
 
 /// The second-order meshes of the patch tests: distorted 3³ blocks raised,

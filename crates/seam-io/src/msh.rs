@@ -42,7 +42,7 @@ mod select;
 mod write;
 
 pub use error::{Degeneracy, GroupId, Location, MshError, MshErrorKind};
-pub use write::{write_msh, write_msh_file, write_volume_msh, write_volume_msh_file};
+pub use write::{cell_type, face_type, write_msh, write_msh_file, write_volume_msh, write_volume_msh_file};
 
 /// The content of a Gmsh MSH file.
 #[derive(Clone, Debug, PartialEq)]

@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use seam::{area_vector, Cell, Face, Point3, SurfaceMesh};
+use seam::{area_vector, Face, Point3, SurfaceMesh};
 use seam_io::{
     read_msh, read_msh_file, read_surface_file, read_volume_file, Degeneracy, Location, Msh, MshErrorKind,
     MshVersion,
@@ -337,23 +337,6 @@ fn second_order_fixtures() -> Vec<(String, Vec<(u32, usize)>)> {
         .collect()
 }
 
-/// The Gmsh type number of a cell.
-fn gmsh_cell_type(cell: &Cell) -> u32 {
-    match cell {
-        Cell::Tet4(_) => 4,
-        Cell::Hex8(_) => 5,
-        Cell::Prism6(_) => 6,
-        Cell::Pyramid5(_) => 7,
-        Cell::Tet10(_) => 11,
-        Cell::Hex20(_) => 17,
-        Cell::Hex27(_) => 12,
-        Cell::Prism15(_) => 18,
-        Cell::Prism18(_) => 13,
-        Cell::Pyramid13(_) => 19,
-        Cell::Pyramid14(_) => 14,
-    }
-}
-
 /// The fixtures have flat sides, where Gmsh puts each mid-edge node in the
 /// middle of its edge and a Quad9's centre at the mean of its corners: checks
 /// that every second-order face of `surface` has its nodes where Gmsh's order
@@ -425,7 +408,7 @@ fn second_order_fixtures_read_with_gmsh_counts_and_second_order_boundaries() {
             let mut cell_counts = std::collections::BTreeMap::new();
             for cell in volume.cells() {
                 assert!(cell.is_second_order(), "{context}");
-                *cell_counts.entry(gmsh_cell_type(cell)).or_insert(0) += 1;
+                *cell_counts.entry(seam_io::msh::cell_type(cell)).or_insert(0) += 1;
             }
             let wanted: std::collections::BTreeMap<u32, usize> =
                 counts.iter().copied().filter(|&(t, _)| ![9, 10, 16].contains(&t)).collect();

@@ -39,26 +39,13 @@ pub enum Pattern {
 /// If `nu` or `nv` is zero, or the map makes a degenerate face.
 pub fn patch(nu: usize, nv: usize, pattern: Pattern, x: impl Fn(f64, f64) -> Point3) -> SurfaceMesh {
     assert!(nu > 0 && nv > 0, "a patch needs at least one cell in each direction");
-    let (amplitude, mut rng) = match pattern {
+    let jitter = match pattern {
         Pattern::JitteredTriangles { amplitude, seed } | Pattern::JitteredQuads { amplitude, seed } => {
-            (amplitude, SplitMix64(seed))
+            Some((amplitude, seed))
         }
-        Pattern::Quads | Pattern::Triangles => (0.0, SplitMix64(0)),
+        Pattern::Quads | Pattern::Triangles => None,
     };
-    let mut points = Vec::with_capacity((nu + 1) * (nv + 1));
-    for j in 0..=nv {
-        for i in 0..=nu {
-            let mut du = amplitude * rng.symmetric() / nu as f64;
-            let mut dv = amplitude * rng.symmetric() / nv as f64;
-            if i == 0 || i == nu {
-                du = 0.0;
-            }
-            if j == 0 || j == nv {
-                dv = 0.0;
-            }
-            points.push(x(i as f64 / nu as f64 + du, j as f64 / nv as f64 + dv));
-        }
-    }
+    let points: Vec<Point3> = grid_parameters(nu, nv, jitter).into_iter().map(|[u, v]| x(u, v)).collect();
     let id = |i: usize, j: usize| j * (nu + 1) + i;
     let mut faces = Vec::with_capacity(nu * nv * 2);
     for j in 0..nv {
@@ -72,6 +59,28 @@ pub fn patch(nu: usize, nv: usize, pattern: Pattern, x: impl Fn(f64, f64) -> Poi
         }
     }
     SurfaceMesh::new(points, faces).expect("the parametric map makes a valid patch")
+}
+
+/// The (u, v) of the grid points, row by row, interior points moved at random
+/// by up to `amplitude` cell sizes when `jitter = Some((amplitude, seed))`
+/// (boundary points slide along the boundary only).
+fn grid_parameters(nu: usize, nv: usize, jitter: Option<(f64, u64)>) -> Vec<[f64; 2]> {
+    let (amplitude, mut rng) = jitter.map_or((0.0, SplitMix64(0)), |(a, seed)| (a, SplitMix64(seed)));
+    let mut uv = Vec::with_capacity((nu + 1) * (nv + 1));
+    for j in 0..=nv {
+        for i in 0..=nu {
+            let mut du = amplitude * rng.symmetric() / nu as f64;
+            let mut dv = amplitude * rng.symmetric() / nv as f64;
+            if i == 0 || i == nu {
+                du = 0.0;
+            }
+            if j == 0 || j == nv {
+                dv = 0.0;
+            }
+            uv.push([i as f64 / nu as f64 + du, j as f64 / nv as f64 + dv]);
+        }
+    }
+    uv
 }
 
 /// The second-order face types of [`quadratic_patch`].
@@ -103,21 +112,7 @@ pub fn quadratic_patch(
     x: impl Fn(f64, f64) -> Point3,
 ) -> SurfaceMesh {
     assert!(nu > 0 && nv > 0, "a patch needs at least one cell in each direction");
-    let (amplitude, mut rng) = jitter.map_or((0.0, SplitMix64(0)), |(a, seed)| (a, SplitMix64(seed)));
-    let mut corners = Vec::with_capacity((nu + 1) * (nv + 1));
-    for j in 0..=nv {
-        for i in 0..=nu {
-            let mut du = amplitude * rng.symmetric() / nu as f64;
-            let mut dv = amplitude * rng.symmetric() / nv as f64;
-            if i == 0 || i == nu {
-                du = 0.0;
-            }
-            if j == 0 || j == nv {
-                dv = 0.0;
-            }
-            corners.push([i as f64 / nu as f64 + du, j as f64 / nv as f64 + dv]);
-        }
-    }
+    let corners = grid_parameters(nu, nv, jitter);
     let (mu, mv) = (2 * nu + 1, 2 * nv + 1);
     let corner = |i: usize, j: usize| corners[j * (nu + 1) + i];
     // Parameters of refined grid point (i, j): the mean of the corners around it.

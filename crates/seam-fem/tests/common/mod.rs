@@ -4,8 +4,8 @@
 use seam::{Cell, Face, Facing, MortarOptions, Multiplier, Point3, SurfaceMesh, VolumeMesh};
 use seam_fem::assembly::{geometry, map_point};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
+use seam_fem::{recover_stresses, traction, Dirichlet, ElementKind, Material};
 use seam_fem::{solve_coupled, Body, Coupling, Interface, Solution, SolveOptions};
-use seam_fem::{traction, Dirichlet, ElementKind, Material};
 
 /// A smooth, non-affine map of the unit cube (positive Jacobian).
 pub fn warp(u: f64, v: f64, w: f64) -> Point3 {
@@ -339,4 +339,31 @@ impl Part {
             dirichlet.fix(p, std::array::from_fn(|c| which[c].then_some(u[c])));
         }
     }
+}
+
+/// The material of the patch tests.
+pub fn material() -> Material {
+    Material::new(210e3, 0.3).unwrap()
+}
+
+/// Max nodal error of u against the affine field, relative to max |u_exact|, and
+/// max cell and nodal stress errors relative to max |σ|.
+pub fn check_affine(mesh: &VolumeMesh, u: &[f64], label: &str) {
+    let exact: Vec<f64> = mesh.points().iter().flat_map(|&x| affine(x)).collect();
+    let diff: Vec<f64> = u.iter().zip(&exact).map(|(a, b)| a - b).collect();
+    let err = max_abs(&diff) / max_abs(&exact);
+    assert!(err < 1e-10, "{label}: displacement error {err:e}");
+    let s = recover_stresses(mesh, &material(), u).unwrap();
+    let sigma = affine_stress(&material());
+    let scale = max_abs(&sigma);
+    for (c, cs) in s.cell.iter().enumerate() {
+        let e = (0..6).map(|k| (cs[k] - sigma[k]).abs()).fold(0.0, f64::max) / scale;
+        assert!(e < 1e-10, "{label}: {} cell {c} stress error {e:e}", kind_name(&mesh.cells()[c]));
+    }
+    for ns in &s.nodal {
+        let e = (0..6).map(|k| (ns[k] - sigma[k]).abs()).fold(0.0, f64::max) / scale;
+        assert!(e < 1e-10, "{label}: nodal stress error {e:e}");
+    }
+    let vm = seam_fem::von_mises(&sigma);
+    assert!(s.cell_von_mises.iter().all(|v| (v - vm).abs() < 1e-10 * vm));
 }

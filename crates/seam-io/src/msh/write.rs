@@ -82,22 +82,20 @@ struct Entity<'a> {
     blocks: Vec<(u32, Vec<&'a [usize]>)>,
 }
 
-/// Faces as blocks of consecutive faces of one Gmsh type, keeping their order.
-fn face_blocks(faces: &[Face]) -> Vec<(u32, Vec<&[usize]>)> {
-    let type_of = |f: &Face| match f {
+/// The Gmsh element type number of a face.
+pub fn face_type(face: &Face) -> u32 {
+    match face {
         Face::Tri3(_) => 2,
         Face::Quad4(_) => 3,
         Face::Tri6(_) => 9,
         Face::Quad8(_) => 16,
         Face::Quad9(_) => 10,
-    };
-    runs(faces.iter().map(|f| (type_of(f), f.nodes())))
+    }
 }
 
-/// Cells as blocks of consecutive cells of one Gmsh type, keeping their order
-/// (Seam's node order is Gmsh's).
-fn cell_blocks(cells: &[Cell]) -> Vec<(u32, Vec<&[usize]>)> {
-    let type_of = |c: &Cell| match c {
+/// The Gmsh element type number of a cell (seam's node order is Gmsh's).
+pub fn cell_type(cell: &Cell) -> u32 {
+    match cell {
         Cell::Tet4(_) => 4,
         Cell::Hex8(_) => 5,
         Cell::Prism6(_) => 6,
@@ -109,8 +107,17 @@ fn cell_blocks(cells: &[Cell]) -> Vec<(u32, Vec<&[usize]>)> {
         Cell::Prism18(_) => 13,
         Cell::Pyramid13(_) => 19,
         Cell::Pyramid14(_) => 14,
-    };
-    runs(cells.iter().map(|c| (type_of(c), c.nodes())))
+    }
+}
+
+/// Faces as blocks of consecutive faces of one Gmsh type, keeping their order.
+fn face_blocks(faces: &[Face]) -> Vec<(u32, Vec<&[usize]>)> {
+    runs(faces.iter().map(|f| (face_type(f), f.nodes())))
+}
+
+/// Cells as blocks of consecutive cells of one Gmsh type, keeping their order.
+fn cell_blocks(cells: &[Cell]) -> Vec<(u32, Vec<&[usize]>)> {
+    runs(cells.iter().map(|c| (cell_type(c), c.nodes())))
 }
 
 /// Maximal runs of elements of the same type.

@@ -27,7 +27,7 @@
 //! I1 (D·1 = B·1) and I2 hold to round-off whatever the rule, since D and B
 //! use the same points and Σ_q λ^m_q = 1.
 
-use super::kernel::barycentric;
+use super::kernel::{add_point, barycentric};
 use super::{FaceStats, Facing, Segment};
 use crate::clip::{face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame, MAX_POLYGON};
 use crate::curved::{shape_and_gradients, CurvedFace, CurvedKind};
@@ -254,15 +254,7 @@ pub(super) fn pair(
                     let wj = w * area * ratio * norm(cross(ta, tb));
                     let lam = shape_and_gradients(km, xi_m).0;
                     block.covered_area += wj;
-                    for p in 0..n_s {
-                        let wp = wj * phi[p];
-                        for q in p..n_s {
-                            block.d[p][q] += wp * phi[q];
-                        }
-                        for q in 0..n_m {
-                            block.b[p][q] += wp * lam[q];
-                        }
-                    }
+                    add_point(&mut block.d, &mut block.b, wj, &phi[..n_s], &lam[..n_m]);
                 }
                 if let Some((segments, s, m)) = record.as_mut() {
                     let corners = [xs[a], xs[b], xs[c]].map(|xi| cs.face.map(xi));

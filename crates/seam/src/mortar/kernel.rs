@@ -11,10 +11,10 @@
 use super::isoparametric::{self, CurvedSlave, MAX_NODES};
 use super::multiplier::{apply_multiplier, FaceMeasures};
 use super::rows::Blocks;
-use super::{face_integrals, warped_quad_degree, FaceStats, Facing, MortarOptions, Segment};
+use super::{face_integrals, warped_quad_degree, FaceStats, MortarOptions, Segment};
 use crate::clip::{face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame, MAX_POLYGON};
 use crate::curved::CurvedFace;
-use crate::element::{dot, FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
+use crate::element::{FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
 use crate::mesh::{Point3, SurfaceMesh};
 use crate::quadrature::{triangle_rule, TriangleRule};
 use crate::search::{swept_box, FaceTree};
@@ -192,15 +192,17 @@ impl<'a> Kernel<'a> {
         for &m in &scratch.candidates {
             let record = self.options.record_segments.then_some(&mut out.segments);
             let Some(pair) = self.pair(&sf, s, m, stats, record) else { continue };
-            stats.intersecting += 1;
-            stats.segments += pair.segments;
-            stats.covered_area += pair.covered_area;
-            for p in 0..n_s {
-                for q in 0..n_s {
-                    d[p * MAX_NODES + q] += pair.d[p][q];
-                }
-            }
-            add_columns(&mut scratch.cols, &mut scratch.b, n_s, self.master.faces()[m].nodes(), &pair.b);
+            let nodes = self.master.faces()[m].nodes();
+            add_pair(
+                &mut scratch.cols,
+                &mut scratch.b,
+                d,
+                stats,
+                n_s,
+                nodes,
+                (&pair.d, &pair.b),
+                (pair.covered_area, pair.segments),
+            );
         }
         let full = face_integrals(&sf.element, self.rules.select(&sf, sf.element.kind).degree);
         std::array::from_fn(|p| if p < 4 { full[p] } else { 0.0 })
@@ -240,15 +242,17 @@ impl<'a> Kernel<'a> {
             let Some(pair) = isoparametric::pair(&cs, &master, &self.rules.curved, stats, record) else {
                 continue;
             };
-            stats.intersecting += 1;
-            stats.segments += pair.segments;
-            stats.covered_area += pair.covered_area;
-            for p in 0..n_s {
-                for q in 0..n_s {
-                    d[p * MAX_NODES + q] += pair.d[p][q];
-                }
-            }
-            add_columns(&mut scratch.cols, &mut scratch.b, n_s, self.master.faces()[m].nodes(), &pair.b);
+            let nodes = self.master.faces()[m].nodes();
+            add_pair(
+                &mut scratch.cols,
+                &mut scratch.b,
+                d,
+                stats,
+                n_s,
+                nodes,
+                (&pair.d, &pair.b),
+                (pair.covered_area, pair.segments),
+            );
         }
         isoparametric::face_integrals(&face)
     }
@@ -285,12 +289,13 @@ impl<'a> Kernel<'a> {
         stats: &mut FaceStats,
         mut record: Option<&mut Vec<Segment>>,
     ) -> Option<PairBlock> {
-        let cos = dot(sf.frame.normal(), self.master_normals[m]);
-        let aligned = match self.options.facing {
-            Facing::Any => cos.abs(),
-            Facing::Opposite => -cos,
-        };
-        if aligned < self.cos_max_angle {
+        let facing = isoparametric::facing_ok(
+            self.options.facing,
+            sf.frame.normal(),
+            self.master_normals[m],
+            self.cos_max_angle,
+        );
+        if !facing {
             stats.rejected_angle += 1;
             return None;
         }
@@ -439,15 +444,7 @@ fn accumulate<const NS: usize, const NM: usize>(
         let lam: [f64; NM] = shape_of(master_map.at(xis, tm, *pt));
         let wj = w * area_ref * jacobian.at(xis);
         block.covered_area += wj;
-        for p in 0..NS {
-            let wp = wj * phi[p];
-            for q in p..NS {
-                block.d[p][q] += wp * phi[q];
-            }
-            for q in 0..NM {
-                block.b[p][q] += wp * lam[q];
-            }
-        }
+        add_point(&mut block.d, &mut block.b, wj, &phi, &lam);
     }
 }
 
@@ -481,6 +478,51 @@ pub(super) fn triangle_area(t: [Xi; 3]) -> f64 {
 #[inline]
 fn signed_area(t: [Xi; 3]) -> f64 {
     0.5 * ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]))
+}
+
+/// Adds a pair's blocks (n_s × n_s of D, n_s × n_m of B) and counts to the
+/// face's.
+#[allow(clippy::too_many_arguments)]
+fn add_pair<const N: usize>(
+    cols: &mut Vec<usize>,
+    block: &mut Vec<f64>,
+    d: &mut [f64; MAX_NODES * MAX_NODES],
+    stats: &mut FaceStats,
+    n_s: usize,
+    master_nodes: &[usize],
+    (pair_d, pair_b): (&[[f64; N]; N], &[[f64; N]; N]),
+    (covered_area, segments): (f64, u32),
+) {
+    stats.intersecting += 1;
+    stats.segments += segments;
+    stats.covered_area += covered_area;
+    for p in 0..n_s {
+        for q in 0..n_s {
+            d[p * MAX_NODES + q] += pair_d[p][q];
+        }
+    }
+    add_columns(cols, block, n_s, master_nodes, pair_b);
+}
+
+/// One quadrature point's share of a pair's blocks: D_pq += w φ_p φ_q (upper
+/// triangle, q ≥ p) and B_pq += w φ_p λ_q.
+#[inline(always)]
+pub(super) fn add_point<const N: usize>(
+    d: &mut [[f64; N]; N],
+    b: &mut [[f64; N]; N],
+    wj: f64,
+    phi: &[f64],
+    lam: &[f64],
+) {
+    for p in 0..phi.len() {
+        let wp = wj * phi[p];
+        for q in p..phi.len() {
+            d[p][q] += wp * phi[q];
+        }
+        for q in 0..lam.len() {
+            b[p][q] += wp * lam[q];
+        }
+    }
 }
 
 /// Sorts a face block's columns by master point (insertion sort: a dozen
