@@ -742,22 +742,26 @@ mod tests {
     #[test]
     fn partition_of_unity_and_zero_gradient_sum() {
         for kind in ElementKind::ALL {
+            // First order: closed forms, exact to 1e-14. Second order: bases
+            // from an inverted 10–27-term interpolation matrix, whose round-off
+            // is larger (values 1e-13, gradients 1e-12).
+            let (tol, gtol) = if kind.order() == 1 { (1e-14, 1e-14) } else { (1e-13, 1e-12) };
             for xi in samples(kind) {
                 let n = kind.shape(xi);
-                assert!((n.iter().sum::<f64>() - 1.0).abs() < 1e-13, "{kind:?} at {xi:?}");
+                assert!((n.iter().sum::<f64>() - 1.0).abs() < tol, "{kind:?} at {xi:?}");
                 let g = kind.gradients(xi);
                 for k in 0..3 {
                     let s: f64 = g.iter().map(|gi| gi[k]).sum();
-                    assert!(s.abs() < 1e-12, "{kind:?} at {xi:?}: Σ ∂N/∂ξ_{k} = {s}");
+                    assert!(s.abs() < gtol, "{kind:?} at {xi:?}: Σ ∂N/∂ξ_{k} = {s}");
                 }
                 // Linear completeness: Σ N_i ξ_i = ξ, Σ ξ_i ⊗ ∇N_i = I.
                 let nodes = kind.reference_nodes();
                 for k in 0..3 {
                     let s: f64 = nodes.iter().zip(&n).map(|(p, n)| p[k] * n).sum();
-                    assert!((s - xi[k]).abs() < 1e-13, "{kind:?}: Σ N_i ξ_i ≠ ξ");
+                    assert!((s - xi[k]).abs() < tol, "{kind:?}: Σ N_i ξ_i ≠ ξ");
                     for l in 0..3 {
                         let s: f64 = nodes.iter().zip(&g).map(|(p, g)| p[k] * g[l]).sum();
-                        assert!((s - (k == l) as u8 as f64).abs() < 1e-12, "{kind:?}: Σ ξ_i ∇N_i ≠ I");
+                        assert!((s - (k == l) as u8 as f64).abs() < gtol, "{kind:?}: Σ ξ_i ∇N_i ≠ I");
                     }
                 }
             }
@@ -865,7 +869,9 @@ mod tests {
         assert_eq!(sizes, [1, 8, 6, 8, 4, 27, 27, 18, 18, 27, 27]);
         for kind in ElementKind::ALL {
             let v: f64 = kind.stiffness_rule().weights.iter().sum();
-            assert!((v - kind.reference_volume()).abs() < 1e-14 * kind.reference_volume(), "{kind:?}");
+            // 27-point rules on the volume-8 hex sum to 8 within 1.1e-14: relative there.
+            let tol = if kind.order() == 1 { 1e-14 } else { 1e-14 * kind.reference_volume() };
+            assert!((v - kind.reference_volume()).abs() < tol, "{kind:?}: Σw = {v}");
         }
     }
 }
