@@ -377,6 +377,26 @@ impl PlaneFace {
     pub fn is_affine(&self) -> bool {
         norm2(self.d) <= 1e-13 * self.scale
     }
+
+    /// How far the map is from affine: with det_i = det ∂q/∂ξ at the corners
+    /// (det is affine in ξ, so these bound it), (max − min) / (max + min) of
+    /// |det_i|; 0 for triangles and parallelograms, 1 when a corner's det
+    /// vanishes or changes sign. The inverse map ξ(q), and with it the
+    /// integrand of a segment in the plane, is analytic on the face with its
+    /// singularities where det = 0, at a distance that shrinks as this grows.
+    pub fn distortion(&self) -> f64 {
+        if self.kind == FaceKind::Tri3 {
+            return 0.0;
+        }
+        let dets = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]].map(|xi| self.det(xi));
+        let (lo, hi) =
+            dets.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &d| (l.min(d), h.max(d)));
+        if lo.signum() != hi.signum() || lo == 0.0 {
+            return 1.0;
+        }
+        let (lo, hi) = if lo > 0.0 { (lo, hi) } else { (-hi, -lo) };
+        (hi - lo) / (hi + lo)
+    }
 }
 
 /// How far outside [0,1]² a converged root may lie and still be the element's own.

@@ -43,7 +43,30 @@ pub(super) struct Rules {
     fixed_warped: Option<TriangleRule>,
     /// Pairs with a second-order face ([`isoparametric`]).
     curved: TriangleRule,
+    /// The rules of [`PLANE_LADDER`], in its order.
+    plane: [TriangleRule; PLANE_LADDER.len()],
 }
+
+/// (D3) in the projection plane, for pairs whose projected faces are not both
+/// affine: by the larger distortion ε of the two ([`PlaneFace::distortion`]),
+/// (largest ε, triangle-rule degree, levels of subdivision of each plane
+/// triangle into four). The integrand ψ_p(ξ_s(q)) λ_q(ξ_m(q)) is analytic but
+/// not polynomial in the plane point q; test `plane_ladder_accuracy` shows
+/// each entry integrating it over face-sized triangles to 1e-12 relative
+/// (measured worst cases 2e-14 to 6e-13). Above ε = 0.85 (corner Jacobians
+/// more than 12 to 1) the last entry's error grows, to about 4e-9 at ε = 0.9.
+pub(super) const PLANE_LADDER: [(f64, usize, u32); 10] = [
+    (0.05, 10, 0),
+    (0.10, 12, 0),
+    (0.15, 14, 0),
+    (0.20, 16, 0),
+    (0.35, 20, 0),
+    (0.45, 16, 1),
+    (0.55, 20, 1),
+    (0.65, 20, 2),
+    (0.75, 20, 3),
+    (f64::INFINITY, 20, 4),
+];
 
 impl Rules {
     fn new(warped_degree: Option<usize>) -> Rules {
@@ -54,6 +77,19 @@ impl Rules {
             parallelogram: rule(4),
             fixed_warped: warped_degree.map(rule),
             curved: rule(isoparametric::CURVED_DEGREE),
+            plane: PLANE_LADDER.map(|(_, degree, _)| rule(degree)),
+        }
+    }
+
+    /// The plane rule and its subdivision levels for distortion `eps`, at
+    /// least as fine as `base` (the polynomial or warped-quad rule).
+    fn plane(&self, eps: f64, base: TriangleRule) -> (TriangleRule, u32) {
+        let i = PLANE_LADDER.iter().position(|&(max, _, _)| eps <= max).unwrap_or(PLANE_LADDER.len() - 1);
+        let (rule, levels) = (self.plane[i], PLANE_LADDER[i].2);
+        if levels == 0 && base.degree > rule.degree {
+            (base, 0)
+        } else {
+            (rule, levels)
         }
     }
 
@@ -109,6 +145,12 @@ struct SlaveFace {
     heights: [f64; 4],
     /// ±1: the orientation of the slave's map ξ ↦ plane, at the face centre.
     orientation: f64,
+    /// [`PlaneFace::distortion`] of `plane`.
+    distortion: f64,
+    /// On a planar face, the constant |J_s| / |det ∂χ_s/∂ξ| (area of the face
+    /// over area of its projection), taken as the ratio of the two areas so
+    /// that pieces tiling the face add up to its area to round-off.
+    area_ratio: Option<f64>,
     frame: Frame,
     plane: PlaneFace,
     clipper: ConvexClipper,
@@ -117,6 +159,7 @@ struct SlaveFace {
 }
 
 /// What one pair (F_s, F_m) contributes, on the stack.
+#[derive(Default)]
 struct PairBlock {
     /// n_s × n_s: `d[p][q]`.
     d: [[f64; 4]; 4],
@@ -124,6 +167,19 @@ struct PairBlock {
     b: [[f64; 4]; 4],
     covered_area: f64,
     segments: u32,
+}
+
+impl PairBlock {
+    /// Adds `other`'s blocks and covered area (not its segment count).
+    fn add(&mut self, other: &PairBlock) {
+        for p in 0..4 {
+            for q in 0..4 {
+                self.d[p][q] += other.d[p][q];
+                self.b[p][q] += other.b[p][q];
+            }
+        }
+        self.covered_area += other.covered_area;
+    }
 }
 
 impl<'a> Kernel<'a> {
@@ -272,6 +328,13 @@ impl<'a> Kernel<'a> {
             jacobian: element.jacobian_field(),
             heights: element.x.map(|x| frame.height(x)),
             orientation: plane.orientation(),
+            distortion: plane.distortion(),
+            area_ratio: match element.jacobian_field() {
+                JacobianField::Affine(_) => {
+                    Some(face_integrals(&element, 3).iter().sum::<f64>() / polygon_area(&polygon))
+                }
+                JacobianField::Norm(_) => None,
+            },
             element,
             frame,
             plane,
@@ -328,18 +391,31 @@ impl<'a> Kernel<'a> {
         stats.max_gap = stats.max_gap.max(gap);
         stats.max_overlap = stats.max_overlap.max(overlap);
         let rule = self.rules.select(sf, em.kind);
-        // Where both projected faces are affine (triangles, parallelograms), ξ_m is
-        // an affine function of ξ_s on each segment; otherwise each quadrature
-        // point is inverse-projected onto the master face.
-        let master_map = match sf.plane.is_affine() && master_plane.is_affine() {
-            true => MasterCoordinates::Affine,
-            false => MasterCoordinates::Projected { slave: &sf.plane, master: &master_plane },
-        };
         let mut block = PairBlock { d: [[0.0; 4]; 4], b: [[0.0; 4]; 4], covered_area: 0.0, segments: 0 };
+        // Both projected faces affine (triangles, parallelograms): ξ_s and ξ_m
+        // are affine in the plane point, a segment is a straight triangle in
+        // both reference cells and the rule is exact. Otherwise the preimages
+        // of straight plane edges are curved: the points are placed in the plane.
+        let in_plane = !(sf.plane.is_affine() && master_plane.is_affine());
+        let (plane_rule, levels) = match (in_plane, sf.warped_rule, self.options.warped_quad_degree) {
+            (_, Some(warped), Some(_)) => (warped, 0),
+            (true, _, _) => self.rules.plane(sf.distortion.max(master_plane.distortion()), rule),
+            (false, _, _) => (rule, 0),
+        };
         for [a, b, c] in fan_triangles(polygon.len()) {
             let ts = [xs[a], xs[b], xs[c]];
-            let tm = [xm[a], xm[b], xm[c]];
-            integrate_segment(sf, em.kind, ts, tm, master_map, &rule, &mut block);
+            if in_plane {
+                let plane = [polygon[a], polygon[b], polygon[c]];
+                if signed_area(plane) <= 0.0 {
+                    continue;
+                }
+                block.segments += 1;
+                let on =
+                    PlaneSegment { slave: sf, master: &master_plane, rule: &plane_rule, stats: &mut *stats };
+                on.integrate(em.kind, plane, levels, &mut block);
+            } else {
+                integrate_segment(sf, em.kind, ts, [xm[a], xm[b], xm[c]], &rule, &mut block);
+            }
             if let Some(segments) = record.as_deref_mut() {
                 segments.push(Segment { slave: s, master: m, corners: ts.map(|xi| sf.element.map(xi)) });
             }
@@ -362,53 +438,22 @@ fn inverse(plane: &PlaneFace, p: [f64; 2], stats: &mut FaceStats) -> Xi {
     r.xi()
 }
 
-/// How the quadrature points of a segment get their master reference
-/// coordinates ξ_m (D2–D3).
-#[derive(Clone, Copy)]
-enum MasterCoordinates<'a> {
-    /// By the affine map between the segment's slave and master reference
-    /// triangles: exact when ξ_s ↦ ξ_m is affine (both projected faces affine).
-    Affine,
-    /// By inverse projection of the slave point q_s(ξ_s) onto the master face:
-    /// exact for any faces, so that on a flat interface B reproduces linear
-    /// fields exactly (I4) also for general quads.
-    Projected {
-        /// The slave face in the projection plane.
-        slave: &'a PlaneFace,
-        /// The master face in the projection plane.
-        master: &'a PlaneFace,
-    },
-}
-
-impl MasterCoordinates<'_> {
-    #[inline(always)]
-    fn at(&self, xis: Xi, tm: [Xi; 3], pt: [f64; 2]) -> Xi {
-        match self {
-            MasterCoordinates::Affine => barycentric(tm, pt),
-            MasterCoordinates::Projected { slave, master } => master.inverse(slave.map(xis)).xi(),
-        }
-    }
-}
-
-/// (D3)–(D5) on one intersection triangle with reference images `ts` (slave) and
-/// `tm` (master): the quadrature points are placed affinely in the slave's
-/// reference triangle, given their master coordinates by `master_map`, and
-/// weighted by ω'_l = ω_l |J_s(x_l^s)| |T̂s| (|T̂s| signed, see below). Dispatches once to the loop
-/// specialised for the two faces' node counts.
+/// (D3)–(D5) on one intersection triangle of two affine projected faces, with
+/// reference images `ts` (slave) and `tm` (master): the quadrature points are
+/// placed affinely in the slave's reference triangle, given their master
+/// coordinates by the affine map between the two triangles, and weighted by
+/// ω'_l = ω_l |J_s(x_l^s)| |T̂s|. Dispatches once to the loop specialised for
+/// the two faces' node counts.
 #[inline]
 fn integrate_segment(
     sf: &SlaveFace,
     master: FaceKind,
     ts: [Xi; 3],
     tm: [Xi; 3],
-    master_map: MasterCoordinates,
     rule: &TriangleRule,
     block: &mut PairBlock,
 ) {
-    // Signed, relative to the orientation of the slave's map: the fan of a convex
-    // polygon of the plane can map to a non-convex one in ξ_s (a quad's inverse
-    // map is not affine), whose fan triangles overlap; signed, they still add up
-    // to exactly the polygon.
+    // Relative to the orientation of the slave's map.
     let area_ref = sf.orientation * signed_area(ts);
     if area_ref == 0.0 {
         return;
@@ -416,12 +461,10 @@ fn integrate_segment(
     block.segments += 1;
     let j = &sf.jacobian;
     match (sf.element.kind, master) {
-        (FaceKind::Tri3, FaceKind::Tri3) => accumulate::<3, 3>(j, ts, tm, master_map, area_ref, rule, block),
-        (FaceKind::Tri3, FaceKind::Quad4) => accumulate::<3, 4>(j, ts, tm, master_map, area_ref, rule, block),
-        (FaceKind::Quad4, FaceKind::Tri3) => accumulate::<4, 3>(j, ts, tm, master_map, area_ref, rule, block),
-        (FaceKind::Quad4, FaceKind::Quad4) => {
-            accumulate::<4, 4>(j, ts, tm, master_map, area_ref, rule, block)
-        }
+        (FaceKind::Tri3, FaceKind::Tri3) => accumulate::<3, 3>(j, ts, tm, area_ref, rule, block),
+        (FaceKind::Tri3, FaceKind::Quad4) => accumulate::<3, 4>(j, ts, tm, area_ref, rule, block),
+        (FaceKind::Quad4, FaceKind::Tri3) => accumulate::<4, 3>(j, ts, tm, area_ref, rule, block),
+        (FaceKind::Quad4, FaceKind::Quad4) => accumulate::<4, 4>(j, ts, tm, area_ref, rule, block),
     }
 }
 
@@ -433,7 +476,6 @@ fn accumulate<const NS: usize, const NM: usize>(
     jacobian: &JacobianField,
     ts: [Xi; 3],
     tm: [Xi; 3],
-    master_map: MasterCoordinates,
     area_ref: f64,
     rule: &TriangleRule,
     block: &mut PairBlock,
@@ -441,10 +483,79 @@ fn accumulate<const NS: usize, const NM: usize>(
     for (pt, &w) in rule.points.iter().zip(rule.weights) {
         let xis = barycentric(ts, *pt);
         let phi: [f64; NS] = shape_of(xis);
-        let lam: [f64; NM] = shape_of(master_map.at(xis, tm, *pt));
+        let lam: [f64; NM] = shape_of(barycentric(tm, *pt));
         let wj = w * area_ref * jacobian.at(xis);
         block.covered_area += wj;
         add_point(&mut block.d, &mut block.b, wj, &phi, &lam);
+    }
+}
+
+/// A segment of a pair with a non-affine projected face, integrated in the
+/// projection plane (D3)–(D5): a point q of a plane triangle T gets
+/// ξ_s = χ_s⁻¹(q) and ξ_m = χ_m⁻¹(q) by the exact inverses of the two
+/// projected maps, and the weight ω'_l = ω_l |T| |J_s(ξ_s)| / |det ∂χ_s/∂ξ(ξ_s)|
+/// (the slave's area element per unit plane area, constant on a planar face). The plane polygon is the
+/// exact intersection of the projected first-order faces, so the region is
+/// exact; the integrand is analytic, and the rule is chosen from
+/// [`PLANE_LADDER`].
+struct PlaneSegment<'a> {
+    slave: &'a SlaveFace,
+    master: &'a PlaneFace,
+    rule: &'a TriangleRule,
+    stats: &'a mut FaceStats,
+}
+
+impl PlaneSegment<'_> {
+    /// Integrates over plane triangle `t` cut `levels` times into four.
+    fn integrate(mut self, master: FaceKind, t: [[f64; 2]; 3], levels: u32, block: &mut PairBlock) {
+        match (self.slave.element.kind, master) {
+            (FaceKind::Tri3, FaceKind::Tri3) => self.subdivide::<3, 3>(t, levels, block),
+            (FaceKind::Tri3, FaceKind::Quad4) => self.subdivide::<3, 4>(t, levels, block),
+            (FaceKind::Quad4, FaceKind::Tri3) => self.subdivide::<4, 3>(t, levels, block),
+            (FaceKind::Quad4, FaceKind::Quad4) => self.subdivide::<4, 4>(t, levels, block),
+        }
+    }
+
+    fn subdivide<const NS: usize, const NM: usize>(
+        &mut self,
+        t: [[f64; 2]; 3],
+        levels: u32,
+        block: &mut PairBlock,
+    ) {
+        if levels == 0 {
+            return self.accumulate::<NS, NM>(t, block);
+        }
+        // Each level sums its four children first (pairwise summation: the
+        // covered area of thousands of points stays exact to round-off).
+        let mut sum = PairBlock::default();
+        let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+        let (m01, m12, m20) = (mid(t[0], t[1]), mid(t[1], t[2]), mid(t[2], t[0]));
+        for sub in [[t[0], m01, m20], [m01, t[1], m12], [m20, m12, t[2]], [m12, m20, m01]] {
+            let mut child = PairBlock::default();
+            self.subdivide::<NS, NM>(sub, levels - 1, &mut child);
+            sum.add(&child);
+        }
+        block.add(&sum);
+    }
+
+    #[inline(always)]
+    fn accumulate<const NS: usize, const NM: usize>(&mut self, t: [[f64; 2]; 3], block: &mut PairBlock) {
+        let area = signed_area(t);
+        let sf = self.slave;
+        for (pt, &w) in self.rule.points.iter().zip(self.rule.weights) {
+            let q = barycentric(t, *pt);
+            let xis = inverse(&sf.plane, q, self.stats);
+            let xim = inverse(self.master, q, self.stats);
+            let phi: [f64; NS] = shape_of(xis);
+            let lam: [f64; NM] = shape_of(xim);
+            let ratio = match sf.area_ratio {
+                Some(ratio) => ratio,
+                None => sf.jacobian.at(xis) / sf.plane.det(xis).abs(),
+            };
+            let wj = w * area * ratio;
+            block.covered_area += wj;
+            add_point(&mut block.d, &mut block.b, wj, &phi, &lam);
+        }
     }
 }
 
@@ -561,5 +672,86 @@ fn add_columns<const N: usize>(
         for p in 0..n_s {
             block[j * n_s + p] += b[p][q];
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [∫_T λ_p(χ⁻¹(q)) f(q) dq] for f = 1, q_x, q_y, over plane triangle `t`
+    /// cut `levels` times into four, with `rule`.
+    fn moments(face: &PlaneFace, t: [[f64; 2]; 3], rule: &TriangleRule, levels: u32) -> [f64; 12] {
+        let mut out = [0.0; 12];
+        let mut triangles = vec![t];
+        for _ in 0..levels {
+            let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+            triangles = triangles
+                .into_iter()
+                .flat_map(|t| {
+                    let (m01, m12, m20) = (mid(t[0], t[1]), mid(t[1], t[2]), mid(t[2], t[0]));
+                    [[t[0], m01, m20], [m01, t[1], m12], [m20, m12, t[2]], [m12, m20, m01]]
+                })
+                .collect();
+        }
+        for t in triangles {
+            let area = signed_area(t);
+            for (pt, &w) in rule.points.iter().zip(rule.weights) {
+                let q = barycentric(t, *pt);
+                let l = crate::element::shape(FaceKind::Quad4, face.inverse(q).xi());
+                for (k, f) in [1.0, q[0], q[1]].into_iter().enumerate() {
+                    for p in 0..4 {
+                        out[3 * p + k] += w * area * l[p] * f;
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The justification of [`PLANE_LADDER`]: on random convex quads of every
+    /// distortion up to 0.85, the entry chosen integrates λ_p(χ⁻¹(q)) f(q),
+    /// f linear, over the two halves of the quad and over a triangle spanning
+    /// it, to 1e-12 of the largest moment (reference: degree 20, two more
+    /// levels of subdivision).
+    #[test]
+    fn plane_ladder_accuracy() {
+        let rules = Rules::new(None);
+        let mut seed = 7u64;
+        let mut random = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut tested = [0usize; PLANE_LADDER.len()];
+        for i in 0..400 {
+            let amplitude = 0.5 * i as f64 / 400.0;
+            let mut q = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+            for c in &mut q {
+                c[0] += amplitude * (2.0 * random() - 1.0);
+                c[1] += amplitude * (2.0 * random() - 1.0);
+            }
+            let face = PlaneFace::new(FaceKind::Quad4, q);
+            let eps = face.distortion();
+            let entry = PLANE_LADDER.iter().position(|&(max, _, _)| eps <= max).unwrap();
+            // A few faces per entry keep the test short.
+            if eps > 0.85 || tested[entry] >= 6 {
+                continue;
+            }
+            tested[entry] += 1;
+            let (rule, levels) = rules.plane(eps, rule(2));
+            let span = [face.map([0.1, 0.05]), face.map([0.95, 0.3]), face.map([0.2, 0.9])];
+            for t in [[q[0], q[1], q[2]], [q[0], q[2], q[3]], span] {
+                let reference = moments(&face, t, &triangle_rule(20).unwrap(), levels + 2);
+                let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let got = moments(&face, t, &rule, levels);
+                let error = (0..12).fold(0.0f64, |m, k| m.max((got[k] - reference[k]).abs())) / scale;
+                assert!(
+                    error < 1e-12,
+                    "ε = {eps:.3}: degree {} × {levels} levels, error {error:e}",
+                    rule.degree
+                );
+            }
+        }
+        assert!(tested.iter().all(|&n| n > 0), "every entry tested: {tested:?}");
     }
 }
