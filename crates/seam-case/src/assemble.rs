@@ -85,7 +85,7 @@ pub struct Summary {
     /// The multiplier space.
     pub multiplier: String,
     /// The slave basis D and B are written in: "lagrange" (nodal), or for
-    /// dual multipliers on second-order slave faces "transformed": λ̃ = Q λ
+    /// dual multipliers on slave surfaces with Tri6 or Quad8 faces "transformed": λ̃ = Q λ
     /// (Popp et al. 2012, α = `seam::BASIS_ALPHA`), Q in `Q.mtx`, and the
     /// nodal transfer T = Qᵀ D⁻¹ B in `T.mtx`.
     pub slave_basis: &'static str,

@@ -123,6 +123,9 @@ pub(super) struct Kernel<'a> {
     /// The master surface has second-order faces: every pair takes the
     /// general path of [`isoparametric`].
     curved_master: bool,
+    /// The slave's second-order faces get the basis transformation
+    /// ([`super::BASIS_ALPHA`]).
+    transform: bool,
 }
 
 /// Buffers reused from face to face (one per chunk of faces, never per pair).
@@ -207,6 +210,7 @@ impl<'a> Kernel<'a> {
                 })
                 .collect(),
             curved_master: master.faces().iter().any(|f| f.is_curved()),
+            transform: super::multiplier::transforms(slave),
         }
     }
 
@@ -225,8 +229,9 @@ impl<'a> Kernel<'a> {
         stats.area += full.iter().sum::<f64>();
         sort_columns(&mut scratch.cols, &mut scratch.b, n_s);
         let kind = crate::curved::CurvedKind::of(&self.slave.faces()[s]);
-        let measures = FaceMeasures::new(kind, &d, &full);
-        let dual_fallback = apply_multiplier(self.options.multiplier, kind, &mut d, &mut scratch.b);
+        let measures = FaceMeasures::new(kind, self.transform, &d, &full);
+        let dual_fallback =
+            apply_multiplier(self.options.multiplier, kind, self.transform, &mut d, &mut scratch.b);
         stats.dual_fallbacks = dual_fallback as u32;
         out.push(&scratch.cols, &scratch.b, &d, n_s, &measures, stats);
     }

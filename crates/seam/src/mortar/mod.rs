@@ -356,7 +356,7 @@ pub struct Mortar {
     pub d: CsrMatrix,
     /// The multiplier the matrices were built with.
     pub multiplier: Multiplier,
-    /// For dual multipliers on a slave surface with second-order faces: the
+    /// For dual multipliers on a slave surface with Tri6 or Quad8 faces: the
     /// basis transformation Q (slave points × slave points, rows the
     /// transformed functions λ̃ = Q λ, see [`BASIS_ALPHA`]) in which D is
     /// diagonal and positive; B and D are then written in the λ̃ basis and the

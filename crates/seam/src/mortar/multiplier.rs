@@ -27,13 +27,32 @@ const DUAL_PIVOT_RTOL: f64 = 1e-12;
 /// mid-edge nodes, a Quad9 centre unchanged. The λ̃ still sum to one, are
 /// continuous across faces, and have positive integrals (on a flat face Tri6
 /// corners 2αA/3 = 2A/15 instead of 0, Quad8 corners A/20 instead of −A/12).
+///
+/// Only slave surfaces with Tri6 or Quad8 faces are transformed (their Quad9
+/// faces too, so that the λ̃ stay continuous across shared edges). A surface of
+/// Quad9 (and first-order) faces keeps the plain dual basis, as in Popp et
+/// al.: its ∫ λ_p are positive already (corners A/36 on a flat face), and the
+/// transformation there costs accuracy: glued Hex27 bodies across a curved
+/// interface converge with H1 rate 1.4–1.7 with it and 2.0 without
+/// (`seam-fem` test `glue_convergence_second_order`).
 pub const BASIS_ALPHA: f64 = 0.2;
 
-/// Row `p` of the transformation λ̃ = Q_e λ of a face of `kind`, as
-/// (column, value) pairs; identity for first-order faces.
-pub(super) fn transformation_row(kind: CurvedKind, p: usize) -> impl Iterator<Item = (usize, f64)> {
+/// Whether the slave surface's second-order faces get the basis
+/// transformation of [`BASIS_ALPHA`]: when it has a Tri6 or a Quad8 face.
+pub(super) fn transforms(slave: &crate::mesh::SurfaceMesh) -> bool {
+    slave.faces().iter().any(|f| matches!(f, crate::mesh::Face::Tri6(_) | crate::mesh::Face::Quad8(_)))
+}
+
+/// Row `p` of the transformation λ̃ = Q_e λ of a face of `kind` on a surface
+/// that `transform`s ([`transforms`]), as (column, value) pairs; identity for
+/// first-order faces and when not transforming.
+pub(super) fn transformation_row(
+    kind: CurvedKind,
+    transform: bool,
+    p: usize,
+) -> impl Iterator<Item = (usize, f64)> {
     let k = if kind.is_triangle() { 3 } else { 4 };
-    let second = matches!(kind, CurvedKind::Tri6 | CurvedKind::Quad8 | CurvedKind::Quad9);
+    let second = transform && matches!(kind, CurvedKind::Tri6 | CurvedKind::Quad8 | CurvedKind::Quad9);
     let entries: [(usize, f64); 3] = match (second, p) {
         (false, _) => [(p, 1.0), (0, 0.0), (0, 0.0)],
         // Corner p: its two edges are k + p (to p + 1) and k + (p + k − 1) % k.
@@ -48,7 +67,7 @@ pub(super) fn transformation_row(kind: CurvedKind, p: usize) -> impl Iterator<It
 fn transformation<const N: usize>(kind: CurvedKind) -> SMatrix<f64, N, N> {
     let mut q = SMatrix::zeros();
     for p in 0..N {
-        for (c, v) in transformation_row(kind, p) {
+        for (c, v) in transformation_row(kind, true, p) {
             q[(p, c)] = v;
         }
     }
@@ -67,13 +86,18 @@ pub(super) struct FaceMeasures {
 
 impl FaceMeasures {
     /// From a face's standard D block (stride [`MAX_NODES`]) and full integrals.
-    pub(super) fn new(kind: CurvedKind, d: &[f64; MAX_NODES * MAX_NODES], full: &[f64; MAX_NODES]) -> Self {
+    pub(super) fn new(
+        kind: CurvedKind,
+        transform: bool,
+        d: &[f64; MAX_NODES * MAX_NODES],
+        full: &[f64; MAX_NODES],
+    ) -> Self {
         let n = kind.n_nodes();
         let row_sums: [f64; MAX_NODES] = std::array::from_fn(|p| (0..n).map(|q| d[p * MAX_NODES + q]).sum());
         let apply = |v: &[f64; MAX_NODES]| -> [f64; MAX_NODES] {
             std::array::from_fn(|p| {
                 if p < n {
-                    transformation_row(kind, p).map(|(c, a)| a * v[c]).sum()
+                    transformation_row(kind, transform, p).map(|(c, a)| a * v[c]).sum()
                 } else {
                     0.0
                 }
@@ -86,11 +110,13 @@ impl FaceMeasures {
 /// Applies `multiplier` to a face's blocks in place: `d` is n_s × n_s row-major
 /// with stride [`MAX_NODES`] (`d[p * MAX_NODES + q]`), `b` column-major with
 /// n_s rows (`b[j * n_s + p]`). For dual multipliers on a second-order face
-/// the blocks are first written in the transformed basis λ̃ = Q_e λ. Returns
-/// true when the dual basis had to fall back to lumping.
+/// of a surface that `transform`s the blocks are first written in the
+/// transformed basis λ̃ = Q_e λ. Returns true when the dual basis had to fall
+/// back to lumping.
 pub(super) fn apply_multiplier(
     multiplier: Multiplier,
     kind: CurvedKind,
+    transform: bool,
     d: &mut [f64; MAX_NODES * MAX_NODES],
     b: &mut [f64],
 ) -> bool {
@@ -104,20 +130,26 @@ pub(super) fn apply_multiplier(
             false
         }
         Multiplier::Dual => match n_s {
-            3 => dual::<3>(kind, d, b),
-            4 => dual::<4>(kind, d, b),
-            6 => dual::<6>(kind, d, b),
-            8 => dual::<8>(kind, d, b),
-            _ => dual::<9>(kind, d, b),
+            3 => dual::<3>(kind, false, d, b),
+            4 => dual::<4>(kind, false, d, b),
+            6 => dual::<6>(kind, transform, d, b),
+            8 => dual::<8>(kind, transform, d, b),
+            _ => dual::<9>(kind, transform, d, b),
         },
     }
 }
 
-/// The dual basis of a face with `N` nodes: with M the (transformed) standard
-/// block on the covered part, A = diag(M 1) M⁻¹, D_e = diag(M 1), B_e ← A B_e.
-fn dual<const N: usize>(kind: CurvedKind, d: &mut [f64; MAX_NODES * MAX_NODES], b: &mut [f64]) -> bool {
+/// The dual basis of a face with `N` nodes: with M the standard block on the
+/// covered part (transformed when `transform`), A = diag(M 1) M⁻¹,
+/// D_e = diag(M 1), B_e ← A B_e.
+fn dual<const N: usize>(
+    kind: CurvedKind,
+    transform: bool,
+    d: &mut [f64; MAX_NODES * MAX_NODES],
+    b: &mut [f64],
+) -> bool {
     let mut m = SMatrix::<f64, N, N>::from_fn(|p, q| d[p * MAX_NODES + q]);
-    if N > 4 {
+    if transform {
         let q = transformation::<N>(kind);
         m = q * m * q.transpose();
         for column in b.chunks_exact_mut(N) {
@@ -189,7 +221,7 @@ mod tests {
         let mut d = tri_mass();
         // One master column equal to M·e_0 (B block of an identical master face).
         let mut b = vec![2.0 / 24.0, 1.0 / 24.0, 1.0 / 24.0];
-        assert!(!apply_multiplier(Multiplier::Dual, CurvedKind::Tri3, &mut d, &mut b));
+        assert!(!apply_multiplier(Multiplier::Dual, CurvedKind::Tri3, true, &mut d, &mut b));
         for p in 0..3 {
             assert!((d[p * N + p] - 1.0 / 6.0).abs() < 1e-16);
             let expected = if p == 0 { 1.0 / 6.0 } else { 0.0 };
@@ -201,7 +233,7 @@ mod tests {
     fn lumped_is_the_row_sum() {
         let mut d = tri_mass();
         let mut b = vec![1.0, 2.0, 3.0];
-        apply_multiplier(Multiplier::Lumped, CurvedKind::Tri3, &mut d, &mut b);
+        apply_multiplier(Multiplier::Lumped, CurvedKind::Tri3, true, &mut d, &mut b);
         assert_eq!(d[0], 4.0 / 24.0);
         assert_eq!(d[1], 0.0);
         assert_eq!(b, vec![1.0, 2.0, 3.0]);
@@ -216,7 +248,7 @@ mod tests {
             }
         }
         let mut b = vec![1.0, 1.0, 1.0];
-        assert!(apply_multiplier(Multiplier::Dual, CurvedKind::Tri3, &mut d, &mut b));
+        assert!(apply_multiplier(Multiplier::Dual, CurvedKind::Tri3, true, &mut d, &mut b));
         assert_eq!(d[0], 3.0);
         assert_eq!(d[1], 0.0);
     }
@@ -232,13 +264,16 @@ mod tests {
         for (kind, integrals) in cases {
             let n = kind.n_nodes();
             for c in 0..n {
-                let column: f64 =
-                    (0..n).flat_map(|p| transformation_row(kind, p)).filter(|e| e.0 == c).map(|e| e.1).sum();
+                let column: f64 = (0..n)
+                    .flat_map(|p| transformation_row(kind, true, p))
+                    .filter(|e| e.0 == c)
+                    .map(|e| e.1)
+                    .sum();
                 assert!((column - 1.0).abs() < 1e-15, "{kind:?}: λ_{c} appears with total weight {column}");
             }
             let mut full = [0.0; N];
             full[..n].copy_from_slice(&integrals);
-            let measures = FaceMeasures::new(kind, &[0.0; N * N], &full);
+            let measures = FaceMeasures::new(kind, true, &[0.0; N * N], &full);
             assert!(measures.full[..n].iter().all(|&v| v > 0.04), "{kind:?}: {:?}", &measures.full[..n]);
             assert!((measures.full.iter().sum::<f64>() - 1.0).abs() < 1e-14);
         }

@@ -7,7 +7,7 @@
 //! spread over threads (I7).
 
 use super::isoparametric::MAX_NODES;
-use super::multiplier::{transformation_row, FaceMeasures};
+use super::multiplier::{transformation_row, transforms, FaceMeasures};
 use super::{FaceStats, Mortar, MortarSummary, Multiplier, Segment, COVERED_FRACTION};
 use crate::curved::CurvedKind;
 use crate::mesh::SurfaceMesh;
@@ -199,8 +199,7 @@ pub(super) fn into_mortar(
         .collect();
     let on_surface = slave.used_points();
     let mut covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
-    let basis = (multiplier == Multiplier::Dual && slave.faces().iter().any(|f| f.is_curved()))
-        .then(|| slave_basis(slave));
+    let basis = (multiplier == Multiplier::Dual && transforms(slave)).then(|| slave_basis(slave));
     if let Some(q) = &basis {
         // T = Qᵀ D⁻¹ B mixes the rows of the λ̃ around a node: it is covered
         // only when all of them are.
@@ -213,8 +212,8 @@ pub(super) fn into_mortar(
     Mortar { b, d, multiplier, basis, faces, node_coverage, covered, on_surface, segments, summary }
 }
 
-/// The global basis transformation λ̃ = Q λ of a slave surface with
-/// second-order faces (`multiplier::BASIS_ALPHA`): rows are the transformed
+/// The global basis transformation λ̃ = Q λ of a slave surface with Tri6 or
+/// Quad8 faces (`multiplier::BASIS_ALPHA`): rows are the transformed
 /// functions, the union of the faces' Q_e (which agree on shared nodes).
 fn slave_basis(slave: &SurfaceMesh) -> CsrMatrix {
     let n = slave.n_points();
@@ -223,7 +222,7 @@ fn slave_basis(slave: &SurfaceMesh) -> CsrMatrix {
         let kind = CurvedKind::of(face);
         let nodes = face.nodes();
         for p in 0..nodes.len() {
-            entries.extend(transformation_row(kind, p).map(|(c, v)| (nodes[p], nodes[c], v)));
+            entries.extend(transformation_row(kind, true, p).map(|(c, v)| (nodes[p], nodes[c], v)));
         }
     }
     entries.sort_by_key(|e| (e.0, e.1));
