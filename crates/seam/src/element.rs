@@ -281,6 +281,17 @@ impl PlaneFace {
         }
     }
 
+    /// As [`PlaneFace::inverse`], with Newton started from `guess` (for a quad;
+    /// a triangle's inverse is closed-form): a point of a small plane triangle
+    /// whose vertices' reference coordinates are known starts next to its root.
+    #[inline]
+    pub fn inverse_near(&self, target: [f64; 2], guess: Xi) -> InverseMap {
+        match self.kind {
+            FaceKind::Tri3 => self.inverse(target),
+            FaceKind::Quad4 => self.newton(guess, sub2(target, self.a)),
+        }
+    }
+
     /// q(ξ) − a − e: the residual of the bilinear system at ξ.
     #[inline]
     fn residual(&self, xi: Xi, e: [f64; 2]) -> [f64; 2] {
@@ -376,6 +387,21 @@ impl PlaneFace {
     /// parallelogram (to round-off).
     pub fn is_affine(&self) -> bool {
         norm2(self.d) <= 1e-13 * self.scale
+    }
+
+    /// How far the inverse map ξ(q) is from a polynomial over a plane triangle
+    /// whose vertices have reference coordinates `xi`: with det ∂q/∂ξ affine in
+    /// ξ, |∇det| · diam(xi) / min_i |det(xi_i)|, the triangle's size over (up
+    /// to a factor) its distance to the fold det = 0 where ξ(q) is singular.
+    /// 0 for an affine map, infinite when det vanishes at a vertex.
+    pub fn fold_ratio(&self, xi: &[Xi; 3]) -> f64 {
+        if self.kind == FaceKind::Tri3 || self.is_affine() {
+            return 0.0;
+        }
+        let gradient = [cross2(self.b, self.d), cross2(self.d, self.c)];
+        let min_det = xi.iter().fold(f64::INFINITY, |m, &x| m.min(self.det(x).abs()));
+        let diameter = (0..3).fold(0.0f64, |m, i| m.max(norm2(sub2(xi[i], xi[(i + 1) % 3]))));
+        norm2(gradient) * diameter / min_det
     }
 
     /// How far the map is from affine: with det_i = det ∂q/∂ξ at the corners

@@ -48,25 +48,18 @@ pub(super) struct Rules {
 }
 
 /// (D3) in the projection plane, for pairs whose projected faces are not both
-/// affine: by the larger distortion ε of the two ([`PlaneFace::distortion`]),
-/// (largest ε, triangle-rule degree, levels of subdivision of each plane
-/// triangle into four). The integrand ψ_p(ξ_s(q)) λ_q(ξ_m(q)) is analytic but
-/// not polynomial in the plane point q; test `plane_ladder_accuracy` shows
-/// each entry integrating it over face-sized triangles to 1e-12 relative
-/// (measured worst cases 2e-14 to 6e-13). Above ε = 0.85 (corner Jacobians
-/// more than 12 to 1) the last entry's error grows, to about 4e-9 at ε = 0.9.
-pub(super) const PLANE_LADDER: [(f64, usize, u32); 10] = [
-    (0.05, 10, 0),
-    (0.10, 12, 0),
-    (0.15, 14, 0),
-    (0.20, 16, 0),
-    (0.35, 20, 0),
-    (0.45, 16, 1),
-    (0.55, 20, 1),
-    (0.65, 20, 2),
-    (0.75, 20, 3),
-    (f64::INFINITY, 20, 4),
-];
+/// affine: the triangle-rule degree by the fold ratio r of a plane triangle
+/// ([`PlaneFace::fold_ratio`], the larger of the slave's and the master's),
+/// (largest r, degree); a triangle with r above the last entry is cut into
+/// four. The integrand ψ_p(ξ_s(q)) λ_q(ξ_m(q)) is analytic but not polynomial
+/// in the plane point q, singular on the fold; test `plane_ladder_accuracy`
+/// shows each piece integrated to 1e-12 of its largest moment, for the
+/// hardest integrand, λ_p λ_q (ξ_s(q)) of D.
+pub(super) const PLANE_LADDER: [(f64, usize); 4] = [(0.2, 12), (0.4, 14), (0.6, 18), (0.8, 20)];
+
+/// Most levels of cutting a plane triangle into four (a fold through a
+/// vertex, det = 0 there, would ask for infinitely many).
+const PLANE_MAX_DEPTH: u32 = 8;
 
 impl Rules {
     fn new(warped_degree: Option<usize>) -> Rules {
@@ -77,20 +70,15 @@ impl Rules {
             parallelogram: rule(4),
             fixed_warped: warped_degree.map(rule),
             curved: rule(isoparametric::CURVED_DEGREE),
-            plane: PLANE_LADDER.map(|(_, degree, _)| rule(degree)),
+            plane: PLANE_LADDER.map(|(_, degree)| rule(degree)),
         }
     }
 
-    /// The plane rule and its subdivision levels for distortion `eps`, at
-    /// least as fine as `base` (the polynomial or warped-quad rule).
-    fn plane(&self, eps: f64, base: TriangleRule) -> (TriangleRule, u32) {
-        let i = PLANE_LADDER.iter().position(|&(max, _, _)| eps <= max).unwrap_or(PLANE_LADDER.len() - 1);
-        let (rule, levels) = (self.plane[i], PLANE_LADDER[i].2);
-        if levels == 0 && base.degree > rule.degree {
-            (base, 0)
-        } else {
-            (rule, levels)
-        }
+    /// The plane rule for fold ratio `r`, at least as fine as `base` (the
+    /// polynomial or warped-quad rule); `None` when the triangle must be cut.
+    fn plane(&self, r: f64, base: &TriangleRule) -> Option<TriangleRule> {
+        let i = PLANE_LADDER.iter().position(|&(max, _)| r <= max)?;
+        Some(if base.degree > self.plane[i].degree { *base } else { self.plane[i] })
     }
 
     fn select(&self, slave: &SlaveFace, master: FaceKind) -> TriangleRule {
@@ -148,8 +136,6 @@ struct SlaveFace {
     heights: [f64; 4],
     /// ±1: the orientation of the slave's map ξ ↦ plane, at the face centre.
     orientation: f64,
-    /// [`PlaneFace::distortion`] of `plane`.
-    distortion: f64,
     /// On a planar face, the constant |J_s| / |det ∂χ_s/∂ξ| (area of the face
     /// over area of its projection), taken as the ratio of the two areas so
     /// that pieces tiling the face add up to its area to round-off.
@@ -333,7 +319,6 @@ impl<'a> Kernel<'a> {
             jacobian: element.jacobian_field(),
             heights: element.x.map(|x| frame.height(x)),
             orientation: plane.orientation(),
-            distortion: plane.distortion(),
             area_ratio: match element.jacobian_field() {
                 JacobianField::Affine(_) => {
                     Some(face_integrals(&element, 3).iter().sum::<f64>() / polygon_area(&polygon))
@@ -402,11 +387,8 @@ impl<'a> Kernel<'a> {
         // both reference cells and the rule is exact. Otherwise the preimages
         // of straight plane edges are curved: the points are placed in the plane.
         let in_plane = !(sf.plane.is_affine() && master_plane.is_affine());
-        let (plane_rule, levels) = match (in_plane, sf.warped_rule, self.options.warped_quad_degree) {
-            (_, Some(warped), Some(_)) => (warped, 0),
-            (true, _, _) => self.rules.plane(sf.distortion.max(master_plane.distortion()), rule),
-            (false, _, _) => (rule, 0),
-        };
+        // A rule fixed by the options wins for warped quads.
+        let fixed = sf.warped_rule.filter(|_| self.options.warped_quad_degree.is_some());
         for [a, b, c] in fan_triangles(polygon.len()) {
             let ts = [xs[a], xs[b], xs[c]];
             if in_plane {
@@ -415,9 +397,15 @@ impl<'a> Kernel<'a> {
                     continue;
                 }
                 block.segments += 1;
-                let on =
-                    PlaneSegment { slave: sf, master: &master_plane, rule: &plane_rule, stats: &mut *stats };
-                on.integrate(em.kind, plane, levels, &mut block);
+                let mut on = PlaneSegment {
+                    slave: sf,
+                    master: &master_plane,
+                    rules: &self.rules,
+                    base: rule,
+                    fixed,
+                    stats: &mut *stats,
+                };
+                on.integrate(em.kind, Piece { q: plane, xs: ts, xm: [xm[a], xm[b], xm[c]] }, &mut block);
             } else {
                 integrate_segment(sf, em.kind, ts, [xm[a], xm[b], xm[c]], &rule, &mut block);
             }
@@ -436,7 +424,16 @@ impl<'a> Kernel<'a> {
 }
 
 fn inverse(plane: &PlaneFace, p: [f64; 2], stats: &mut FaceStats) -> Xi {
-    let r = plane.inverse(p);
+    count_failure(plane.inverse(p), stats)
+}
+
+fn inverse_near(plane: &PlaneFace, p: [f64; 2], guess: Xi, stats: &mut FaceStats) -> Xi {
+    count_failure(plane.inverse_near(p, guess), stats)
+}
+
+/// ξ of an inverse map, counting it in `stats.inverse_failures` when it did
+/// not converge.
+fn count_failure(r: InverseMap, stats: &mut FaceStats) -> Xi {
     if matches!(r, InverseMap::NotConverged { .. }) {
         stats.inverse_failures += 1;
     }
@@ -495,62 +492,97 @@ fn accumulate<const NS: usize, const NM: usize>(
     }
 }
 
+/// A plane triangle and the reference coordinates of its vertices on the
+/// slave and the master face.
+#[derive(Clone, Copy)]
+struct Piece {
+    q: [[f64; 2]; 3],
+    xs: [Xi; 3],
+    xm: [Xi; 3],
+}
+
 /// A segment of a pair with a non-affine projected face, integrated in the
 /// projection plane (D3)–(D5): a point q of a plane triangle T gets
 /// ξ_s = χ_s⁻¹(q) and ξ_m = χ_m⁻¹(q) by the exact inverses of the two
 /// projected maps, and the weight ω'_l = ω_l |T| |J_s(ξ_s)| / |det ∂χ_s/∂ξ(ξ_s)|
-/// (the slave's area element per unit plane area, constant on a planar face). The plane polygon is the
-/// exact intersection of the projected first-order faces, so the region is
-/// exact; the integrand is analytic, and the rule is chosen from
-/// [`PLANE_LADDER`].
+/// (the slave's area element per unit plane area, constant on a planar face).
+/// The plane polygon is the exact intersection of the projected first-order
+/// faces, so the region is exact; the integrand is analytic, and the rule is
+/// chosen per triangle from [`PLANE_LADDER`].
 struct PlaneSegment<'a> {
     slave: &'a SlaveFace,
     master: &'a PlaneFace,
-    rule: &'a TriangleRule,
+    rules: &'a Rules,
+    /// The polynomial (or warped-quad) rule of the pair: the least degree.
+    base: TriangleRule,
+    /// A rule fixed by the options: used as is, never cut.
+    fixed: Option<TriangleRule>,
     stats: &'a mut FaceStats,
 }
 
 impl PlaneSegment<'_> {
-    /// Integrates over plane triangle `t` cut `levels` times into four.
-    fn integrate(mut self, master: FaceKind, t: [[f64; 2]; 3], levels: u32, block: &mut PairBlock) {
+    /// Integrates over the plane triangle of `piece`.
+    fn integrate(&mut self, master: FaceKind, piece: Piece, block: &mut PairBlock) {
         match (self.slave.element.kind, master) {
-            (FaceKind::Tri3, FaceKind::Tri3) => self.subdivide::<3, 3>(t, levels, block),
-            (FaceKind::Tri3, FaceKind::Quad4) => self.subdivide::<3, 4>(t, levels, block),
-            (FaceKind::Quad4, FaceKind::Tri3) => self.subdivide::<4, 3>(t, levels, block),
-            (FaceKind::Quad4, FaceKind::Quad4) => self.subdivide::<4, 4>(t, levels, block),
+            (FaceKind::Tri3, FaceKind::Tri3) => self.adaptive::<3, 3>(piece, 0, block),
+            (FaceKind::Tri3, FaceKind::Quad4) => self.adaptive::<3, 4>(piece, 0, block),
+            (FaceKind::Quad4, FaceKind::Tri3) => self.adaptive::<4, 3>(piece, 0, block),
+            (FaceKind::Quad4, FaceKind::Quad4) => self.adaptive::<4, 4>(piece, 0, block),
         }
     }
 
-    fn subdivide<const NS: usize, const NM: usize>(
+    /// The rule of the piece's fold ratio, or four children (summed pairwise,
+    /// so that the covered area of many points stays exact to round-off).
+    fn adaptive<const NS: usize, const NM: usize>(
         &mut self,
-        t: [[f64; 2]; 3],
-        levels: u32,
+        piece: Piece,
+        depth: u32,
         block: &mut PairBlock,
     ) {
-        if levels == 0 {
-            return self.accumulate::<NS, NM>(t, block);
+        let r = self.slave.plane.fold_ratio(&piece.xs).max(self.master.fold_ratio(&piece.xm));
+        let rule = match self.fixed {
+            Some(fixed) => Some(fixed),
+            None if depth == PLANE_MAX_DEPTH => Some(self.rules.plane[PLANE_LADDER.len() - 1]),
+            None => self.rules.plane(r, &self.base),
+        };
+        if let Some(rule) = rule {
+            return self.accumulate::<NS, NM>(piece, &rule, block);
         }
-        // Each level sums its four children first (pairwise summation: the
-        // covered area of thousands of points stays exact to round-off).
-        let mut sum = PairBlock::default();
+        let [q0, q1, q2] = piece.q;
         let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-        let (m01, m12, m20) = (mid(t[0], t[1]), mid(t[1], t[2]), mid(t[2], t[0]));
-        for sub in [[t[0], m01, m20], [m01, t[1], m12], [m20, m12, t[2]], [m12, m20, m01]] {
-            let mut child = PairBlock::default();
-            self.subdivide::<NS, NM>(sub, levels - 1, &mut child);
-            sum.add(&child);
+        let m = [mid(q0, q1), mid(q1, q2), mid(q2, q0)];
+        let ms = m.map(|p| inverse(&self.slave.plane, p, self.stats));
+        let mm = m.map(|p| inverse(self.master, p, self.stats));
+        let [xs, xm] = [piece.xs, piece.xm];
+        let children = [
+            Piece { q: [q0, m[0], m[2]], xs: [xs[0], ms[0], ms[2]], xm: [xm[0], mm[0], mm[2]] },
+            Piece { q: [m[0], q1, m[1]], xs: [ms[0], xs[1], ms[1]], xm: [mm[0], xm[1], mm[1]] },
+            Piece { q: [m[2], m[1], q2], xs: [ms[2], ms[1], xs[2]], xm: [mm[2], mm[1], xm[2]] },
+            Piece { q: [m[1], m[2], m[0]], xs: [ms[1], ms[2], ms[0]], xm: [mm[1], mm[2], mm[0]] },
+        ];
+        let mut sum = PairBlock::default();
+        for child in children {
+            let mut part = PairBlock::default();
+            self.adaptive::<NS, NM>(child, depth + 1, &mut part);
+            sum.add(&part);
         }
         block.add(&sum);
     }
 
     #[inline(always)]
-    fn accumulate<const NS: usize, const NM: usize>(&mut self, t: [[f64; 2]; 3], block: &mut PairBlock) {
-        let area = signed_area(t);
+    fn accumulate<const NS: usize, const NM: usize>(
+        &mut self,
+        piece: Piece,
+        rule: &TriangleRule,
+        block: &mut PairBlock,
+    ) {
+        let area = signed_area(piece.q);
         let sf = self.slave;
-        for (pt, &w) in self.rule.points.iter().zip(self.rule.weights) {
-            let q = barycentric(t, *pt);
-            let xis = inverse(&sf.plane, q, self.stats);
-            let xim = inverse(self.master, q, self.stats);
+        for (pt, &w) in rule.points.iter().zip(rule.weights) {
+            let q = barycentric(piece.q, *pt);
+            // Newton from the affine interpolation of the vertices' coordinates.
+            let xis = inverse_near(&sf.plane, q, barycentric(piece.xs, *pt), self.stats);
+            let xim = inverse_near(self.master, q, barycentric(piece.xm, *pt), self.stats);
             let phi: [f64; NS] = shape_of(xis);
             let lam: [f64; NM] = shape_of(xim);
             let ratio = match sf.area_ratio {
@@ -684,79 +716,97 @@ fn add_columns<const N: usize>(
 mod tests {
     use super::*;
 
-    /// [∫_T λ_p(χ⁻¹(q)) f(q) dq] for f = 1, q_x, q_y, over plane triangle `t`
-    /// cut `levels` times into four, with `rule`.
-    fn moments(face: &PlaneFace, t: [[f64; 2]; 3], rule: &TriangleRule, levels: u32) -> [f64; 12] {
-        let mut out = [0.0; 12];
-        let mut triangles = vec![t];
-        for _ in 0..levels {
+    /// [∫_T λ_p λ_r (χ⁻¹(q)) dq] and [∫_T λ_p(χ⁻¹(q)) f(q) dq] for f = 1, q_x,
+    /// q_y, over plane triangle `t`, cut into four while `plan` (of the fold
+    /// ratio and the depth) gives no rule.
+    fn moments(
+        face: &PlaneFace,
+        t: [[f64; 2]; 3],
+        plan: &dyn Fn(f64, u32) -> Option<TriangleRule>,
+        depth: u32,
+    ) -> [f64; 28] {
+        let xi = t.map(|q| face.inverse(q).xi());
+        let mut out = [0.0; 28];
+        let Some(rule) = plan(face.fold_ratio(&xi), depth) else {
             let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-            triangles = triangles
-                .into_iter()
-                .flat_map(|t| {
-                    let (m01, m12, m20) = (mid(t[0], t[1]), mid(t[1], t[2]), mid(t[2], t[0]));
-                    [[t[0], m01, m20], [m01, t[1], m12], [m20, m12, t[2]], [m12, m20, m01]]
-                })
-                .collect();
-        }
-        for t in triangles {
-            let area = signed_area(t);
-            for (pt, &w) in rule.points.iter().zip(rule.weights) {
-                let q = barycentric(t, *pt);
-                let l = crate::element::shape(FaceKind::Quad4, face.inverse(q).xi());
+            let (m01, m12, m20) = (mid(t[0], t[1]), mid(t[1], t[2]), mid(t[2], t[0]));
+            for child in [[t[0], m01, m20], [m01, t[1], m12], [m20, m12, t[2]], [m12, m20, m01]] {
+                let v = moments(face, child, plan, depth + 1);
+                (0..28).for_each(|k| out[k] += v[k]);
+            }
+            return out;
+        };
+        let area = signed_area(t);
+        for (pt, &w) in rule.points.iter().zip(rule.weights) {
+            let q = barycentric(t, *pt);
+            let l = crate::element::shape(FaceKind::Quad4, face.inverse(q).xi());
+            for p in 0..4 {
+                for r in 0..4 {
+                    out[4 * p + r] += w * area * l[p] * l[r];
+                }
                 for (k, f) in [1.0, q[0], q[1]].into_iter().enumerate() {
-                    for p in 0..4 {
-                        out[3 * p + k] += w * area * l[p] * f;
-                    }
+                    out[16 + 3 * p + k] += w * area * l[p] * f;
                 }
             }
         }
         out
     }
 
-    /// The justification of [`PLANE_LADDER`]: on random convex quads of every
-    /// distortion up to 0.85, the entry chosen integrates λ_p(χ⁻¹(q)) f(q),
-    /// f linear, over the two halves of the quad and over a triangle spanning
-    /// it, to 1e-12 of the largest moment (reference: degree 20, two more
-    /// levels of subdivision).
+    /// The justification of [`PLANE_LADDER`]: on random convex quads of
+    /// distortion up to 0.95 ([`PlaneFace::distortion`]), over triangles of
+    /// the quad of every size from the whole face to 0.15 of it, anywhere in
+    /// it, the kernel's choice integrates λ_p λ_r(χ⁻¹(q)) and λ_p(χ⁻¹(q)) f(q),
+    /// f linear, to 1e-12 of the largest moment (reference: degree 20 on pieces cut down to
+    /// a fold ratio of 0.1, and at least twice).
     #[test]
     fn plane_ladder_accuracy() {
-        let rules = Rules::new(None);
         let mut seed = 7u64;
         let mut random = || {
             seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        let mut tested = [0usize; PLANE_LADDER.len()];
-        for i in 0..400 {
-            let amplitude = 0.5 * i as f64 / 400.0;
+        let (mut worst, mut cut) = (0.0f64, 0usize);
+        for i in 0..800 {
+            let amplitude = 0.8 * i as f64 / 800.0;
             let mut q = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
             for c in &mut q {
                 c[0] += amplitude * (2.0 * random() - 1.0);
                 c[1] += amplitude * (2.0 * random() - 1.0);
             }
             let face = PlaneFace::new(FaceKind::Quad4, q);
-            let eps = face.distortion();
-            let entry = PLANE_LADDER.iter().position(|&(max, _, _)| eps <= max).unwrap();
-            // A few faces per entry keep the test short.
-            if eps > 0.85 || tested[entry] >= 6 {
+            if face.distortion() > 0.95 {
                 continue;
             }
-            tested[entry] += 1;
-            let (rule, levels) = rules.plane(eps, rule(2));
-            let span = [face.map([0.1, 0.05]), face.map([0.95, 0.3]), face.map([0.2, 0.9])];
-            for t in [[q[0], q[1], q[2]], [q[0], q[2], q[3]], span] {
-                let reference = moments(&face, t, &triangle_rule(20).unwrap(), levels + 2);
-                let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                let got = moments(&face, t, &rule, levels);
-                let error = (0..12).fold(0.0f64, |m, k| m.max((got[k] - reference[k]).abs())) / scale;
-                assert!(
-                    error < 1e-12,
-                    "ε = {eps:.3}: degree {} × {levels} levels, error {error:e}",
-                    rule.degree
-                );
+            let size = [1.0, 0.5, 0.3, 0.15][i % 4];
+            let centre = [random(), random()];
+            let mut corner = || {
+                let at = |c: f64, r: f64| (c + size * (r - 0.5)).clamp(0.0, 1.0);
+                face.map([at(centre[0], random()), at(centre[1], random())])
+            };
+            let mut t = [corner(), corner(), corner()];
+            if signed_area(t) < 0.0 {
+                t.swap(1, 2);
             }
+            if signed_area(t) < 1e-3 * size * size {
+                continue;
+            }
+            let xi = t.map(|p| face.inverse(p).xi());
+            cut += (face.fold_ratio(&xi) > PLANE_LADDER[PLANE_LADDER.len() - 1].0) as usize;
+            let degree_20 = triangle_rule(20).unwrap();
+            let fine = |r: f64, depth: u32| (r <= 0.1 && depth >= 2).then_some(degree_20);
+            let exact = moments(&face, t, &fine, 0);
+            let scale = exact.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let rules = Rules::new(None);
+            let kernel = |r: f64, depth: u32| match depth {
+                PLANE_MAX_DEPTH => Some(rules.plane[PLANE_LADDER.len() - 1]),
+                _ => rules.plane(r, &rule(1)),
+            };
+            let got = moments(&face, t, &kernel, 0);
+            let error = (0..28).fold(0.0f64, |m, k| m.max((got[k] - exact[k]).abs())) / scale;
+            assert!(error < 1e-12, "quad {q:?}, triangle {t:?}: error {error:e}");
+            worst = worst.max(error);
         }
-        assert!(tested.iter().all(|&n| n > 0), "every entry tested: {tested:?}");
+        assert!(cut >= 10, "some triangles are cut: {cut}");
+        eprintln!("plane ladder: worst relative error {worst:e}, {cut} triangles cut");
     }
 }
