@@ -177,14 +177,14 @@ pub fn solve_coupled(
     check_input(bodies, interfaces)?;
     check_couplings(interfaces)?;
     let mut seconds = Timings::default();
-    let system = assemble_system(bodies, interfaces, &mut seconds)?;
+    let mut system = assemble_system(bodies, interfaces, &mut seconds)?;
     let clock = Instant::now();
     let constraints = Constraints::new(interfaces, &system.mortars, &system.offsets, &system.dirichlet);
     seconds.setup += clock.elapsed().as_secs_f64();
     let (dofs, n_constraints) = (system.k.nrows, constraints.rows.len());
 
     let mut steps = match interfaces.iter().any(|f| f.kind == Coupling::Contact) {
-        true => Some(solve_contact(bodies, interfaces, options, &system, &constraints, &mut seconds)?),
+        true => Some(solve_contact(bodies, interfaces, options, &mut system, &constraints, &mut seconds)?),
         false => None,
     };
     let (u, lambda, method, iterations, residual, contact) = match &mut steps {
