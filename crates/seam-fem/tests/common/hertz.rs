@@ -1,8 +1,7 @@
 //! The Hertz tests' solve and measurements ([`seam_fem::scene::hertz`]).
 
-use seam::{MortarOptions, Multiplier};
 use seam_fem::scene::{hertz, Hertz};
-use seam_fem::{Dirichlet, Problem, Solution, SolveOptions};
+use seam_fem::{Problem, Solution, SolveOptions};
 
 /// What one Hertz solve gives, against the analytic values.
 pub struct Measured {
@@ -20,20 +19,12 @@ pub struct Measured {
     pub profile: f64,
     /// Displacement unknowns.
     pub dofs: usize,
-    /// The pressure at the pole of the multiplier's L2 projection onto the
-    /// slave's nodal functions ([`projected_pressure`]).
-    pub p0_projected: f64,
 }
 
 impl Measured {
     /// p₀ / p₀,Hertz − 1.
     pub fn p0_error(&self) -> f64 {
         self.p0 / self.p0_exact - 1.0
-    }
-
-    /// The same for the projected pressure.
-    pub fn p0_projected_error(&self) -> f64 {
-        self.p0_projected / self.p0_exact - 1.0
     }
 }
 
@@ -59,31 +50,7 @@ pub fn measure(p: &Hertz, problem: &Problem, s: &Solution) -> Measured {
         a_exact: p.contact_radius,
         profile,
         dofs: s.report.dofs,
-        p0_projected: projected_pressure(problem, s)[pole],
     }
-}
-
-/// The contact multiplier λ_h = Σ_p λ_p ψ_p projected in L2 onto the slave's
-/// nodal (standard) functions over the covered surface, per slave point:
-/// M π = Nᵀ λ with M the standard mass matrix ∫ λ_r λ_s (the D of standard
-/// multipliers) and N_pr = ∫ ψ_p λ_r (`Mortar::nodal_d`). Unlike the
-/// coefficient λ_p, a weighted mean of the pressure over the support of
-/// λ̃_p, π is a nodal value of a pressure field.
-pub fn projected_pressure(problem: &Problem, s: &Solution) -> Vec<f64> {
-    let f = &problem.interfaces[0];
-    let (master, slave) = (problem.surface(f.master), problem.surface(f.slave));
-    let standard = MortarOptions { multiplier: Multiplier::Standard, ..f.options };
-    let mass = seam::assemble(master, slave, &standard).unwrap();
-    let interface = &s.interfaces[0];
-    let lambda = &interface.contact.as_ref().expect("contact").pressure;
-    let rhs = interface.mortar.nodal_d().transpose_mul_vec(lambda, 1);
-    let mut fixed = Dirichlet::new();
-    for (q, &covered) in mass.covered.iter().enumerate() {
-        if !covered {
-            fixed.fix_dof(q, 0.0);
-        }
-    }
-    seam_fem::solve::solve(&mass.d, &rhs, &fixed).unwrap()
 }
 
 /// Solves the scene `p` (direct solver), asserts the KKT conditions and the
@@ -99,7 +66,7 @@ pub fn solve(label: &str, p: &Hertz) -> Measured {
     let t = &report.seconds;
     println!(
         "{label}: dofs {}, active {}, steps {}, KKT {:.1e}, force error {force_error:.1e}; \
-         p0 {:.4} vs {:.4} ({:+.2} %, projected {:+.2} %), a {:.4} vs {:.4} ({:+.2} h), profile {:.3}; {:.1} s",
+         p0 {:.4} vs {:.4} ({:+.2} %), a {:.4} vs {:.4} ({:+.2} h), profile {:.3}; {:.1} s",
         report.dofs,
         contact.active,
         contact.steps.len(),
@@ -107,7 +74,6 @@ pub fn solve(label: &str, p: &Hertz) -> Measured {
         m.p0,
         p.peak_pressure(),
         100.0 * m.p0_error(),
-        100.0 * m.p0_projected_error(),
         m.a,
         p.contact_radius,
         (m.a - p.contact_radius) / m.h,
