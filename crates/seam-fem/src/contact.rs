@@ -45,7 +45,10 @@
 //! constraints C̃ = C P_b (Q mixes the nodes of one face, so the sparsity
 //! pattern does not change), and everything above applies to ũ as to a
 //! first-order u: one contact point per transformed node p, its frame at
-//! p's nodal normal n_p, t_row = row p of D⁻¹B and the gap
+//! p's nodal normal n_p ([`nodal_normals`]: the area vectors of the corner
+//! polygons of the faces around p, mid-edge and centre nodes included; exact
+//! on flat surfaces, an approximation of the normal at p on curved ones),
+//! t_row = row p of D⁻¹B and the gap
 //! g_p = n_p·((D⁻¹B x_m)_p − x̃_s,p) with x̃_s = Q⁻ᵀ x_s. After the solve
 //! u = P_b ũ. The reported pressure λ_p = μ_p / D_pp is then the coefficient
 //! of ψ_p in the multiplier λ_h = Σ_p λ_p ψ_p (as in Popp et al.): for a
