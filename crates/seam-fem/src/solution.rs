@@ -99,7 +99,11 @@ impl InterfaceSolution {
 }
 
 /// A contact interface's fields per slave body point (zero, or false, off the
-/// contact points).
+/// contact points). With dual multipliers on second-order slave faces they
+/// belong to the transformed unknowns of Popp et al. (2012) at each node
+/// (module doc of [`crate::contact`]): the pressure is the coefficient λ_p of
+/// the dual function ψ_p (a weighted mean of the pressure around p, not a
+/// nodal value), the gaps are those of ũ_p.
 #[derive(Clone, Debug)]
 pub struct ContactFields {
     /// Has a contact constraint (a contact point).
