@@ -51,9 +51,15 @@ impl Layer {
         height: f64,
         material: Material,
     ) -> Layer {
-        let first =
+        let mut layer = Layer::first_order(n, kind, bottom, height, material);
+        layer.mesh = raise_order(&layer.mesh, complete).unwrap();
+        layer
+    }
+
+    /// The same block of first-order cells.
+    fn first_order(n: [usize; 3], kind: BlockKind, bottom: f64, height: f64, material: Material) -> Layer {
+        let mesh =
             block(n[0], n[1], n[2], |u, v, w| [ORIGIN[0] + u, ORIGIN[1] + v, bottom + height * w], kind);
-        let mesh = raise_order(&first, complete).unwrap();
         Layer { mesh, grid: Grid::new(n[0], n[1], n[2]), material, bottom, height }
     }
 
@@ -248,6 +254,24 @@ fn contact_patch_test_on_second_order_bodies_with_pcg() {
     let joins = [contact(Multiplier::Dual, 0.0)];
     let s = stack(&layers, &joins, &Load { p, top: None, p_exact: p }, pcg).unwrap();
     check("Hex20 | Tet10 (Tri6 slave) dual, PCG", &layers, &joins, &s, p);
+}
+
+/// First-order bodies with the same non-zero roller values: at the slave
+/// point on both roller planes the frame is (n, e_x, n × e_x = −e_y), so the
+/// prescribed u_y enters the rotated unknowns with a minus sign (once lost).
+#[test]
+fn non_zero_rollers_at_first_order_contact_points() {
+    let p = 2.0;
+    let [m1, m2] = materials();
+    for multiplier in [Multiplier::Lumped, Multiplier::Dual] {
+        let layers = [
+            Layer::first_order([4, 4, 2], BlockKind::Tet, 0.0, 0.5, m1),
+            Layer::first_order([3, 3, 2], BlockKind::Hex, 0.5, 0.5, m2),
+        ];
+        let joins = [contact(multiplier, 0.0)];
+        let s = stack(&layers, &joins, &Load { p, top: None, p_exact: p }, Solver::Direct).unwrap();
+        check(&format!("Tet4 | Hex8 {multiplier:?}"), &layers, &joins, &s, p);
+    }
 }
 
 /// An initial overlap −δ pushed out with the top held: p = δ / Σ h/E
