@@ -16,7 +16,9 @@
 //! slave = "upper:bottom"
 //! kind = "glue"                  # or "contact" (frictionless, no penetration)
 //! multiplier = "standard"        # or "dual", "lumped"; default "standard" for glue,
-//!                                # "lumped" for contact (which takes "lumped" or "dual")
+//!                                # "lumped" for contact (which takes "lumped" or "dual"),
+//!                                # "dual" for contact on a slave surface with second-order
+//!                                # faces (Tri6, Quad8, Quad9; lumped is refused on Tri6, Quad8)
 //! max_gap = 0.01                 # optional (default: half the diameter of each slave face)
 //!
 //! [contact]             # optional: the active-set method of contact cases
@@ -263,7 +265,10 @@ impl Interface {
         format!("interface {} ({} → {})", index + 1, self.slave, self.master)
     }
 
-    /// The multiplier: as written, else "standard" for glue and "lumped" for contact.
+    /// The multiplier: as written, else "standard" for glue and "lumped" for
+    /// contact. Solving applies one more default that needs the meshes
+    /// (`seam_case::solve`): contact on a slave surface with second-order
+    /// faces takes "dual" unless one is written.
     pub fn multiplier(&self) -> CaseMultiplier {
         self.multiplier_given.unwrap_or(match self.kind {
             InterfaceKind::Glue => CaseMultiplier::Standard,

@@ -700,13 +700,13 @@ fn build_problem(case: &Case) -> anyhow::Result<Problem> {
     };
     for f in &case.interfaces {
         let max_gap = f.max_gap.map_or(MaxGap::DEFAULT, MaxGap::Absolute);
+        let (master, slave) = (id(&problem, &f.master)?, id(&problem, &f.slave)?);
         let options = MortarOptions {
-            multiplier: multiplier(f.multiplier()),
+            multiplier: effective_multiplier(f, problem.surface(slave)),
             facing: Facing::Opposite,
             max_gap,
             ..MortarOptions::default()
         };
-        let (master, slave) = (id(&problem, &f.master)?, id(&problem, &f.slave)?);
         let kind = match f.kind {
             InterfaceKind::Glue => Coupling::Glue,
             InterfaceKind::Contact => Coupling::Contact,
@@ -722,6 +722,19 @@ fn build_problem(case: &Case) -> anyhow::Result<Problem> {
         problem.loads.push(Load { boundary, t: t.t });
     }
     Ok(problem)
+}
+
+/// The interface's multiplier ([`crate::case::Interface::multiplier`]), except
+/// that contact without a written multiplier on a slave surface with
+/// second-order faces takes dual multipliers (with Popp et al.'s basis
+/// transformation D is diagonal and positive there, while lumping is refused
+/// on Tri6 and Quad8 faces). A written "lumped" stays as written.
+fn effective_multiplier(f: &crate::case::Interface, slave: &SurfaceMesh) -> Multiplier {
+    let second_order = slave.faces().iter().any(|face| face.is_curved());
+    match f.multiplier_given {
+        None if f.kind == InterfaceKind::Contact && second_order => Multiplier::Dual,
+        _ => multiplier(f.multiplier()),
+    }
 }
 
 fn multiplier(m: CaseMultiplier) -> Multiplier {
@@ -1095,6 +1108,42 @@ fn contact_summary(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Contact defaults to lumped multipliers, except on a slave surface with
+    /// second-order faces, which takes dual ones (lumped is refused on Tri6
+    /// and Quad8 faces); a written multiplier, "lumped" included, and glue keep
+    /// their own.
+    #[test]
+    fn contact_on_second_order_slave_faces_defaults_to_dual() {
+        let points: Vec<Point3> = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.5, 0.0, 0.0],
+            [0.5, 0.5, 0.0],
+            [0.0, 0.5, 0.0],
+        ];
+        let tri6 = SurfaceMesh::new(points.clone(), vec![Face::Tri6([0, 1, 2, 3, 4, 5])]).unwrap();
+        let tri3 = SurfaceMesh::new(points, vec![Face::Tri3([0, 1, 2])]).unwrap();
+        let interface = |kind, given| crate::case::Interface {
+            master: "a:top".into(),
+            slave: "b:bottom".into(),
+            kind,
+            multiplier_given: given,
+            max_gap: None,
+        };
+        use InterfaceKind::{Contact, Glue};
+        for (kind, given, surface, expected) in [
+            (Contact, None, &tri6, Multiplier::Dual),
+            (Contact, None, &tri3, Multiplier::Lumped),
+            (Contact, Some(CaseMultiplier::Lumped), &tri6, Multiplier::Lumped),
+            (Contact, Some(CaseMultiplier::Dual), &tri3, Multiplier::Dual),
+            (Glue, None, &tri6, Multiplier::Standard),
+        ] {
+            let f = interface(kind, given);
+            assert_eq!(effective_multiplier(&f, surface), expected, "{kind:?} {given:?}");
+        }
+    }
 
     #[test]
     fn bad_options_and_cases_fail_in_one_line_before_any_work() {

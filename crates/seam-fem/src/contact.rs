@@ -4,7 +4,8 @@
 //! # The discrete problem
 //! Each contact interface pairs a master and a slave surface of two bodies. Its
 //! mortar matrices have a diagonal D (lumped or dual multipliers), so
-//! T = D⁻¹B acts node by node. With n_p the slave's outward unit nodal normal,
+//! T = D⁻¹B acts node by node (on second-order slave faces in the transformed
+//! unknowns, below). With n_p the slave's outward unit nodal normal,
 //! the non-penetration condition at a slave point p is (paper §2, a variational
 //! inequality with "ordinary inequality constraints")
 //!
@@ -29,6 +30,35 @@
 //! ½ xᵀ(PᵀKP)x − (Pᵀf)ᵀx keeps one fixed sparsity pattern. Components
 //! prescribed at a contact point must be tangential (a symmetry plane): the
 //! normal is projected onto their complement and t₁, t₂ include those axes.
+//!
+//! # Second-order slave faces (Popp, Wohlmuth, Gee & Wall 2012)
+//! Dual multipliers on Tri6, Quad8 and Quad9 slave faces live in the
+//! transformed basis λ̃ = Q λ ([`Mortar::basis`]; corner: λ_c + α Σ λ_e over
+//! its edge nodes, edge node: (1 − 2α) λ_e, Quad9 centre unchanged), in which
+//! D is diagonal and positive and row p of B belongs to the dual function ψ_p,
+//! biorthogonal to λ̃_p. Writing the slave displacement in that basis,
+//! u_s = Σ_r λ_r u_r = Σ_p λ̃_p ũ_p with u_s = Qᵀ ũ per component (corner
+//! u_c = ũ_c, edge node u_e = (1 − 2α) ũ_e + α (ũ_c₁ + ũ_c₂)), the weak
+//! non-penetration row ∫ψ_p n·(u_s − u_m) is D_pp ũ_p − (B u_m)_p: diagonal in
+//! ũ. So the problem is solved in u = P_b ũ (P_b = Qᵀ on the slave points of
+//! such interfaces, the identity elsewhere): K̃ = P_bᵀ K P_b, f̃ = P_bᵀ f, glued
+//! constraints C̃ = C P_b (Q mixes the nodes of one face, so the sparsity
+//! pattern does not change), and everything above applies to ũ as to a
+//! first-order u: one contact point per transformed node p, its frame at
+//! p's nodal normal n_p ([`nodal_normals`]: the area vectors of the corner
+//! polygons of the faces around p, mid-edge and centre nodes included; exact
+//! on flat surfaces, an approximation of the normal at p on curved ones),
+//! t_row = row p of D⁻¹B and the gap
+//! g_p = n_p·((D⁻¹B x_m)_p − x̃_s,p) with x̃_s = Q⁻ᵀ x_s. After the solve
+//! u = P_b ũ. The reported pressure λ_p = μ_p / D_pp is then the coefficient
+//! of ψ_p in the multiplier λ_h = Σ_p λ_p ψ_p (as in Popp et al.): for a
+//! uniform pressure every λ_p equals it (Σ_p ψ_p = 1), otherwise it is a
+//! λ̃_p-weighted mean of the pressure around p, not a nodal value.
+//! Prescribed slave components carry over to ũ at corners (ũ_c = u_c) and at
+//! an edge node whose two corners have the component prescribed too,
+//! ũ_e = (u_e − α (u_c₁ + u_c₂)) / (1 − 2α); any other prescribed slave
+//! component is refused. Lumped multipliers on Quad9 faces (positive row
+//! sums) need no transformation.
 //!
 //! # Primal-dual active set (Hüeber & Wohlmuth)
 //! Starting from A₀ = {p : g_p ≤ 0} and the closest points of each interface
@@ -135,12 +165,50 @@ pub(crate) struct ContactPoint {
 
 /// Solves the frictionless contact problem (module doc): `system` with the
 /// constraints of its glued interfaces and the contact interfaces, after
-/// [`check_couplings`].
+/// [`check_couplings`]; with second-order slave faces in the transformed
+/// unknowns ũ (module doc; `system`'s mortars are borrowed for that solve and
+/// put back).
 ///
 /// # Errors
 /// [`ProblemError`] for a failed assembly, a singular step (a body held by
-/// nothing), or no convergence within `max_steps` active-set steps.
+/// nothing), no convergence within `max_steps` active-set steps, or a
+/// prescribed slave component that does not carry over to ũ.
 pub(crate) fn solve_contact(
+    bodies: &[Body],
+    interfaces: &[Interface],
+    options: &SolveOptions,
+    system: &mut System,
+    constraints: &Constraints,
+    seconds: &mut Timings,
+) -> Result<Steps, ProblemError> {
+    let clock = Instant::now();
+    let basis = SlaveBasis::new(bodies, interfaces, system)?;
+    seconds.setup += clock.elapsed().as_secs_f64();
+    let Some(basis) = basis else {
+        return active_set_steps(bodies, interfaces, options, system, constraints, seconds);
+    };
+    // The same solve in ũ (module doc): K̃ = P_bᵀ K P_b, f̃ = P_bᵀ f, C̃ = C P_b.
+    let clock = Instant::now();
+    let transformed = System {
+        k: triple_product(&basis.p, &system.k),
+        f: basis.p.transpose_mul_vec(&system.f, 1),
+        dirichlet: basis.dirichlet.clone(),
+        offsets: system.offsets.clone(),
+        mortars: std::mem::take(&mut system.mortars),
+    };
+    let mut glued = constraints.clone();
+    glued.c = basis.times(&constraints.c);
+    seconds.setup += clock.elapsed().as_secs_f64();
+    let steps = active_set_steps(bodies, interfaces, options, &transformed, &glued, seconds);
+    system.mortars = transformed.mortars;
+    let mut steps = steps?;
+    steps.u = basis.p.mul_vec(&steps.u, 1);
+    Ok(steps)
+}
+
+/// The active set in the unknowns of `system`: on the rotated system when the
+/// glued interfaces eliminate node by node, else on saddle points.
+fn active_set_steps(
     bodies: &[Body],
     interfaces: &[Interface],
     options: &SolveOptions,
@@ -153,6 +221,170 @@ pub(crate) fn solve_contact(
         rotated_steps(bodies, interfaces, options, system, constraints, seconds)
     } else {
         saddle_steps(bodies, interfaces, options, system, constraints, seconds)
+    }
+}
+
+/// The change of variables u = P_b ũ on the slave points of the contact
+/// interfaces whose mortar has a basis transformation Q (dual multipliers on
+/// second-order slave faces, module doc): u_s = Qᵀ ũ_s per component there,
+/// the identity elsewhere.
+struct SlaveBasis {
+    /// P_b, n × n.
+    p: CsrMatrix,
+    /// The Dirichlet conditions in ũ.
+    dirichlet: Dirichlet,
+}
+
+impl SlaveBasis {
+    /// None when no contact interface has a basis transformation.
+    ///
+    /// # Errors
+    /// [`ProblemError::BadInterface`] for a point transformed by two
+    /// interfaces, or a prescribed component that does not carry over to ũ
+    /// (an edge node's, with a corner of its edge free in that component).
+    fn new(
+        bodies: &[Body],
+        interfaces: &[Interface],
+        system: &System,
+    ) -> Result<Option<SlaveBasis>, ProblemError> {
+        let n = *system.offsets.last().expect("at least the leading zero");
+        let mut rows: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n / 3];
+        let mut owner = vec![NONE; n / 3];
+        let contact = interfaces
+            .iter()
+            .zip(&system.mortars)
+            .enumerate()
+            .filter(|(_, (f, _))| f.kind == Coupling::Contact);
+        let mut any = false;
+        for (i, (f, m)) in contact {
+            let Some(q) = &m.basis else { continue };
+            any = true;
+            let base = system.offsets[f.slave] / 3;
+            let qt = q.transpose();
+            for r in (0..qt.nrows).filter(|&r| m.on_surface[r]) {
+                let (cols, vals) = qt.row(r);
+                if cols == [r] && vals == [1.0] {
+                    continue;
+                }
+                if owner[base + r] != NONE {
+                    let at = bodies[f.slave].mesh.points()[r];
+                    let what = format!(
+                        "slave point {r} at ({}, {}, {}) is on the second-order slave faces of contact interfaces {} and {i}: \
+                         their dual bases cannot share a point (split the surfaces)",
+                        at[0], at[1], at[2], owner[base + r]
+                    );
+                    return Err(ProblemError::BadInterface { interface: i, what });
+                }
+                owner[base + r] = i;
+                rows[base + r] = cols.iter().zip(vals).map(|(&p, &v)| (base + p, v)).collect();
+            }
+        }
+        if !any {
+            return Ok(None);
+        }
+        let contact = interfaces.iter().enumerate().filter(|(_, f)| f.kind == Coupling::Contact);
+        for (i, f) in contact {
+            let base = system.offsets[f.master] / 3;
+            let used = f.master_surface.used_points();
+            if let Some(q) = (0..used.len()).find(|&q| used[q] && owner[base + q] != NONE) {
+                let at = bodies[f.master].mesh.points()[q];
+                let what = format!(
+                    "master point {q} at ({}, {}, {}) is on the second-order slave faces of contact interface {}: \
+                     a contact master surface cannot share points with a transformed slave surface",
+                    at[0], at[1], at[2], owner[base + q]
+                );
+                return Err(ProblemError::BadInterface { interface: i, what });
+            }
+        }
+        let dirichlet = Self::transformed_dirichlet(bodies, system, &rows, &owner)?;
+        let mut p = CsrMatrix::zeros(0, n);
+        for dof in 0..n {
+            let (point, comp) = (dof / 3, dof % 3);
+            if rows[point].is_empty() {
+                p.indices.push(dof);
+                p.values.push(1.0);
+            } else {
+                let mut row: Vec<(usize, f64)> =
+                    rows[point].iter().map(|&(q, a)| (3 * q + comp, a)).collect();
+                row.sort_unstable_by_key(|e| e.0);
+                p.indices.extend(row.iter().map(|e| e.0));
+                p.values.extend(row.iter().map(|e| e.1));
+            }
+            p.indptr.push(p.indices.len());
+            p.nrows += 1;
+        }
+        Ok(Some(SlaveBasis { p, dirichlet }))
+    }
+
+    /// The prescribed values in ũ: u_r,k = Σ_q a_q ũ_q,k prescribed at a
+    /// corner (u_c = ũ_c) carries over; at an edge node, when both corners
+    /// of its edge have component k prescribed too, ũ_e,k = (u_e,k − Σ_c a_c
+    /// u_c,k) / a_e. Anything else is refused.
+    fn transformed_dirichlet(
+        bodies: &[Body],
+        system: &System,
+        rows: &[Vec<(usize, f64)>],
+        owner: &[usize],
+    ) -> Result<Dirichlet, ProblemError> {
+        let dirichlet = &system.dirichlet;
+        let mut out = Dirichlet::new();
+        for (dof, v) in dirichlet.iter() {
+            let (point, comp) = (dof / 3, dof % 3);
+            let row = &rows[point];
+            if row.is_empty() {
+                out.fix_dof(dof, v);
+                continue;
+            }
+            let mut value = v;
+            let mut own = 1.0;
+            for &(q, a) in row {
+                if q == point {
+                    own = a;
+                    continue;
+                }
+                // q is a corner: u_q = ũ_q.
+                match dirichlet.value(3 * q + comp).filter(|_| rows[q].iter().all(|&(c, _)| c == q)) {
+                    Some(uq) => value -= a * uq / rows[q].first().map_or(1.0, |e| e.1),
+                    None => {
+                        let body = system.offsets.partition_point(|&o| o <= dof) - 1;
+                        let local = point - system.offsets[body] / 3;
+                        let corner = q - system.offsets[body] / 3;
+                        let at = bodies[body].mesh.points()[local];
+                        let what = format!(
+                            "slave point {local} at ({}, {}, {}) has component {comp} prescribed, but point {corner}, a \
+                             corner of its edge, does not: with second-order slave faces the contact unknowns \
+                             mix an edge node with its corners (Popp et al. 2012), so a prescribed component must \
+                             be prescribed on the whole edge",
+                            at[0], at[1], at[2]
+                        );
+                        return Err(ProblemError::BadInterface { interface: owner[point], what });
+                    }
+                }
+            }
+            out.fix_dof(dof, value / own);
+        }
+        Ok(out)
+    }
+
+    /// C P_b for a matrix C with n columns.
+    fn times(&self, c: &CsrMatrix) -> CsrMatrix {
+        let mut out = CsrMatrix::zeros(0, c.ncols);
+        let mut row: Vec<(usize, f64)> = Vec::new();
+        for i in 0..c.nrows {
+            row.clear();
+            let (cols, vals) = c.row(i);
+            for (&j, &v) in cols.iter().zip(vals) {
+                let (pc, pv) = self.p.row(j);
+                row.extend(pc.iter().zip(pv).map(|(&k, &a)| (k, v * a)));
+            }
+            for (j, v) in merged(&mut row) {
+                out.indices.push(j);
+                out.values.push(v);
+            }
+            out.indptr.push(out.indices.len());
+            out.nrows += 1;
+        }
+        out
     }
 }
 
@@ -381,7 +613,8 @@ fn saddle_steps(
 
 /// Refuses what the contact solve cannot do: contact with standard
 /// multipliers (D must be diagonal), and a slave point of both a glued and a
-/// contact interface.
+/// contact interface. (Lumped multipliers on Tri6 and Quad8 slave faces are
+/// refused by the mortar assembly.)
 pub(crate) fn check_couplings(interfaces: &[Interface]) -> Result<(), ProblemError> {
     let bad = |interface: usize, what: String| Err(ProblemError::BadInterface { interface, what });
     for (i, f) in interfaces.iter().enumerate() {
@@ -389,14 +622,6 @@ pub(crate) fn check_couplings(interfaces: &[Interface]) -> Result<(), ProblemErr
             return bad(
                 i,
                 "contact needs a diagonal D: multiplier \"lumped\" (the default) or \"dual\"".into(),
-            );
-        }
-        if f.kind == Coupling::Contact && f.slave_surface.faces().iter().any(|face| face.is_curved()) {
-            return bad(
-                i,
-                "contact on second-order slave faces (Tri6, Quad8, Quad9) is not supported yet: \
-                 give the contact slave side first-order faces"
-                    .into(),
             );
         }
     }
@@ -541,6 +766,17 @@ fn contact_points(
         let (os, om) = (offsets[f.slave], offsets[f.master]);
         let normals = nodal_normals(f.slave_surface);
         let (xs, xm) = (bodies[f.slave].mesh.points(), bodies[f.master].mesh.points());
+        // The slave positions in the transformed basis, x̃_s = Q⁻ᵀ x_s = D⁻¹ (D Q⁻ᵀ) x_s.
+        let nodal_d = m.basis.as_ref().map(|_| m.nodal_d());
+        let position = |p: usize, d: f64| -> Point3 {
+            match &nodal_d {
+                None => xs[p],
+                Some(n) => {
+                    let (cols, vals) = n.row(p);
+                    std::array::from_fn(|c| cols.iter().zip(vals).map(|(&r, &v)| v / d * xs[r][c]).sum())
+                }
+            }
+        };
         for p in (0..m.covered.len()).filter(|&p| m.covered[p]) {
             let first_dof = os + 3 * p;
             if claimed[first_dof / 3] {
@@ -555,7 +791,7 @@ fn contact_points(
                 cols.iter().zip(vals).map(|(&q, &b)| (om + 3 * q, b / d)).collect();
             let txm: Point3 =
                 std::array::from_fn(|c| cols.iter().zip(vals).map(|(&q, &b)| b / d * xm[q][c]).sum());
-            let gap = dot(frame[0], sub(txm, xs[p]));
+            let gap = dot(frame[0], sub(txm, position(p, d)));
             let a_row = normal_row(&t_row, frame[0], p_g);
             points.push(ContactPoint { interface: i, point: p, first_dof, frame, d, gap, t_row, a_row });
         }
@@ -595,9 +831,14 @@ fn normal_row(t_row: &[(usize, f64)], n: Point3, p_g: Option<&CsrMatrix>) -> Vec
             }
         }
     }
+    merged(&mut row)
+}
+
+/// The entries of `row` sorted by index, those with equal indices summed.
+fn merged(row: &mut [(usize, f64)]) -> Vec<(usize, f64)> {
     row.sort_by_key(|e| e.0);
     let mut merged: Vec<(usize, f64)> = Vec::with_capacity(row.len());
-    for (j, v) in row {
+    for &(j, v) in row.iter() {
         match merged.last_mut() {
             Some(last) if last.0 == j => last.1 += v,
             _ => merged.push((j, v)),
@@ -676,8 +917,8 @@ fn rotation(n: usize, points: &[ContactPoint]) -> CsrMatrix {
 }
 
 /// The Dirichlet conditions in x: unchanged off the contact points; at a
-/// contact point a prescribed axis is t₁ or t₂ (see [`frame`]), so the value
-/// moves to v₁ or v₂.
+/// contact point a prescribed axis is ±t₁ or ±t₂ (see [`frame`]), so the
+/// value, with that sign, moves to v₁ or v₂.
 fn rotated_dirichlet(n: usize, dirichlet: &Dirichlet, points: &[ContactPoint]) -> Dirichlet {
     let at = point_index(n, points);
     let mut out = Dirichlet::new();
@@ -689,7 +930,8 @@ fn rotated_dirichlet(n: usize, dirichlet: &Dirichlet, points: &[ContactPoint]) -
                 let axis = dof % 3;
                 let k =
                     (1..3).find(|&k| c.frame[k][axis].abs() == 1.0).expect("prescribed axes are tangents");
-                out.fix_dof(c.first_dof + k, v)
+                // t_k = ±e_axis (t₂ = n × t₁ may point along −e_axis).
+                out.fix_dof(c.first_dof + k, v * c.frame[k][axis])
             }
         };
     }

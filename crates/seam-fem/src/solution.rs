@@ -99,7 +99,11 @@ impl InterfaceSolution {
 }
 
 /// A contact interface's fields per slave body point (zero, or false, off the
-/// contact points).
+/// contact points). With dual multipliers on second-order slave faces they
+/// belong to the transformed unknowns of Popp et al. (2012) at each node
+/// (module doc of [`crate::contact`]): the pressure is the coefficient λ_p of
+/// the dual function ψ_p (a weighted mean of the pressure around p, not a
+/// nodal value), the gaps are those of ũ_p.
 #[derive(Clone, Debug)]
 pub struct ContactFields {
     /// Has a contact constraint (a contact point).
@@ -177,14 +181,14 @@ pub fn solve_coupled(
     check_input(bodies, interfaces)?;
     check_couplings(interfaces)?;
     let mut seconds = Timings::default();
-    let system = assemble_system(bodies, interfaces, &mut seconds)?;
+    let mut system = assemble_system(bodies, interfaces, &mut seconds)?;
     let clock = Instant::now();
     let constraints = Constraints::new(interfaces, &system.mortars, &system.offsets, &system.dirichlet);
     seconds.setup += clock.elapsed().as_secs_f64();
     let (dofs, n_constraints) = (system.k.nrows, constraints.rows.len());
 
     let mut steps = match interfaces.iter().any(|f| f.kind == Coupling::Contact) {
-        true => Some(solve_contact(bodies, interfaces, options, &system, &constraints, &mut seconds)?),
+        true => Some(solve_contact(bodies, interfaces, options, &mut system, &constraints, &mut seconds)?),
         false => None,
     };
     let (u, lambda, method, iterations, residual, contact) = match &mut steps {

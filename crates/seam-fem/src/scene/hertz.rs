@@ -2,7 +2,8 @@
 //! elastic block, force-controlled, against the analytic solution.
 
 use super::block_body;
-use crate::generate::{block, BlockKind, Grid, Side};
+use crate::element::ElementKind;
+use crate::generate::{block, node_supports, raise_order, BlockKind, Grid, RaiseError, Side};
 use crate::material::Material;
 use crate::multibody::Coupling;
 use crate::problem::{Load, Problem, ProblemInterface, Support, SurfaceId};
@@ -25,13 +26,22 @@ pub struct Hertz {
     pub indenter: Material,
     /// The block's material.
     pub block: Material,
-    /// The multiplier (lumped or dual).
+    /// The multiplier (lumped or dual; lumped is refused on the Tri6 faces
+    /// of second-order tetrahedra).
     pub multiplier: Multiplier,
+    /// The cells of both bodies: [`BlockKind::Hex`] or [`BlockKind::Tet`]
+    /// (six per grid cell).
+    pub cells: BlockKind,
+    /// Second-order cells: Hex27 or Tet10, every new node of the indenter
+    /// placed by its map (so the nodes of its spherical face lie on the
+    /// sphere).
+    pub second_order: bool,
 }
 
 impl Default for Hertz {
     /// R = 1, a = 0.08 R, 8 slave cells across 1.5a, the master 1.3× finer;
-    /// indenter E = 2000, ν = 0.3 on a block E = 1000, ν = 0.25; lumped D.
+    /// indenter E = 2000, ν = 0.3 on a block E = 1000, ν = 0.25; lumped D;
+    /// first-order hexahedra.
     fn default() -> Self {
         Hertz {
             radius: 1.0,
@@ -41,6 +51,8 @@ impl Default for Hertz {
             indenter: Material::new(2000.0, 0.3).expect("valid constants"),
             block: Material::new(1000.0, 0.25).expect("valid constants"),
             multiplier: Multiplier::Lumped,
+            cells: BlockKind::Hex,
+            second_order: false,
         }
     }
 }
@@ -123,13 +135,54 @@ fn graded(length: f64, fine_len: f64, fine: usize) -> Vec<f64> {
     x
 }
 
-/// A structured hex block on the tensor grid `xs × ys × ws` (ws on [0, 1]),
-/// each grid point mapped by `map(x, y, w)`.
-fn tensor_block(xs: &[f64], ws: &[f64], map: impl Fn(f64, f64, f64) -> Point3) -> (VolumeMesh, Grid) {
+/// A structured block of `kind` cells on the tensor grid `xs × xs × ws`
+/// (ws on [0, 1]), each grid point mapped by `map(x, y, w)`; of second order
+/// when `second_order`, every new node mapped from the mean of its supporting
+/// corners' (x, y, w) (`unmap` gives a corner's), so that it lies on the
+/// mapped block (on the sphere, for the indenter's face).
+fn tensor_block(
+    xs: &[f64],
+    ws: &[f64],
+    (kind, second_order): (BlockKind, bool),
+    map: impl Fn(f64, f64, f64) -> Point3,
+    unmap: impl Fn(Point3) -> Point3,
+) -> Result<(VolumeMesh, Grid), MeshError> {
     let (n, nz) = (xs.len() - 1, ws.len() - 1);
     let at = |coords: &[f64], t: f64, cells: usize| coords[(t * cells as f64).round() as usize];
-    let mesh = block(n, n, nz, |u, v, w| map(at(xs, u, n), at(xs, v, n), at(ws, w, nz)), BlockKind::Hex);
-    (mesh, Grid::new(n, n, nz))
+    let mesh = block(n, n, nz, |u, v, w| map(at(xs, u, n), at(xs, v, n), at(ws, w, nz)), kind);
+    let mesh = if second_order { raise_mapped(&mesh, |x| map(x[0], x[1], x[2]), unmap)? } else { mesh };
+    Ok((mesh, Grid::new(n, n, nz)))
+}
+
+/// `mesh` raised to second order (complete cells) with each new node at
+/// `map` of the mean of `unmap` over its supporting corners.
+fn raise_mapped(
+    mesh: &VolumeMesh,
+    map: impl Fn(Point3) -> Point3,
+    unmap: impl Fn(Point3) -> Point3,
+) -> Result<VolumeMesh, MeshError> {
+    let raised = match raise_order(mesh, true) {
+        Ok(raised) => raised,
+        Err(RaiseError::Mesh(e)) => return Err(e),
+        Err(e @ RaiseError::SecondOrder { .. }) => unreachable!("blocks are of first order: {e}"),
+    };
+    let first = mesh.points().len();
+    let corners: Vec<Point3> = mesh.points().iter().map(|&x| unmap(x)).collect();
+    let mut points = raised.points().to_vec();
+    let mut placed = vec![false; points.len()];
+    for cell in raised.cells() {
+        let kind = ElementKind::of(cell);
+        let nodes = cell.nodes();
+        for (i, support) in node_supports(kind).iter().enumerate().filter(|&(i, _)| nodes[i] >= first) {
+            if !std::mem::replace(&mut placed[nodes[i]], true) {
+                let mean = std::array::from_fn(|k| {
+                    support.iter().map(|&c| corners[nodes[c]][k]).sum::<f64>() / support.len() as f64
+                });
+                points[nodes[i]] = map(mean);
+            }
+        }
+    }
+    VolumeMesh::new(points, raised.cells().to_vec())
 }
 
 /// The named sides of a quarter-model body: bottom, top, and the symmetry
@@ -145,8 +198,9 @@ const SIDES: [(&str, Side); 4] =
 ///   only by the contact (and the symmetry planes);
 /// - body "block" (slave, "top" at z = 0, "bottom" at z = −W, "x0", "y0") over
 ///   [0, W]² × [−W, 0], W = 12.5a, clamped at the bottom;
-/// - both meshed with hexahedra, uniform on [0, 1.5a] in x, y and z near
-///   the pole and geometrically coarser beyond; the meshes do not match.
+/// - both meshed with hexahedra or tetrahedra (`cells`), of first or second
+///   order, uniform on [0, 1.5a] in x, y and z near the pole and
+///   geometrically coarser beyond; the meshes do not match.
 ///
 /// The block's top is the slave side: its normals are exact, and the contact
 /// pressure lives on it.
@@ -158,16 +212,27 @@ pub fn hertz(p: &Hertz) -> Result<Problem, MeshError> {
     let w = p.block_size();
     let xs = graded(w, 1.5 * a, p.fine_cells);
     let depth: Vec<f64> = graded(w, 1.5 * a, p.fine_cells).iter().rev().map(|z| 1.0 - z / w).collect();
-    let (slab, slab_grid) = tensor_block(&xs, &depth, |x, y, t| [x, y, -w * (1.0 - t)]);
+    let cells = (p.cells, p.second_order);
+    let (slab, slab_grid) =
+        tensor_block(&xs, &depth, cells, |x, y, t| [x, y, -w * (1.0 - t)], |x| [x[0], x[1], 1.0 + x[2] / w])?;
 
     let (l, h) = p.indenter_size();
     let fine = ((p.fine_cells as f64) * p.master_ratio).round() as usize;
     let xm = graded(l, 1.5 * a, fine);
     let up: Vec<f64> = graded(h, 1.5 * a, fine).iter().map(|z| z / h).collect();
-    let (ball, ball_grid) = tensor_block(&xm, &up, |x, y, t| {
-        let z = p.sphere(x, y);
-        [x, y, z + (h - z) * t]
-    });
+    let (ball, ball_grid) = tensor_block(
+        &xm,
+        &up,
+        cells,
+        |x, y, t| {
+            let z = p.sphere(x, y);
+            [x, y, z + (h - z) * t]
+        },
+        |x| {
+            let z = p.sphere(x[0], x[1]);
+            [x[0], x[1], (x[2] - z) / (h - z)]
+        },
+    )?;
 
     let bodies = vec![
         block_body("indenter", ball, &ball_grid, p.indenter, &SIDES)?,

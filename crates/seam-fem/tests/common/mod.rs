@@ -367,3 +367,4 @@ pub fn check_affine(mesh: &VolumeMesh, u: &[f64], label: &str) {
     let vm = seam_fem::von_mises(&sigma);
     assert!(s.cell_von_mises.iter().all(|v| (v - vm).abs() < 1e-10 * vm));
 }
+pub mod hertz;

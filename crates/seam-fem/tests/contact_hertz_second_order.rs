@@ -1,0 +1,100 @@
+//! Hertz contact ([`seam_fem::scene::hertz`], a quarter model, a/R = 0.08) on
+//! second-order hexahedra (Hex27, Quad9 slave faces) and tetrahedra (Tet10,
+//! Tri6 slave faces), with dual multipliers in the transformed basis of Popp,
+//! Wohlmuth, Gee and Wall (2012), against first order with dual multipliers.
+//! The second-order meshes have n/2 fine slave cells across 1.5a, so about
+//! as many nodes along each axis as first order with n (grading makes them
+//! 2.3 times as many unknowns at equal n/2 vs n; the test compares Hex27 at
+//! n = 2 with Hex8 at n = 8, which has *more* unknowns).
+//!
+//! p₀ is the pressure reported at the pole: for second order the coefficient
+//! λ_p of the dual function ψ_p (module doc of `seam_fem::contact`), a
+//! λ̃_p-weighted mean of the pressure around the pole.
+//!
+//! Measured (`cargo test --release -p seam-fem --test contact_hertz_second_order
+//! -- --ignored --nocapture`; p₀ error, a − a_Hertz in slave elements h, max
+//! |p − p_Hertz| / p₀ on the axes; KKT ≤ 4e-16, force errors ≤ 1.4e-12):
+//!
+//! | cells | order | n | dofs | p₀ error | a − a_H | profile |
+//! |---|---|---|---|---|---|---|
+//! | hex | 1 | 4 | 18 945 | −1.61 % | −0.67 h | 0.037 |
+//! | hex | 2 | 2 | 43 320 | **−0.30 %** | +0.17 h | 0.184 |
+//! | hex | 1 | 8 | 61 050 | −0.58 % | −0.33 h | 0.037 |
+//! | hex | 2 | 4 | 136 590 | −0.50 % | −0.17 h | 0.031 |
+//! | tet | 1 | 4 | 18 945 | −3.26 % | −0.67 h | 0.033 |
+//! | tet | 2 | 2 | 43 320 | −6.86 % | +0.17 h | 0.216 |
+//! | tet | 1 | 8 | 61 050 | −1.38 % | −0.33 h | 0.035 |
+//! | tet | 2 | 4 | 136 590 | −3.07 % | −0.17 h | 0.105 |
+//!
+//! On hexahedra second order wins: Hex27 with 43 320 unknowns is closer to
+//! p₀ than Hex8 with 61 050 (dual; lumped Hex8 gives +1.87 % at n = 4 and
+//! +0.17 % at n = 8, `contact_hertz.rs`). On tetrahedra it does not: the
+//! Tri6 corner function has no mass (∫λ_c = 0), so the transformed
+//! λ̃_c = λ_c + α(λ_e₁ + λ_e₂) takes all its weight from the edge functions
+//! and the pole coefficient averages the pressure over a wider patch than
+//! a Tet4 hat at equal node spacing; it is asserted only to be within 10 %.
+//! (The dual multiplier function itself at the pole, λ_h(x) = Σ_p λ_p ψ_p(x)
+//! evaluated through each face's ψ = D̃ M̃⁻¹ λ̃, is no better a reading: it
+//! oscillates, −95 % for Tet10 and −54 % for Hex27 at n = 2, +8 % and +12 %
+//! for Tet4 and Hex8 at n = 4.)
+//! Lumped multipliers on Quad9 slave faces fail on this scene
+//! (`LumpedNotPositive` on partly covered faces at the edge of the indenter):
+//! dual is the default there.
+mod common;
+
+use common::hertz::{solve, Measured};
+use seam::Multiplier;
+use seam_fem::generate::BlockKind;
+use seam_fem::scene::Hertz;
+
+/// The scene with `n` fine slave cells of `cells`, first or second order,
+/// dual multipliers.
+fn scene(n: usize, cells: BlockKind, second_order: bool) -> Hertz {
+    Hertz { fine_cells: n, cells, second_order, multiplier: Multiplier::Dual, ..Hertz::default() }
+}
+
+/// Solves first order with n fine cells and second order with n/2.
+fn compare(n: usize, cells: BlockKind) -> (Measured, Measured) {
+    let first = solve(&format!("{cells:?} first order, n = {n}"), &scene(n, cells, false));
+    let second = solve(&format!("{cells:?} second order, n = {}", n / 2), &scene(n / 2, cells, true));
+    (first, second)
+}
+
+/// Hex27 at n = 2 against Hex8 at n = 8: fewer unknowns, p₀ closer to
+/// Hertz's; both within one slave element of a.
+#[test]
+fn hex27_is_closer_to_p0_than_hex8_with_fewer_unknowns() {
+    let first = solve("Hex first order, n = 8", &scene(8, BlockKind::Hex, false));
+    let second = solve("Hex second order, n = 2", &scene(2, BlockKind::Hex, true));
+    assert!(second.dofs < first.dofs, "{} unknowns against {}", second.dofs, first.dofs);
+    assert!(
+        second.p0_error().abs() < first.p0_error().abs(),
+        "p0 errors: second order {:+.3e}, first order {:+.3e}",
+        second.p0_error(),
+        first.p0_error()
+    );
+    assert!(second.p0_error().abs() <= 0.005, "p0 error {:+.3e}", second.p0_error());
+    for m in [&first, &second] {
+        assert!((m.a - m.a_exact).abs() <= m.h * (1.0 + 1e-9), "a {} against {}", m.a, m.a_exact);
+    }
+}
+
+/// Tet10 at n = 2 (Tri6 slave faces): solved, KKT and force balance (in
+/// `solve`), p₀ within 10 % and a within one slave element.
+#[test]
+fn hertz_on_tet10() {
+    let m = solve("Tet second order, n = 2", &scene(2, BlockKind::Tet, true));
+    assert!(m.p0_error().abs() <= 0.1, "p0 error {:+.3e}", m.p0_error());
+    assert!((m.a - m.a_exact).abs() <= m.h * (1.0 + 1e-9), "a {} against {}", m.a, m.a_exact);
+}
+
+/// The study behind the table of the module doc.
+#[test]
+#[ignore = "a study: cargo test --release -p seam-fem --test contact_hertz_second_order -- --ignored --nocapture"]
+fn hertz_second_order_study() {
+    for cells in [BlockKind::Hex, BlockKind::Tet] {
+        for n in [4, 8] {
+            compare(n, cells);
+        }
+    }
+}
