@@ -57,7 +57,7 @@ pub fn options(args: &CouplingArgs) -> anyhow::Result<MortarOptions> {
         max_gap,
         max_angle_degrees: args.max_angle,
         warped_quad_degree: args.quad_order,
-        record_segments: false,
+        ..MortarOptions::default()
     })
 }
 

@@ -62,6 +62,7 @@ pub fn run(args: &Options) -> Result<Vec<String>, Failure> {
             max_angle_degrees: 45.0,
             warped_quad_degree: None,
             record_segments: false,
+            transformation: seam::BasisTransformation::Needed,
         },
         segments: None,
         force: args.force,

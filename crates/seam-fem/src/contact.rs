@@ -34,7 +34,9 @@
 //! # Second-order slave faces (Popp, Wohlmuth, Gee & Wall 2012)
 //! Dual multipliers on Tri6, Quad8 and Quad9 slave faces live in the
 //! transformed basis λ̃ = Q λ ([`Mortar::basis`]; corner: λ_c + α Σ λ_e over
-//! its edge nodes, edge node: (1 − 2α) λ_e, Quad9 centre unchanged), in which
+//! its edge nodes, edge node: (1 − 2α) λ_e, Quad9 centre unchanged; contact
+//! interfaces are assembled with [`seam::BasisTransformation::All`], so Quad9
+//! slave surfaces are transformed too, unlike glued ones), in which
 //! D is diagonal and positive and row p of B belongs to the dual function ψ_p,
 //! biorthogonal to λ̃_p. Writing the slave displacement in that basis,
 //! u_s = Σ_r λ_r u_r = Σ_p λ̃_p ũ_p with u_s = Qᵀ ũ per component (corner

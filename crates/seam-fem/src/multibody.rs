@@ -12,7 +12,7 @@ use crate::material::Material;
 use crate::pcg::PcgOptions;
 use crate::solve::{Dirichlet, SolveError};
 use crate::{stiffness, AssemblyError};
-use seam::{CsrMatrix, Mortar, MortarError, MortarOptions, SurfaceMesh, VolumeMesh};
+use seam::{BasisTransformation, CsrMatrix, Mortar, MortarError, MortarOptions, SurfaceMesh, VolumeMesh};
 use std::time::Instant;
 
 /// One linear-elastic body.
@@ -223,7 +223,13 @@ pub(crate) fn assemble_system(
         .iter()
         .enumerate()
         .map(|(i, f)| {
-            seam::assemble(f.master_surface, f.slave_surface, &f.options)
+            // Contact weights its gaps and pressures by the transformed basis
+            // on every second-order slave face (module doc of `contact`).
+            let options = match f.kind {
+                Coupling::Contact => MortarOptions { transformation: BasisTransformation::All, ..f.options },
+                Coupling::Glue => f.options,
+            };
+            seam::assemble(f.master_surface, f.slave_surface, &options)
                 .map_err(|source| ProblemError::Mortar { interface: i, source })
         })
         .collect::<Result<Vec<_>, _>>()?;

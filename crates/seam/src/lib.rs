@@ -70,8 +70,9 @@ pub use mesh::{
 };
 pub use mortar::{
     assemble, assemble_with_tree, face_integrals, face_quality, nodal_normals, normal_gaps,
-    orientation_conflicts, warped_quad_degree, FaceQuality, FaceStats, Facing, MaxGap, Mortar, MortarError,
-    MortarOptions, MortarSummary, Multiplier, Segment, Transfer, BASIS_ALPHA, COVERED_FRACTION, WARPED_RTOL,
+    orientation_conflicts, warped_quad_degree, BasisTransformation, FaceQuality, FaceStats, Facing, MaxGap,
+    Mortar, MortarError, MortarOptions, MortarSummary, Multiplier, Segment, Transfer, BASIS_ALPHA,
+    COVERED_FRACTION, WARPED_RTOL,
 };
 pub use quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};
 pub use search::{face_box, swept_box, FaceTree};

@@ -196,7 +196,7 @@ impl<'a> Kernel<'a> {
                 })
                 .collect(),
             curved_master: master.faces().iter().any(|f| f.is_curved()),
-            transform: super::multiplier::transforms(slave),
+            transform: super::multiplier::transforms(slave, options.transformation),
         }
     }
 

@@ -154,6 +154,26 @@ pub struct MortarOptions {
     pub warped_quad_degree: Option<usize>,
     /// Keep the intersection triangles ([`Mortar::segments`]), for inspection.
     pub record_segments: bool,
+    /// Which second-order slave surfaces get the basis transformation of dual
+    /// multipliers.
+    pub transformation: BasisTransformation,
+}
+
+/// Which second-order slave surfaces get the basis transformation of dual
+/// multipliers ([`BASIS_ALPHA`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BasisTransformation {
+    /// Surfaces with Tri6 or Quad8 faces, whose corner functions have no
+    /// positive integral; a surface of Quad9 faces keeps the plain dual basis,
+    /// which contains the linear functions (optimal glued convergence).
+    #[default]
+    Needed,
+    /// Every surface with second-order faces, Quad9 included: the multipliers
+    /// are then weighted by the transformed functions, whose weights sit on
+    /// their nodes, as contact's weighted gaps and nodal pressures want (Popp
+    /// et al. 2012; Hertz on Hex27: p₀ −0.30 % against +7.3 % with the plain
+    /// Quad9 dual basis).
+    All,
 }
 
 impl Default for MortarOptions {
@@ -165,6 +185,7 @@ impl Default for MortarOptions {
             max_angle_degrees: 45.0,
             warped_quad_degree: None,
             record_segments: false,
+            transformation: BasisTransformation::Needed,
         }
     }
 }
@@ -454,7 +475,8 @@ pub fn assemble_with_tree(
                 .reduce_with(f64::min),
         });
     }
-    let mortar = rows::into_mortar(master, slave, blocks, options.multiplier, summary);
+    let mortar =
+        rows::into_mortar(master, slave, blocks, (options.multiplier, options.transformation), summary);
     if let Some(row) = mortar.b.first_non_finite_row().or_else(|| mortar.d.first_non_finite_row()) {
         return Err(MortarError::NonFinite { row });
     }

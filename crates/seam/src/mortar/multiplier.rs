@@ -28,19 +28,26 @@ const DUAL_PIVOT_RTOL: f64 = 1e-12;
 /// continuous across faces, and have positive integrals (on a flat face Tri6
 /// corners 2αA/3 = 2A/15 instead of 0, Quad8 corners A/20 instead of −A/12).
 ///
-/// Only slave surfaces with Tri6 or Quad8 faces are transformed (their Quad9
-/// faces too, so that the λ̃ stay continuous across shared edges). A surface of
-/// Quad9 (and first-order) faces keeps the plain dual basis, as in Popp et
-/// al.: its ∫ λ_p are positive already (corners A/36 on a flat face), and the
-/// transformation there costs accuracy: glued Hex27 bodies across a curved
-/// interface converge with H1 rate 1.4–1.7 with it and 2.0 without
-/// (`seam-fem` test `glue_convergence_second_order`).
+/// By default ([`super::BasisTransformation::Needed`]) only slave surfaces
+/// with Tri6 or Quad8 faces are transformed (their Quad9 faces too, so that
+/// the λ̃ stay continuous across shared edges). A surface of Quad9 (and
+/// first-order) faces keeps the plain dual basis: its ∫ λ_p are positive
+/// already (corners A/36 on a flat face), and the transformation there costs
+/// accuracy in gluing: Hex27 bodies across a curved interface converge with
+/// H1 rate 1.4–1.7 with it and 2.0 without (`seam-fem` test
+/// `glue_convergence_second_order`). Contact transforms Quad9 too
+/// ([`super::BasisTransformation::All`]).
 pub const BASIS_ALPHA: f64 = 0.2;
 
 /// Whether the slave surface's second-order faces get the basis
-/// transformation of [`BASIS_ALPHA`]: when it has a Tri6 or a Quad8 face.
-pub(super) fn transforms(slave: &crate::mesh::SurfaceMesh) -> bool {
-    slave.faces().iter().any(|f| matches!(f, crate::mesh::Face::Tri6(_) | crate::mesh::Face::Quad8(_)))
+/// transformation of [`BASIS_ALPHA`]: when it has a Tri6 or a Quad8 face, or
+/// with [`BasisTransformation::All`] any second-order face.
+pub(super) fn transforms(slave: &crate::mesh::SurfaceMesh, which: super::BasisTransformation) -> bool {
+    use crate::mesh::Face;
+    slave.faces().iter().any(|f| match which {
+        super::BasisTransformation::Needed => matches!(f, Face::Tri6(_) | Face::Quad8(_)),
+        super::BasisTransformation::All => f.is_curved(),
+    })
 }
 
 /// Row `p` of the transformation λ̃ = Q_e λ of a face of `kind` on a surface

@@ -8,6 +8,7 @@
 
 use super::isoparametric::MAX_NODES;
 use super::multiplier::{transformation_row, transforms, FaceMeasures};
+use super::BasisTransformation;
 use super::{FaceStats, Mortar, MortarSummary, Multiplier, Segment, COVERED_FRACTION};
 use crate::curved::CurvedKind;
 use crate::mesh::SurfaceMesh;
@@ -161,7 +162,7 @@ pub(super) fn into_mortar(
     master: &SurfaceMesh,
     slave: &SurfaceMesh,
     mut blocks: ChunkedBlocks,
-    multiplier: Multiplier,
+    (multiplier, transformation): (Multiplier, BasisTransformation),
     mut summary: MortarSummary,
 ) -> Mortar {
     let around = PointFaces::new(slave);
@@ -199,7 +200,8 @@ pub(super) fn into_mortar(
         .collect();
     let on_surface = slave.used_points();
     let mut covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
-    let basis = (multiplier == Multiplier::Dual && transforms(slave)).then(|| slave_basis(slave));
+    let basis =
+        (multiplier == Multiplier::Dual && transforms(slave, transformation)).then(|| slave_basis(slave));
     if let Some(q) = &basis {
         // T = Qᵀ D⁻¹ B mixes the rows of the λ̃ around a node: it is covered
         // only when all of them are.
