@@ -39,23 +39,12 @@
 mod common;
 
 use common::manufactured::{exact, gradient, load, stress};
+use common::shell::{sector, L, R};
 use common::{error_sums, fitted_rate, solve_two, stress_vector, tensor, ErrorSums, Errors};
 use seam::{Multiplier, Point3};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
 use seam_fem::Body;
 use seam_fem::{body_force, traction, Dirichlet, Material};
-
-const R: f64 = 1.5;
-const L: f64 = 0.8;
-const THETA0: f64 = 0.2;
-
-/// The polar map of the block cell (u, v, w) → (θ, z, r) with r ∈ [r0, r1].
-fn sector(r0: f64, r1: f64) -> impl Fn(f64, f64, f64) -> Point3 {
-    move |u, v, w| {
-        let (theta, r) = (THETA0 + L / R * u, r0 + (r1 - r0) * w);
-        [r * theta.cos(), r * theta.sin(), L * v]
-    }
-}
 
 /// The boundary conditions on the sides θ = const and z = const (the faces
 /// r = const away from the interface are always prescribed).

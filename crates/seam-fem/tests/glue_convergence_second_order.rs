@@ -62,24 +62,13 @@
 mod common;
 
 use common::manufactured::{exact, gradient, load, stress};
+use common::shell::{sector, L, R};
 use common::{error_sums, fitted_rate, solve_two, stress_vector, ErrorSums, Errors};
-use seam::{Multiplier, Point3, VolumeMesh};
+use seam::{Multiplier, VolumeMesh};
 use seam_fem::generate::{block, raise_order, BlockKind, Grid, Side};
 use seam_fem::{body_force, traction, Body, Dirichlet, Material};
 use Hexes::{Hex20, Hex27};
 use Multiplier::{Dual, Standard};
-
-const R: f64 = 1.5;
-const L: f64 = 0.8;
-const THETA0: f64 = 0.2;
-
-/// The polar map of the unit cube (u, v, w) → (θ, z, r) with r ∈ [r0, r1].
-fn sector(r0: f64, r1: f64) -> impl Fn(f64, f64, f64) -> Point3 {
-    move |u, v, w| {
-        let (theta, r) = (THETA0 + L / R * u, r0 + (r1 - r0) * w);
-        [r * theta.cos(), r * theta.sin(), L * v]
-    }
-}
 
 /// The second-order hexahedra of a body.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -368,3 +368,24 @@ pub fn check_affine(mesh: &VolumeMesh, u: &[f64], label: &str) {
     assert!(s.cell_von_mises.iter().all(|v| (v - vm).abs() < 1e-10 * vm));
 }
 pub mod hertz;
+
+/// The thick cylindrical shell sector of the glued convergence studies:
+/// θ ∈ [THETA0, THETA0 + L/R], z ∈ [0, L], split at the radius R.
+pub mod shell {
+    use seam::Point3;
+
+    /// The radius of the interface.
+    pub const R: f64 = 1.5;
+    /// The sector's length along z and arc length at R.
+    pub const L: f64 = 0.8;
+    /// The first angle.
+    pub const THETA0: f64 = 0.2;
+
+    /// The polar map of the unit cube (u, v, w) → (θ, z, r) with r ∈ [r0, r1].
+    pub fn sector(r0: f64, r1: f64) -> impl Fn(f64, f64, f64) -> Point3 {
+        move |u, v, w| {
+            let (theta, r) = (THETA0 + L / R * u, r0 + (r1 - r0) * w);
+            [r * theta.cos(), r * theta.sin(), L * v]
+        }
+    }
+}
