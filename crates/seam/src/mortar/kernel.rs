@@ -236,20 +236,12 @@ impl<'a> Kernel<'a> {
         let (lo, hi) = swept_box(sf.element.corners(), sf.frame.normal(), sf.gap_tol);
         self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates);
         stats.candidates = scratch.candidates.len() as u32;
-        for &m in &scratch.candidates {
+        for k in 0..scratch.candidates.len() {
+            let m = scratch.candidates[k];
             let record = self.options.record_segments.then_some(&mut out.segments);
             let Some(pair) = self.pair(&sf, s, m, stats, record) else { continue };
             let nodes = self.master.faces()[m].nodes();
-            add_pair(
-                &mut scratch.cols,
-                &mut scratch.b,
-                d,
-                stats,
-                n_s,
-                nodes,
-                (&pair.d, &pair.b),
-                (pair.covered_area, pair.segments),
-            );
+            scratch.add_pair(d, stats, n_s, nodes, (&pair.d, &pair.b), (pair.covered_area, pair.segments));
         }
         let full = face_integrals(&sf.element, self.rules.select(&sf, sf.element.kind).degree);
         std::array::from_fn(|p| if p < 4 { full[p] } else { 0.0 })
@@ -274,7 +266,8 @@ impl<'a> Kernel<'a> {
         let (lo, hi) = isoparametric::control_box(&face, cs.normal(), cs.gap_tol);
         self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates);
         stats.candidates = scratch.candidates.len() as u32;
-        for &m in &scratch.candidates {
+        for k in 0..scratch.candidates.len() {
+            let m = scratch.candidates[k];
             if !isoparametric::facing_ok(
                 self.options.facing,
                 cs.normal(),
@@ -290,16 +283,7 @@ impl<'a> Kernel<'a> {
                 continue;
             };
             let nodes = self.master.faces()[m].nodes();
-            add_pair(
-                &mut scratch.cols,
-                &mut scratch.b,
-                d,
-                stats,
-                n_s,
-                nodes,
-                (&pair.d, &pair.b),
-                (pair.covered_area, pair.segments),
-            );
+            scratch.add_pair(d, stats, n_s, nodes, (&pair.d, &pair.b), (pair.covered_area, pair.segments));
         }
         isoparametric::face_integrals(&face)
     }
@@ -628,28 +612,28 @@ fn signed_area(t: [Xi; 3]) -> f64 {
     0.5 * ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]))
 }
 
-/// Adds a pair's blocks (n_s × n_s of D, n_s × n_m of B) and counts to the
-/// face's.
-#[allow(clippy::too_many_arguments)]
-fn add_pair<const N: usize>(
-    cols: &mut Vec<usize>,
-    block: &mut Vec<f64>,
-    d: &mut [f64; MAX_NODES * MAX_NODES],
-    stats: &mut FaceStats,
-    n_s: usize,
-    master_nodes: &[usize],
-    (pair_d, pair_b): (&[[f64; N]; N], &[[f64; N]; N]),
-    (covered_area, segments): (f64, u32),
-) {
-    stats.intersecting += 1;
-    stats.segments += segments;
-    stats.covered_area += covered_area;
-    for p in 0..n_s {
-        for q in 0..n_s {
-            d[p * MAX_NODES + q] += pair_d[p][q];
+impl Scratch {
+    /// Adds a pair's blocks (n_s × n_s of D into `d`, n_s × n_m of B into the
+    /// face's columns) and counts to the face's.
+    fn add_pair<const N: usize>(
+        &mut self,
+        d: &mut [f64; MAX_NODES * MAX_NODES],
+        stats: &mut FaceStats,
+        n_s: usize,
+        master_nodes: &[usize],
+        (pair_d, pair_b): (&[[f64; N]; N], &[[f64; N]; N]),
+        (covered_area, segments): (f64, u32),
+    ) {
+        stats.intersecting += 1;
+        stats.segments += segments;
+        stats.covered_area += covered_area;
+        for p in 0..n_s {
+            for q in 0..n_s {
+                d[p * MAX_NODES + q] += pair_d[p][q];
+            }
         }
+        add_columns(&mut self.cols, &mut self.b, n_s, master_nodes, pair_b);
     }
-    add_columns(cols, block, n_s, master_nodes, pair_b);
 }
 
 /// One quadrature point's share of a pair's blocks: D_pq += w φ_p φ_q (upper
