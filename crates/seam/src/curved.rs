@@ -124,6 +124,7 @@ fn lagrange(s: f64) -> ([f64; 3], [f64; 3]) {
 
 /// Shape functions N_i(ξ) and gradients ∂N_i/∂(ξ, η) of `kind`; entries past
 /// `kind.n_nodes()` are 0.
+#[inline(always)]
 pub fn shape_and_gradients(kind: CurvedKind, xi: Xi) -> ([f64; 9], [[f64; 2]; 9]) {
     let (mut n, mut g) = ([0.0; 9], [[0.0; 2]; 9]);
     match kind {
@@ -138,16 +139,27 @@ pub fn shape_and_gradients(kind: CurvedKind, xi: Xi) -> ([f64; 9], [[f64; 2]; 9]
             g[..4].copy_from_slice(&[[t - 1.0, s - 1.0], [1.0 - t, -s], [t, s], [-t, 1.0 - s]]);
         }
         CurvedKind::Tri6 => {
+            // Barycentric l = (1 − s − t, s, t): vertices l_i (2 l_i − 1),
+            // mid-edge nodes 4 l_i l_(i+1).
             let [s, t] = xi;
-            let l = [1.0 - s - t, s, t];
-            let dl = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
-            for i in 0..3 {
-                n[i] = l[i] * (2.0 * l[i] - 1.0);
-                g[i] = dl[i].map(|d| (4.0 * l[i] - 1.0) * d);
-                let j = (i + 1) % 3;
-                n[3 + i] = 4.0 * l[i] * l[j];
-                g[3 + i] = [0, 1].map(|k| 4.0 * (dl[i][k] * l[j] + l[i] * dl[j][k]));
-            }
+            let l0 = 1.0 - s - t;
+            n[..6].copy_from_slice(&[
+                l0 * (2.0 * l0 - 1.0),
+                s * (2.0 * s - 1.0),
+                t * (2.0 * t - 1.0),
+                4.0 * l0 * s,
+                4.0 * s * t,
+                4.0 * t * l0,
+            ]);
+            let (c0, c1, c2) = (4.0 * l0 - 1.0, 4.0 * s - 1.0, 4.0 * t - 1.0);
+            g[..6].copy_from_slice(&[
+                [-c0, -c0],
+                [c1, 0.0],
+                [0.0, c2],
+                [4.0 * (l0 - s), -4.0 * s],
+                [4.0 * t, 4.0 * s],
+                [-4.0 * t, 4.0 * (l0 - t)],
+            ]);
         }
         CurvedKind::Quad8 | CurvedKind::Quad9 => {
             // (index along ξ, index along η) of each node in the tensor grid.
@@ -175,11 +187,134 @@ pub fn shape_and_gradients(kind: CurvedKind, xi: Xi) -> ([f64; 9], [[f64; 2]; 9]
     (n, g)
 }
 
-/// Newton iterations of [`CurvedFace::plane_inverse`].
+/// The biquadratic monomials m(ξ) = (1, s, t, s², st, t², s²t, st², s²t²) in
+/// which every face map of this module is a polynomial (Tri6 uses the first
+/// six, Quad8 the first eight).
+const MONOMIALS: usize = 9;
+
+/// Row i: the coefficients of shape function N_i of `kind` in the monomials.
+const fn shape_monomials(kind: CurvedKind) -> [[f64; MONOMIALS]; 9] {
+    let mut c = [[0.0; MONOMIALS]; 9];
+    match kind {
+        CurvedKind::Tri3 => {
+            c[0] = [1.0, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+            c[1][1] = 1.0;
+            c[2][2] = 1.0;
+        }
+        CurvedKind::Quad4 => {
+            c[0] = [1.0, -1.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0];
+            c[1] = [0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0];
+            c[2][4] = 1.0;
+            c[3] = [0.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0];
+        }
+        CurvedKind::Tri6 => {
+            c[0] = [1.0, -3.0, -3.0, 2.0, 4.0, 2.0, 0.0, 0.0, 0.0];
+            c[1] = [0.0, -1.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+            c[2] = [0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0];
+            c[3] = [0.0, 4.0, 0.0, -4.0, -4.0, 0.0, 0.0, 0.0, 0.0];
+            c[4][4] = 4.0;
+            c[5] = [0.0, 0.0, 4.0, 0.0, -4.0, -4.0, 0.0, 0.0, 0.0];
+        }
+        CurvedKind::Quad8 | CurvedKind::Quad9 => {
+            // N_i = L_p(s) L_q(t) (the grid of `shape_and_gradients`), L in
+            // powers of its variable; INDEX[a][b] is the monomial s^a t^b.
+            const L: [[f64; 3]; 3] = [[1.0, -3.0, 2.0], [0.0, -1.0, 2.0], [0.0, 4.0, -4.0]];
+            const GRID: [(usize, usize); 9] = [(0, 0), (1, 0), (1, 1), (0, 1), (2, 0), (1, 2), (2, 1), (0, 2), (2, 2)];
+            const INDEX: [[usize; 3]; 3] = [[0, 2, 5], [1, 4, 7], [3, 6, 8]];
+            let mut i = 0;
+            while i < 9 {
+                let (p, q) = GRID[i];
+                let mut a = 0;
+                while a < 3 {
+                    let mut b = 0;
+                    while b < 3 {
+                        c[i][INDEX[a][b]] = L[p][a] * L[q][b];
+                        b += 1;
+                    }
+                    a += 1;
+                }
+                i += 1;
+            }
+            if matches!(kind, CurvedKind::Quad8) {
+                // Serendipity: the bubble goes back to the other nodes.
+                let mut i = 0;
+                while i < 8 {
+                    let w = if i < 4 { -0.25 } else { 0.5 };
+                    let mut k = 0;
+                    while k < MONOMIALS {
+                        c[i][k] += w * c[8][k];
+                        k += 1;
+                    }
+                    i += 1;
+                }
+                c[8] = [0.0; MONOMIALS];
+            }
+        }
+    }
+    c
+}
+
+/// [`shape_monomials`] of every kind, by `CurvedKind as usize`.
+const SHAPE_MONOMIALS: [[[f64; MONOMIALS]; 9]; 5] = [
+    shape_monomials(CurvedKind::Tri3),
+    shape_monomials(CurvedKind::Quad4),
+    shape_monomials(CurvedKind::Tri6),
+    shape_monomials(CurvedKind::Quad8),
+    shape_monomials(CurvedKind::Quad9),
+];
+
+/// A face map x(ξ) = Σ_i N_i(ξ) x_i in `D` dimensions written in the
+/// monomials, x(ξ) = Σ_k c_k m_k(ξ): one branch-free evaluation for every
+/// kind (for the Newton iterations and the quadrature points).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MonomialMap<const D: usize> {
+    c: [[f64; D]; MONOMIALS],
+}
+
+impl<const D: usize> MonomialMap<D> {
+    /// The map of a face of `kind` with nodes `x` (entries past
+    /// `kind.n_nodes()` ignored).
+    pub fn new(kind: CurvedKind, x: &[[f64; D]; 9]) -> MonomialMap<D> {
+        let table = &SHAPE_MONOMIALS[kind as usize];
+        let mut c = [[0.0; D]; MONOMIALS];
+        for (row, xi) in table.iter().zip(x).take(kind.n_nodes()) {
+            for (ck, &r) in c.iter_mut().zip(row) {
+                for d in 0..D {
+                    ck[d] += r * xi[d];
+                }
+            }
+        }
+        MonomialMap { c }
+    }
+
+    /// x(ξ), ∂x/∂ξ and ∂x/∂η.
+    #[inline(always)]
+    pub fn map_and_tangents(&self, [s, t]: Xi) -> ([f64; D], [f64; D], [f64; D]) {
+        let (ss, st, tt) = (s * s, s * t, t * t);
+        let m = [1.0, s, t, ss, st, tt, ss * t, s * tt, ss * tt];
+        let ms = [0.0, 1.0, 0.0, 2.0 * s, t, 0.0, 2.0 * st, tt, 2.0 * s * tt];
+        let mt = [0.0, 0.0, 1.0, 0.0, s, 2.0 * t, ss, 2.0 * st, 2.0 * ss * t];
+        let (mut x, mut a, mut b) = ([0.0; D], [0.0; D], [0.0; D]);
+        for k in 0..MONOMIALS {
+            for d in 0..D {
+                x[d] += m[k] * self.c[k][d];
+                a[d] += ms[k] * self.c[k][d];
+                b[d] += mt[k] * self.c[k][d];
+            }
+        }
+        (x, a, b)
+    }
+}
+
+/// Newton iterations of [`ProjectedFace::inverse`].
 const MAX_NEWTON: usize = 30;
 
 /// Residual of [`CurvedFace::plane_inverse`] relative to the face size.
 const NEWTON_RTOL: f64 = 1e-13;
+
+/// A Newton step of [`ProjectedFace::inverse`] this short (in reference
+/// coordinates) is the last.
+const NEWTON_FINAL_STEP: f64 = 1e-8;
 
 /// A curved face: its kind and node coordinates (entries past
 /// `kind.n_nodes()` unused).
@@ -189,6 +324,57 @@ pub struct CurvedFace {
     pub kind: CurvedKind,
     /// The nodes, in node order.
     pub x: [Point3; 9],
+}
+
+/// A face's projection onto a frame's plane, ξ ↦ P x(ξ) = Σ_i N_i(ξ) P x_i
+/// (the projection is linear, so projecting the nodes once makes every
+/// evaluation two-dimensional).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProjectedFace {
+    /// P x(ξ) in the monomials.
+    pub map: MonomialMap<2>,
+}
+
+impl ProjectedFace {
+    /// `face` projected onto `frame`'s plane.
+    pub fn new(face: &CurvedFace, frame: &Frame) -> ProjectedFace {
+        ProjectedFace { map: MonomialMap::new(face.kind, &face.x.map(|x| frame.project(x))) }
+    }
+
+    /// The point ξ with P x(ξ) = `target` (the inverse projection along the
+    /// frame normal, D1–D2), by Newton from `guess`, steps bounded to the
+    /// size of the cell. Returns ξ and whether the iteration converged: to
+    /// 1e-13 of the face size, or by a step below 1e-8 (Newton converges
+    /// quadratically, so the next residual is of the order of its square);
+    /// on failure the best iterate.
+    pub fn inverse(&self, target: [f64; 2], guess: Xi) -> (Xi, bool) {
+        let mut xi = guess;
+        let mut best = (f64::INFINITY, xi);
+        for _ in 0..MAX_NEWTON {
+            let (q, pa, pb) = self.map.map_and_tangents(xi);
+            let r = [q[0] - target[0], q[1] - target[1]];
+            let det = pa[0] * pb[1] - pa[1] * pb[0];
+            let size = (pa[0].abs() + pa[1].abs()).max(pb[0].abs() + pb[1].abs());
+            let err = r[0].abs() + r[1].abs();
+            if err < best.0 {
+                best = (err, xi);
+            }
+            if err <= NEWTON_RTOL * size {
+                return (xi, true);
+            }
+            if det.abs() <= 1e-14 * size * size {
+                break;
+            }
+            let step = [(pb[1] * r[0] - pb[0] * r[1]) / det, (pa[0] * r[1] - pa[1] * r[0]) / det];
+            let reach = step[0].abs().max(step[1].abs());
+            if reach <= NEWTON_FINAL_STEP {
+                return ([xi[0] - step[0], xi[1] - step[1]], true);
+            }
+            let lambda = if reach > 0.5 { 0.5 / reach } else { 1.0 };
+            xi = [xi[0] - lambda * step[0], xi[1] - lambda * step[1]];
+        }
+        (best.1, false)
+    }
 }
 
 /// Where a line meets a curved face ([`CurvedFace::inverse_project`]).
@@ -260,36 +446,10 @@ impl CurvedFace {
     }
 
     /// The point ξ whose image projects to `target` in `frame`'s plane: the
-    /// inverse projection along the frame normal (D1–D2), by Newton on the
-    /// 2×2 system P x(ξ) = target from `guess`, steps bounded to the size of
-    /// the cell. Returns ξ and whether the iteration converged (to 1e-13 of
-    /// the face size); on failure the best iterate.
+    /// inverse projection along the frame normal (D1–D2),
+    /// [`ProjectedFace::inverse`].
     pub fn plane_inverse(&self, frame: &Frame, target: [f64; 2], guess: Xi) -> (Xi, bool) {
-        let mut xi = guess;
-        let mut best = (f64::INFINITY, xi);
-        for _ in 0..MAX_NEWTON {
-            let (x, a, b) = self.map_and_tangents(xi);
-            let q = frame.project(x);
-            let r = [q[0] - target[0], q[1] - target[1]];
-            let (pa, pb) = (frame.project_vector(a), frame.project_vector(b));
-            let det = pa[0] * pb[1] - pa[1] * pb[0];
-            let size = (pa[0].abs() + pa[1].abs()).max(pb[0].abs() + pb[1].abs());
-            let err = r[0].abs() + r[1].abs();
-            if err < best.0 {
-                best = (err, xi);
-            }
-            if err <= NEWTON_RTOL * size {
-                return (xi, true);
-            }
-            if det.abs() <= 1e-14 * size * size {
-                break;
-            }
-            let step = [(pb[1] * r[0] - pb[0] * r[1]) / det, (pa[0] * r[1] - pa[1] * r[0]) / det];
-            let reach = step[0].abs().max(step[1].abs());
-            let lambda = if reach > 0.5 { 0.5 / reach } else { 1.0 };
-            xi = [xi[0] - lambda * step[0], xi[1] - lambda * step[1]];
-        }
-        (best.1, false)
+        ProjectedFace::new(self, frame).inverse(target, guess)
     }
 
     /// x(ξ) and the tangents ∂x/∂ξ, ∂x/∂η.
@@ -545,6 +705,48 @@ mod tests {
                     let e = (hit.xi[0] - xi[0]).abs().max((hit.xi[1] - xi[1]).abs());
                     assert!(e < 1e-12 && (hit.t - 0.2).abs() < 1e-12, "{kind:?} {xi:?}: {hit:?}");
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn monomial_maps_are_the_shape_function_maps() {
+        let all = [CurvedKind::Tri3, CurvedKind::Quad4, CurvedKind::Tri6, CurvedKind::Quad8, CurvedKind::Quad9];
+        for kind in all {
+            // Nodes on a sphere, moved off it so that no shape function hides.
+            let mut face = sphere_face(kind, 1.0, 1.0);
+            for (i, x) in face.x.iter_mut().enumerate().take(kind.n_nodes()) {
+                x[(i + 1) % 3] += 0.05 * (i as f64).sin();
+            }
+            let map = MonomialMap::new(kind, &face.x);
+            let frame = Frame::householder([0.3, 0.2, 0.9], [0.1, 0.0, 0.0]);
+            let projected = ProjectedFace::new(&face, &frame);
+            for xi in samples(kind) {
+                let (x, a, b) = face.map_and_tangents(xi);
+                let (y, c, d) = map.map_and_tangents(xi);
+                for k in 0..3 {
+                    let e = (x[k] - y[k]).abs().max((a[k] - c[k]).abs()).max((b[k] - d[k]).abs());
+                    assert!(e < 1e-14, "{kind:?} {xi:?}: {e:e}");
+                }
+                let q = projected.map.map_and_tangents(xi).0;
+                let p = frame.project(x);
+                assert!((q[0] - p[0]).abs().max((q[1] - p[1]).abs()) < 1e-14, "{kind:?} {xi:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn plane_inverse_finds_points_of_strongly_curved_faces() {
+        // A quarter of a great circle across each face, seen in the plane of
+        // its centre; Newton from the centre.
+        for kind in KINDS {
+            let face = sphere_face(kind, 1.0, std::f64::consts::FRAC_PI_2);
+            let centre = kind.centre();
+            let frame = Frame::householder(face.normal(centre), face.map(centre));
+            for xi in samples(kind).into_iter().filter(|&xi| kind.contains(xi, 0.0)) {
+                let (found, converged) = face.plane_inverse(&frame, frame.project(face.map(xi)), centre);
+                let e = (found[0] - xi[0]).abs().max((found[1] - xi[1]).abs());
+                assert!(converged && e < 1e-12, "{kind:?} {xi:?}: {found:?}, {e:e}");
             }
         }
     }

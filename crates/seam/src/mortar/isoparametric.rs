@@ -1,11 +1,11 @@
 //! (C2)–(D5) for pairs with a second-order (curved) face.
 //!
 //! The projections of curved faces onto the slave plane have curved edges, so
-//! the exact intersection is not a polygon. As 4C does, each face is cut for
-//! the segmentation only into [`SUBDIVISION`]² first-order sub-faces through
-//! points of the true face (C3); sub-face pairs are clipped as convex polygons
-//! (C4) and fan-triangulated; quadrature points are placed in the plane on each
-//! triangle.
+//! the exact intersection is not a polygon. Each face is replaced, for the
+//! segmentation only, by k × k first-order sub-faces through points of the
+//! true face (C3; k = 1: its corners); sub-face pairs are clipped as convex
+//! polygons (C4) and fan-triangulated; quadrature points are placed in the
+//! plane on each triangle.
 //!
 //! - Slave side: a point p of the projected slave sub-face S (a triangle or a
 //!   quad of the plane) is taken back to the slave's reference cell by the
@@ -19,10 +19,19 @@
 //!   P x_m(ξ_m) = P x_s(ξ_s)).
 //!
 //! So D and B integrate ψ_p λ_q over the covered part of the true slave
-//! surface; the segmentation only decides, to O(h³) near master face edges,
-//! which master face a point belongs to, where neighbouring master fields
-//! agree. On a first-order face χ_S is the face's own (projected) map, so the
-//! region of integration in the plane is exact.
+//! surface; the chords only decide which master face a point belongs to and
+//! where the coverage ends. A projected edge leaves its chord by its in-plane
+//! sagitta δ ≈ κ_g h²/(8k²) (κ_g the edge's geodesic curvature: zero for the
+//! straight lines of a cylinder). Between two master faces this is invisible
+//! to a continuous master field: a point δ beyond the shared edge reads the
+//! neighbour's polynomial, which differs from the face's by O(δ h² |f'''|).
+//! Where the coverage ends (the master surface's boundary, a feature edge, a
+//! gap or angle cut-off) it moves the covered area by O(δ) per unit length.
+//! So a slave face is segmented with k = 1 first, and again with
+//! k = [`SUBDIVISION`] only if that leaves part of its chord polygon
+//! uncovered (BENCHMARKS.md: the covered area of partly covered faces
+//! converges like h² with a constant ∝ 1/k²; the k = 1 pass makes the
+//! general path about 3.4× faster).
 //!
 //! I1 (D·1 = B·1) and I2 hold to round-off whatever the rule, since D and B
 //! use the same points and Σ_q λ^m_q = 1.
@@ -30,16 +39,17 @@
 use super::kernel::{add_point, barycentric};
 use super::{FaceStats, Facing, Segment};
 use crate::clip::{face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame, MAX_POLYGON};
-use crate::curved::{shape_and_gradients, CurvedFace, CurvedKind};
+use crate::curved::{shape_and_gradients, CurvedFace, CurvedKind, MonomialMap, ProjectedFace};
 use crate::element::{cross, dot, norm, FaceKind, PlaneFace, Xi};
 use crate::mesh::Point3;
-use crate::quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};
+use crate::quadrature::TriangleRule;
 use arrayvec::ArrayVec;
 
 /// The most nodes of a face (Quad9).
 pub(super) const MAX_NODES: usize = 9;
 
-/// Sub-faces per reference edge for the segmentation (C3).
+/// Sub-faces per reference edge for the segmentation (C3) of a slave face
+/// that the end of the coverage crosses.
 pub(super) const SUBDIVISION: usize = 2;
 
 const MAX_SUB: usize = SUBDIVISION * SUBDIVISION;
@@ -50,11 +60,11 @@ pub(super) const CURVED_DEGREE: usize = 8;
 /// A sub-face of the reference cell: its corners in reference coordinates.
 type SubFace = ArrayVec<Xi, 4>;
 
-/// The first-order sub-faces of the reference cell of `kind`, [`SUBDIVISION`]
-/// per edge, corners counter-clockwise.
-fn reference_subfaces(kind: CurvedKind) -> ArrayVec<SubFace, MAX_SUB> {
+/// The first-order sub-faces of the reference cell of `kind`, `k` (at most
+/// [`SUBDIVISION`]) per edge, corners counter-clockwise.
+fn reference_subfaces(kind: CurvedKind, k: usize) -> ArrayVec<SubFace, MAX_SUB> {
     // A first-order face's projection is its own polygon: no sub-faces.
-    let k = if matches!(kind, CurvedKind::Tri3 | CurvedKind::Quad4) { 1 } else { SUBDIVISION };
+    let k = if matches!(kind, CurvedKind::Tri3 | CurvedKind::Quad4) { 1 } else { k };
     let at = |i: usize, j: usize| [i as f64 / k as f64, j as f64 / k as f64];
     let mut out = ArrayVec::new();
     for j in 0..k {
@@ -84,8 +94,9 @@ fn centroid(sub: &SubFace) -> Xi {
 fn projected_subfaces(
     face: &CurvedFace,
     frame: &Frame,
+    k: usize,
 ) -> ArrayVec<(SubFace, crate::clip::Polygon), MAX_SUB> {
-    reference_subfaces(face.kind)
+    reference_subfaces(face.kind, k)
         .into_iter()
         .map(|sub| {
             let q: ArrayVec<[f64; 2], 4> = sub.iter().map(|&xi| frame.project(face.map(xi))).collect();
@@ -127,20 +138,27 @@ impl SlaveSub {
 /// A slave face prepared for pairing on the general path.
 pub(super) struct CurvedSlave {
     pub(super) face: CurvedFace,
+    /// The face's map in monomials, for the quadrature points.
+    map: MonomialMap<3>,
     pub(super) frame: Frame,
     subfaces: ArrayVec<SlaveSub, MAX_SUB>,
+    /// Sub-faces per reference edge, of this face and of its masters.
+    pub(super) subdivision: usize,
+    /// Area of the chord polygons in the plane.
+    pub(super) chord_area: f64,
     pub(super) gap_tol: f64,
     area_tol: f64,
 }
 
 impl CurvedSlave {
-    /// (B1)–(C2): the frame at the face centre, normal the true normal there.
-    pub(super) fn new(face: CurvedFace, gap_tol: f64, clip_rtol: f64, area_rtol: f64) -> CurvedSlave {
+    /// (B1)–(C2): the frame at the face centre, normal the true normal there;
+    /// `k` sub-faces per reference edge.
+    pub(super) fn new(face: CurvedFace, k: usize, gap_tol: f64, clip_rtol: f64, area_rtol: f64) -> CurvedSlave {
         let centre = face.kind.centre();
         let frame = Frame::householder(face.normal(centre), face.map(centre));
         let h = diameter(face.nodes());
         let mut area = 0.0;
-        let subfaces = reference_subfaces(face.kind)
+        let subfaces = reference_subfaces(face.kind, k)
             .into_iter()
             .map(|sub| {
                 let mut q = [[0.0; 2]; 4];
@@ -167,7 +185,7 @@ impl CurvedSlave {
                 }
             })
             .collect();
-        CurvedSlave { face, frame, subfaces, gap_tol, area_tol: area_rtol * area }
+        CurvedSlave { face, map: MonomialMap::new(face.kind, &face.x), frame, subfaces, subdivision: k, chord_area: area, gap_tol, area_tol: area_rtol * area }
     }
 
     /// The unit normal of the frame (C2).
@@ -181,6 +199,8 @@ pub(super) struct CurvedBlock {
     pub(super) d: [[f64; MAX_NODES]; MAX_NODES],
     pub(super) b: [[f64; MAX_NODES]; MAX_NODES],
     pub(super) covered_area: f64,
+    /// Area of the clipped polygons in the plane.
+    pub(super) plane_area: f64,
     pub(super) segments: u32,
 }
 
@@ -210,24 +230,28 @@ pub(super) fn pair(
         d: [[0.0; MAX_NODES]; MAX_NODES],
         b: [[0.0; MAX_NODES]; MAX_NODES],
         covered_area: 0.0,
+        plane_area: 0.0,
         segments: 0,
     };
     let (mut gap, mut overlap) = (0.0f64, 0.0f64);
     let mut any = false;
-    for (msub, q) in projected_subfaces(master, &cs.frame) {
+    let projected = ProjectedFace::new(master, &cs.frame);
+    for (msub, q) in projected_subfaces(master, &cs.frame, cs.subdivision) {
         let guess_m = centroid(&msub);
         for sub in &cs.subfaces {
             let polygon = sub.clipper.clip(&q);
-            if polygon.len() < 3 || polygon_area(&polygon) <= cs.area_tol {
+            let piece_area = polygon_area(&polygon);
+            if polygon.len() < 3 || piece_area <= cs.area_tol {
                 continue;
             }
             any = true;
+            block.plane_area += piece_area;
             let mut xs = [[0.0; 2]; MAX_POLYGON];
             let mut xm = [[0.0; 2]; MAX_POLYGON];
             for (v, &p) in polygon.iter().enumerate() {
                 xs[v] = sub.pull_back(p, stats).0;
                 let x = cs.face.map(xs[v]);
-                xm[v] = inverse(master, &cs.frame, cs.frame.project(x), guess_m, stats);
+                xm[v] = inverse(&projected, cs.frame.project(x), guess_m, stats);
                 let g = cs.frame.height(master.map(xm[v])) - cs.frame.height(x);
                 if g.abs() > cs.gap_tol {
                     stats.rejected_gap += 1;
@@ -248,9 +272,9 @@ pub(super) fn pair(
                 let tm = [xm[a], xm[b], xm[c]];
                 for (pt, &w) in rule.points.iter().zip(rule.weights) {
                     let (xi_s, ratio) = sub.pull_back(barycentric(plane, *pt), stats);
-                    let (phi, grad) = shape_and_gradients(ks, xi_s);
-                    let (x, ta, tb) = map_and_tangents(&cs.face, &phi, &grad);
-                    let xi_m = inverse(master, &cs.frame, cs.frame.project(x), barycentric(tm, *pt), stats);
+                    let phi = shape_and_gradients(ks, xi_s).0;
+                    let (x, ta, tb) = cs.map.map_and_tangents(xi_s);
+                    let xi_m = inverse(&projected, cs.frame.project(x), barycentric(tm, *pt), stats);
                     let wj = w * area * ratio * norm(cross(ta, tb));
                     let lam = shape_and_gradients(km, xi_m).0;
                     block.covered_area += wj;
@@ -277,43 +301,30 @@ pub(super) fn pair(
     Some(block)
 }
 
-/// x(ξ), ∂x/∂ξ, ∂x/∂η of `face` from its shape values and gradients at ξ.
-#[inline]
-fn map_and_tangents(face: &CurvedFace, phi: &[f64; 9], grad: &[[f64; 2]; 9]) -> (Point3, Point3, Point3) {
-    let (mut x, mut a, mut b) = ([0.0; 3], [0.0; 3], [0.0; 3]);
-    for ((y, g), n) in face.nodes().iter().zip(grad).zip(phi) {
-        for k in 0..3 {
-            x[k] += n * y[k];
-            a[k] += g[0] * y[k];
-            b[k] += g[1] * y[k];
-        }
-    }
-    (x, a, b)
-}
-
-fn inverse(face: &CurvedFace, frame: &Frame, p: [f64; 2], guess: Xi, stats: &mut FaceStats) -> Xi {
-    let (xi, converged) = face.plane_inverse(frame, p, guess);
+fn inverse(face: &ProjectedFace, p: [f64; 2], guess: Xi, stats: &mut FaceStats) -> Xi {
+    let (xi, converged) = face.inverse(p, guess);
     if !converged {
         stats.inverse_failures += 1;
     }
     xi
 }
 
-/// ∫_e λ_p |J| over the whole curved face, with the degree-20 triangle rule on
-/// its reference triangles (one for a triangle, two for a quad).
-pub(super) fn face_integrals(face: &CurvedFace) -> [f64; MAX_NODES] {
-    let rule = triangle_rule(MAX_TRIANGLE_DEGREE).expect("tabulated");
+/// ∫_e λ_p |J| over the whole curved face, with the segments' `rule` on its
+/// reference triangles (one for a triangle, two for a quad): a fully
+/// covered face's covered integrals to the accuracy of its segments.
+pub(super) fn face_integrals(face: &CurvedFace, rule: &TriangleRule) -> [f64; MAX_NODES] {
     let triangles: &[[Xi; 3]] = if face.kind.is_triangle() {
         &[[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]]
     } else {
         &[[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]]]
     };
+    let map = MonomialMap::new(face.kind, &face.x);
     let mut full = [0.0; MAX_NODES];
     for t in triangles {
         for (pt, &w) in rule.points.iter().zip(rule.weights) {
             let xi = barycentric(*t, *pt);
-            let (phi, grad) = shape_and_gradients(face.kind, xi);
-            let (_, a, b) = map_and_tangents(face, &phi, &grad);
+            let phi = shape_and_gradients(face.kind, xi).0;
+            let (_, a, b) = map.map_and_tangents(xi);
             let wj = 0.5 * w * norm(cross(a, b));
             for p in 0..face.kind.n_nodes() {
                 full[p] += wj * phi[p];
@@ -347,7 +358,7 @@ mod tests {
     #[test]
     fn sub_faces_tile_the_reference_cell() {
         for kind in [CurvedKind::Tri6, CurvedKind::Quad9] {
-            let area: f64 = reference_subfaces(kind)
+            let area: f64 = reference_subfaces(kind, SUBDIVISION)
                 .iter()
                 .map(|s| {
                     let p: ArrayVec<[f64; 2], 4> = s.iter().copied().collect();

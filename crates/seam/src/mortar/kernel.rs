@@ -28,6 +28,10 @@ const CLIP_RTOL: f64 = 1e-12;
 /// are empty: shared edges and touching vertices.
 const AREA_RTOL: f64 = 1e-12;
 
+/// A curved slave face whose clipped polygons cover less than 1 − this of its
+/// chord polygons is segmented again with sub-faces (the coverage ends inside).
+const COVER_RTOL: f64 = 1e-9;
+
 /// The quadrature rules by integrand (D3): exact for polynomial integrands.
 pub(super) struct Rules {
     /// Slave Tri3 × master Tri3: ψλ is degree 2.
@@ -248,6 +252,8 @@ impl<'a> Kernel<'a> {
     }
 
     /// The general path ([`isoparametric`]): any pair with a curved face.
+    /// Segmented with whole faces first and, if the coverage ends inside the
+    /// slave face, again with [`isoparametric::SUBDIVISION`]² sub-faces.
     fn curved_face(
         &self,
         s: usize,
@@ -261,11 +267,41 @@ impl<'a> Kernel<'a> {
             .nodes()
             .iter()
             .fold(0.0f64, |m, &x| m.max(crate::element::norm(crate::element::sub(x, face.x[0]))));
-        let cs = CurvedSlave::new(face, self.options.max_gap.at(h), CLIP_RTOL, AREA_RTOL);
-        let n_s = face.kind.n_nodes();
+        let gap_tol = self.options.max_gap.at(h);
+        let mut cs = CurvedSlave::new(face, 1, gap_tol, CLIP_RTOL, AREA_RTOL);
         let (lo, hi) = isoparametric::control_box(&face, cs.normal(), cs.gap_tol);
         self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates);
+        let recorded = out.segments.len();
+        loop {
+            let plane_area = self.curved_pairs(s, &cs, scratch, out, d, stats);
+            let partly = !scratch.candidates.is_empty() && plane_area < (1.0 - COVER_RTOL) * cs.chord_area;
+            if !partly || cs.subdivision == isoparametric::SUBDIVISION {
+                break;
+            }
+            *stats = FaceStats::default();
+            d.fill(0.0);
+            scratch.cols.clear();
+            scratch.b.clear();
+            out.segments.truncate(recorded);
+            cs = CurvedSlave::new(face, isoparametric::SUBDIVISION, gap_tol, CLIP_RTOL, AREA_RTOL);
+        }
+        isoparametric::face_integrals(&face, &self.rules.curved)
+    }
+
+    /// (C1)–(D5) of the slave face `cs` against the candidates in `scratch`;
+    /// returns the area of the clipped polygons in the plane.
+    fn curved_pairs(
+        &self,
+        s: usize,
+        cs: &CurvedSlave,
+        scratch: &mut Scratch,
+        out: &mut Blocks,
+        d: &mut [f64; MAX_NODES * MAX_NODES],
+        stats: &mut FaceStats,
+    ) -> f64 {
+        let n_s = cs.face.kind.n_nodes();
         stats.candidates = scratch.candidates.len() as u32;
+        let mut plane_area = 0.0;
         for k in 0..scratch.candidates.len() {
             let m = scratch.candidates[k];
             if !isoparametric::facing_ok(
@@ -279,13 +315,14 @@ impl<'a> Kernel<'a> {
             }
             let master = CurvedFace::of(self.master, m);
             let record = self.options.record_segments.then_some((&mut out.segments, s, m));
-            let Some(pair) = isoparametric::pair(&cs, &master, &self.rules.curved, stats, record) else {
+            let Some(pair) = isoparametric::pair(cs, &master, &self.rules.curved, stats, record) else {
                 continue;
             };
+            plane_area += pair.plane_area;
             let nodes = self.master.faces()[m].nodes();
             scratch.add_pair(d, stats, n_s, nodes, (&pair.d, &pair.b), (pair.covered_area, pair.segments));
         }
-        isoparametric::face_integrals(&face)
+        plane_area
     }
 
     fn prepare(&self, s: usize) -> SlaveFace {
