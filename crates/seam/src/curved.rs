@@ -219,7 +219,8 @@ const fn shape_monomials(kind: CurvedKind) -> [[f64; MONOMIALS]; 9] {
             // N_i = L_p(s) L_q(t) (the grid of `shape_and_gradients`), L in
             // powers of its variable; INDEX[a][b] is the monomial s^a t^b.
             const L: [[f64; 3]; 3] = [[1.0, -3.0, 2.0], [0.0, -1.0, 2.0], [0.0, 4.0, -4.0]];
-            const GRID: [(usize, usize); 9] = [(0, 0), (1, 0), (1, 1), (0, 1), (2, 0), (1, 2), (2, 1), (0, 2), (2, 2)];
+            const GRID: [(usize, usize); 9] =
+                [(0, 0), (1, 0), (1, 1), (0, 1), (2, 0), (1, 2), (2, 1), (0, 2), (2, 2)];
             const INDEX: [[usize; 3]; 3] = [[0, 2, 5], [1, 4, 7], [3, 6, 8]];
             let mut i = 0;
             while i < 9 {
@@ -287,6 +288,19 @@ impl<const D: usize> MonomialMap<D> {
         MonomialMap { c }
     }
 
+    /// x(ξ).
+    #[inline(always)]
+    pub fn map(&self, [s, t]: Xi) -> [f64; D] {
+        let m = [1.0, s, t, s * s, s * t, t * t, s * s * t, s * t * t, s * s * t * t];
+        let mut x = [0.0; D];
+        for k in 0..MONOMIALS {
+            for d in 0..D {
+                x[d] += m[k] * self.c[k][d];
+            }
+        }
+        x
+    }
+
     /// x(ξ), ∂x/∂ξ and ∂x/∂η.
     #[inline(always)]
     pub fn map_and_tangents(&self, [s, t]: Xi) -> ([f64; D], [f64; D], [f64; D]) {
@@ -326,19 +340,25 @@ pub struct CurvedFace {
     pub x: [Point3; 9],
 }
 
-/// A face's projection onto a frame's plane, ξ ↦ P x(ξ) = Σ_i N_i(ξ) P x_i
-/// (the projection is linear, so projecting the nodes once makes every
-/// evaluation two-dimensional).
+/// A face seen in a frame: its projection onto the plane, ξ ↦ P x(ξ) =
+/// Σ_i N_i(ξ) P x_i, and its height above it, n·(x(ξ) − o) (both linear in
+/// the nodes, so mapping the nodes once makes every evaluation two- or
+/// one-dimensional).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProjectedFace {
     /// P x(ξ) in the monomials.
     pub map: MonomialMap<2>,
+    /// The height in the monomials.
+    pub height: MonomialMap<1>,
 }
 
 impl ProjectedFace {
-    /// `face` projected onto `frame`'s plane.
+    /// `face` seen in `frame`.
     pub fn new(face: &CurvedFace, frame: &Frame) -> ProjectedFace {
-        ProjectedFace { map: MonomialMap::new(face.kind, &face.x.map(|x| frame.project(x))) }
+        ProjectedFace {
+            map: MonomialMap::new(face.kind, &face.x.map(|x| frame.project(x))),
+            height: MonomialMap::new(face.kind, &face.x.map(|x| [frame.height(x)])),
+        }
     }
 
     /// The point ξ with P x(ξ) = `target` (the inverse projection along the
@@ -711,7 +731,8 @@ mod tests {
 
     #[test]
     fn monomial_maps_are_the_shape_function_maps() {
-        let all = [CurvedKind::Tri3, CurvedKind::Quad4, CurvedKind::Tri6, CurvedKind::Quad8, CurvedKind::Quad9];
+        let all =
+            [CurvedKind::Tri3, CurvedKind::Quad4, CurvedKind::Tri6, CurvedKind::Quad8, CurvedKind::Quad9];
         for kind in all {
             // Nodes on a sphere, moved off it so that no shape function hides.
             let mut face = sphere_face(kind, 1.0, 1.0);

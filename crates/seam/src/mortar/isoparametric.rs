@@ -60,9 +60,17 @@ pub(super) const CURVED_DEGREE: usize = 8;
 /// A sub-face of the reference cell: its corners in reference coordinates.
 type SubFace = ArrayVec<Xi, 4>;
 
-/// The first-order sub-faces of the reference cell of `kind`, `k` (at most
-/// [`SUBDIVISION`]) per edge, corners counter-clockwise.
-fn reference_subfaces(kind: CurvedKind, k: usize) -> ArrayVec<SubFace, MAX_SUB> {
+/// The first-order sub-faces of the reference cell of `kind`, `k` (1 or
+/// [`SUBDIVISION`]) per edge, corners counter-clockwise (tabulated once).
+fn reference_subfaces(kind: CurvedKind, k: usize) -> &'static [SubFace] {
+    type Table = [[ArrayVec<SubFace, MAX_SUB>; 2]; 5];
+    static TABLE: std::sync::OnceLock<Table> = std::sync::OnceLock::new();
+    let kinds = [CurvedKind::Tri3, CurvedKind::Quad4, CurvedKind::Tri6, CurvedKind::Quad8, CurvedKind::Quad9];
+    let table = TABLE.get_or_init(|| kinds.map(|kind| [1, SUBDIVISION].map(|k| subdivide(kind, k))));
+    &table[kind as usize][usize::from(k != 1)]
+}
+
+fn subdivide(kind: CurvedKind, k: usize) -> ArrayVec<SubFace, MAX_SUB> {
     // A first-order face's projection is its own polygon: no sub-faces.
     let k = if matches!(kind, CurvedKind::Tri3 | CurvedKind::Quad4) { 1 } else { k };
     let at = |i: usize, j: usize| [i as f64 / k as f64, j as f64 / k as f64];
@@ -90,16 +98,17 @@ fn centroid(sub: &SubFace) -> Xi {
     [s[0] / n, s[1] / n]
 }
 
-/// The projected sub-faces of `face`: (reference corners, convex polygon).
+/// The projected sub-faces of `face` of `kind`: (reference corners, convex
+/// polygon).
 fn projected_subfaces(
-    face: &CurvedFace,
-    frame: &Frame,
+    kind: CurvedKind,
+    face: &ProjectedFace,
     k: usize,
-) -> ArrayVec<(SubFace, crate::clip::Polygon), MAX_SUB> {
-    reference_subfaces(face.kind, k)
-        .into_iter()
+) -> ArrayVec<(&'static SubFace, crate::clip::Polygon), MAX_SUB> {
+    reference_subfaces(kind, k)
+        .iter()
         .map(|sub| {
-            let q: ArrayVec<[f64; 2], 4> = sub.iter().map(|&xi| frame.project(face.map(xi))).collect();
+            let q: ArrayVec<[f64; 2], 4> = sub.iter().map(|&xi| face.map.map(xi)).collect();
             (sub, face_polygon(&q))
         })
         .collect()
@@ -153,13 +162,19 @@ pub(super) struct CurvedSlave {
 impl CurvedSlave {
     /// (B1)–(C2): the frame at the face centre, normal the true normal there;
     /// `k` sub-faces per reference edge.
-    pub(super) fn new(face: CurvedFace, k: usize, gap_tol: f64, clip_rtol: f64, area_rtol: f64) -> CurvedSlave {
+    pub(super) fn new(
+        face: CurvedFace,
+        k: usize,
+        gap_tol: f64,
+        clip_rtol: f64,
+        area_rtol: f64,
+    ) -> CurvedSlave {
         let centre = face.kind.centre();
         let frame = Frame::householder(face.normal(centre), face.map(centre));
         let h = diameter(face.nodes());
         let mut area = 0.0;
         let subfaces = reference_subfaces(face.kind, k)
-            .into_iter()
+            .iter()
             .map(|sub| {
                 let mut q = [[0.0; 2]; 4];
                 for (i, &xi) in sub.iter().enumerate() {
@@ -185,7 +200,16 @@ impl CurvedSlave {
                 }
             })
             .collect();
-        CurvedSlave { face, map: MonomialMap::new(face.kind, &face.x), frame, subfaces, subdivision: k, chord_area: area, gap_tol, area_tol: area_rtol * area }
+        CurvedSlave {
+            face,
+            map: MonomialMap::new(face.kind, &face.x),
+            frame,
+            subfaces,
+            subdivision: k,
+            chord_area: area,
+            gap_tol,
+            area_tol: area_rtol * area,
+        }
     }
 
     /// The unit normal of the frame (C2).
@@ -225,7 +249,7 @@ pub(super) fn pair(
     mut record: Option<(&mut Vec<Segment>, usize, usize)>,
 ) -> Option<CurvedBlock> {
     let (ks, km) = (cs.face.kind, master.kind);
-    let (n_s, n_m) = (ks.n_nodes(), km.n_nodes());
+    let n_s = ks.n_nodes();
     let mut block = CurvedBlock {
         d: [[0.0; MAX_NODES]; MAX_NODES],
         b: [[0.0; MAX_NODES]; MAX_NODES],
@@ -236,7 +260,7 @@ pub(super) fn pair(
     let (mut gap, mut overlap) = (0.0f64, 0.0f64);
     let mut any = false;
     let projected = ProjectedFace::new(master, &cs.frame);
-    for (msub, q) in projected_subfaces(master, &cs.frame, cs.subdivision) {
+    for (msub, q) in projected_subfaces(km, &projected, cs.subdivision) {
         let guess_m = centroid(&msub);
         for sub in &cs.subfaces {
             let polygon = sub.clipper.clip(&q);
@@ -250,9 +274,9 @@ pub(super) fn pair(
             let mut xm = [[0.0; 2]; MAX_POLYGON];
             for (v, &p) in polygon.iter().enumerate() {
                 xs[v] = sub.pull_back(p, stats).0;
-                let x = cs.face.map(xs[v]);
+                let x = cs.map.map(xs[v]);
                 xm[v] = inverse(&projected, cs.frame.project(x), guess_m, stats);
-                let g = cs.frame.height(master.map(xm[v])) - cs.frame.height(x);
+                let g = projected.height.map(xm[v])[0] - cs.frame.height(x);
                 if g.abs() > cs.gap_tol {
                     stats.rejected_gap += 1;
                     return None;
@@ -278,10 +302,10 @@ pub(super) fn pair(
                     let wj = w * area * ratio * norm(cross(ta, tb));
                     let lam = shape_and_gradients(km, xi_m).0;
                     block.covered_area += wj;
-                    add_point(&mut block.d, &mut block.b, wj, &phi[..n_s], &lam[..n_m]);
+                    add_point(&mut block.d, &mut block.b, wj, &phi, &lam);
                 }
                 if let Some((segments, s, m)) = record.as_mut() {
-                    let corners = [xs[a], xs[b], xs[c]].map(|xi| cs.face.map(xi));
+                    let corners = [xs[a], xs[b], xs[c]].map(|xi| cs.map.map(xi));
                     segments.push(Segment { slave: *s, master: *m, corners });
                 }
             }

@@ -674,21 +674,22 @@ impl Scratch {
 }
 
 /// One quadrature point's share of a pair's blocks: D_pq += w φ_p φ_q (upper
-/// triangle, q ≥ p) and B_pq += w φ_p λ_q.
+/// triangle, q ≥ p) and B_pq += w φ_p λ_q (fixed sizes, so the loops unroll;
+/// shape arrays may be zero-padded).
 #[inline(always)]
-pub(super) fn add_point<const N: usize>(
+pub(super) fn add_point<const N: usize, const NS: usize, const NM: usize>(
     d: &mut [[f64; N]; N],
     b: &mut [[f64; N]; N],
     wj: f64,
-    phi: &[f64],
-    lam: &[f64],
+    phi: &[f64; NS],
+    lam: &[f64; NM],
 ) {
-    for p in 0..phi.len() {
+    for p in 0..NS {
         let wp = wj * phi[p];
-        for q in p..phi.len() {
+        for q in p..NS {
             d[p][q] += wp * phi[q];
         }
-        for q in 0..lam.len() {
+        for q in 0..NM {
             b[p][q] += wp * lam[q];
         }
     }
