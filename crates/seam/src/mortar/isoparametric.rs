@@ -261,7 +261,7 @@ pub(super) fn pair(
     let mut any = false;
     let projected = ProjectedFace::new(master, &cs.frame);
     for (msub, q) in projected_subfaces(km, &projected, cs.subdivision) {
-        let guess_m = centroid(&msub);
+        let guess_m = centroid(msub);
         for sub in &cs.subfaces {
             let polygon = sub.clipper.clip(&q);
             let piece_area = polygon_area(&polygon);
