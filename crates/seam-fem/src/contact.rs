@@ -55,7 +55,10 @@
 //! u = P_b ũ. The reported pressure λ_p = μ_p / D_pp is then the coefficient
 //! of ψ_p in the multiplier λ_h = Σ_p λ_p ψ_p (as in Popp et al.): for a
 //! uniform pressure every λ_p equals it (Σ_p ψ_p = 1), otherwise it is a
-//! λ̃_p-weighted mean of the pressure around p, not a nodal value.
+//! λ̃_p-weighted mean of the pressure around p, not a nodal value. (The L2
+//! projection of λ_h onto the slave's Lagrange space, the natural nodal
+//! value, reads Hertz's p₀ worse on every tetrahedral mesh: measured in the
+//! tests' `contact_hertz_second_order.rs`.)
 //! Prescribed slave components carry over to ũ at corners (ũ_c = u_c) and at
 //! an edge node whose two corners have the component prescribed too,
 //! ũ_e = (u_e − α (u_c₁ + u_c₂)) / (1 − 2α); any other prescribed slave

@@ -1,7 +1,8 @@
 //! The Hertz tests' solve and measurements ([`seam_fem::scene::hertz`]).
 
+use seam::{MortarOptions, Multiplier};
 use seam_fem::scene::{hertz, Hertz};
-use seam_fem::{Problem, Solution, SolveOptions};
+use seam_fem::{Dirichlet, Problem, Solution, SolveOptions};
 
 /// What one Hertz solve gives, against the analytic values.
 pub struct Measured {
@@ -53,10 +54,67 @@ pub fn measure(p: &Hertz, problem: &Problem, s: &Solution) -> Measured {
     }
 }
 
+/// Two other readings at the pole of a dual-multiplier solve, relative to
+/// Hertz's p₀ (p₀ / p₀,Hertz − 1).
+pub struct PoleReadings {
+    /// What the reported pressure would read if the multiplier were exact:
+    /// the weighted mean of Hertz's pressure that the pole's coefficient is,
+    /// ∫ λ̃_pole p_H / ∫ λ̃_pole = (D⁻¹ Q M I_h p_H)_pole (module doc of
+    /// `seam_fem::contact`; Q = I and λ̃ = λ without a basis transformation),
+    /// with I_h p_H the interpolant of p_H on the slave's Lagrange space and
+    /// M_pq = ∫ λ_p λ_q over the covered slave surface.
+    pub exact_mean: f64,
+    /// The L2 projection of the multiplier λ_h = Σ_p λ_p ψ_p onto the slave's
+    /// Lagrange space of the covered surface, M⁻¹ z with
+    /// z_r = ∫ λ_r λ_h = Σ_p λ_p ∫ ψ_p λ_r (`Mortar::nodal_d`); None when
+    /// M is numerically singular (a node whose support is covered only in a
+    /// sliver).
+    pub projection: Option<f64>,
+}
+
+/// The [`PoleReadings`] of a solve of the scene `p` with dual multipliers:
+/// M is D of the interface assembled once more with standard multipliers.
+pub fn pole_readings(p: &Hertz, problem: &Problem, s: &Solution) -> PoleReadings {
+    let f = &problem.interfaces[0];
+    let options = MortarOptions { multiplier: Multiplier::Standard, ..f.options };
+    let m = seam::assemble(problem.surface(f.master), problem.surface(f.slave), &options).unwrap().d;
+    let dual = &s.interfaces[0].mortar;
+    assert_eq!(dual.multiplier, Multiplier::Dual);
+    let i = s.interfaces[0].contact.as_ref().expect("a contact interface");
+    let points = problem.bodies[1].mesh.points();
+    let r = |q: usize| points[q][0].hypot(points[q][1]);
+    let pole = (0..points.len()).find(|&q| dual.on_surface[q] && r(q) == 0.0).expect("a node at the pole");
+    let relative = |v: f64| v / p.peak_pressure() - 1.0;
+    // Σ_r Q_pr (M v)_r / D_pp at the pole.
+    let mean = |v: &[f64]| {
+        let mv = m.mul_vec(v, 1);
+        let qmv = match &dual.basis {
+            Some(q) => q.mul_vec(&mv, 1),
+            None => mv,
+        };
+        qmv[pole] / dual.d.get(pole, pole)
+    };
+    let ones: Vec<f64> = dual.on_surface.iter().map(|&on| if on { 1.0 } else { 0.0 }).collect();
+    assert!((mean(&ones) - 1.0).abs() < 1e-12, "the weights at the pole have mean {}", mean(&ones));
+    let interpolant: Vec<f64> =
+        (0..points.len()).map(|q| if dual.on_surface[q] { p.pressure(r(q)) } else { 0.0 }).collect();
+    let z = dual.nodal_d().transpose_mul_vec(&i.pressure, 1);
+    let projected = seam_fem::solve::solve(&m, &z, &Dirichlet::new()).ok();
+    PoleReadings {
+        exact_mean: relative(mean(&interpolant)),
+        projection: projected.map(|v| relative(v[pole])),
+    }
+}
+
 /// Solves the scene `p` (direct solver), asserts the KKT conditions and the
 /// balance of the contact force with the load F/4 to 1e-8, prints a line
 /// with `label` and returns the measurements.
 pub fn solve(label: &str, p: &Hertz) -> Measured {
+    solve_scene(label, p).0
+}
+
+/// [`solve`], also returning the problem and its solution.
+pub fn solve_scene(label: &str, p: &Hertz) -> (Measured, Problem, Solution) {
     let problem = hertz(p).unwrap();
     let s = problem.solve(&SolveOptions::default()).unwrap();
     let (report, contact) = (&s.report, s.report.contact.as_ref().expect("a contact report"));
@@ -82,5 +140,5 @@ pub fn solve(label: &str, p: &Hertz) -> Measured {
     );
     assert!(contact.kkt.max() <= 1e-8, "{label}: KKT {:?}", contact.kkt);
     assert!(force_error <= 1e-8, "{label}: contact force {force} against F/4 = {}", p.force() / 4.0);
-    m
+    (m, problem, s)
 }
