@@ -24,7 +24,9 @@
 //! sagitta δ ≈ κ_g h²/(8k²) (κ_g the edge's geodesic curvature: zero for the
 //! straight lines of a cylinder). Between two master faces this is invisible
 //! to a continuous master field: a point δ beyond the shared edge reads the
-//! neighbour's polynomial, which differs from the face's by O(δ h² |f'''|).
+//! neighbour's polynomial, which differs from the face's by O(δ h² |f'''|)
+//! (single entries of B do move, by O(δ/h) of their size, between the nodes
+//! of the two faces).
 //! Where the coverage ends (the master surface's boundary, a feature edge, a
 //! gap or angle cut-off) it moves the covered area by O(δ) per unit length.
 //! So a slave face is segmented with k = 1 first, and again with
