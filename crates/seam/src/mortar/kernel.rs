@@ -831,4 +831,81 @@ mod tests {
         assert!(cut >= 10, "some triangles are cut: {cut}");
         eprintln!("plane ladder: worst relative error {worst:e}, {cut} triangles cut");
     }
+
+    /// Calibration (temporary): Quad9 functions.
+    fn moments9(face: &PlaneFace, t: [[f64; 2]; 3], plan: &dyn Fn(f64, u32) -> Option<TriangleRule>, depth: u32) -> Vec<f64> {
+        let xi = t.map(|q| face.inverse(q).xi());
+        let mut out = vec![0.0; 81 + 27];
+        let Some(rule) = plan(face.fold_ratio(&xi), depth) else {
+            let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+            let (m01, m12, m20) = (mid(t[0], t[1]), mid(t[1], t[2]), mid(t[2], t[0]));
+            for child in [[t[0], m01, m20], [m01, t[1], m12], [m20, m12, t[2]], [m12, m20, m01]] {
+                let v = moments9(face, child, plan, depth + 1);
+                (0..out.len()).for_each(|k| out[k] += v[k]);
+            }
+            return out;
+        };
+        let area = signed_area(t);
+        for (pt, &w) in rule.points.iter().zip(rule.weights) {
+            let q = barycentric(t, *pt);
+            let l = crate::curved::shape_and_gradients(crate::curved::CurvedKind::Quad9, face.inverse(q).xi()).0;
+            for p in 0..9 {
+                for r in 0..9 {
+                    out[9 * p + r] += w * area * l[p] * l[r];
+                }
+                for (k, f) in [1.0, q[0], q[1]].into_iter().enumerate() {
+                    out[81 + 3 * p + k] += w * area * l[p] * f;
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    #[ignore]
+    fn calibrate_quad9() {
+        let mut seed = 7u64;
+        let mut random = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let bins = [0.0, 0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.15, 0.2, 0.3, 0.8];
+        let mut need = vec![0usize; bins.len()];
+        for i in 0..1600 {
+            let amplitude = 0.8 * i as f64 / 1600.0;
+            let mut q = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+            for c in &mut q {
+                c[0] += amplitude * (2.0 * random() - 1.0);
+                c[1] += amplitude * (2.0 * random() - 1.0);
+            }
+            let face = PlaneFace::new(FaceKind::Quad4, q);
+            if face.distortion() > 0.95 { continue; }
+            let size = [1.0, 0.5, 0.3, 0.15][i % 4];
+            let centre = [random(), random()];
+            let mut corner = || {
+                let at = |c: f64, r: f64| (c + size * (r - 0.5)).clamp(0.0, 1.0);
+                face.map([at(centre[0], random()), at(centre[1], random())])
+            };
+            let mut t = [corner(), corner(), corner()];
+            if signed_area(t) < 0.0 { t.swap(1, 2); }
+            if signed_area(t) < 1e-3 * size * size { continue; }
+            let xi = t.map(|p| face.inverse(p).xi());
+            let r = face.fold_ratio(&xi);
+            if r > 0.8 { continue; }
+            let degree_20 = triangle_rule(20).unwrap();
+            let fine = |r: f64, depth: u32| (r <= 0.1 && depth >= 2).then_some(degree_20);
+            let exact = moments9(&face, t, &fine, 0);
+            let scale = exact.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let mut needed = 99;
+            for d in [8usize, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20] {
+                let rr = triangle_rule(d).unwrap();
+                let got = moments9(&face, t, &|_, _| Some(rr), 0);
+                let error = (0..exact.len()).fold(0.0f64, |m, k| m.max((got[k] - exact[k]).abs())) / scale;
+                if error < 1e-12 { needed = d; break; }
+            }
+            let b = bins.iter().rposition(|&lo| r >= lo).unwrap();
+            need[b] = need[b].max(needed);
+        }
+        for (b, n) in bins.iter().zip(&need) { eprintln!("r >= {b}: degree {n}"); }
+    }
 }
