@@ -211,6 +211,50 @@ fn i9_transfer_error_falls_like_h_cubed_on_curved_interfaces() {
     }
 }
 
+/// On flat jittered Quad9 and Quad8 faces (bilinear geometry, chords not
+/// parallelograms) fully covered by a non-matching Tri6 master, D is the
+/// exact mass matrix ∫ ψ_p ψ_q |J| (here a polynomial in ξ, integrated with
+/// degree 20 on the reference cell): the curved path's rule follows the fold
+/// ratio of the slave's chord (`CURVED_LADDER`). With the degree-8 rule alone
+/// D was 2e-7 to 1e-5 off.
+#[test]
+fn d_is_exact_on_distorted_flat_second_order_quads() {
+    let rule = seam::triangle_rule(20).unwrap();
+    for ks in [Kind::Quad9, Kind::Quad8] {
+        for amplitude in [0.05, 0.3] {
+            let slave = seam::generate::quadratic_patch(6, 6, ks, Some((amplitude, 7)), |u, v| [u, v, 0.0]);
+            let master = seam::generate::quadratic_patch(7, 7, Kind::Tri6, Some((amplitude, 3)), |u, v| {
+                [-0.05 + 1.1 * u, -0.05 + 1.1 * v, 0.0]
+            });
+            let mortar = assemble(&master, &slave, &options(Multiplier::Standard)).unwrap();
+            let n = slave.n_points();
+            let mut exact = vec![0.0; n * n];
+            for f in 0..slave.faces().len() {
+                let face = seam::curved::CurvedFace::of(&slave, f);
+                let nodes = slave.faces()[f].nodes();
+                for t in [[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]]] {
+                    for (pt, &w) in rule.points.iter().zip(rule.weights) {
+                        let l0 = 1.0 - pt[0] - pt[1];
+                        let xi = [0, 1].map(|k| l0 * t[0][k] + pt[0] * t[1][k] + pt[1] * t[2][k]);
+                        let phi = seam::curved::shape_and_gradients(face.kind, xi).0;
+                        let wj = 0.5 * w * face.jacobian(xi);
+                        for (p, &a) in nodes.iter().enumerate() {
+                            for (q, &b) in nodes.iter().enumerate() {
+                                exact[a * n + b] += wj * phi[p] * phi[q];
+                            }
+                        }
+                    }
+                }
+            }
+            let scale = exact.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let error =
+                (0..n * n).fold(0.0f64, |m, k| m.max((mortar.d.get(k / n, k % n) - exact[k]).abs())) / scale;
+            eprintln!("{ks:?}, jitter {amplitude}: D against the exact mass matrix {error:.1e}");
+            assert!(error < 1e-12, "{ks:?}, jitter {amplitude}: {error:e}");
+        }
+    }
+}
+
 /// Where the master ends inside slave faces, the covered area converges to
 /// the area of the master's region of the sphere like h², with the constant
 /// of 2 × 2 sub-faces (measured: 1.2e-3, 2.9e-4, 7.4e-5 relative for

@@ -56,8 +56,21 @@ pub(super) const SUBDIVISION: usize = 2;
 
 const MAX_SUB: usize = SUBDIVISION * SUBDIVISION;
 
-/// Triangle-rule degree on the intersection triangles of a curved pair.
-pub(super) const CURVED_DEGREE: usize = 8;
+/// (D3) on the curved path: the triangle-rule degree by the fold ratio r of a
+/// plane triangle under the chords' first-order maps ([`PlaneFace::fold_ratio`],
+/// the larger of the slave's and the master's), (largest r, degree); above the
+/// last entry the triangle is cut into four. Degree 8 integrates ψ_p ψ_q of D
+/// exactly on affine Quad9 faces (r = 0: triangles and parallelograms); on
+/// other quads ψ_p(χ⁻¹(q)) is analytic but not a polynomial in the plane point
+/// q. Calibrated by the lowest degree that integrates the hardest integrand,
+/// the Quad9 products λ_p λ_r(χ⁻¹(q)) of D, to 1e-12 of the largest moment per
+/// range of r, one rung finer; test `curved_ladder_accuracy` checks it on
+/// another sample (worst 8.7e-13).
+pub(super) const CURVED_LADDER: [(f64, usize); 6] =
+    [(5e-4, 8), (5e-3, 10), (0.03, 12), (0.1, 14), (0.3, 18), (0.8, 20)];
+
+/// Most levels of cutting a plane triangle into four.
+pub(super) const CURVED_MAX_DEPTH: u32 = 8;
 
 /// A sub-face of the reference cell: its corners in reference coordinates.
 type SubFace = ArrayVec<Xi, 4>;
@@ -101,17 +114,18 @@ fn centroid(sub: &SubFace) -> Xi {
 }
 
 /// The projected sub-faces of `face` of `kind`: (reference corners, convex
-/// polygon).
+/// polygon, the first-order map of a quad sub-face for its fold ratio).
 fn projected_subfaces(
     kind: CurvedKind,
     face: &ProjectedFace,
     k: usize,
-) -> ArrayVec<(&'static SubFace, crate::clip::Polygon), MAX_SUB> {
+) -> ArrayVec<(&'static SubFace, crate::clip::Polygon, Option<PlaneFace>), MAX_SUB> {
     reference_subfaces(kind, k)
         .iter()
         .map(|sub| {
             let q: ArrayVec<[f64; 2], 4> = sub.iter().map(|&xi| face.map.map(xi)).collect();
-            (sub, face_polygon(&q))
+            let chord = (q.len() == 4).then(|| PlaneFace::new(FaceKind::Quad4, [q[0], q[1], q[2], q[3]]));
+            (sub, face_polygon(&q), chord)
         })
         .collect()
 }
@@ -130,9 +144,10 @@ struct SlaveSub {
 }
 
 impl SlaveSub {
-    /// ξ_s of plane point `p` (χ_S⁻¹) and the area ratio |det ∂ξ_s/∂p|.
+    /// The chord's coordinates u = χ_S⁻¹(p) of plane point `p`, ξ_s there and
+    /// the area ratio |det ∂ξ_s/∂p|.
     #[inline]
-    fn pull_back(&self, p: [f64; 2], stats: &mut FaceStats) -> (Xi, f64) {
+    fn pull_back(&self, p: [f64; 2], stats: &mut FaceStats) -> (Xi, Xi, f64) {
         let r = self.chord.inverse(p);
         if matches!(r, crate::element::InverseMap::NotConverged { .. }) {
             stats.inverse_failures += 1;
@@ -142,7 +157,7 @@ impl SlaveSub {
             self.origin[0] + u[0] * self.edges[0][0] + u[1] * self.edges[1][0],
             self.origin[1] + u[0] * self.edges[0][1] + u[1] * self.edges[1][1],
         ];
-        (xi, self.ref_det / self.chord.det(u).abs())
+        (u, xi, self.ref_det / self.chord.det(u).abs())
     }
 }
 
@@ -246,7 +261,7 @@ pub(super) fn facing_ok(facing: Facing, ns: Point3, nm: Point3, cos_max: f64) ->
 pub(super) fn pair(
     cs: &CurvedSlave,
     master: &CurvedFace,
-    rule: &TriangleRule,
+    ladder: &[TriangleRule; CURVED_LADDER.len()],
     stats: &mut FaceStats,
     mut record: Option<(&mut Vec<Segment>, usize, usize)>,
 ) -> Option<CurvedBlock> {
@@ -262,8 +277,11 @@ pub(super) fn pair(
     let (mut gap, mut overlap) = (0.0f64, 0.0f64);
     let mut any = false;
     let projected = ProjectedFace::new(master, &cs.frame);
-    for (msub, q) in projected_subfaces(km, &projected, cs.subdivision) {
+    for (msub, q, master_chord) in projected_subfaces(km, &projected, cs.subdivision) {
         let guess_m = centroid(msub);
+        // ξ_m ↦ the master chord's coordinates (quad sub-faces are squares).
+        let side = msub[1][0] - msub[0][0];
+        let master_chord = master_chord.map(|chord| (chord, msub[0], side));
         for sub in &cs.subfaces {
             let polygon = sub.clipper.clip(&q);
             let piece_area = polygon_area(&polygon);
@@ -272,10 +290,11 @@ pub(super) fn pair(
             }
             any = true;
             block.plane_area += piece_area;
+            let mut us = [[0.0; 2]; MAX_POLYGON];
             let mut xs = [[0.0; 2]; MAX_POLYGON];
             let mut xm = [[0.0; 2]; MAX_POLYGON];
             for (v, &p) in polygon.iter().enumerate() {
-                xs[v] = sub.pull_back(p, stats).0;
+                (us[v], xs[v], _) = sub.pull_back(p, stats);
                 let x = cs.map.map(xs[v]);
                 xm[v] = inverse(&projected, cs.frame.project(x), guess_m, stats);
                 let g = projected.height.map(xm[v])[0] - cs.frame.height(x);
@@ -295,17 +314,17 @@ pub(super) fn pair(
                     continue;
                 }
                 block.segments += 1;
-                let tm = [xm[a], xm[b], xm[c]];
-                for (pt, &w) in rule.points.iter().zip(rule.weights) {
-                    let (xi_s, ratio) = sub.pull_back(barycentric(plane, *pt), stats);
-                    let phi = shape_and_gradients(ks, xi_s).0;
-                    let (x, ta, tb) = cs.map.map_and_tangents(xi_s);
-                    let xi_m = inverse(&projected, cs.frame.project(x), barycentric(tm, *pt), stats);
-                    let wj = w * area * ratio * norm(cross(ta, tb));
-                    let lam = shape_and_gradients(km, xi_m).0;
-                    block.covered_area += wj;
-                    add_point(&mut block.d, &mut block.b, wj, &phi, &lam);
-                }
+                let triangle = Triangle { q: plane, u: [us[a], us[b], us[c]], xm: [xm[a], xm[b], xm[c]] };
+                let mut segment = CurvedSegment {
+                    cs,
+                    sub,
+                    master: &projected,
+                    master_chord: master_chord.as_ref(),
+                    kinds: (ks, km),
+                    ladder,
+                    stats: &mut *stats,
+                };
+                segment.integrate(triangle, 0, &mut block);
                 if let Some((segments, s, m)) = record.as_mut() {
                     let corners = [xs[a], xs[b], xs[c]].map(|xi| cs.map.map(xi));
                     segments.push(Segment { slave: *s, master: *m, corners });
@@ -327,6 +346,91 @@ pub(super) fn pair(
     Some(block)
 }
 
+/// A plane triangle of a curved segment: its corners q in the plane, their
+/// slave chord coordinates u and master coordinates ξ_m.
+#[derive(Clone, Copy)]
+struct Triangle {
+    q: [[f64; 2]; 3],
+    u: [Xi; 3],
+    xm: [Xi; 3],
+}
+
+/// (D3)–(D5) on the plane triangles of one clipped polygon of a curved pair.
+struct CurvedSegment<'a> {
+    cs: &'a CurvedSlave,
+    sub: &'a SlaveSub,
+    master: &'a ProjectedFace,
+    /// The master sub-face's first-order map, its corner ξ₀ and side (quads).
+    master_chord: Option<&'a (PlaneFace, Xi, f64)>,
+    kinds: (CurvedKind, CurvedKind),
+    ladder: &'a [TriangleRule; CURVED_LADDER.len()],
+    stats: &'a mut FaceStats,
+}
+
+impl CurvedSegment<'_> {
+    /// The larger fold ratio of the slave's and the master's chord over `t`.
+    fn fold_ratio(&self, t: &Triangle) -> f64 {
+        let slave = self.sub.chord.fold_ratio(&t.u);
+        let master = self.master_chord.map_or(0.0, |(chord, o, side)| {
+            chord.fold_ratio(&t.xm.map(|x| [(x[0] - o[0]) / side, (x[1] - o[1]) / side]))
+        });
+        slave.max(master)
+    }
+
+    /// The rule of [`CURVED_LADDER`] for `t`, or its four children.
+    fn integrate(&mut self, t: Triangle, depth: u32, block: &mut CurvedBlock) {
+        let r = self.fold_ratio(&t);
+        let rule = match CURVED_LADDER.iter().position(|&(max, _)| r <= max) {
+            Some(i) => Some(&self.ladder[i]),
+            None if depth == CURVED_MAX_DEPTH => self.ladder.last(),
+            None => None,
+        };
+        if let Some(rule) = rule {
+            return self.accumulate(&t, rule, block);
+        }
+        let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+        let [q0, q1, q2] = t.q;
+        let m = [mid(q0, q1), mid(q1, q2), mid(q2, q0)];
+        let guesses = [mid(t.xm[0], t.xm[1]), mid(t.xm[1], t.xm[2]), mid(t.xm[2], t.xm[0])];
+        let mut mu = [[0.0; 2]; 3];
+        let mut mm = [[0.0; 2]; 3];
+        for k in 0..3 {
+            let (u, xi_s, _) = self.sub.pull_back(m[k], self.stats);
+            let target = self.cs.frame.project(self.cs.map.map(xi_s));
+            (mu[k], mm[k]) = (u, inverse(self.master, target, guesses[k], self.stats));
+        }
+        let [u, xm] = [t.u, t.xm];
+        let children = [
+            Triangle { q: [q0, m[0], m[2]], u: [u[0], mu[0], mu[2]], xm: [xm[0], mm[0], mm[2]] },
+            Triangle { q: [m[0], q1, m[1]], u: [mu[0], u[1], mu[1]], xm: [mm[0], xm[1], mm[1]] },
+            Triangle { q: [m[2], m[1], q2], u: [mu[2], mu[1], u[2]], xm: [mm[2], mm[1], xm[2]] },
+            Triangle { q: [m[1], m[2], m[0]], u: [mu[1], mu[2], mu[0]], xm: [mm[1], mm[2], mm[0]] },
+        ];
+        for child in children {
+            self.integrate(child, depth + 1, block);
+        }
+    }
+
+    /// The points of `rule` on `t`: ξ_s by the slave chord's inverse, ξ_m by
+    /// Newton onto the true master face from the interpolated corners.
+    fn accumulate(&mut self, t: &Triangle, rule: &TriangleRule, block: &mut CurvedBlock) {
+        let (cs, (ks, km)) = (self.cs, self.kinds);
+        let area = 0.5
+            * ((t.q[1][0] - t.q[0][0]) * (t.q[2][1] - t.q[0][1])
+                - (t.q[1][1] - t.q[0][1]) * (t.q[2][0] - t.q[0][0]));
+        for (pt, &w) in rule.points.iter().zip(rule.weights) {
+            let (_, xi_s, ratio) = self.sub.pull_back(barycentric(t.q, *pt), self.stats);
+            let phi = shape_and_gradients(ks, xi_s).0;
+            let (x, ta, tb) = cs.map.map_and_tangents(xi_s);
+            let xi_m = inverse(self.master, cs.frame.project(x), barycentric(t.xm, *pt), self.stats);
+            let wj = w * area * ratio * norm(cross(ta, tb));
+            let lam = shape_and_gradients(km, xi_m).0;
+            block.covered_area += wj;
+            add_point(&mut block.d, &mut block.b, wj, &phi, &lam);
+        }
+    }
+}
+
 fn inverse(face: &ProjectedFace, p: [f64; 2], guess: Xi, stats: &mut FaceStats) -> Xi {
     let (xi, converged) = face.inverse(p, guess);
     if !converged {
@@ -335,9 +439,9 @@ fn inverse(face: &ProjectedFace, p: [f64; 2], guess: Xi, stats: &mut FaceStats) 
     xi
 }
 
-/// ∫_e λ_p |J| over the whole curved face, with the segments' `rule` on its
-/// reference triangles (one for a triangle, two for a quad): a fully
-/// covered face's covered integrals to the accuracy of its segments.
+/// ∫_e λ_p |J| over the whole curved face, with `rule` on its reference
+/// triangles (one for a triangle, two for a quad); these only tell how much
+/// of each node's support is covered.
 pub(super) fn face_integrals(face: &CurvedFace, rule: &TriangleRule) -> [f64; MAX_NODES] {
     let triangles: &[[Xi; 3]] = if face.kind.is_triangle() {
         &[[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]]
