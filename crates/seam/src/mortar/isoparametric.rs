@@ -38,7 +38,7 @@
 //! I1 (D·1 = B·1) and I2 hold to round-off whatever the rule, since D and B
 //! use the same points and Σ_q λ^m_q = 1.
 
-use super::kernel::{add_point, barycentric};
+use super::kernel::{add_point, barycentric, Piece};
 use super::{FaceStats, Facing, Segment};
 use crate::clip::{face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame, MAX_POLYGON};
 use crate::curved::{shape_and_gradients, CurvedFace, CurvedKind, MonomialMap, ProjectedFace};
@@ -314,7 +314,7 @@ pub(super) fn pair(
                     continue;
                 }
                 block.segments += 1;
-                let triangle = Triangle { q: plane, u: [us[a], us[b], us[c]], xm: [xm[a], xm[b], xm[c]] };
+                let triangle = Piece { q: plane, xs: [us[a], us[b], us[c]], xm: [xm[a], xm[b], xm[c]] };
                 let mut segment = CurvedSegment {
                     cs,
                     sub,
@@ -346,15 +346,6 @@ pub(super) fn pair(
     Some(block)
 }
 
-/// A plane triangle of a curved segment: its corners q in the plane, their
-/// slave chord coordinates u and master coordinates ξ_m.
-#[derive(Clone, Copy)]
-struct Triangle {
-    q: [[f64; 2]; 3],
-    u: [Xi; 3],
-    xm: [Xi; 3],
-}
-
 /// (D3)–(D5) on the plane triangles of one clipped polygon of a curved pair.
 struct CurvedSegment<'a> {
     cs: &'a CurvedSlave,
@@ -369,8 +360,8 @@ struct CurvedSegment<'a> {
 
 impl CurvedSegment<'_> {
     /// The larger fold ratio of the slave's and the master's chord over `t`.
-    fn fold_ratio(&self, t: &Triangle) -> f64 {
-        let slave = self.sub.chord.fold_ratio(&t.u);
+    fn fold_ratio(&self, t: &Piece) -> f64 {
+        let slave = self.sub.chord.fold_ratio(&t.xs);
         let master = self.master_chord.map_or(0.0, |(chord, o, side)| {
             chord.fold_ratio(&t.xm.map(|x| [(x[0] - o[0]) / side, (x[1] - o[1]) / side]))
         });
@@ -378,7 +369,7 @@ impl CurvedSegment<'_> {
     }
 
     /// The rule of [`CURVED_LADDER`] for `t`, or its four children.
-    fn integrate(&mut self, t: Triangle, depth: u32, block: &mut CurvedBlock) {
+    fn integrate(&mut self, t: Piece, depth: u32, block: &mut CurvedBlock) {
         let r = self.fold_ratio(&t);
         let rule = match CURVED_LADDER.iter().position(|&(max, _)| r <= max) {
             Some(i) => Some(&self.ladder[i]),
@@ -388,9 +379,8 @@ impl CurvedSegment<'_> {
         if let Some(rule) = rule {
             return self.accumulate(&t, rule, block);
         }
-        let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-        let [q0, q1, q2] = t.q;
-        let m = [mid(q0, q1), mid(q1, q2), mid(q2, q0)];
+        let m = t.midpoints();
+        let mid = |a: Xi, b: Xi| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
         let guesses = [mid(t.xm[0], t.xm[1]), mid(t.xm[1], t.xm[2]), mid(t.xm[2], t.xm[0])];
         let mut mu = [[0.0; 2]; 3];
         let mut mm = [[0.0; 2]; 3];
@@ -399,13 +389,7 @@ impl CurvedSegment<'_> {
             let target = self.cs.frame.project(self.cs.map.map(xi_s));
             (mu[k], mm[k]) = (u, inverse(self.master, target, guesses[k], self.stats));
         }
-        let [u, xm] = [t.u, t.xm];
-        let children = [
-            Triangle { q: [q0, m[0], m[2]], u: [u[0], mu[0], mu[2]], xm: [xm[0], mm[0], mm[2]] },
-            Triangle { q: [m[0], q1, m[1]], u: [mu[0], u[1], mu[1]], xm: [mm[0], xm[1], mm[1]] },
-            Triangle { q: [m[2], m[1], q2], u: [mu[2], mu[1], u[2]], xm: [mm[2], mm[1], xm[2]] },
-            Triangle { q: [m[1], m[2], m[0]], u: [mu[1], mu[2], mu[0]], xm: [mm[1], mm[2], mm[0]] },
-        ];
+        let children = t.children(mu, mm);
         for child in children {
             self.integrate(child, depth + 1, block);
         }
@@ -413,7 +397,7 @@ impl CurvedSegment<'_> {
 
     /// The points of `rule` on `t`: ξ_s by the slave chord's inverse, ξ_m by
     /// Newton onto the true master face from the interpolated corners.
-    fn accumulate(&mut self, t: &Triangle, rule: &TriangleRule, block: &mut CurvedBlock) {
+    fn accumulate(&mut self, t: &Piece, rule: &TriangleRule, block: &mut CurvedBlock) {
         let (cs, (ks, km)) = (self.cs, self.kinds);
         let area = 0.5
             * ((t.q[1][0] - t.q[0][0]) * (t.q[2][1] - t.q[0][1])

@@ -514,12 +514,35 @@ fn accumulate<const NS: usize, const NM: usize>(
 }
 
 /// A plane triangle and the reference coordinates of its vertices on the
-/// slave and the master face.
+/// slave side (on the curved path: of the slave sub-face's chord) and on the
+/// master face.
 #[derive(Clone, Copy)]
-struct Piece {
-    q: [[f64; 2]; 3],
-    xs: [Xi; 3],
-    xm: [Xi; 3],
+pub(super) struct Piece {
+    pub(super) q: [[f64; 2]; 3],
+    pub(super) xs: [Xi; 3],
+    pub(super) xm: [Xi; 3],
+}
+
+impl Piece {
+    /// The midpoints of the plane edges 01, 12 and 20.
+    pub(super) fn midpoints(&self) -> [[f64; 2]; 3] {
+        let [q0, q1, q2] = self.q;
+        let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+        [mid(q0, q1), mid(q1, q2), mid(q2, q0)]
+    }
+
+    /// The four children of the cut at the midpoints, given the slave and
+    /// master coordinates there.
+    pub(super) fn children(&self, ms: [Xi; 3], mm: [Xi; 3]) -> [Piece; 4] {
+        let ([q0, q1, q2], m) = (self.q, self.midpoints());
+        let [xs, xm] = [self.xs, self.xm];
+        [
+            Piece { q: [q0, m[0], m[2]], xs: [xs[0], ms[0], ms[2]], xm: [xm[0], mm[0], mm[2]] },
+            Piece { q: [m[0], q1, m[1]], xs: [ms[0], xs[1], ms[1]], xm: [mm[0], xm[1], mm[1]] },
+            Piece { q: [m[2], m[1], q2], xs: [ms[2], ms[1], xs[2]], xm: [mm[2], mm[1], xm[2]] },
+            Piece { q: [m[1], m[2], m[0]], xs: [ms[1], ms[2], ms[0]], xm: [mm[1], mm[2], mm[0]] },
+        ]
+    }
 }
 
 /// A segment of a pair with a non-affine projected face, integrated in the
@@ -569,18 +592,10 @@ impl PlaneSegment<'_> {
         if let Some(rule) = rule {
             return self.accumulate::<NS, NM>(piece, &rule, block);
         }
-        let [q0, q1, q2] = piece.q;
-        let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-        let m = [mid(q0, q1), mid(q1, q2), mid(q2, q0)];
+        let m = piece.midpoints();
         let ms = m.map(|p| inverse(&self.slave.plane, p, self.stats));
         let mm = m.map(|p| inverse(self.master, p, self.stats));
-        let [xs, xm] = [piece.xs, piece.xm];
-        let children = [
-            Piece { q: [q0, m[0], m[2]], xs: [xs[0], ms[0], ms[2]], xm: [xm[0], mm[0], mm[2]] },
-            Piece { q: [m[0], q1, m[1]], xs: [ms[0], xs[1], ms[1]], xm: [mm[0], xm[1], mm[1]] },
-            Piece { q: [m[2], m[1], q2], xs: [ms[2], ms[1], xs[2]], xm: [mm[2], mm[1], xm[2]] },
-            Piece { q: [m[1], m[2], m[0]], xs: [ms[1], ms[2], ms[0]], xm: [mm[1], mm[2], mm[0]] },
-        ];
+        let children = piece.children(ms, mm);
         let mut sum = PairBlock::default();
         for child in children {
             let mut part = PairBlock::default();
