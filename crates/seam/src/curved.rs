@@ -112,6 +112,11 @@ impl CurvedKind {
     }
 }
 
+/// (index along ξ, index along η) of each Quad9 node in the 3 × 3 tensor grid
+/// of 1D Lagrange functions.
+const QUAD9_GRID: [(usize, usize); 9] =
+    [(0, 0), (1, 0), (1, 1), (0, 1), (2, 0), (1, 2), (2, 1), (0, 2), (2, 2)];
+
 /// Quadratic Lagrange polynomials on [0, 1] with nodes 0, 1, 1/2 and their
 /// derivatives: ([ℓ₀, ℓ₁, ℓ_m], [ℓ₀', ℓ₁', ℓ_m']).
 #[inline]
@@ -162,11 +167,8 @@ pub fn shape_and_gradients(kind: CurvedKind, xi: Xi) -> ([f64; 9], [[f64; 2]; 9]
             ]);
         }
         CurvedKind::Quad8 | CurvedKind::Quad9 => {
-            // (index along ξ, index along η) of each node in the tensor grid.
-            const GRID: [(usize, usize); 9] =
-                [(0, 0), (1, 0), (1, 1), (0, 1), (2, 0), (1, 2), (2, 1), (0, 2), (2, 2)];
             let ((a, da), (b, db)) = (lagrange(xi[0]), lagrange(xi[1]));
-            for (i, &(p, q)) in GRID.iter().enumerate() {
+            for (i, &(p, q)) in QUAD9_GRID.iter().enumerate() {
                 n[i] = a[p] * b[q];
                 g[i] = [da[p] * b[q], a[p] * db[q]];
             }
@@ -216,15 +218,13 @@ const fn shape_monomials(kind: CurvedKind) -> [[f64; MONOMIALS]; 9] {
             c[5] = [0.0, 0.0, 4.0, 0.0, -4.0, -4.0, 0.0, 0.0, 0.0];
         }
         CurvedKind::Quad8 | CurvedKind::Quad9 => {
-            // N_i = L_p(s) L_q(t) (the grid of `shape_and_gradients`), L in
-            // powers of its variable; INDEX[a][b] is the monomial s^a t^b.
+            // N_i = L_p(s) L_q(t) ([`QUAD9_GRID`]), L (`lagrange`) in powers
+            // of its variable; INDEX[a][b] is the monomial s^a t^b.
             const L: [[f64; 3]; 3] = [[1.0, -3.0, 2.0], [0.0, -1.0, 2.0], [0.0, 4.0, -4.0]];
-            const GRID: [(usize, usize); 9] =
-                [(0, 0), (1, 0), (1, 1), (0, 1), (2, 0), (1, 2), (2, 1), (0, 2), (2, 2)];
             const INDEX: [[usize; 3]; 3] = [[0, 2, 5], [1, 4, 7], [3, 6, 8]];
             let mut i = 0;
             while i < 9 {
-                let (p, q) = GRID[i];
+                let (p, q) = QUAD9_GRID[i];
                 let mut a = 0;
                 while a < 3 {
                     let mut b = 0;

@@ -38,7 +38,7 @@
 //! I1 (D·1 = B·1) and I2 hold to round-off whatever the rule, since D and B
 //! use the same points and Σ_q λ^m_q = 1.
 
-use super::kernel::{add_point, barycentric, Piece};
+use super::kernel::{add_point, barycentric, edge_midpoints, signed_area, Piece};
 use super::{FaceStats, Facing, Segment};
 use crate::clip::{face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame, MAX_POLYGON};
 use crate::curved::{shape_and_gradients, CurvedFace, CurvedKind, MonomialMap, ProjectedFace};
@@ -307,10 +307,7 @@ pub(super) fn pair(
             }
             for [a, b, c] in fan_triangles(polygon.len()) {
                 let plane = [polygon[a], polygon[b], polygon[c]];
-                let area = 0.5
-                    * ((plane[1][0] - plane[0][0]) * (plane[2][1] - plane[0][1])
-                        - (plane[1][1] - plane[0][1]) * (plane[2][0] - plane[0][0]));
-                if area <= 0.0 {
+                if signed_area(plane) <= 0.0 {
                     continue;
                 }
                 block.segments += 1;
@@ -379,9 +376,7 @@ impl CurvedSegment<'_> {
         if let Some(rule) = rule {
             return self.accumulate(&t, rule, block);
         }
-        let m = t.midpoints();
-        let mid = |a: Xi, b: Xi| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-        let guesses = [mid(t.xm[0], t.xm[1]), mid(t.xm[1], t.xm[2]), mid(t.xm[2], t.xm[0])];
+        let (m, guesses) = (t.midpoints(), edge_midpoints(t.xm));
         let mut mu = [[0.0; 2]; 3];
         let mut mm = [[0.0; 2]; 3];
         for k in 0..3 {
@@ -399,9 +394,7 @@ impl CurvedSegment<'_> {
     /// Newton onto the true master face from the interpolated corners.
     fn accumulate(&mut self, t: &Piece, rule: &TriangleRule, block: &mut CurvedBlock) {
         let (cs, (ks, km)) = (self.cs, self.kinds);
-        let area = 0.5
-            * ((t.q[1][0] - t.q[0][0]) * (t.q[2][1] - t.q[0][1])
-                - (t.q[1][1] - t.q[0][1]) * (t.q[2][0] - t.q[0][0]));
+        let area = signed_area(t.q);
         for (pt, &w) in rule.points.iter().zip(rule.weights) {
             let (_, xi_s, ratio) = self.sub.pull_back(barycentric(t.q, *pt), self.stats);
             let phi = shape_and_gradients(ks, xi_s).0;

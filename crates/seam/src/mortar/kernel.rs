@@ -526,9 +526,7 @@ pub(super) struct Piece {
 impl Piece {
     /// The midpoints of the plane edges 01, 12 and 20.
     pub(super) fn midpoints(&self) -> [[f64; 2]; 3] {
-        let [q0, q1, q2] = self.q;
-        let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-        [mid(q0, q1), mid(q1, q2), mid(q2, q0)]
+        edge_midpoints(self.q)
     }
 
     /// The four children of the cut at the midpoints, given the slave and
@@ -660,7 +658,7 @@ pub(super) fn triangle_area(t: [Xi; 3]) -> f64 {
 
 /// Signed area of triangle `t` (positive when counter-clockwise).
 #[inline]
-fn signed_area(t: [Xi; 3]) -> f64 {
+pub(super) fn signed_area(t: [Xi; 3]) -> f64 {
     0.5 * ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1]) - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]))
 }
 
@@ -708,6 +706,12 @@ pub(super) fn add_point<const N: usize, const NS: usize, const NM: usize>(
             b[p][q] += wp * lam[q];
         }
     }
+}
+
+/// The midpoints of the edges 01, 12 and 20 of a triangle.
+pub(super) fn edge_midpoints([a, b, c]: [[f64; 2]; 3]) -> [[f64; 2]; 3] {
+    let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+    [mid(a, b), mid(b, c), mid(c, a)]
 }
 
 /// Sorts a face block's columns by master point (insertion sort: a dozen
