@@ -7,7 +7,7 @@ use crate::input::{check_finite, Surface};
 use crate::output::Staged;
 use crate::{Expression, Failure};
 use anyhow::{bail, Context};
-use seam::{assemble, normal_gaps, Mortar, MortarOptions, Multiplier, SurfaceMesh};
+use seam::{assemble, normal_gaps, Mortar, MortarOptions, Multiplier};
 use seam_io::Field;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -53,7 +53,10 @@ pub struct Transfer {
     pub force: bool,
 }
 
-/// `OUT.json`: what was moved, how well the target is covered, totals and errors.
+/// `OUT.json`: what was moved, how well the target is covered, totals and
+/// errors. In conservative mode the target is the operator's master: its
+/// coverage and gaps are read from B ([`seam::master_side`]), its covered area
+/// measured on the source side.
 #[derive(Serialize)]
 pub struct Summary {
     /// The source file.
@@ -95,6 +98,98 @@ pub struct Summary {
     pub l2_relative_error: Option<f64>,
     /// Wall-clock seconds of the run.
     pub seconds: f64,
+    /// Wall-clock seconds per phase.
+    pub phases: Phases,
+}
+
+/// Seconds per phase of a transfer (they add up to `seconds`, but for the
+/// checks of the output paths before reading).
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Phases {
+    /// Reading both files and the values to move.
+    pub read: f64,
+    /// Search and assembly of B and D (one operator).
+    pub assemble: f64,
+    /// T = D⁻¹B (a sparse Cholesky factorisation for standard multipliers).
+    pub operator: f64,
+    /// T f or Tᵀ f.
+    pub apply: f64,
+    /// Coverage, normal gaps, the L2 error and the finiteness checks.
+    pub diagnostics: f64,
+    /// Writing the VTU (the summary follows).
+    pub write: f64,
+}
+
+/// Laps of the wall clock.
+struct Clock(Instant);
+
+impl Clock {
+    fn start() -> Clock {
+        Clock(Instant::now())
+    }
+
+    /// Seconds since the last lap.
+    fn lap(&mut self) -> f64 {
+        let now = Instant::now();
+        let seconds = (now - self.0).as_secs_f64();
+        self.0 = now;
+        seconds
+    }
+}
+
+/// What the target's VTU and the summary report of the coupling.
+struct TargetView {
+    coverage: Vec<f64>,
+    /// NaN where not covered.
+    gaps: Vec<f64>,
+    area: f64,
+    covered_area: f64,
+    uncovered: usize,
+    max_gap: f64,
+    max_overlap: f64,
+    source_nodes: usize,
+    target_nodes: usize,
+}
+
+impl TargetView {
+    /// The target as the operator's slave: its own coverage, the mortar
+    /// gaps n_p·((T x_m)_p − x_p), the largest gap and overlap of the point
+    /// pairs of the assembly.
+    fn of_slave(mortar: &Mortar, target: &Surface, source: &Surface, t: &seam::Transfer) -> TargetView {
+        let s = &mortar.summary;
+        TargetView {
+            coverage: mortar.node_coverage.clone(),
+            gaps: normal_gaps(&target.mesh, &source.mesh, t, &mortar.covered),
+            area: s.slave_area,
+            covered_area: s.covered_area,
+            uncovered: s.uncovered_slave_nodes,
+            max_gap: s.max_gap,
+            max_overlap: s.max_overlap,
+            source_nodes: s.master_nodes,
+            target_nodes: s.slave_nodes,
+        }
+    }
+
+    /// The target as the operator's master ([`seam::master_side`]): coverage
+    /// and gaps from the columns of B, the largest gap and overlap over its
+    /// covered nodes.
+    fn of_master(mortar: &Mortar, source: &Surface, target: &Surface) -> TargetView {
+        let side = seam::master_side(mortar, &source.mesh, &target.mesh);
+        let used = target.mesh.used_points();
+        let gaps = side.normal_gaps.iter().filter(|g| !g.is_nan());
+        let (max_gap, max_overlap) = gaps.fold((0.0f64, 0.0f64), |(a, b), &g| (a.max(g), b.max(-g)));
+        TargetView {
+            uncovered: (0..used.len()).filter(|&q| used[q] && !side.covered[q]).count(),
+            coverage: side.coverage,
+            gaps: side.normal_gaps,
+            area: side.area,
+            covered_area: side.covered_area,
+            max_gap,
+            max_overlap,
+            source_nodes: mortar.summary.slave_nodes,
+            target_nodes: mortar.summary.master_nodes,
+        }
+    }
 }
 
 /// Reads, moves, checks and writes (module doc) on the current rayon pool;
@@ -111,6 +206,8 @@ pub fn transfer_files(args: &Transfer) -> Result<Summary, Failure> {
         Values::Expression(e, _) => Some(&**e),
         Values::Field(_) => None,
     };
+    let mut clock = Clock::start();
+    let mut phases = Phases::default();
     let summary_path = args.output.with_extension("json");
     let inputs = [args.source.clone(), args.target.clone()];
     let mut out = Staged::prepare(&[args.output.clone(), summary_path.clone()], &inputs, args.force)?;
@@ -128,27 +225,37 @@ pub fn transfer_files(args: &Transfer) -> Result<Summary, Failure> {
         }
     };
 
-    // The consistent operator (TARGET as slave) gives the field in consistent
-    // mode, and the coverage and normal gaps of the target in both modes.
-    let couple =
-        |master: &SurfaceMesh, slave: &SurfaceMesh, o: &MortarOptions, which: (&PathBuf, &PathBuf)| {
-            assemble(master, slave, o).map_err(|e| Failure::from_coupling(e, which.0, which.1))
-        };
-    let consistent = couple(&source.mesh, &target.mesh, &options, (&args.target, &args.source))?;
-    let t = consistent.transfer().context("the transfer operator")?;
+    phases.read = clock.lap();
+
+    // One operator: TARGET as slave for values (T), SOURCE as slave for loads
+    // (Tᵀ moves them onto the target, its master). The target's coverage and
+    // normal gaps come from the same operator: its slave side in consistent
+    // mode, `master_side` of B in conservative mode.
+    let (slave, master, files) = match args.mode {
+        Mode::Consistent => (&target, &source, (&args.target, &args.source)),
+        Mode::Conservative => (&source, &target, (&args.source, &args.target)),
+    };
+    let mortar =
+        assemble(&master.mesh, &slave.mesh, &options).map_err(|e| Failure::from_coupling(e, files.0, files.1))?;
+    phases.assemble = clock.lap();
+    let t = mortar.transfer().context("the transfer operator")?;
+    phases.operator = clock.lap();
     let (transferred, totals) = match args.mode {
         Mode::Consistent => (t.apply(&values, k), None),
         Mode::Conservative => {
-            let reverse = couple(&target.mesh, &source.mesh, &options, (&args.source, &args.target))?;
-            let loads = masked(&values, k, &reverse.covered);
-            let moved = reverse.transfer().context("the transfer operator")?.apply_transpose(&loads, k);
-            (moved.clone(), Some((totals_of(&values, k), totals_of(&moved, k))))
+            let moved = t.apply_transpose(&masked(&values, k, &mortar.covered), k);
+            let totals = (totals_of(&values, k), totals_of(&moved, k));
+            (moved, Some(totals))
         }
     };
-    let gaps = normal_gaps(&target.mesh, &source.mesh, &t, &consistent.covered);
+    phases.apply = clock.lap();
+    let view = match args.mode {
+        Mode::Consistent => TargetView::of_slave(&mortar, &target, &source, &t),
+        Mode::Conservative => TargetView::of_master(&mortar, &source, &target),
+    };
     let (l2_error, l2_relative) = match (&expression, args.mode) {
         (Some(e), Mode::Consistent) => {
-            let (err, rel) = l2_error(&consistent, &source, &target, &options, &transferred, e)?;
+            let (err, rel) = l2_error(&mortar, &source, &target, &options, &transferred, e)?;
             (Some(err), Some(rel))
         }
         _ => (None, None),
@@ -157,9 +264,8 @@ pub fn transfer_files(args: &Transfer) -> Result<Summary, Failure> {
     // gaps where they are defined (NaN marks an uncovered node, documented),
     // and the numbers of the summary.
     check_finite(&transferred, k, &target, "the transferred field")?;
-    check_finite(&consistent.node_coverage, 1, &target, "the coverage")?;
-    let defined: Vec<f64> =
-        gaps.iter().zip(&consistent.covered).map(|(&g, &c)| if c { g } else { 0.0 }).collect();
+    check_finite(&view.coverage, 1, &target, "the coverage")?;
+    let defined: Vec<f64> = view.gaps.iter().map(|&g| if g.is_nan() { 0.0 } else { g }).collect();
     check_finite(&defined, 1, &target, "the normal gap")?;
     if let Some((before, after)) = &totals {
         if before.iter().chain(after).any(|t| !t.is_finite()) {
@@ -170,16 +276,17 @@ pub fn transfer_files(args: &Transfer) -> Result<Summary, Failure> {
             return Err(e.into());
         }
     }
+    phases.diagnostics = clock.lap();
 
     let point_data = [
         Field::new(name.clone(), k, transferred),
-        Field::scalars("coverage", consistent.node_coverage.clone()),
-        Field::scalars("normal_gap", gaps),
+        Field::scalars("coverage", view.coverage),
+        Field::scalars("normal_gap", view.gaps),
     ];
     out.write(&args.output, |p| {
         seam_io::write_vtu_file(p, &target.mesh, &point_data, &[]).map_err(std::io::Error::other)
     })?;
-    let s = &consistent.summary;
+    phases.write = clock.lap();
     let summary = Summary {
         source: args.source.display().to_string(),
         target: args.target.display().to_string(),
@@ -190,19 +297,20 @@ pub fn transfer_files(args: &Transfer) -> Result<Summary, Failure> {
             Mode::Conservative => "conservative",
         },
         multiplier: format!("{:?}", options.multiplier).to_lowercase(),
-        source_nodes: s.master_nodes,
-        target_nodes: s.slave_nodes,
-        target_area: s.slave_area,
-        covered_area: s.covered_area,
-        covered_fraction: s.covered_area / s.slave_area,
-        uncovered_target_nodes: s.uncovered_slave_nodes,
-        max_gap: s.max_gap,
-        max_overlap: s.max_overlap,
+        source_nodes: view.source_nodes,
+        target_nodes: view.target_nodes,
+        target_area: view.area,
+        covered_area: view.covered_area,
+        covered_fraction: view.covered_area / view.area,
+        uncovered_target_nodes: view.uncovered,
+        max_gap: view.max_gap,
+        max_overlap: view.max_overlap,
         total_source: totals.as_ref().map(|t| t.0.clone()),
         total_target: totals.as_ref().map(|t| t.1.clone()),
         l2_error,
         l2_relative_error: l2_relative,
         seconds: start.elapsed().as_secs_f64(),
+        phases,
     };
     let json = serde_json::to_string_pretty(&summary).context("summary")?;
     out.write(&summary_path, |p| std::fs::write(p, json + "\n"))?;

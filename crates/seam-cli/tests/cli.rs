@@ -370,6 +370,28 @@ fn conservative_transfer_keeps_the_total_load() {
         serde_json::from_str(&std::fs::read_to_string(tmp.path().join("c.json")).unwrap()).unwrap();
     let (a, b) = (s["total_source"][0].as_f64().unwrap(), s["total_target"][0].as_f64().unwrap());
     assert!((a - b).abs() < 1e-12 * a.abs(), "{a} vs {b}");
+    // One assembly: the target's coverage and gaps come from the columns of B
+    // and agree with consistent mode's (the target as slave) on these
+    // coplanar squares to round-off.
+    let o = seam(&["transfer", &source, &target, "-o", "v.vtu", "--expr", "1 + x*y"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("v.json")).unwrap()).unwrap();
+    for key in ["target_area", "covered_area", "covered_fraction", "uncovered_target_nodes", "target_nodes"] {
+        let (c, k) = (s[key].as_f64().unwrap(), v[key].as_f64().unwrap());
+        assert!((c - k).abs() <= 1e-13 * k.abs(), "{key}: conservative {c}, consistent {k}");
+    }
+    let (c, k) = (vtu(&tmp.path().join("c.vtu")), vtu(&tmp.path().join("v.vtu")));
+    for field in ["coverage", "normal_gap"] {
+        let (fc, fk) = (&c.point_field(field).unwrap().values, &k.point_field(field).unwrap().values);
+        for (p, (a, b)) in fc.iter().zip(fk).enumerate() {
+            assert!((a - b).abs() <= 1e-13 || (a.is_nan() && b.is_nan()), "{field} at point {p}: {a} against {b}");
+        }
+    }
+    // The phases add up to the run's seconds (but for checking the paths).
+    let phases: f64 = s["phases"].as_object().unwrap().values().map(|t| t.as_f64().unwrap()).sum();
+    let seconds = s["seconds"].as_f64().unwrap();
+    assert!(phases > 0.0 && phases <= seconds, "phases {phases} s of {seconds} s");
 }
 
 #[test]

@@ -24,7 +24,10 @@ mod multiplier;
 mod rows;
 mod transfer;
 
-pub use diagnostics::{face_quality, nodal_normals, normal_gaps, orientation_conflicts, FaceQuality};
+pub use diagnostics::{
+    face_quality, master_side, nodal_areas, nodal_normals, normal_gaps, orientation_conflicts, FaceQuality,
+    MasterSide,
+};
 pub use multiplier::BASIS_ALPHA;
 pub use transfer::Transfer;
 

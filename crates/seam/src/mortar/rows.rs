@@ -201,7 +201,7 @@ pub(super) fn into_mortar(
     let on_surface = slave.used_points();
     let mut covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
     let basis =
-        (multiplier == Multiplier::Dual && transforms(slave, transformation)).then(|| slave_basis(slave));
+        (multiplier == Multiplier::Dual && transforms(slave, transformation)).then(|| basis_transformation(slave));
     if let Some(q) = &basis {
         // T = Qᵀ D⁻¹ B mixes the rows of the λ̃ around a node: it is covered
         // only when all of them are.
@@ -214,10 +214,10 @@ pub(super) fn into_mortar(
     Mortar { b, d, multiplier, basis, faces, node_coverage, covered, on_surface, segments, summary }
 }
 
-/// The global basis transformation λ̃ = Q λ of a slave surface with Tri6 or
-/// Quad8 faces (`multiplier::BASIS_ALPHA`): rows are the transformed
-/// functions, the union of the faces' Q_e (which agree on shared nodes).
-fn slave_basis(slave: &SurfaceMesh) -> CsrMatrix {
+/// The global basis transformation λ̃ = Q λ of a surface's second-order faces
+/// (`multiplier::BASIS_ALPHA`): rows are the transformed functions, the union
+/// of the faces' Q_e (which agree on shared nodes).
+pub(super) fn basis_transformation(slave: &SurfaceMesh) -> CsrMatrix {
     let n = slave.n_points();
     let mut entries: Vec<(usize, usize, f64)> = Vec::new();
     for face in slave.faces() {
