@@ -235,8 +235,8 @@ pub fn transfer_files(args: &Transfer) -> Result<Summary, Failure> {
         Mode::Consistent => (&target, &source, (&args.target, &args.source)),
         Mode::Conservative => (&source, &target, (&args.source, &args.target)),
     };
-    let mortar =
-        assemble(&master.mesh, &slave.mesh, &options).map_err(|e| Failure::from_coupling(e, files.0, files.1))?;
+    let mortar = assemble(&master.mesh, &slave.mesh, &options)
+        .map_err(|e| Failure::from_coupling(e, files.0, files.1))?;
     phases.assemble = clock.lap();
     let t = mortar.transfer().context("the transfer operator")?;
     phases.operator = clock.lap();

@@ -33,6 +33,10 @@ pub enum Command {
     /// One benchmark case as a JSON line (used by `bench`, one process per case).
     #[command(hide = true)]
     BenchCase(BenchCaseArgs),
+    /// Benchmark `seam transfer` end to end on the cylinder problem (binary
+    /// VTU files) and print seconds per phase as a Markdown table (build with
+    /// --release).
+    BenchTransfer(BenchTransferArgs),
 }
 
 /// The multiplier basis ψ_p.
@@ -319,4 +323,20 @@ pub struct BenchCaseArgs {
     pub faces: usize,
     #[arg(long)]
     pub threads: usize,
+}
+
+#[derive(Args, Debug)]
+pub struct BenchTransferArgs {
+    /// Approximate numbers of target faces.
+    #[arg(long, value_delimiter = ',', default_values_t = [10_000, 100_000, 200_000])]
+    pub sizes: Vec<usize>,
+    /// Modes.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [ModeArg::Consistent, ModeArg::Conservative])]
+    pub modes: Vec<ModeArg>,
+    /// Multipliers.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [MultiplierArg::Standard, MultiplierArg::Dual])]
+    pub multipliers: Vec<MultiplierArg>,
+    /// Thread counts.
+    #[arg(long, value_delimiter = ',', default_values_t = [1, 2])]
+    pub threads: Vec<usize>,
 }

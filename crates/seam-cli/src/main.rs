@@ -39,6 +39,7 @@ fn main() -> ExitCode {
         Command::Example(e) => example::run(&e),
         Command::Bench(b) => bench::run(&b),
         Command::BenchCase(c) => bench::run_case(&c),
+        Command::BenchTransfer(t) => bench::run_transfer(&t),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

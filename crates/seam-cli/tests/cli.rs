@@ -282,6 +282,7 @@ fn every_command_has_help() {
         vec!["solve", "--help"],
         vec!["example", "--help"],
         vec!["bench", "--help"],
+        vec!["bench-transfer", "--help"],
     ] {
         let o = seam(&args, tmp.path());
         assert!(o.status.success());
@@ -385,7 +386,10 @@ fn conservative_transfer_keeps_the_total_load() {
     for field in ["coverage", "normal_gap"] {
         let (fc, fk) = (&c.point_field(field).unwrap().values, &k.point_field(field).unwrap().values);
         for (p, (a, b)) in fc.iter().zip(fk).enumerate() {
-            assert!((a - b).abs() <= 1e-13 || (a.is_nan() && b.is_nan()), "{field} at point {p}: {a} against {b}");
+            assert!(
+                (a - b).abs() <= 1e-13 || (a.is_nan() && b.is_nan()),
+                "{field} at point {p}: {a} against {b}"
+            );
         }
     }
     // The phases add up to the run's seconds (but for checking the paths).
@@ -489,4 +493,38 @@ fn transfer_bad_input_is_reported_cleanly() {
     let o = seam(&["transfer", &far, &target, "-o", "o.vtu", "--expr", "x"], tmp.path());
     assert_clean_failure(&o, 1, "far.msh", "do not overlap", &tmp.path().join("nothing"));
     assert!(!tmp.path().join("o.vtu").exists() && !tmp.path().join("o.json").exists());
+}
+
+#[test]
+fn bench_transfer_prints_a_row_per_run_and_leaves_nothing_behind() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = seam(
+        &[
+            "bench-transfer",
+            "--sizes",
+            "400",
+            "--threads",
+            "1",
+            "--multipliers",
+            "dual,standard",
+            "--modes",
+            "conservative",
+        ],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    let rows: Vec<&str> = table.lines().skip(2).collect();
+    assert_eq!(rows.len(), 2, "{table}");
+    for (row, multiplier) in rows.iter().zip(["dual", "standard"]) {
+        let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+        assert_eq!(&cells[1..6], ["400", &cells[2], "conservative", multiplier, "1"], "{row}");
+        let seconds: Vec<f64> = cells[6..14].iter().map(|c| c.parse().unwrap()).collect();
+        assert!(seconds.iter().all(|&t| t >= 0.0) && seconds[7] > 0.0, "{row}");
+    }
+    let pid_dirs = std::fs::read_dir(std::env::temp_dir())
+        .unwrap()
+        .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().starts_with("seam-bench-transfer-"))
+        .count();
+    assert_eq!(pid_dirs, 0, "the benchmark removes its files");
 }

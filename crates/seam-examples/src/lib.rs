@@ -30,6 +30,7 @@ mod case;
 pub mod hertz;
 pub mod operator;
 pub mod picture;
+pub mod transfer_bench;
 pub mod warped_glue;
 
 pub use seam_case::Failure;

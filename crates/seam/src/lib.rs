@@ -69,10 +69,10 @@ pub use mesh::{
     ZERO_AREA_RTOL,
 };
 pub use mortar::{
-    assemble, assemble_with_tree, face_integrals, face_quality, master_side, nodal_areas, nodal_normals, normal_gaps,
-    orientation_conflicts, warped_quad_degree, BasisTransformation, FaceQuality, FaceStats, Facing, MaxGap,
-    MasterSide, Mortar, MortarError, MortarOptions, MortarSummary, Multiplier, Segment, Transfer, BASIS_ALPHA,
-    COVERED_FRACTION, WARPED_RTOL,
+    assemble, assemble_with_tree, face_integrals, face_quality, master_side, nodal_areas, nodal_normals,
+    normal_gaps, orientation_conflicts, warped_quad_degree, BasisTransformation, FaceQuality, FaceStats,
+    Facing, MasterSide, MaxGap, Mortar, MortarError, MortarOptions, MortarSummary, Multiplier, Segment,
+    Transfer, BASIS_ALPHA, COVERED_FRACTION, WARPED_RTOL,
 };
 pub use quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};
 pub use search::{face_box, swept_box, FaceTree};

@@ -637,7 +637,12 @@ fn master_side_agrees_with_the_operator_of_the_other_side() {
     let lifted = |a: f64, z: f64| move |u: f64, v: f64| [a * u, v, z];
     let scenes = [
         // (target, source, gap, tolerance on the coverage, a fraction)
-        (patch(8, 8, Pattern::Quads, flat(1.0, 1.0)), patch(6, 6, jittered(2), lifted(0.55, 0.01)), 0.01, EXACT),
+        (
+            patch(8, 8, Pattern::Quads, flat(1.0, 1.0)),
+            patch(6, 6, jittered(2), lifted(0.55, 0.01)),
+            0.01,
+            EXACT,
+        ),
         (
             quadratic_patch(5, 5, Quadratic::Tri6, None, flat(1.0, 1.0)),
             quadratic_patch(4, 6, Quadratic::Quad9, None, lifted(0.6, -0.02)),
@@ -664,7 +669,10 @@ fn master_side_agrees_with_the_operator_of_the_other_side() {
             let side = seam::master_side(&reverse, source, target);
             for q in 0..target.n_points() {
                 let (a, b) = (side.coverage[q], consistent.node_coverage[q]);
-                assert!((a - b).abs() <= *tol, "scene {i}, {multiplier:?} node {q}: coverage {a} against {b}");
+                assert!(
+                    (a - b).abs() <= *tol,
+                    "scene {i}, {multiplier:?} node {q}: coverage {a} against {b}"
+                );
             }
             if *tol == EXACT {
                 assert_eq!(side.covered, consistent.covered, "{multiplier:?}");

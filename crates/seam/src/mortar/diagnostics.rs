@@ -65,7 +65,8 @@ pub fn nodal_areas(mesh: &SurfaceMesh) -> Vec<f64> {
         .into_par_iter()
         .map(|f| {
             if mesh.faces()[f].is_curved() {
-                let rule = crate::quadrature::triangle_rule(isoparametric::CURVED_LADDER[0].1).expect("tabulated degree");
+                let rule = crate::quadrature::triangle_rule(isoparametric::CURVED_LADDER[0].1)
+                    .expect("tabulated degree");
                 return isoparametric::face_integrals(&CurvedFace::of(mesh, f), &rule);
             }
             let e = FaceElement::of(mesh, f);
@@ -138,8 +139,9 @@ pub fn master_side(mortar: &Mortar, slave: &SurfaceMesh, master: &SurfaceMesh) -
         (a, c, m) = (q.mul_vec(&a, 1), q.mul_vec(&c, 3), q.mul_vec(&m, 1));
     }
     let used = master.used_points();
-    let coverage: Vec<f64> =
-        (0..m.len()).map(|q| if used[q] && m[q] > 0.0 { (a[q] / m[q]).clamp(0.0, 1.0) } else { 0.0 }).collect();
+    let coverage: Vec<f64> = (0..m.len())
+        .map(|q| if used[q] && m[q] > 0.0 { (a[q] / m[q]).clamp(0.0, 1.0) } else { 0.0 })
+        .collect();
     let covered: Vec<bool> = coverage.iter().map(|&f| f > COVERED_FRACTION).collect();
     let normals = nodal_normals(master);
     let normal_gaps = (0..m.len())

@@ -200,8 +200,8 @@ pub(super) fn into_mortar(
         .collect();
     let on_surface = slave.used_points();
     let mut covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
-    let basis =
-        (multiplier == Multiplier::Dual && transforms(slave, transformation)).then(|| basis_transformation(slave));
+    let basis = (multiplier == Multiplier::Dual && transforms(slave, transformation))
+        .then(|| basis_transformation(slave));
     if let Some(q) = &basis {
         // T = Qᵀ D⁻¹ B mixes the rows of the λ̃ around a node: it is covered
         // only when all of them are.
