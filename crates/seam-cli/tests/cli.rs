@@ -518,7 +518,7 @@ fn bench_transfer_prints_a_row_per_run_and_leaves_nothing_behind() {
     assert_eq!(rows.len(), 2, "{table}");
     for (row, multiplier) in rows.iter().zip(["dual", "standard"]) {
         let cells: Vec<&str> = row.split('|').map(str::trim).collect();
-        assert_eq!(&cells[1..6], ["400", &cells[2], "conservative", multiplier, "1"], "{row}");
+        assert_eq!(&cells[1..6], ["400", cells[2], "conservative", multiplier, "1"], "{row}");
         let seconds: Vec<f64> = cells[6..14].iter().map(|c| c.parse().unwrap()).collect();
         assert!(seconds.iter().all(|&t| t >= 0.0) && seconds[7] > 0.0, "{row}");
     }
