@@ -7,7 +7,7 @@ use crate::input::{check_finite, Surface};
 use crate::output::Staged;
 use crate::{Expression, Failure};
 use anyhow::{bail, Context};
-use seam::{assemble, normal_gaps, Mortar, MortarOptions, Multiplier};
+use seam::{assemble, normal_gaps_from, Mortar, MortarOptions, Multiplier};
 use seam_io::Field;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -153,13 +153,13 @@ struct TargetView {
 
 impl TargetView {
     /// The target as the operator's slave: its own coverage, the mortar
-    /// gaps n_p·((T x_m)_p − x_p), the largest gap and overlap of the point
+    /// gaps n_p·((T x_m)_p − x_p) from `transferred_points` = T x_m, the largest gap and overlap of the point
     /// pairs of the assembly.
-    fn of_slave(mortar: &Mortar, target: &Surface, source: &Surface, t: &seam::Transfer) -> TargetView {
+    fn of_slave(mortar: &Mortar, target: &Surface, transferred_points: &[f64]) -> TargetView {
         let s = &mortar.summary;
         TargetView {
             coverage: mortar.node_coverage.clone(),
-            gaps: normal_gaps(&target.mesh, &source.mesh, t, &mortar.covered),
+            gaps: normal_gaps_from(&target.mesh, transferred_points, &mortar.covered),
             area: s.slave_area,
             covered_area: s.covered_area,
             uncovered: s.uncovered_slave_nodes,
@@ -240,8 +240,21 @@ pub fn transfer_files(args: &Transfer) -> Result<Summary, Failure> {
     phases.assemble = clock.lap();
     let t = mortar.transfer().context("the transfer operator")?;
     phases.operator = clock.lap();
+    // Consistent: the field and the source's points in one application (the
+    // points give the target's normal gaps).
+    let mut points = None;
     let (transferred, totals) = match args.mode {
-        Mode::Consistent => (t.apply(&values, k), None),
+        Mode::Consistent => {
+            let xs = source.mesh.points();
+            let both: Vec<f64> = (0..xs.len())
+                .flat_map(|p| values[p * k..(p + 1) * k].iter().chain(&xs[p]))
+                .copied()
+                .collect();
+            let moved = t.apply(&both, k + 3);
+            let (field, at): (Vec<_>, Vec<_>) = moved.chunks_exact(k + 3).map(|c| c.split_at(k)).unzip();
+            points = Some(at.concat());
+            (field.concat(), None)
+        }
         Mode::Conservative => {
             let moved = t.apply_transpose(&masked(&values, k, &mortar.covered), k);
             let totals = (totals_of(&values, k), totals_of(&moved, k));
@@ -250,7 +263,7 @@ pub fn transfer_files(args: &Transfer) -> Result<Summary, Failure> {
     };
     phases.apply = clock.lap();
     let view = match args.mode {
-        Mode::Consistent => TargetView::of_slave(&mortar, &target, &source, &t),
+        Mode::Consistent => TargetView::of_slave(&mortar, &target, points.as_deref().unwrap_or_default()),
         Mode::Conservative => TargetView::of_master(&mortar, &source, &target),
     };
     let (l2_error, l2_relative) = match (&expression, args.mode) {

@@ -43,7 +43,12 @@ pub fn normal_gaps(
     covered: &[bool],
 ) -> Vec<f64> {
     let xm: Vec<f64> = master.points().iter().flat_map(|p| p.iter().copied()).collect();
-    let txm = transfer.apply(&xm, 3);
+    normal_gaps_from(slave, &transfer.apply(&xm, 3), covered)
+}
+
+/// [`normal_gaps`] from the master's points already transferred,
+/// `transferred` = T x_m (slave points × 3), e.g. along with a field.
+pub fn normal_gaps_from(slave: &SurfaceMesh, transferred: &[f64], covered: &[bool]) -> Vec<f64> {
     let normals = nodal_normals(slave);
     (0..slave.n_points())
         .map(|p| {
@@ -52,7 +57,8 @@ pub fn normal_gaps(
                 return f64::NAN;
             }
             let x = slave.points()[p];
-            dot(n, [txm[3 * p] - x[0], txm[3 * p + 1] - x[1], txm[3 * p + 2] - x[2]])
+            let t = &transferred[3 * p..3 * p + 3];
+            dot(n, [t[0] - x[0], t[1] - x[1], t[2] - x[2]])
         })
         .collect()
 }

@@ -25,8 +25,8 @@ mod rows;
 mod transfer;
 
 pub use diagnostics::{
-    face_quality, master_side, nodal_areas, nodal_normals, normal_gaps, orientation_conflicts, FaceQuality,
-    MasterSide,
+    face_quality, master_side, nodal_areas, nodal_normals, normal_gaps, normal_gaps_from,
+    orientation_conflicts, FaceQuality, MasterSide,
 };
 pub use multiplier::BASIS_ALPHA;
 pub use transfer::Transfer;

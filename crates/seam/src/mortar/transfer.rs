@@ -232,6 +232,7 @@ impl CoveredMass {
             1 => self.multiply_k::<1>(x, y),
             2 => self.multiply_k::<2>(x, y),
             3 => self.multiply_k::<3>(x, y),
+            4 => self.multiply_k::<4>(x, y),
             _ => {
                 for l in 0..k {
                     let xl: Vec<f64> = x.iter().skip(l).step_by(k).copied().collect();
