@@ -290,6 +290,9 @@ pub enum BenchShape {
     /// The quarter cylinder with Quad9 slave and Tri6 master faces.
     #[value(name = "cylinder-o2")]
     CylinderO2,
+    /// 30 × 30 slave quads over a fine master: the size is the number of
+    /// master faces.
+    CoarseSlave,
 }
 
 impl BenchShape {
@@ -298,6 +301,7 @@ impl BenchShape {
             BenchShape::Flat => "flat",
             BenchShape::Cylinder => "cylinder",
             BenchShape::CylinderO2 => "cylinder-o2",
+            BenchShape::CoarseSlave => "coarse-slave",
         }
     }
 }
@@ -307,7 +311,7 @@ pub struct BenchArgs {
     /// Surfaces.
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [BenchShape::Flat, BenchShape::Cylinder])]
     pub shapes: Vec<BenchShape>,
-    /// Approximate numbers of slave faces.
+    /// Approximate numbers of slave faces (of master faces for coarse-slave).
     #[arg(long, value_delimiter = ',', default_values_t = [10_000, 100_000, 1_000_000])]
     pub sizes: Vec<usize>,
     /// Thread counts.

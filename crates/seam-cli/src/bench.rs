@@ -42,6 +42,7 @@ pub fn run_case(args: &BenchCaseArgs) -> Result<(), Failure> {
         BenchShape::Flat => Shape::Flat,
         BenchShape::Cylinder => Shape::Cylinder,
         BenchShape::CylinderO2 => Shape::CylinderQuadratic,
+        BenchShape::CoarseSlave => Shape::CoarseSlave,
     };
     let row = pool.install(|| measure(shape, args.faces, args.threads))?;
     println!("{}", serde_json::to_string(&row).context("row")?);

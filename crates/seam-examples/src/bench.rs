@@ -23,6 +23,10 @@ pub enum Shape {
     /// The quarter cylinder with second-order faces: Quad9 slaves against
     /// jittered Tri6 masters, at the face counts of `Cylinder`.
     CylinderQuadratic,
+    /// 30 × 30 slave quads on the unit square over a fine master of jittered
+    /// triangles; the size is the number of master faces (the sweep of the
+    /// cost per master face against the faces behind each slave face).
+    CoarseSlave,
 }
 
 impl Shape {
@@ -32,14 +36,15 @@ impl Shape {
             Shape::Flat => "flat",
             Shape::Cylinder => "cylinder",
             Shape::CylinderQuadratic => "cylinder-o2",
+            Shape::CoarseSlave => "coarse-slave",
         }
     }
 }
 
 /// The table's header, two lines of Markdown.
 pub const HEADER: [&str; 2] = [
-    "| shape | slave faces | master faces | threads | candidate pairs | segments | covered | search s | assemble s | search+assemble s | slave faces/s | peak MB | extra B/face |",
-    "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    "| shape | slave faces | master faces | threads | candidate pairs | segments | covered | search s | assemble s | search+assemble s | slave faces/s | µs/master face | peak MB | extra B/face |",
+    "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
 ];
 
 /// One measured run (`seam bench-case` prints it as JSON).
@@ -77,7 +82,7 @@ impl Row {
         let r = self;
         let work = r.search + r.assemble;
         format!(
-            "| {} | {} | {} | {} | {} | {} | {:.6} | {:.3} | {:.3} | {:.3} | {:.0} | {:.0} | {:.0} |",
+            "| {} | {} | {} | {} | {} | {} | {:.6} | {:.3} | {:.3} | {:.3} | {:.0} | {:.3} | {:.0} | {:.0} |",
             r.shape,
             r.slave_faces,
             r.master_faces,
@@ -89,6 +94,7 @@ impl Row {
             r.assemble,
             work,
             r.slave_faces as f64 / work,
+            1e6 * work / r.master_faces as f64,
             r.peak_mb,
             r.extra_bytes_per_face
         )
@@ -99,7 +105,8 @@ const QUARTER: f64 = std::f64::consts::FRAC_PI_2;
 
 /// The meshes of one case: n × n slave quads (n² ≈ `faces`) and m × m cells of
 /// two jittered master triangles with m = n/√2, so h_m/h_s ≈ 1.41 and the face
-/// counts match.
+/// counts match; for [`Shape::CoarseSlave`] 30 × 30 slave quads and about
+/// `faces` master triangles.
 fn meshes(shape: Shape, faces: usize) -> (SurfaceMesh, SurfaceMesh) {
     let n = ((faces as f64).sqrt().round() as usize).max(1);
     let m = ((n as f64 / std::f64::consts::SQRT_2).round() as usize).max(1);
@@ -114,6 +121,10 @@ fn meshes(shape: Shape, faces: usize) -> (SurfaceMesh, SurfaceMesh) {
             quadratic_patch(m, m, Quadratic::Tri6, Some((0.2, 42)), cylinder(1.001, QUARTER, 1.0)),
             quadratic_patch(n, n, Quadratic::Quad9, None, cylinder(1.0, QUARTER, 1.0)),
         ),
+        Shape::CoarseSlave => {
+            let m = (((faces / 2) as f64).sqrt().round() as usize).max(1);
+            (patch(m, m, master, flat(1.0, 1.0)), patch(30, 30, Pattern::Quads, flat(1.0, 1.0)))
+        }
     }
 }
 
@@ -133,7 +144,7 @@ pub fn measure(shape: Shape, faces: usize, threads: usize) -> anyhow::Result<Row
     let search = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let options = match shape {
-        Shape::Flat => MortarOptions::default(),
+        Shape::Flat | Shape::CoarseSlave => MortarOptions::default(),
         // The gap of 0.001 is more than half a face at 1M faces: an absolute limit of
         // twice the gap.
         Shape::Cylinder | Shape::CylinderQuadratic => {

@@ -124,10 +124,15 @@ pub(super) struct Kernel<'a> {
 #[derive(Default)]
 pub(super) struct Scratch {
     candidates: Vec<usize>,
-    /// Master points touched by this slave face (the block's columns).
+    /// Master points touched by this slave face (the block's columns): one
+    /// per pair and master node while pairs are added, then merged.
     cols: Vec<usize>,
     /// Column-major n_s × |cols| block of B: `b[j * n_s + p]`.
     b: Vec<f64>,
+    /// The merge's order and output.
+    order: Vec<usize>,
+    merged_cols: Vec<usize>,
+    merged_b: Vec<f64>,
 }
 
 /// A slave face prepared for pairing: its element, frame and projection.
@@ -217,7 +222,7 @@ impl<'a> Kernel<'a> {
             self.flat_face(s, scratch, out, &mut d, &mut stats)
         };
         stats.area += full.iter().sum::<f64>();
-        sort_columns(&mut scratch.cols, &mut scratch.b, n_s);
+        scratch.merge_columns(n_s);
         let kind = crate::curved::CurvedKind::of(&self.slave.faces()[s]);
         let measures = FaceMeasures::new(kind, self.transform, &d, &full);
         let dual_fallback =
@@ -714,23 +719,9 @@ pub(super) fn edge_midpoints([a, b, c]: [[f64; 2]; 3]) -> [[f64; 2]; 3] {
     [mid(a, b), mid(b, c), mid(c, a)]
 }
 
-/// Sorts a face block's columns by master point (insertion sort: a dozen
-/// columns), so that the rows later merge sorted runs; columns have `n_s` rows.
-fn sort_columns(cols: &mut [usize], block: &mut [f64], n_s: usize) {
-    for i in 1..cols.len() {
-        let mut j = i;
-        while j > 0 && cols[j - 1] > cols[j] {
-            cols.swap(j - 1, j);
-            for p in 0..n_s {
-                block.swap((j - 1) * n_s + p, j * n_s + p);
-            }
-            j -= 1;
-        }
-    }
-}
-
-/// Adds a pair's n_s × n_m block `b` to the face's block (columns of `n_s`
-/// rows), one column per master point.
+/// Appends a pair's n_s × n_m block `b` to the face's block (columns of
+/// `n_s` rows), one column per master point; [`Scratch::merge_columns`] sums
+/// the columns of the same point.
 fn add_columns<const N: usize>(
     cols: &mut Vec<usize>,
     block: &mut Vec<f64>,
@@ -739,17 +730,36 @@ fn add_columns<const N: usize>(
     b: &[[f64; N]; N],
 ) {
     for (q, &node) in master_nodes.iter().enumerate() {
-        let j = match cols.iter().position(|&c| c == node) {
-            Some(j) => j,
-            None => {
-                cols.push(node);
-                block.extend(std::iter::repeat_n(0.0, n_s));
-                cols.len() - 1
+        cols.push(node);
+        block.extend((0..n_s).map(|p| b[p][q]));
+    }
+}
+
+impl Scratch {
+    /// Sorts the face block's columns by master point and sums the columns of
+    /// the same point, in the order the pairs added them (a stable sort: the
+    /// sums do not depend on it), so that the rows later merge sorted runs.
+    /// O(c log c) in the c columns: a coarse slave face over a fine master
+    /// has thousands.
+    fn merge_columns(&mut self, n_s: usize) {
+        self.order.clear();
+        self.order.extend(0..self.cols.len());
+        let cols = &self.cols;
+        self.order.sort_by_key(|&j| cols[j]);
+        self.merged_cols.clear();
+        self.merged_b.clear();
+        for &j in &self.order {
+            if self.merged_cols.last() != Some(&cols[j]) {
+                self.merged_cols.push(cols[j]);
+                self.merged_b.extend(std::iter::repeat_n(0.0, n_s));
             }
-        };
-        for p in 0..n_s {
-            block[j * n_s + p] += b[p][q];
+            let start = self.merged_b.len() - n_s;
+            for p in 0..n_s {
+                self.merged_b[start + p] += self.b[j * n_s + p];
+            }
         }
+        std::mem::swap(&mut self.cols, &mut self.merged_cols);
+        std::mem::swap(&mut self.b, &mut self.merged_b);
     }
 }
 
