@@ -149,6 +149,8 @@ struct SlaveFace {
     /// over area of its projection), taken as the ratio of the two areas so
     /// that pieces tiling the face add up to its area to round-off.
     area_ratio: Option<f64>,
+    /// ∫_e λ_p |J| over the whole face.
+    full: [f64; 4],
     frame: Frame,
     plane: PlaneFace,
     clipper: ConvexClipper,
@@ -252,8 +254,7 @@ impl<'a> Kernel<'a> {
             let nodes = self.master.faces()[m].nodes();
             scratch.add_pair(d, stats, n_s, nodes, (&pair.d, &pair.b), (pair.covered_area, pair.segments));
         }
-        let full = face_integrals(&sf.element, self.rules.select(&sf, sf.element.kind).degree);
-        std::array::from_fn(|p| if p < 4 { full[p] } else { 0.0 })
+        std::array::from_fn(|p| if p < 4 { sf.full[p] } else { 0.0 })
     }
 
     /// The general path ([`isoparametric`]): any pair with a curved face.
@@ -337,25 +338,27 @@ impl<'a> Kernel<'a> {
         let polygon = face_polygon(plane.corners());
         let h = element.diameter();
         let clipper = ConvexClipper::new(&polygon, CLIP_RTOL * h);
-        SlaveFace {
+        let plane_area = polygon_area(&polygon);
+        let mut sf = SlaveFace {
             warped_rule: (element.kind == FaceKind::Quad4 && element.warp() >= PLANAR_WARP)
                 .then(|| self.rules.fixed_warped.unwrap_or_else(|| rule(warped_quad_degree(&element)))),
             gap_tol: self.options.max_gap.at(h),
-            area_tol: AREA_RTOL * polygon_area(&polygon),
+            area_tol: AREA_RTOL * plane_area,
             jacobian: element.jacobian_field(),
             heights: element.x.map(|x| frame.height(x)),
             orientation: plane.orientation(),
-            area_ratio: match element.jacobian_field() {
-                JacobianField::Affine(_) => {
-                    Some(face_integrals(&element, 3).iter().sum::<f64>() / polygon_area(&polygon))
-                }
-                JacobianField::Norm(_) => None,
-            },
+            full: [0.0; 4],
+            area_ratio: None,
             element,
             frame,
             plane,
             clipper,
+        };
+        sf.full = face_integrals(&sf.element, self.rules.select(&sf, sf.element.kind).degree);
+        if let JacobianField::Affine(_) = sf.jacobian {
+            sf.area_ratio = Some(sf.full.iter().sum::<f64>() / plane_area);
         }
+        sf
     }
 
     /// (C1)–(C6) for the pair (slave face, master face `m`); `None` when the pair

@@ -319,10 +319,20 @@ fn sum_rows(
     CsrMatrix { nrows, ncols, indptr, indices, values }
 }
 
-/// Stable sort by column: the faces' runs are sorted. The standard library's
-/// stable sort works on the stack for rows of a few hundred entries and is
-/// O(n log n) for the thousands of columns a coarse slave face over a fine
-/// master brings (an insertion sort was quadratic there).
+/// Stable sort by column: the faces' runs are sorted. Rows of a few dozen
+/// entries by insertion; longer ones (the thousands of columns a coarse slave
+/// face over a fine master brings, where insertion was quadratic) by the
+/// standard library's stable sort, O(n log n). The order is the same.
 fn sort_by_column(v: &mut [(usize, f64)]) {
-    v.sort_by_key(|e| e.0);
+    if v.len() > 64 {
+        v.sort_by_key(|e| e.0);
+        return;
+    }
+    for i in 1..v.len() {
+        let mut j = i;
+        while j > 0 && v[j - 1].0 > v[j].0 {
+            v.swap(j - 1, j);
+            j -= 1;
+        }
+    }
 }
