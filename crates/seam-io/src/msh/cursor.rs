@@ -271,7 +271,7 @@ impl<'a> Cursor<'a> {
         Some((start, &self.bytes[start..self.pos]))
     }
 
-    fn ascii_value<T: FromStr>(&mut self, what: impl What) -> Result<T, MshError> {
+    fn ascii_value<T: Number>(&mut self, what: impl What) -> Result<T, MshError> {
         match self.token() {
             Some((at, token)) => parse_ascii(token).ok_or_else(|| self.parse_error(at, what(), quote(token))),
             None if self.pos >= self.bytes.len() => Err(self.truncated()),
@@ -289,6 +289,13 @@ impl<'a> Cursor<'a> {
     fn uint(&mut self, n: usize) -> Result<u64, MshError> {
         let big_endian = matches!(self.encoding, Encoding::Binary { big_endian: true, .. });
         let bytes = self.take(n)?;
+        if let Ok(word) = <[u8; 8]>::try_from(bytes) {
+            return Ok(if big_endian { u64::from_be_bytes(word) } else { u64::from_le_bytes(word) });
+        }
+        if let Ok(word) = <[u8; 4]>::try_from(bytes) {
+            let v = if big_endian { u32::from_be_bytes(word) } else { u32::from_le_bytes(word) };
+            return Ok(u64::from(v));
+        }
         let fold = |v: u64, &b: &u8| (v << 8) | u64::from(b);
         Ok(if big_endian { bytes.iter().fold(0, fold) } else { bytes.iter().rev().fold(0, fold) })
     }
@@ -309,7 +316,40 @@ impl<'a> Cursor<'a> {
     }
 }
 
-fn parse_ascii<T: FromStr>(token: &[u8]) -> Option<T> {
+/// A number type of ASCII MSH records.
+pub(crate) trait Number: FromStr {
+    /// `v` as `Self`, when it fits (`None` for floating-point types, which take
+    /// the general path).
+    fn from_digits(v: u64) -> Option<Self>;
+}
+
+impl Number for i32 {
+    fn from_digits(v: u64) -> Option<i32> {
+        i32::try_from(v).ok()
+    }
+}
+
+impl Number for u64 {
+    fn from_digits(v: u64) -> Option<u64> {
+        Some(v)
+    }
+}
+
+impl Number for f64 {
+    fn from_digits(_: u64) -> Option<f64> {
+        None
+    }
+}
+
+/// The number `token` spells (as `str::parse` reads it). Plain decimal
+/// integers of up to 18 digits, the usual tags and counts, are read directly.
+fn parse_ascii<T: Number>(token: &[u8]) -> Option<T> {
+    if !token.is_empty() && token.len() <= 18 && token.iter().all(u8::is_ascii_digit) {
+        let v = token.iter().fold(0u64, |v, &d| v * 10 + u64::from(d - b'0'));
+        if let Some(value) = T::from_digits(v) {
+            return Some(value);
+        }
+    }
     std::str::from_utf8(token).ok()?.parse().ok()
 }
 
