@@ -139,14 +139,11 @@ impl MshBuilder {
     /// Appends an element, resolving its node tags (the nodes must come first,
     /// as `$Nodes` precedes `$Elements`).
     pub fn add_element(&mut self, record: ElementRecord<'_>) -> Result<(), MshErrorKind> {
-        let nodes = record
-            .node_tags
-            .iter()
-            .map(|&node_tag| {
-                self.node_index(node_tag)
-                    .ok_or(MshErrorKind::UnknownNode { element_tag: record.tag, node_tag })
-            })
-            .collect::<Result<Vec<usize>, _>>()?;
+        let mut nodes = Vec::with_capacity(record.node_tags.len());
+        for &node_tag in record.node_tags {
+            let index = self.node_index(node_tag);
+            nodes.push(index.ok_or(MshErrorKind::UnknownNode { element_tag: record.tag, node_tag })?);
+        }
         let element = MshElement {
             tag: record.tag,
             gmsh_type: record.element_type.number,

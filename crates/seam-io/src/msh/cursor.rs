@@ -35,6 +35,10 @@ pub(crate) struct Cursor<'a> {
     section: String,
 }
 
+/// The lines of ASCII blocks that one thread parses at a time; shorter blocks
+/// are read value by value.
+pub(crate) const BLOCK_LINES: usize = 4096;
+
 /// A description of an expected value, built only when an error needs it.
 pub(crate) trait What: Fn() -> String {}
 impl<F: Fn() -> String> What for F {}
@@ -205,6 +209,66 @@ impl<'a> Cursor<'a> {
         self.line().unwrap_or((self.bytes.len(), b""))
     }
 
+    // ----- blocks of ASCII records ---------------------------------------------
+
+    /// The next `count` lines of an ASCII section, each parsed by `parse_line`
+    /// (which appends what the line holds to its vector, or fails), with the
+    /// offset of each line; the cursor moves past them. `None`, with the cursor
+    /// where it was, if the block is short (fewer than [`BLOCK_LINES`] lines:
+    /// not worth it), binary, or if any line fails: the caller then reads the
+    /// block value by value, which finds the first problem and reports it as
+    /// usual. Long blocks are parsed by several threads; the result does not
+    /// depend on how many.
+    pub fn ascii_block<V: Send>(
+        &mut self,
+        count: u64,
+        parse_line: impl Fn(&[u8], &mut Vec<V>) -> Option<()> + Sync,
+    ) -> Option<(Vec<V>, Vec<usize>)> {
+        if self.encoding != Encoding::Ascii || count < BLOCK_LINES as u64 {
+            return None;
+        }
+        let count = usize::try_from(count).ok()?;
+        let rest = self.bytes.get(self.pos..)?;
+        // Every line takes at least 2 bytes: no room, no block.
+        if count.checked_mul(2)? > rest.len() + 1 {
+            return None;
+        }
+        let mut starts = Vec::with_capacity(count + 1);
+        starts.push(self.pos);
+        for end in memchr::memchr_iter(b'\n', rest).take(count) {
+            starts.push(self.pos + end + 1);
+        }
+        if starts.len() < count {
+            return None;
+        }
+        if starts.len() == count {
+            // The last line ends the file without a line break.
+            starts.push(self.bytes.len() + 1);
+        }
+        let bytes = self.bytes;
+        let parse_lines = |first: usize, lines: &[usize]| -> Option<Vec<V>> {
+            let mut values = Vec::with_capacity(lines.len());
+            let mut start = first;
+            for &next in lines {
+                parse_line(bytes.get(start..next - 1)?, &mut values)?;
+                start = next;
+            }
+            Some(values)
+        };
+        use rayon::prelude::*;
+        let ends = starts.get(1..)?;
+        let chunks: Vec<Vec<V>> = ends
+            .par_chunks(BLOCK_LINES)
+            .enumerate()
+            .map(|(k, lines)| parse_lines(starts[k * BLOCK_LINES], lines))
+            .collect::<Option<_>>()?;
+        let mut values = Vec::with_capacity(chunks.iter().map(Vec::len).sum());
+        chunks.into_iter().for_each(|chunk| values.extend(chunk));
+        self.pos = ends.last().map_or(self.pos, |&end| end.min(self.bytes.len()));
+        starts.truncate(count);
+        Some((values, starts))
+    }
+
     // ----- values ---------------------------------------------------------------
 
     /// A C `int`.
@@ -351,6 +415,16 @@ fn parse_ascii<T: Number>(token: &[u8]) -> Option<T> {
         }
     }
     std::str::from_utf8(token).ok()?.parse().ok()
+}
+
+/// The tokens of an ASCII line.
+pub(crate) fn tokens(line: &[u8]) -> impl Iterator<Item = &[u8]> {
+    line.split(u8::is_ascii_whitespace).filter(|t| !t.is_empty())
+}
+
+/// The number `token` spells, as the cursor reads it (public to the section readers).
+pub(crate) fn number<T: Number>(token: &[u8]) -> Option<T> {
+    parse_ascii(token)
 }
 
 /// `bytes` without leading and trailing whitespace.

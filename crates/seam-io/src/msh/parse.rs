@@ -5,8 +5,10 @@
 
 use std::collections::HashMap;
 
+use seam::Point3;
+
 use super::builder::{ElementRecord, MshBuilder};
-use super::cursor::{quote, trim, Cursor};
+use super::cursor::{number as parse_number, quote, tokens, trim, Cursor};
 use super::element_types::{element_type, ElementType};
 use super::{Msh, MshError, MshErrorKind, MshFormat, MshVersion, NodeData, PhysicalName};
 
@@ -168,6 +170,20 @@ impl Parser<'_> {
     fn read_nodes_v2(&mut self) -> Result<(), MshError> {
         let count = self.cur.text(|cur| read_count(cur, "the number of nodes"))?;
         self.msh.reserve_nodes(self.cur.capacity(count, 8));
+        // Long ASCII blocks of well-formed records at once (in parallel); any
+        // other block record by record.
+        let block = self.cur.ascii_block(count, |line, nodes: &mut Vec<(u64, Point3)>| {
+            let mut tokens = tokens(line);
+            let tag = parse_number::<u64>(tokens.next()?)?;
+            nodes.push((tag, coordinates(&mut tokens, 0)?));
+            Some(())
+        });
+        if let Some((nodes, starts)) = block {
+            for ((tag, xyz), at) in nodes.into_iter().zip(starts) {
+                self.msh.add_node(tag, xyz).map_err(|kind| self.cur.error(at, kind))?;
+            }
+            return Ok(());
+        }
         for _ in 0..count {
             let at = self.cur.pos();
             let tag = self.cur.int_tag(|| "a node tag".into())?;
@@ -207,11 +223,34 @@ impl Parser<'_> {
                 ));
             }
         };
-        let mut tags = Vec::with_capacity(cur.capacity(count, 2));
-        for _ in 0..count {
-            let at = cur.pos();
-            tags.push((at, cur.size(|| format!("a node tag of entity ({dim}, {entity})"))?));
-            cur.end_record(|| "a node tag".into())?;
+        // Long ASCII blocks of well-formed records at once (in parallel); any
+        // other block record by record.
+        let block = cur.ascii_block(count, |line, tags: &mut Vec<u64>| {
+            let mut tokens = tokens(line);
+            tags.push(parse_number(tokens.next()?)?);
+            tokens.next().is_none().then_some(())
+        });
+        let tags = match block {
+            Some((tags, starts)) => starts.into_iter().zip(tags).collect(),
+            None => {
+                let mut tags = Vec::with_capacity(cur.capacity(count, 2));
+                for _ in 0..count {
+                    let at = cur.pos();
+                    tags.push((at, cur.size(|| format!("a node tag of entity ({dim}, {entity})"))?));
+                    cur.end_record(|| "a node tag".into())?;
+                }
+                tags
+            }
+        };
+        let block = cur.ascii_block(count, |line, points: &mut Vec<Point3>| {
+            points.push(coordinates(&mut tokens(line), n_parametric)?);
+            Some(())
+        });
+        if let Some((points, _)) = block {
+            for ((at, tag), xyz) in tags.into_iter().zip(points) {
+                self.msh.add_node(tag, xyz).map_err(|kind| self.cur.error(at, kind))?;
+            }
+            return Ok(());
         }
         for (at, tag) in tags {
             self.read_node(at, tag, n_parametric)?;
@@ -259,6 +298,28 @@ impl Parser<'_> {
         let element_type =
             known_type(cur, at, number, || format!("the element block of entity ({dim}, {entity})"))?;
         let physical_tags = self.entity_physicals.get(&(dim, entity)).cloned().unwrap_or_default();
+        // Long ASCII blocks of well-formed records at once (in parallel); any
+        // other block record by record.
+        let per_line = element_type.nodes + 1;
+        let block = cur.ascii_block(count, |line, values: &mut Vec<u64>| {
+            let before = values.len();
+            for token in tokens(line) {
+                if values.len() - before == per_line {
+                    return None;
+                }
+                values.push(parse_number(token)?);
+            }
+            (values.len() - before == per_line).then_some(())
+        });
+        if let Some((values, starts)) = block {
+            for (record, at) in values.chunks_exact(per_line).zip(starts) {
+                let (&tag, node_tags) = record.split_first().unwrap_or((&0, &[]));
+                let record =
+                    ElementRecord { tag, element_type, entity, physical_tags: &physical_tags, node_tags };
+                self.msh.add_element(record).map_err(|kind| self.cur.error(at, kind))?;
+            }
+            return Ok(());
+        }
         let mut node_tags = Vec::with_capacity(element_type.nodes);
         for _ in 0..count {
             let cur = &mut self.cur;
@@ -368,6 +429,21 @@ impl Parser<'_> {
         self.msh.add_node_data(NodeData { name, time_step: header.time_step, components, values });
         Ok(())
     }
+}
+
+/// The 3 finite coordinates, then `n_parametric` numbers, that end an ASCII
+/// node record (as [`Parser::read_node`] reads them); `None` if the record is
+/// anything else.
+fn coordinates<'t>(tokens: &mut impl Iterator<Item = &'t [u8]>, n_parametric: usize) -> Option<Point3> {
+    let mut xyz = [0.0; 3];
+    for x in &mut xyz {
+        *x = parse_number::<f64>(tokens.next()?)?;
+    }
+    for _ in 0..n_parametric {
+        parse_number::<f64>(tokens.next()?)?;
+    }
+    let finite = xyz.iter().all(|x| x.is_finite());
+    (finite && tokens.next().is_none()).then_some(xyz)
 }
 
 /// A count alone on its line.
