@@ -85,7 +85,7 @@ pub(super) enum Raw {
 
 /// What a data array is decoded into: `f64` (fields, points) or `u64` (cell
 /// connectivity, offsets and types).
-pub(super) trait Number: Sized {
+pub(super) trait Number: Sized + Send {
     /// `raw` as `Self`, if it is one.
     fn from_raw(raw: Raw) -> Option<Self>;
 
@@ -526,34 +526,92 @@ pub(super) fn from_bytes<T: Number>(bytes: &[u8], ty: Scalar, big_endian: bool) 
     Ok(values)
 }
 
+/// ASCII data is parsed in pieces of about this many bytes, in parallel.
+const ASCII_PIECE: usize = 1 << 18;
+
+/// Why a value of an ASCII array is wrong.
+enum Bad<'t> {
+    /// The token is not a number of the array's type.
+    NotANumber(&'t [u8]),
+    /// The number is not a `T`.
+    Not(Raw),
+}
+
 /// The `count` whitespace-separated numbers of type `ty` in `text`, as `T`.
 /// Integer types take integers in their range; `Float32` values are parsed as
 /// `f32` (as a binary file would hold them).
+///
+/// Long text is cut at whitespace into pieces (where depends on its length
+/// only) that are parsed in parallel; the first error in text order is
+/// reported, as if the values were read one by one.
 pub(super) fn parse_ascii<T: Number>(text: &[u8], ty: Scalar, count: usize) -> Result<Vec<T>, String> {
+    let mut cuts = vec![0];
+    let n_pieces = text.len() / ASCII_PIECE + 1;
+    for k in 1..n_pieces {
+        let from = (k * ASCII_PIECE).max(cuts.last().copied().unwrap_or(0));
+        let cut = text.get(from..).and_then(|t| t.iter().position(u8::is_ascii_whitespace)).map(|i| from + i);
+        cuts.push(cut.unwrap_or(text.len()));
+    }
+    cuts.push(text.len());
+    let piece = |k: usize| text.get(cuts[k]..cuts[k + 1]).unwrap_or_default();
+    let parsed: Vec<Result<Vec<T>, (usize, Bad<'_>)>> = if n_pieces > 1 {
+        use rayon::prelude::*;
+        (0..n_pieces).into_par_iter().map(|k| parse_piece(piece(k), ty)).collect()
+    } else {
+        vec![parse_piece(text, ty)]
+    };
     // A value takes at least 2 characters with its separator.
     let mut values = Vec::with_capacity(count.min(text.len() / 2 + 1));
-    for token in text.split(u8::is_ascii_whitespace).filter(|t| !t.is_empty()) {
-        if values.len() == count {
+    for result in parsed {
+        let (ok, bad) = match result {
+            Ok(ok) => (ok, None),
+            Err((j, bad)) => (Vec::new(), Some((values.len() + j, bad))),
+        };
+        // The value after the last expected one comes first.
+        if values.len() + ok.len() > count || bad.as_ref().is_some_and(|(i, _)| *i >= count) {
             return Err(format!("more than the {count} values expected"));
         }
-        let shown = || String::from_utf8_lossy(token.get(..24).unwrap_or(token)).into_owned();
-        let word = std::str::from_utf8(token).ok();
-        let raw = match (ty.int_range(), ty) {
-            (Some((min, max)), _) => {
-                word.and_then(|w| w.parse::<i128>().ok()).filter(|v| (min..=max).contains(v)).map(Raw::Int)
+        match bad {
+            Some((i, Bad::NotANumber(token))) => {
+                let shown = String::from_utf8_lossy(token.get(..24).unwrap_or(token)).into_owned();
+                return Err(format!("value {i} {shown:?} is not a {ty:?} number"));
             }
-            (None, Scalar::Float32) => word.and_then(|w| w.parse::<f32>().ok()).map(|v| Raw::Float(v.into())),
-            (None, _) => word.and_then(|w| w.parse::<f64>().ok()).map(Raw::Float),
-        };
-        let raw =
-            raw.ok_or_else(|| format!("value {} {:?} is not a {ty:?} number", values.len(), shown()))?;
-        let i = values.len();
-        values.push(T::from_raw(raw).ok_or_else(|| format!("value {i} is {}, not an index", describe(raw)))?);
+            Some((i, Bad::Not(raw))) => return Err(format!("value {i} is {}, not an index", describe(raw))),
+            None => values.extend(ok),
+        }
     }
     if values.len() != count {
         return Err(format!("{} values, expected {count}", values.len()));
     }
     Ok(values)
+}
+
+/// The numbers of type `ty` in `text`, as `T`; the first bad one (its index
+/// in `text`).
+fn parse_piece<T: Number>(text: &[u8], ty: Scalar) -> Result<Vec<T>, (usize, Bad<'_>)> {
+    let mut values = Vec::with_capacity(text.len() / 8);
+    for token in text.split(u8::is_ascii_whitespace).filter(|t| !t.is_empty()) {
+        let raw = match (ty.int_range(), ty) {
+            (Some((min, max)), _) => integer(token).filter(|v| (min..=max).contains(v)).map(Raw::Int),
+            (None, Scalar::Float32) => {
+                let word = std::str::from_utf8(token).ok();
+                word.and_then(|w| w.parse::<f32>().ok()).map(|v| Raw::Float(v.into()))
+            }
+            (None, _) => std::str::from_utf8(token).ok().and_then(|w| w.parse::<f64>().ok()).map(Raw::Float),
+        };
+        let raw = raw.ok_or((values.len(), Bad::NotANumber(token)))?;
+        values.push(T::from_raw(raw).ok_or((values.len(), Bad::Not(raw)))?);
+    }
+    Ok(values)
+}
+
+/// The integer `token` spells, as `str::parse::<i128>` reads it (plain digits
+/// read directly).
+fn integer(token: &[u8]) -> Option<i128> {
+    if token.len() <= 18 && token.iter().all(u8::is_ascii_digit) && !token.is_empty() {
+        return Some(token.iter().fold(0i128, |v, &d| v * 10 + i128::from(d - b'0')));
+    }
+    std::str::from_utf8(token).ok()?.parse::<i128>().ok()
 }
 
 #[cfg(test)]
@@ -715,6 +773,39 @@ mod tests {
             parse_ascii::<f64>(b"1 2", Scalar::Int8, 1).unwrap_err(),
             "more than the 1 values expected"
         );
+    }
+
+    #[test]
+    fn long_ascii_arrays_report_the_first_error_in_text_order() {
+        let n = 3 * ASCII_PIECE / 7;
+        let text: String = (0..n).map(|i| format!("{i} ")).collect();
+        let values = parse_ascii::<u64>(text.as_bytes(), Scalar::Int64, n).unwrap();
+        assert!(values.iter().enumerate().all(|(i, &v)| v == i as u64));
+        let floats = parse_ascii::<f64>(text.as_bytes(), Scalar::Float64, n).unwrap();
+        assert!(floats.iter().enumerate().all(|(i, &v)| v == i as f64));
+        assert_eq!(
+            parse_ascii::<u64>(text.as_bytes(), Scalar::Int64, n - 1).unwrap_err(),
+            format!("more than the {} values expected", n - 1)
+        );
+        assert_eq!(
+            parse_ascii::<u64>(text.as_bytes(), Scalar::Int64, n + 1).unwrap_err(),
+            format!("{n} values, expected {}", n + 1)
+        );
+        // Errors in several pieces: the first one.
+        let bad = text.replace(" 200000 ", " -5 ").replace(" 20000 ", " x ").replace(" 200 ", " -1 ");
+        let e = parse_ascii::<u64>(bad.as_bytes(), Scalar::Int64, n).unwrap_err();
+        assert_eq!(e, "value 200 is -1, not an index");
+        let bad = text.replace(" 200000 ", " -5 ").replace(" 20000 ", " x ");
+        let e = parse_ascii::<u64>(bad.as_bytes(), Scalar::Int64, n).unwrap_err();
+        assert_eq!(e, "value 20000 \"x\" is not a Int64 number");
+        // Past the expected count before a bad value: too many values.
+        let e = parse_ascii::<u64>(bad.as_bytes(), Scalar::Int64, 100).unwrap_err();
+        assert_eq!(e, "more than the 100 values expected");
+        let e = parse_ascii::<u64>(bad.as_bytes(), Scalar::Int64, 20000).unwrap_err();
+        assert_eq!(e, "more than the 20000 values expected");
+        let e = parse_ascii::<u64>(bad.as_bytes(), Scalar::Int64, 20001).unwrap_err();
+        assert_eq!(e, "value 20000 \"x\" is not a Int64 number");
+        assert_eq!(parse_ascii::<u64>(b"+7 -0 007", Scalar::Int8, 3).unwrap(), [7, 0, 7]);
     }
 
     #[test]
