@@ -3,12 +3,15 @@
 //! ```text
 //! cargo run --release -p seam-io --example read_speed [-- QUAD_SIDE TRI_SIDE]
 //! RAYON_NUM_THREADS=1 cargo run --release -p seam-io --example read_speed
+//! READ_SPEED_RUNS=7 READ_SPEED_ONLY="MSH 4.1" cargo run --release -p seam-io --example read_speed
 //! ```
 //!
 //! Generates a `QUAD_SIDE²`-quad flat patch (default 448: 200 704 quads) and a
 //! `2·TRI_SIDE²`-triangle jittered one (default 345: 238 050 triangles), each
 //! with a scalar point field, writes each in every form below to a temporary
-//! directory, then times reading it (best of 3) and prints a Markdown table.
+//! directory, then times reading it (best of 3, or of `READ_SPEED_RUNS`; only the
+//! forms whose name contains `READ_SPEED_ONLY`) and prints a Markdown table.
+//! With `READ_SPEED_DIR` set, the files are written there and kept.
 //! The `check` column is a hash of what was read (points, faces, field values),
 //! the same for every form of a mesh and unchanged by the reader's speed-ups.
 //!
@@ -30,18 +33,22 @@ use seam_io::{read_msh_file, read_surface_file, read_vtu_file, write_msh_file, w
 
 fn main() {
     let args: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
+    let runs = std::env::var("READ_SPEED_RUNS").ok().and_then(|r| r.parse().ok()).unwrap_or(3);
+    let only = std::env::var("READ_SPEED_ONLY").unwrap_or_default();
     let quad_side = args.first().copied().unwrap_or(448);
     let tri_side = args.get(1).copied().unwrap_or(345);
-    let dir = tempfile::tempdir().expect("a temporary directory");
+    let temp = tempfile::tempdir().expect("a temporary directory");
+    let keep = std::env::var_os("READ_SPEED_DIR").map(PathBuf::from);
+    let dir = keep.as_deref().unwrap_or(temp.path());
     let threads = rayon::current_num_threads();
     println!("rayon threads: {threads}\n");
     println!("| mesh | form | size MB | read s | MB/s | surface s | check |");
     println!("|---|---|---:|---:|---:|---:|---|");
     let quads = patch(quad_side, quad_side, Pattern::Quads, flat(1.0, 1.0));
-    run(dir.path(), &format!("{} quads", quads.n_faces()), &quads);
+    run(dir, &format!("{} quads", quads.n_faces()), &quads, runs, &only);
     let tris =
         patch(tri_side, tri_side, Pattern::JitteredTriangles { amplitude: 0.2, seed: 42 }, flat(1.0, 1.0));
-    run(dir.path(), &format!("{} triangles", tris.n_faces()), &tris);
+    run(dir, &format!("{} triangles", tris.n_faces()), &tris, runs, &only);
 }
 
 /// A point field with varied, non-round values.
@@ -49,8 +56,10 @@ fn field(mesh: &SurfaceMesh) -> Vec<f64> {
     mesh.points().iter().map(|p| (3.0 * p[0]).sin() * (2.0 * p[1]).cos() + 0.1 * p[0]).collect()
 }
 
-fn run(dir: &Path, label: &str, mesh: &SurfaceMesh) {
+fn run(dir: &Path, label: &str, mesh: &SurfaceMesh, runs: usize, only: &str) {
     let u = field(mesh);
+    let dir = dir.join(label.replace(' ', "_"));
+    std::fs::create_dir_all(&dir).expect("a directory");
     let files: Vec<(&str, PathBuf)> = vec![
         ("VTU inline base64", dir.join("b64.vtu")),
         ("VTU appended raw", dir.join("raw.vtu")),
@@ -70,15 +79,15 @@ fn run(dir: &Path, label: &str, mesh: &SurfaceMesh) {
     std::fs::write(&files[4].1, v41).expect("written");
     std::fs::write(&files[5].1, msh22(mesh, &u, true)).expect("written");
     std::fs::write(&files[6].1, msh22(mesh, &u, false)).expect("written");
-    for (form, path) in &files {
+    for (form, path) in files.iter().filter(|(form, _)| form.contains(only)) {
         let mb = std::fs::metadata(path).expect("a file").len() as f64 / 1e6;
         let (read, surface, check) = if form.starts_with("VTU") {
-            let (t, read) = best_of_3(|| read_vtu_file(path).expect("VTU read"));
+            let (t, read) = best_of(runs, || read_vtu_file(path).expect("VTU read"));
             let field = read.point_field("u").map(|f| f.values.as_slice()).unwrap_or_default();
             (t, None, check(&read.mesh, field))
         } else {
-            let (t, msh) = best_of_3(|| read_msh_file(path).expect("MSH read"));
-            let (ts, surface) = best_of_3(|| read_surface_file(path, None).expect("surface read"));
+            let (t, msh) = best_of(runs, || read_msh_file(path).expect("MSH read"));
+            let (ts, surface) = best_of(runs, || read_surface_file(path, None).expect("surface read"));
             let field = msh.node_data("u").map(|f| f.values.as_slice()).unwrap_or_default();
             (t, Some(ts), check(&surface, field))
         };
@@ -87,11 +96,11 @@ fn run(dir: &Path, label: &str, mesh: &SurfaceMesh) {
     }
 }
 
-/// The best time of 3 runs of `f`, and its result.
-fn best_of_3<T>(f: impl Fn() -> T) -> (f64, T) {
+/// The best time of `runs` runs of `f`, and its result.
+fn best_of<T>(runs: usize, f: impl Fn() -> T) -> (f64, T) {
     let mut best = f64::INFINITY;
     let mut out = None;
-    for _ in 0..3 {
+    for _ in 0..runs.max(1) {
         let start = Instant::now();
         let value = f();
         best = best.min(start.elapsed().as_secs_f64());

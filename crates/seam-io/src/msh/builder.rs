@@ -115,6 +115,11 @@ impl MshBuilder {
         }
     }
 
+    /// Makes room for `additional` more elements.
+    pub fn reserve_elements(&mut self, additional: usize) {
+        self.msh.elements.reserve(additional);
+    }
+
     /// Appends a node.
     pub fn add_node(&mut self, tag: u64, xyz: Point3) -> Result<(), MshErrorKind> {
         let index = self.msh.nodes.len();

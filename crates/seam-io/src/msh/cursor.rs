@@ -209,6 +209,48 @@ impl<'a> Cursor<'a> {
         self.line().unwrap_or((self.bytes.len(), b""))
     }
 
+    // ----- blocks of binary records ----------------------------------------------
+
+    /// `sizeof(size_t)` of a binary section; `None` in ASCII.
+    pub fn size_bytes(&self) -> Option<usize> {
+        match self.encoding {
+            Encoding::Binary { size_bytes, .. } => Some(size_bytes),
+            Encoding::Ascii => None,
+        }
+    }
+
+    /// In a binary section, the next `count` records of `record` bytes each,
+    /// with their offset, if all are present (the cursor moves past them).
+    /// `None`, with the cursor where it was, in ASCII or if the file ends
+    /// before: the caller then reads them value by value, which reports where
+    /// the data ends.
+    pub fn binary_block(&mut self, count: u64, record: usize) -> Option<(usize, &'a [u8])> {
+        self.size_bytes()?;
+        let n = usize::try_from(count).ok()?.checked_mul(record)?;
+        let at = self.pos;
+        let block = self.bytes.get(at..at.checked_add(n)?)?;
+        self.pos = at + n;
+        Some((at, block))
+    }
+
+    /// An unsigned integer of 4 or 8 bytes of a binary block, in the file's
+    /// byte order (as [`Cursor::int`] and [`Cursor::size`] read them).
+    pub fn word(&self, bytes: &[u8]) -> u64 {
+        let big_endian = matches!(self.encoding, Encoding::Binary { big_endian: true, .. });
+        if let Ok(word) = <[u8; 8]>::try_from(bytes) {
+            return if big_endian { u64::from_be_bytes(word) } else { u64::from_le_bytes(word) };
+        }
+        if let Ok(word) = <[u8; 4]>::try_from(bytes) {
+            return u64::from(if big_endian { u32::from_be_bytes(word) } else { u32::from_le_bytes(word) });
+        }
+        let fold = |v: u64, &b: &u8| (v << 8) | u64::from(b);
+        if big_endian {
+            bytes.iter().fold(0, fold)
+        } else {
+            bytes.iter().rev().fold(0, fold)
+        }
+    }
+
     // ----- blocks of ASCII records ---------------------------------------------
 
     /// The next `count` lines of an ASCII section, each parsed by `parse_line`
@@ -351,17 +393,8 @@ impl<'a> Cursor<'a> {
 
     /// An unsigned binary integer of `n` ≤ 8 bytes in the file's byte order.
     fn uint(&mut self, n: usize) -> Result<u64, MshError> {
-        let big_endian = matches!(self.encoding, Encoding::Binary { big_endian: true, .. });
         let bytes = self.take(n)?;
-        if let Ok(word) = <[u8; 8]>::try_from(bytes) {
-            return Ok(if big_endian { u64::from_be_bytes(word) } else { u64::from_le_bytes(word) });
-        }
-        if let Ok(word) = <[u8; 4]>::try_from(bytes) {
-            let v = if big_endian { u32::from_be_bytes(word) } else { u32::from_le_bytes(word) };
-            return Ok(u64::from(v));
-        }
-        let fold = |v: u64, &b: &u8| (v << 8) | u64::from(b);
-        Ok(if big_endian { bytes.iter().fold(0, fold) } else { bytes.iter().rev().fold(0, fold) })
+        Ok(self.word(bytes))
     }
 
     /// The next `n` raw bytes.
