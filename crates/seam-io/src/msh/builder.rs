@@ -21,7 +21,72 @@ pub(crate) struct ElementRecord<'r> {
 /// An [`Msh`] under construction.
 pub(crate) struct MshBuilder {
     msh: Msh,
-    index_of_tag: HashMap<u64, usize>,
+    index_of_tag: TagIndex,
+}
+
+/// Node tag → 0-based index. Gmsh numbers nodes 1..=n (or nearly so), so the
+/// map is a table indexed by tag while the tags stay below twice the number of
+/// nodes (plus a little): no hashing, and memory within a small multiple of the
+/// nodes read. A larger tag moves every entry to a `HashMap` (SipHash, whose
+/// cost does not depend on what tags a hostile file picks).
+enum TagIndex {
+    /// `table[tag]` is the index of node `tag`, or [`NO_NODE`].
+    Table(Vec<usize>),
+    Map(HashMap<u64, usize>),
+}
+
+const NO_NODE: usize = usize::MAX;
+
+impl TagIndex {
+    /// The largest table for `n` nodes.
+    fn table_limit(n: usize) -> usize {
+        n.saturating_mul(2).saturating_add(1024)
+    }
+
+    fn get(&self, tag: u64) -> Option<usize> {
+        match self {
+            TagIndex::Table(table) => {
+                let i = usize::try_from(tag).ok()?;
+                table.get(i).copied().filter(|&index| index != NO_NODE)
+            }
+            TagIndex::Map(map) => map.get(&tag).copied(),
+        }
+    }
+
+    /// Records `tag → index` (`index` is the number of nodes before it); false
+    /// if the tag is already there.
+    fn insert(&mut self, tag: u64, index: usize) -> bool {
+        let table = match self {
+            TagIndex::Map(map) => return map.insert(tag, index).is_none(),
+            TagIndex::Table(table) => table,
+        };
+        let limit = Self::table_limit(index + 1);
+        match usize::try_from(tag) {
+            Ok(i) if i < limit => {
+                if i >= table.len() {
+                    table.resize((i + 1).max(table.len().saturating_mul(2)).min(limit), NO_NODE);
+                }
+                match table.get_mut(i) {
+                    Some(slot) if *slot == NO_NODE => {
+                        *slot = index;
+                        true
+                    }
+                    _ => false,
+                }
+            }
+            _ => {
+                let mut map = HashMap::with_capacity(index + 1);
+                for (t, &n) in table.iter().enumerate() {
+                    if n != NO_NODE {
+                        map.insert(t as u64, n);
+                    }
+                }
+                map.insert(tag, index);
+                *self = TagIndex::Map(map);
+                true
+            }
+        }
+    }
 }
 
 impl MshBuilder {
@@ -35,20 +100,30 @@ impl MshBuilder {
             physical_names: Vec::new(),
             node_data: Vec::new(),
         };
-        MshBuilder { msh, index_of_tag: HashMap::new() }
+        MshBuilder { msh, index_of_tag: TagIndex::Table(Vec::new()) }
     }
 
     /// Makes room for `additional` more nodes.
     pub fn reserve_nodes(&mut self, additional: usize) {
         self.msh.nodes.reserve(additional);
         self.msh.node_tags.reserve(additional);
-        self.index_of_tag.reserve(additional);
+        let total = self.msh.nodes.len().saturating_add(additional);
+        match &mut self.index_of_tag {
+            // Tags 1..=n need n + 1 entries.
+            TagIndex::Table(table) => table.reserve((total + 1).saturating_sub(table.len())),
+            TagIndex::Map(map) => map.reserve(additional),
+        }
+    }
+
+    /// Makes room for `additional` more elements.
+    pub fn reserve_elements(&mut self, additional: usize) {
+        self.msh.elements.reserve(additional);
     }
 
     /// Appends a node.
     pub fn add_node(&mut self, tag: u64, xyz: Point3) -> Result<(), MshErrorKind> {
         let index = self.msh.nodes.len();
-        if self.index_of_tag.insert(tag, index).is_some() {
+        if !self.index_of_tag.insert(tag, index) {
             return Err(MshErrorKind::DuplicateNode { node_tag: tag });
         }
         self.msh.nodes.push(xyz);
@@ -63,20 +138,17 @@ impl MshBuilder {
 
     /// The 0-based index of the node with this tag.
     pub fn node_index(&self, tag: u64) -> Option<usize> {
-        self.index_of_tag.get(&tag).copied()
+        self.index_of_tag.get(tag)
     }
 
     /// Appends an element, resolving its node tags (the nodes must come first,
     /// as `$Nodes` precedes `$Elements`).
     pub fn add_element(&mut self, record: ElementRecord<'_>) -> Result<(), MshErrorKind> {
-        let nodes = record
-            .node_tags
-            .iter()
-            .map(|&node_tag| {
-                self.node_index(node_tag)
-                    .ok_or(MshErrorKind::UnknownNode { element_tag: record.tag, node_tag })
-            })
-            .collect::<Result<Vec<usize>, _>>()?;
+        let mut nodes = Vec::with_capacity(record.node_tags.len());
+        for &node_tag in record.node_tags {
+            let index = self.node_index(node_tag);
+            nodes.push(index.ok_or(MshErrorKind::UnknownNode { element_tag: record.tag, node_tag })?);
+        }
         let element = MshElement {
             tag: record.tag,
             gmsh_type: record.element_type.number,
@@ -165,6 +237,22 @@ mod tests {
         assert!(matches!(e, MshErrorKind::UnknownNode { element_tag: 5, node_tag: 40 }));
         let e = b.add_node(20, [0.0; 3]).unwrap_err();
         assert!(matches!(e, MshErrorKind::DuplicateNode { node_tag: 20 }));
+    }
+
+    #[test]
+    fn sparse_tags_move_the_index_to_a_map() {
+        let mut b = MshBuilder::new(MshFormat { version: MshVersion::V4_1, binary: false });
+        for (i, tag) in [5u64, 3, 1 << 40, 7, u64::MAX].into_iter().enumerate() {
+            b.add_node(tag, [i as f64; 3]).unwrap();
+        }
+        let found: Vec<_> = [5u64, 3, 1 << 40, 7, u64::MAX, 4, 0].map(|t| b.node_index(t)).into();
+        assert_eq!(found, [Some(0), Some(1), Some(2), Some(3), Some(4), None, None]);
+        assert!(matches!(b.add_node(1 << 40, [0.0; 3]), Err(MshErrorKind::DuplicateNode { .. })));
+        assert!(matches!(b.add_node(3, [0.0; 3]), Err(MshErrorKind::DuplicateNode { .. })));
+        let mut b = MshBuilder::new(MshFormat { version: MshVersion::V4_1, binary: false });
+        b.add_node(0, [0.0; 3]).unwrap();
+        assert!(matches!(b.add_node(0, [0.0; 3]), Err(MshErrorKind::DuplicateNode { node_tag: 0 })));
+        assert_eq!(b.node_index(1), None);
     }
 
     #[test]

@@ -35,6 +35,10 @@ pub(crate) struct Cursor<'a> {
     section: String,
 }
 
+/// The lines of ASCII blocks that one thread parses at a time; shorter blocks
+/// are read value by value.
+pub(crate) const BLOCK_LINES: usize = 4096;
+
 /// A description of an expected value, built only when an error needs it.
 pub(crate) trait What: Fn() -> String {}
 impl<F: Fn() -> String> What for F {}
@@ -205,6 +209,108 @@ impl<'a> Cursor<'a> {
         self.line().unwrap_or((self.bytes.len(), b""))
     }
 
+    // ----- blocks of binary records ----------------------------------------------
+
+    /// `sizeof(size_t)` of a binary section; `None` in ASCII.
+    pub fn size_bytes(&self) -> Option<usize> {
+        match self.encoding {
+            Encoding::Binary { size_bytes, .. } => Some(size_bytes),
+            Encoding::Ascii => None,
+        }
+    }
+
+    /// In a binary section, the next `count` records of `record` bytes each,
+    /// with their offset, if all are present (the cursor moves past them).
+    /// `None`, with the cursor where it was, in ASCII or if the file ends
+    /// before: the caller then reads them value by value, which reports where
+    /// the data ends.
+    pub fn binary_block(&mut self, count: u64, record: usize) -> Option<(usize, &'a [u8])> {
+        self.size_bytes()?;
+        let n = usize::try_from(count).ok()?.checked_mul(record)?;
+        let at = self.pos;
+        let block = self.bytes.get(at..at.checked_add(n)?)?;
+        self.pos = at + n;
+        Some((at, block))
+    }
+
+    /// An unsigned integer of 4 or 8 bytes of a binary block, in the file's
+    /// byte order (as [`Cursor::int`] and [`Cursor::size`] read them).
+    pub fn word(&self, bytes: &[u8]) -> u64 {
+        let big_endian = matches!(self.encoding, Encoding::Binary { big_endian: true, .. });
+        if let Ok(word) = <[u8; 8]>::try_from(bytes) {
+            return if big_endian { u64::from_be_bytes(word) } else { u64::from_le_bytes(word) };
+        }
+        if let Ok(word) = <[u8; 4]>::try_from(bytes) {
+            return u64::from(if big_endian { u32::from_be_bytes(word) } else { u32::from_le_bytes(word) });
+        }
+        let fold = |v: u64, &b: &u8| (v << 8) | u64::from(b);
+        if big_endian {
+            bytes.iter().fold(0, fold)
+        } else {
+            bytes.iter().rev().fold(0, fold)
+        }
+    }
+
+    // ----- blocks of ASCII records ---------------------------------------------
+
+    /// The next `count` lines of an ASCII section, each parsed by `parse_line`
+    /// (which appends what the line holds to its vector, or fails), with the
+    /// offset of each line; the cursor moves past them. `None`, with the cursor
+    /// where it was, if the block is short (fewer than [`BLOCK_LINES`] lines:
+    /// not worth it), binary, or if any line fails: the caller then reads the
+    /// block value by value, which finds the first problem and reports it as
+    /// usual. Long blocks are parsed by several threads; the result does not
+    /// depend on how many.
+    pub fn ascii_block<V: Send>(
+        &mut self,
+        count: u64,
+        parse_line: impl Fn(&[u8], &mut Vec<V>) -> Option<()> + Sync,
+    ) -> Option<(Vec<V>, Vec<usize>)> {
+        if self.encoding != Encoding::Ascii || count < BLOCK_LINES as u64 {
+            return None;
+        }
+        let count = usize::try_from(count).ok()?;
+        let rest = self.bytes.get(self.pos..)?;
+        // Every line takes at least 2 bytes: no room, no block.
+        if count.checked_mul(2)? > rest.len() + 1 {
+            return None;
+        }
+        let mut starts = Vec::with_capacity(count + 1);
+        starts.push(self.pos);
+        for end in memchr::memchr_iter(b'\n', rest).take(count) {
+            starts.push(self.pos + end + 1);
+        }
+        if starts.len() < count {
+            return None;
+        }
+        if starts.len() == count {
+            // The last line ends the file without a line break.
+            starts.push(self.bytes.len() + 1);
+        }
+        let bytes = self.bytes;
+        let parse_lines = |first: usize, lines: &[usize]| -> Option<Vec<V>> {
+            let mut values = Vec::with_capacity(lines.len());
+            let mut start = first;
+            for &next in lines {
+                parse_line(bytes.get(start..next - 1)?, &mut values)?;
+                start = next;
+            }
+            Some(values)
+        };
+        use rayon::prelude::*;
+        let ends = starts.get(1..)?;
+        let chunks: Vec<Vec<V>> = ends
+            .par_chunks(BLOCK_LINES)
+            .enumerate()
+            .map(|(k, lines)| parse_lines(starts[k * BLOCK_LINES], lines))
+            .collect::<Option<_>>()?;
+        let mut values = Vec::with_capacity(chunks.iter().map(Vec::len).sum());
+        chunks.into_iter().for_each(|chunk| values.extend(chunk));
+        self.pos = ends.last().map_or(self.pos, |&end| end.min(self.bytes.len()));
+        starts.truncate(count);
+        Some((values, starts))
+    }
+
     // ----- values ---------------------------------------------------------------
 
     /// A C `int`.
@@ -271,7 +377,7 @@ impl<'a> Cursor<'a> {
         Some((start, &self.bytes[start..self.pos]))
     }
 
-    fn ascii_value<T: FromStr>(&mut self, what: impl What) -> Result<T, MshError> {
+    fn ascii_value<T: Number>(&mut self, what: impl What) -> Result<T, MshError> {
         match self.token() {
             Some((at, token)) => parse_ascii(token).ok_or_else(|| self.parse_error(at, what(), quote(token))),
             None if self.pos >= self.bytes.len() => Err(self.truncated()),
@@ -287,10 +393,8 @@ impl<'a> Cursor<'a> {
 
     /// An unsigned binary integer of `n` ≤ 8 bytes in the file's byte order.
     fn uint(&mut self, n: usize) -> Result<u64, MshError> {
-        let big_endian = matches!(self.encoding, Encoding::Binary { big_endian: true, .. });
         let bytes = self.take(n)?;
-        let fold = |v: u64, &b: &u8| (v << 8) | u64::from(b);
-        Ok(if big_endian { bytes.iter().fold(0, fold) } else { bytes.iter().rev().fold(0, fold) })
+        Ok(self.word(bytes))
     }
 
     /// The next `n` raw bytes.
@@ -309,8 +413,51 @@ impl<'a> Cursor<'a> {
     }
 }
 
-fn parse_ascii<T: FromStr>(token: &[u8]) -> Option<T> {
+/// A number type of ASCII MSH records.
+pub(crate) trait Number: FromStr {
+    /// `v` as `Self`, when it fits (`None` for floating-point types, which take
+    /// the general path).
+    fn from_digits(v: u64) -> Option<Self>;
+}
+
+impl Number for i32 {
+    fn from_digits(v: u64) -> Option<i32> {
+        i32::try_from(v).ok()
+    }
+}
+
+impl Number for u64 {
+    fn from_digits(v: u64) -> Option<u64> {
+        Some(v)
+    }
+}
+
+impl Number for f64 {
+    fn from_digits(_: u64) -> Option<f64> {
+        None
+    }
+}
+
+/// The number `token` spells (as `str::parse` reads it). Plain decimal
+/// integers of up to 18 digits, the usual tags and counts, are read directly.
+fn parse_ascii<T: Number>(token: &[u8]) -> Option<T> {
+    if !token.is_empty() && token.len() <= 18 && token.iter().all(u8::is_ascii_digit) {
+        let v = token.iter().fold(0u64, |v, &d| v * 10 + u64::from(d - b'0'));
+        if let Some(value) = T::from_digits(v) {
+            return Some(value);
+        }
+    }
     std::str::from_utf8(token).ok()?.parse().ok()
+}
+
+/// The tokens of an ASCII line.
+pub(crate) fn tokens(line: &[u8]) -> impl Iterator<Item = &[u8]> {
+    line.split(u8::is_ascii_whitespace).filter(|t| !t.is_empty())
+}
+
+/// The number `token` spells, as the cursor reads it (public to the section readers).
+pub(crate) fn number<T: Number>(token: &[u8]) -> Option<T> {
+    parse_ascii(token)
 }
 
 /// `bytes` without leading and trailing whitespace.

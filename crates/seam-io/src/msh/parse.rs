@@ -5,13 +5,21 @@
 
 use std::collections::HashMap;
 
+use seam::Point3;
+
 use super::builder::{ElementRecord, MshBuilder};
-use super::cursor::{quote, trim, Cursor};
+use super::cursor::{number as parse_number, quote, tokens, trim, Cursor};
 use super::element_types::{element_type, ElementType};
 use super::{Msh, MshError, MshErrorKind, MshFormat, MshVersion, NodeData, PhysicalName};
 
 /// The largest number of `$NodeData` components accepted (Gmsh uses 1, 3, 9).
 const MAX_COMPONENTS: usize = 9;
+
+/// The least bytes an element is counted for when making room for the
+/// elements a section header announces (a 4-node element in binary MSH 4.1
+/// takes 40): the room is at most a few times the file size, whatever the
+/// count says.
+const ELEMENT_BYTES: usize = 24;
 
 /// Parses a whole MSH file.
 pub(crate) fn parse_msh(bytes: &[u8]) -> Result<Msh, MshError> {
@@ -168,6 +176,39 @@ impl Parser<'_> {
     fn read_nodes_v2(&mut self) -> Result<(), MshError> {
         let count = self.cur.text(|cur| read_count(cur, "the number of nodes"))?;
         self.msh.reserve_nodes(self.cur.capacity(count, 8));
+        // Long ASCII blocks of well-formed records at once (in parallel); any
+        // other block record by record.
+        let block = self.cur.ascii_block(count, |line, nodes: &mut Vec<(u64, Point3)>| {
+            let mut tokens = tokens(line);
+            let tag = parse_number::<u64>(tokens.next()?)?;
+            nodes.push((tag, coordinates(&mut tokens, 0)?));
+            Some(())
+        });
+        if let Some((nodes, starts)) = block {
+            for ((tag, xyz), at) in nodes.into_iter().zip(starts) {
+                self.msh.add_node(tag, xyz).map_err(|kind| self.cur.error(at, kind))?;
+            }
+            return Ok(());
+        }
+        // Binary records (`int` tag, 3 doubles) all present: checked in the
+        // same order as one by one, without the cursor.
+        const RECORD: usize = 4 + 24;
+        if let Some((start, block)) = self.cur.binary_block(count, RECORD) {
+            for (i, record) in block.chunks_exact(RECORD).enumerate() {
+                let cur = &self.cur;
+                let at = start + i * RECORD;
+                let word = |k: usize| cur.word(record.get(k..k + 8).unwrap_or_default());
+                let tag = cur.word(record.get(..4).unwrap_or_default()) as u32 as i32;
+                let tag = u64::try_from(tag)
+                    .map_err(|_| cur.parse_error(at, "a node tag".into(), tag.to_string()))?;
+                let xyz = [f64::from_bits(word(4)), f64::from_bits(word(12)), f64::from_bits(word(20))];
+                if !xyz.iter().all(|x| x.is_finite()) {
+                    return Err(cur.error(at + 4, MshErrorKind::NonFiniteCoordinate { node_tag: tag }));
+                }
+                self.msh.add_node(tag, xyz).map_err(|kind| self.cur.error(at, kind))?;
+            }
+            return Ok(());
+        }
         for _ in 0..count {
             let at = self.cur.pos();
             let tag = self.cur.int_tag(|| "a node tag".into())?;
@@ -207,11 +248,64 @@ impl Parser<'_> {
                 ));
             }
         };
-        let mut tags = Vec::with_capacity(cur.capacity(count, 2));
-        for _ in 0..count {
-            let at = cur.pos();
-            tags.push((at, cur.size(|| format!("a node tag of entity ({dim}, {entity})"))?));
-            cur.end_record(|| "a node tag".into())?;
+        // Long ASCII blocks of well-formed records at once (in parallel); any
+        // other block record by record.
+        if let Some(sb) = cur.size_bytes() {
+            if let Some((tags_at, tag_bytes)) = cur.binary_block(count, sb) {
+                let record = 8 * (3 + n_parametric);
+                let Some((coords_at, coords)) = cur.binary_block(count, record) else {
+                    // The file ends inside the coordinates: node by node.
+                    let tags: Vec<(usize, u64)> = (tag_bytes.chunks_exact(sb).enumerate())
+                        .map(|(i, word)| (tags_at + i * sb, cur.word(word)))
+                        .collect();
+                    for (at, tag) in tags {
+                        self.read_node(at, tag, n_parametric)?;
+                    }
+                    return Ok(());
+                };
+                for (i, (word, values)) in
+                    tag_bytes.chunks_exact(sb).zip(coords.chunks_exact(record)).enumerate()
+                {
+                    let cur = &self.cur;
+                    let tag = cur.word(word);
+                    let x =
+                        |k: usize| f64::from_bits(cur.word(values.get(8 * k..8 * k + 8).unwrap_or_default()));
+                    let xyz = [x(0), x(1), x(2)];
+                    if !xyz.iter().all(|x| x.is_finite()) {
+                        let kind = MshErrorKind::NonFiniteCoordinate { node_tag: tag };
+                        return Err(cur.error(coords_at + i * record, kind));
+                    }
+                    self.msh.add_node(tag, xyz).map_err(|kind| self.cur.error(tags_at + i * sb, kind))?;
+                }
+                return Ok(());
+            }
+        }
+        let block = cur.ascii_block(count, |line, tags: &mut Vec<u64>| {
+            let mut tokens = tokens(line);
+            tags.push(parse_number(tokens.next()?)?);
+            tokens.next().is_none().then_some(())
+        });
+        let tags = match block {
+            Some((tags, starts)) => starts.into_iter().zip(tags).collect(),
+            None => {
+                let mut tags = Vec::with_capacity(cur.capacity(count, 2));
+                for _ in 0..count {
+                    let at = cur.pos();
+                    tags.push((at, cur.size(|| format!("a node tag of entity ({dim}, {entity})"))?));
+                    cur.end_record(|| "a node tag".into())?;
+                }
+                tags
+            }
+        };
+        let block = cur.ascii_block(count, |line, points: &mut Vec<Point3>| {
+            points.push(coordinates(&mut tokens(line), n_parametric)?);
+            Some(())
+        });
+        if let Some((points, _)) = block {
+            for ((at, tag), xyz) in tags.into_iter().zip(points) {
+                self.msh.add_node(tag, xyz).map_err(|kind| self.cur.error(at, kind))?;
+            }
+            return Ok(());
         }
         for (at, tag) in tags {
             self.read_node(at, tag, n_parametric)?;
@@ -240,7 +334,8 @@ impl Parser<'_> {
     // ----- $Elements ----------------------------------------------------------
 
     fn read_elements_v4(&mut self) -> Result<(), MshError> {
-        let [blocks, _, _, _] = read_v4_header(&mut self.cur, "element")?;
+        let [blocks, count, _, _] = read_v4_header(&mut self.cur, "element")?;
+        self.msh.reserve_elements(self.cur.capacity(count, ELEMENT_BYTES));
         for _ in 0..blocks {
             self.read_element_block_v4()?;
         }
@@ -259,6 +354,45 @@ impl Parser<'_> {
         let element_type =
             known_type(cur, at, number, || format!("the element block of entity ({dim}, {entity})"))?;
         let physical_tags = self.entity_physicals.get(&(dim, entity)).cloned().unwrap_or_default();
+        // Long ASCII blocks of well-formed records at once (in parallel); any
+        // other block record by record.
+        let per_line = element_type.nodes + 1;
+        if let Some(sb) = cur.size_bytes() {
+            if let Some((at, block)) = cur.binary_block(count, per_line * sb) {
+                let mut node_tags = Vec::with_capacity(element_type.nodes);
+                for (i, record) in block.chunks_exact(per_line * sb).enumerate() {
+                    let cur = &self.cur;
+                    let (tag, nodes) = record.split_at(sb);
+                    let tag = cur.word(tag);
+                    node_tags.clear();
+                    node_tags.extend(nodes.chunks_exact(sb).map(|word| cur.word(word)));
+                    let physical_tags = &physical_tags;
+                    let record =
+                        ElementRecord { tag, element_type, entity, physical_tags, node_tags: &node_tags };
+                    self.msh.add_element(record).map_err(|kind| cur.error(at + i * per_line * sb, kind))?;
+                }
+                return Ok(());
+            }
+        }
+        let block = cur.ascii_block(count, |line, values: &mut Vec<u64>| {
+            let before = values.len();
+            for token in tokens(line) {
+                if values.len() - before == per_line {
+                    return None;
+                }
+                values.push(parse_number(token)?);
+            }
+            (values.len() - before == per_line).then_some(())
+        });
+        if let Some((values, starts)) = block {
+            for (record, at) in values.chunks_exact(per_line).zip(starts) {
+                let (&tag, node_tags) = record.split_first().unwrap_or((&0, &[]));
+                let record =
+                    ElementRecord { tag, element_type, entity, physical_tags: &physical_tags, node_tags };
+                self.msh.add_element(record).map_err(|kind| self.cur.error(at, kind))?;
+            }
+            return Ok(());
+        }
         let mut node_tags = Vec::with_capacity(element_type.nodes);
         for _ in 0..count {
             let cur = &mut self.cur;
@@ -310,14 +444,50 @@ impl Parser<'_> {
                 let expected = format!("at most {} elements in an element header", total - read);
                 cur.parse_error(at, expected, count.to_string())
             })?;
-            for _ in 0..count {
-                let at = self.cur.pos();
-                let tag = self.cur.int_tag(|| "an element tag".into())?;
-                self.read_element_v2(at, tag, number, n_tags)?;
+            if !self.read_element_block_v2(count, number, n_tags)? {
+                for _ in 0..count {
+                    let at = self.cur.pos();
+                    let tag = self.cur.int_tag(|| "an element tag".into())?;
+                    self.read_element_v2(at, tag, number, n_tags)?;
+                }
             }
             read += count;
         }
         Ok(())
+    }
+
+    /// 2.2 binary: the `count` records of a known element type with `n_tags`
+    /// tags if they are all present, checked in the same order as one by one,
+    /// without the cursor; false (nothing read) otherwise.
+    fn read_element_block_v2(&mut self, count: u64, number: i32, n_tags: i32) -> Result<bool, MshError> {
+        let element_type = u32::try_from(number).ok().and_then(element_type);
+        let (Some(element_type), Ok(n_tags)) = (element_type, usize::try_from(n_tags)) else {
+            return Ok(false);
+        };
+        let Some(ints) = n_tags.checked_add(1 + element_type.nodes) else { return Ok(false) };
+        let Some((start, block)) = self.cur.binary_block(count, 4 * ints) else { return Ok(false) };
+        let mut node_tags = Vec::with_capacity(element_type.nodes);
+        for (i, record) in block.chunks_exact(4 * ints).enumerate() {
+            let cur = &self.cur;
+            let at = start + i * 4 * ints;
+            let int = |k: usize| cur.word(record.get(4 * k..4 * k + 4).unwrap_or_default()) as u32 as i32;
+            let tag = u64::try_from(int(0))
+                .map_err(|_| cur.parse_error(at, "an element tag".into(), int(0).to_string()))?;
+            let physical = if n_tags > 0 { int(1) } else { 0 };
+            let entity = if n_tags > 1 { int(2) } else { 0 };
+            node_tags.clear();
+            for k in 1 + n_tags..ints {
+                let node = u64::try_from(int(k)).map_err(|_| {
+                    let what = format!("{} node tags for element {tag}", element_type.nodes);
+                    cur.parse_error(at + 4 * k, what, int(k).to_string())
+                })?;
+                node_tags.push(node);
+            }
+            let physical_tags: &[i32] = if physical == 0 { &[] } else { &[physical] };
+            let record = ElementRecord { tag, element_type, entity, physical_tags, node_tags: &node_tags };
+            self.msh.add_element(record).map_err(|kind| cur.error(at, kind))?;
+        }
+        Ok(true)
     }
 
     /// The rest of a 2.2 element after its tag: `n_tags` ints (physical tag,
@@ -368,6 +538,21 @@ impl Parser<'_> {
         self.msh.add_node_data(NodeData { name, time_step: header.time_step, components, values });
         Ok(())
     }
+}
+
+/// The 3 finite coordinates, then `n_parametric` numbers, that end an ASCII
+/// node record (as [`Parser::read_node`] reads them); `None` if the record is
+/// anything else.
+fn coordinates<'t>(tokens: &mut impl Iterator<Item = &'t [u8]>, n_parametric: usize) -> Option<Point3> {
+    let mut xyz = [0.0; 3];
+    for x in &mut xyz {
+        *x = parse_number::<f64>(tokens.next()?)?;
+    }
+    for _ in 0..n_parametric {
+        parse_number::<f64>(tokens.next()?)?;
+    }
+    let finite = xyz.iter().all(|x| x.is_finite());
+    (finite && tokens.next().is_none()).then_some(xyz)
 }
 
 /// A count alone on its line.

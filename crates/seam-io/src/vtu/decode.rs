@@ -85,12 +85,24 @@ pub(super) enum Raw {
 
 /// What a data array is decoded into: `f64` (fields, points) or `u64` (cell
 /// connectivity, offsets and types).
-pub(super) trait Number: Sized {
+pub(super) trait Number: Sized + Send {
     /// `raw` as `Self`, if it is one.
     fn from_raw(raw: Raw) -> Option<Self>;
+
+    /// The values of `bytes` as [`from_bytes`] reads them, for the types VTU
+    /// files use most; `None` for other types, or if a value is not a `Self`.
+    fn from_words(bytes: &[u8], ty: Scalar, big_endian: bool) -> Option<Vec<Self>>;
 }
 
 impl Number for f64 {
+    fn from_words(bytes: &[u8], ty: Scalar, big_endian: bool) -> Option<Vec<f64>> {
+        match ty {
+            Scalar::Float64 => convert(bytes, big_endian, |w| Some(f64::from_le_bytes(w))),
+            Scalar::Float32 => convert(bytes, big_endian, |w| Some(f32::from_le_bytes(w).into())),
+            _ => None,
+        }
+    }
+
     fn from_raw(raw: Raw) -> Option<f64> {
         Some(match raw {
             // Exact up to 2⁵³, rounded beyond, as any reader of Int64 fields into f64.
@@ -101,6 +113,18 @@ impl Number for f64 {
 }
 
 impl Number for u64 {
+    fn from_words(bytes: &[u8], ty: Scalar, big_endian: bool) -> Option<Vec<u64>> {
+        let b = big_endian;
+        match ty {
+            Scalar::Int64 => convert(bytes, b, |w| u64::try_from(i64::from_le_bytes(w)).ok()),
+            Scalar::UInt64 => convert(bytes, b, |w| Some(u64::from_le_bytes(w))),
+            Scalar::Int32 => convert(bytes, b, |w| u64::try_from(i32::from_le_bytes(w)).ok()),
+            Scalar::UInt32 => convert(bytes, b, |w| Some(u32::from_le_bytes(w).into())),
+            Scalar::UInt8 => Some(bytes.iter().map(|&v| u64::from(v)).collect()),
+            _ => None,
+        }
+    }
+
     fn from_raw(raw: Raw) -> Option<u64> {
         match raw {
             Raw::Int(v) => u64::try_from(v).ok(),
@@ -203,12 +227,69 @@ impl<'a> Cursor<'a> {
                     if out.len() == n {
                         return Ok(Cow::Owned(out));
                     }
+                    // The groups of 4 plain characters (no whitespace, no
+                    // padding) that whole bytes still needed take, at once.
+                    let groups = (n - out.len()) / 3;
+                    if groups > 0 {
+                        let run = decode_groups(text, groups, &mut out);
+                        *text = text.get(run..).unwrap_or_default();
+                        if out.len() == n {
+                            return Ok(Cow::Owned(out));
+                        }
+                    }
                     (*quad, *end) = next_quad(text)?.ok_or("the base64 data ends early")?;
                     *next = 0;
                 }
             }
         }
     }
+}
+
+/// The value of each base64 character; [`NOT_BASE64`] for any other byte.
+const SEXTETS: [u8; 256] = {
+    let mut table = [NOT_BASE64; 256];
+    let mut i = 0;
+    while i < 64 {
+        let c = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/"[i];
+        table[c as usize] = i as u8;
+        i += 1;
+    }
+    table
+};
+const NOT_BASE64: u8 = 0xFF;
+
+/// Base64 text decoded in one go by a thread (in groups of 4 characters).
+const PARALLEL_GROUPS: usize = 1 << 15;
+
+/// Decodes the longest run of at most `max_groups` groups of 4 base64
+/// characters at the start of `text` that holds neither whitespace nor padding
+/// nor any other byte (what [`next_quad`] decodes one group at a time, with the
+/// same result), appending the bytes to `out`; returns the characters decoded.
+/// Long runs are decoded by several threads, each into its own part of `out`.
+fn decode_groups(text: &[u8], max_groups: usize, out: &mut Vec<u8>) -> usize {
+    let head = text.get(..max_groups.saturating_mul(4).min(text.len())).unwrap_or_default();
+    let plain = head.iter().position(|&c| SEXTETS[usize::from(c)] == NOT_BASE64).unwrap_or(head.len());
+    let run = head.get(..plain / 4 * 4).unwrap_or_default();
+    let start = out.len();
+    out.resize(start + run.len() / 4 * 3, 0);
+    let dest = out.get_mut(start..).unwrap_or_default();
+    let decode = |chars: &[u8], bytes: &mut [u8]| {
+        for (c, b) in chars.chunks_exact(4).zip(bytes.chunks_exact_mut(3)) {
+            let s = |i: usize| u32::from(SEXTETS[usize::from(c[i])]);
+            let bits = s(0) << 18 | s(1) << 12 | s(2) << 6 | s(3);
+            let [_, x, y, z] = bits.to_be_bytes();
+            b.copy_from_slice(&[x, y, z]);
+        }
+    };
+    if run.len() >= 8 * PARALLEL_GROUPS {
+        use rayon::prelude::*;
+        run.par_chunks(4 * PARALLEL_GROUPS)
+            .zip(dest.par_chunks_mut(3 * PARALLEL_GROUPS))
+            .for_each(|(chars, bytes)| decode(chars, bytes));
+    } else {
+        decode(run, dest);
+    }
+    run.len()
 }
 
 /// The value of a base64 character.
@@ -398,16 +479,32 @@ fn decompress_lz4(block: &[u8], size: usize, out: &mut Vec<u8>) -> Result<(), St
     }
 }
 
+/// The values of `bytes` (`N`-byte words in the given byte order), as little-endian words.
+fn words<const N: usize>(bytes: &[u8], big_endian: bool) -> impl Iterator<Item = [u8; N]> + '_ {
+    bytes.chunks_exact(N).map(move |c| {
+        let mut word = <[u8; N]>::try_from(c).unwrap_or([0; N]);
+        if big_endian {
+            word.reverse();
+        }
+        word
+    })
+}
+
+/// `words` converted by `f`, or `None` if `f` fails on one.
+fn convert<const N: usize, T>(
+    bytes: &[u8],
+    big_endian: bool,
+    f: impl Fn([u8; N]) -> Option<T>,
+) -> Option<Vec<T>> {
+    words(bytes, big_endian).map(f).collect()
+}
+
 /// The values of `bytes` (values of type `ty` in the given byte order) as `T`.
 pub(super) fn from_bytes<T: Number>(bytes: &[u8], ty: Scalar, big_endian: bool) -> Result<Vec<T>, String> {
-    fn words<const N: usize>(bytes: &[u8], big_endian: bool) -> impl Iterator<Item = [u8; N]> + '_ {
-        bytes.chunks_exact(N).map(move |c| {
-            let mut word = <[u8; N]>::try_from(c).unwrap_or([0; N]);
-            if big_endian {
-                word.reverse();
-            }
-            word
-        })
+    // The common types straight into `T`; anything that fails (a negative
+    // index...) goes through the general path below for its message.
+    if let Some(values) = T::from_words(bytes, ty, big_endian) {
+        return Ok(values);
     }
     let b = big_endian;
     let raw: Box<dyn Iterator<Item = Raw> + '_> = match ty {
@@ -429,34 +526,92 @@ pub(super) fn from_bytes<T: Number>(bytes: &[u8], ty: Scalar, big_endian: bool) 
     Ok(values)
 }
 
+/// ASCII data is parsed in pieces of about this many bytes, in parallel.
+const ASCII_PIECE: usize = 1 << 18;
+
+/// Why a value of an ASCII array is wrong.
+enum Bad<'t> {
+    /// The token is not a number of the array's type.
+    NotANumber(&'t [u8]),
+    /// The number is not a `T`.
+    Not(Raw),
+}
+
 /// The `count` whitespace-separated numbers of type `ty` in `text`, as `T`.
 /// Integer types take integers in their range; `Float32` values are parsed as
 /// `f32` (as a binary file would hold them).
+///
+/// Long text is cut at whitespace into pieces (where depends on its length
+/// only) that are parsed in parallel; the first error in text order is
+/// reported, as if the values were read one by one.
 pub(super) fn parse_ascii<T: Number>(text: &[u8], ty: Scalar, count: usize) -> Result<Vec<T>, String> {
+    let mut cuts = vec![0];
+    let n_pieces = text.len() / ASCII_PIECE + 1;
+    for k in 1..n_pieces {
+        let from = (k * ASCII_PIECE).max(cuts.last().copied().unwrap_or(0));
+        let cut = text.get(from..).and_then(|t| t.iter().position(u8::is_ascii_whitespace)).map(|i| from + i);
+        cuts.push(cut.unwrap_or(text.len()));
+    }
+    cuts.push(text.len());
+    let piece = |k: usize| text.get(cuts[k]..cuts[k + 1]).unwrap_or_default();
+    let parsed: Vec<Result<Vec<T>, (usize, Bad<'_>)>> = if n_pieces > 1 {
+        use rayon::prelude::*;
+        (0..n_pieces).into_par_iter().map(|k| parse_piece(piece(k), ty)).collect()
+    } else {
+        vec![parse_piece(text, ty)]
+    };
     // A value takes at least 2 characters with its separator.
     let mut values = Vec::with_capacity(count.min(text.len() / 2 + 1));
-    for token in text.split(u8::is_ascii_whitespace).filter(|t| !t.is_empty()) {
-        if values.len() == count {
+    for result in parsed {
+        let (ok, bad) = match result {
+            Ok(ok) => (ok, None),
+            Err((j, bad)) => (Vec::new(), Some((values.len() + j, bad))),
+        };
+        // The value after the last expected one comes first.
+        if values.len() + ok.len() > count || bad.as_ref().is_some_and(|(i, _)| *i >= count) {
             return Err(format!("more than the {count} values expected"));
         }
-        let shown = || String::from_utf8_lossy(token.get(..24).unwrap_or(token)).into_owned();
-        let word = std::str::from_utf8(token).ok();
-        let raw = match (ty.int_range(), ty) {
-            (Some((min, max)), _) => {
-                word.and_then(|w| w.parse::<i128>().ok()).filter(|v| (min..=max).contains(v)).map(Raw::Int)
+        match bad {
+            Some((i, Bad::NotANumber(token))) => {
+                let shown = String::from_utf8_lossy(token.get(..24).unwrap_or(token)).into_owned();
+                return Err(format!("value {i} {shown:?} is not a {ty:?} number"));
             }
-            (None, Scalar::Float32) => word.and_then(|w| w.parse::<f32>().ok()).map(|v| Raw::Float(v.into())),
-            (None, _) => word.and_then(|w| w.parse::<f64>().ok()).map(Raw::Float),
-        };
-        let raw =
-            raw.ok_or_else(|| format!("value {} {:?} is not a {ty:?} number", values.len(), shown()))?;
-        let i = values.len();
-        values.push(T::from_raw(raw).ok_or_else(|| format!("value {i} is {}, not an index", describe(raw)))?);
+            Some((i, Bad::Not(raw))) => return Err(format!("value {i} is {}, not an index", describe(raw))),
+            None => values.extend(ok),
+        }
     }
     if values.len() != count {
         return Err(format!("{} values, expected {count}", values.len()));
     }
     Ok(values)
+}
+
+/// The numbers of type `ty` in `text`, as `T`; the first bad one (its index
+/// in `text`).
+fn parse_piece<T: Number>(text: &[u8], ty: Scalar) -> Result<Vec<T>, (usize, Bad<'_>)> {
+    let mut values = Vec::with_capacity(text.len() / 8);
+    for token in text.split(u8::is_ascii_whitespace).filter(|t| !t.is_empty()) {
+        let raw = match (ty.int_range(), ty) {
+            (Some((min, max)), _) => integer(token).filter(|v| (min..=max).contains(v)).map(Raw::Int),
+            (None, Scalar::Float32) => {
+                let word = std::str::from_utf8(token).ok();
+                word.and_then(|w| w.parse::<f32>().ok()).map(|v| Raw::Float(v.into()))
+            }
+            (None, _) => std::str::from_utf8(token).ok().and_then(|w| w.parse::<f64>().ok()).map(Raw::Float),
+        };
+        let raw = raw.ok_or((values.len(), Bad::NotANumber(token)))?;
+        values.push(T::from_raw(raw).ok_or((values.len(), Bad::Not(raw)))?);
+    }
+    Ok(values)
+}
+
+/// The integer `token` spells, as `str::parse::<i128>` reads it (plain digits
+/// read directly).
+fn integer(token: &[u8]) -> Option<i128> {
+    if token.len() <= 18 && token.iter().all(u8::is_ascii_digit) && !token.is_empty() {
+        return Some(token.iter().fold(0i128, |v, &d| v * 10 + i128::from(d - b'0')));
+    }
+    std::str::from_utf8(token).ok()?.parse::<i128>().ok()
 }
 
 #[cfg(test)]
@@ -491,6 +646,26 @@ mod tests {
         assert_eq!(cursor.take(4).unwrap_err(), "invalid base64 character '#'");
         let mut cursor = Cursor::base64(b"QUJD RE   ");
         assert_eq!(cursor.take(4).unwrap_err(), "the base64 data ends inside a group of 4");
+    }
+
+    #[test]
+    fn long_base64_runs_decode_as_group_by_group() {
+        // Over 8 × PARALLEL_GROUPS groups: decoded by several threads.
+        let data: Vec<u8> = (0..3 * 9 * PARALLEL_GROUPS + 7).map(|i| (i * 7 + i / 255) as u8).collect();
+        let (a, b) = data.split_at(3 * 5 * PARALLEL_GROUPS + 1);
+        let mut text = BASE64_STANDARD.encode(a).into_bytes();
+        let middle = text.len() / 3 / 4 * 4;
+        text.splice(middle..middle, *b"\n\t ");
+        text.extend_from_slice(BASE64_STANDARD.encode(b).as_bytes());
+        let mut cursor = Cursor::base64(&text);
+        assert_eq!(&*cursor.take(5).unwrap(), &data[..5]);
+        assert_eq!(&*cursor.take(data.len() - 6).unwrap(), &data[5..data.len() - 1]);
+        assert_eq!(&*cursor.take(1).unwrap(), &data[data.len() - 1..]);
+        assert!(cursor.take(1).is_err());
+        let bad = text.len() * 2 / 3 / 4 * 4 + 1;
+        text[bad] = b'#';
+        let e = Cursor::base64(&text).take(data.len()).unwrap_err();
+        assert_eq!(e, "invalid base64 character '#'");
     }
 
     #[test]
@@ -598,6 +773,39 @@ mod tests {
             parse_ascii::<f64>(b"1 2", Scalar::Int8, 1).unwrap_err(),
             "more than the 1 values expected"
         );
+    }
+
+    #[test]
+    fn long_ascii_arrays_report_the_first_error_in_text_order() {
+        let n = 3 * ASCII_PIECE / 7;
+        let text: String = (0..n).map(|i| format!("{i} ")).collect();
+        let values = parse_ascii::<u64>(text.as_bytes(), Scalar::Int64, n).unwrap();
+        assert!(values.iter().enumerate().all(|(i, &v)| v == i as u64));
+        let floats = parse_ascii::<f64>(text.as_bytes(), Scalar::Float64, n).unwrap();
+        assert!(floats.iter().enumerate().all(|(i, &v)| v == i as f64));
+        assert_eq!(
+            parse_ascii::<u64>(text.as_bytes(), Scalar::Int64, n - 1).unwrap_err(),
+            format!("more than the {} values expected", n - 1)
+        );
+        assert_eq!(
+            parse_ascii::<u64>(text.as_bytes(), Scalar::Int64, n + 1).unwrap_err(),
+            format!("{n} values, expected {}", n + 1)
+        );
+        // Errors in several pieces: the first one.
+        let bad = text.replace(" 200000 ", " -5 ").replace(" 20000 ", " x ").replace(" 200 ", " -1 ");
+        let e = parse_ascii::<u64>(bad.as_bytes(), Scalar::Int64, n).unwrap_err();
+        assert_eq!(e, "value 200 is -1, not an index");
+        let bad = text.replace(" 200000 ", " -5 ").replace(" 20000 ", " x ");
+        let e = parse_ascii::<u64>(bad.as_bytes(), Scalar::Int64, n).unwrap_err();
+        assert_eq!(e, "value 20000 \"x\" is not a Int64 number");
+        // Past the expected count before a bad value: too many values.
+        let e = parse_ascii::<u64>(bad.as_bytes(), Scalar::Int64, 100).unwrap_err();
+        assert_eq!(e, "more than the 100 values expected");
+        let e = parse_ascii::<u64>(bad.as_bytes(), Scalar::Int64, 20000).unwrap_err();
+        assert_eq!(e, "more than the 20000 values expected");
+        let e = parse_ascii::<u64>(bad.as_bytes(), Scalar::Int64, 20001).unwrap_err();
+        assert_eq!(e, "value 20000 \"x\" is not a Int64 number");
+        assert_eq!(parse_ascii::<u64>(b"+7 -0 007", Scalar::Int8, 3).unwrap(), [7, 0, 7]);
     }
 
     #[test]
