@@ -161,7 +161,8 @@ pub fn assemble(
 #[pyclass(name = "Mortar", module = "seam", frozen)]
 pub struct PyMortar {
     inner: seam::Mortar,
-    /// Built on first use (for standard multipliers it factorises D_CC).
+    /// Built on first use (for standard multipliers it prepares D_CC for
+    /// conjugate gradients, factorised once they have cost as much).
     transfer: OnceLock<Transfer>,
 }
 
@@ -215,8 +216,9 @@ impl PyMortar {
 
     /// Transfers nodal values from the master to the slave points: u_s = T u_m.
     ///
-    /// Works for every multiplier (for "standard", by a sparse Cholesky solve
-    /// with D restricted to the covered slave points, factorised on first use).
+    /// Works for every multiplier (for "standard", by solving with D restricted
+    /// to the covered slave points: conjugate gradients, or a sparse Cholesky
+    /// factorisation once applied often enough that it pays).
     /// Uncovered slave points get 0. The GIL is released during the solve.
     ///
     /// Args:

@@ -43,7 +43,7 @@ pub enum Command {
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]
 pub enum MultiplierArg {
     /// ψ_p = λ_p; D is the slave mass matrix on the covered part (T is applied
-    /// by a sparse Cholesky solve and not written).
+    /// by solving with D, conjugate gradients, and not written).
     #[default]
     Standard,
     /// Biorthogonal basis: D diagonal, T = D⁻¹B written.
