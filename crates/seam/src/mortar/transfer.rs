@@ -114,19 +114,30 @@ impl CoveredMass {
         for (k, &p) in covered.iter().enumerate() {
             local[p] = k;
         }
-        let rows: Vec<(Vec<usize>, Vec<f64>)> = covered
-            .iter()
-            .map(|&p| {
-                let (cols, vals) = d.row(p);
-                cols.iter()
-                    .zip(vals)
-                    .filter(|(&q, _)| local[q] != usize::MAX)
-                    .map(|(&q, &v)| (local[q], v))
-                    .unzip()
-            })
-            .collect();
-        let dcc = CsrMatrix::from_rows(covered.len(), rows.iter().map(|(c, v)| (c.as_slice(), v.as_slice())));
-        let diag = dcc.diagonal();
+        let mut dcc = CsrMatrix {
+            nrows: covered.len(),
+            ncols: covered.len(),
+            indptr: Vec::with_capacity(covered.len() + 1),
+            indices: Vec::with_capacity(d.nnz()),
+            values: Vec::with_capacity(d.nnz()),
+        };
+        dcc.indptr.push(0);
+        let mut diag = Vec::with_capacity(covered.len());
+        for (k, &p) in covered.iter().enumerate() {
+            let (cols, vals) = d.row(p);
+            let mut dkk = 0.0;
+            for (&q, &v) in cols.iter().zip(vals) {
+                if local[q] != usize::MAX {
+                    dcc.indices.push(local[q]);
+                    dcc.values.push(v);
+                    if local[q] == k {
+                        dkk = v;
+                    }
+                }
+            }
+            dcc.indptr.push(dcc.indices.len());
+            diag.push(dkk);
+        }
         if let Some(k) = diag.iter().position(|&v| !(v > 0.0 && v.is_finite())) {
             let e = format!("D has the diagonal entry {} at covered slave point {}", diag[k], covered[k]);
             return Err(MortarError::Factorization(e));
@@ -161,35 +172,57 @@ impl CoveredMass {
     /// iterates). Deterministic: the products are row by row, the sums in a
     /// fixed order.
     fn cg(&self, r: &[f64], k: usize, max_iterations: usize) -> (Vec<f64>, bool) {
-        let n = self.diag.len();
+        match k {
+            1 => self.cg_k::<1>(r, max_iterations),
+            2 => self.cg_k::<2>(r, max_iterations),
+            3 => self.cg_k::<3>(r, max_iterations),
+            4 => self.cg_k::<4>(r, max_iterations),
+            _ => {
+                // Column by column (each as alone).
+                let mut x = vec![0.0; r.len()];
+                let mut converged = true;
+                for l in 0..k {
+                    let rl: Vec<f64> = r.iter().skip(l).step_by(k).copied().collect();
+                    let (xl, ok) = self.cg_k::<1>(&rl, max_iterations);
+                    converged &= ok;
+                    x.iter_mut().skip(l).step_by(k).zip(xl).for_each(|(x, v)| *x = v);
+                }
+                (x, converged)
+            }
+        }
+    }
+
+    /// [`CoveredMass::cg`] for `K` columns.
+    fn cg_k<const K: usize>(&self, r: &[f64], max_iterations: usize) -> (Vec<f64>, bool) {
+        let (n, k) = (self.diag.len(), K);
         let inv: Vec<f64> = self.diag.iter().map(|d| 1.0 / d).collect();
         // Σ_i v_il w_il per column l, in row order.
         let dots = |v: &[f64], w: &[f64]| {
-            let mut s = vec![0.0; k];
-            for (vi, wi) in v.chunks_exact(k).zip(w.chunks_exact(k)) {
+            let mut s = [0.0; K];
+            for (vi, wi) in v.chunks_exact(K).zip(w.chunks_exact(K)) {
                 for l in 0..k {
                     s[l] += vi[l] * wi[l];
                 }
             }
             s
         };
-        let target: Vec<f64> = dots(r, r).iter().map(|rr| CG_RTOL * rr.sqrt()).collect();
+        let target = dots(r, r).map(|rr| CG_RTOL * rr.sqrt());
         let mut x: Vec<f64> = (0..n * k).map(|i| r[i] * inv[i / k]).collect();
         let mut ap = vec![0.0; n * k];
-        self.multiply(&x, &mut ap, k);
+        self.multiply_k::<K>(&x, &mut ap);
         let mut res: Vec<f64> = r.iter().zip(&ap).map(|(r, a)| r - a).collect();
         let mut z: Vec<f64> = (0..n * k).map(|i| res[i] * inv[i / k]).collect();
         let mut p = z.clone();
         let mut rz = dots(&res, &z);
         let mut active: Vec<bool> =
             dots(&res, &res).iter().zip(&target).map(|(rr, t)| rr.sqrt() > *t).collect();
-        let (mut alpha, mut beta) = (vec![0.0; k], vec![0.0; k]);
+        let (mut alpha, mut beta) = ([0.0; K], [0.0; K]);
         for _ in 0..max_iterations {
             if !active.contains(&true) {
                 return (x, true);
             }
             self.sweeps.fetch_add(1, Ordering::Relaxed);
-            self.multiply(&p, &mut ap, k);
+            self.multiply_k::<K>(&p, &mut ap);
             let pap = dots(&p, &ap);
             for l in 0..k {
                 if active[l] && pap[l].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
@@ -197,15 +230,17 @@ impl CoveredMass {
                 }
                 alpha[l] = if active[l] { rz[l] / pap[l] } else { 0.0 };
             }
-            let (mut rz_next, mut rr) = (vec![0.0; k], vec![0.0; k]);
-            for i in 0..n {
-                for l in 0..k {
-                    let j = i * k + l;
-                    x[j] += alpha[l] * p[j];
-                    res[j] -= alpha[l] * ap[j];
-                    z[j] = res[j] * inv[i];
-                    rz_next[l] += res[j] * z[j];
-                    rr[l] += res[j] * res[j];
+            let (mut rz_next, mut rr) = ([0.0; K], [0.0; K]);
+            let rows = x.chunks_exact_mut(K).zip(res.chunks_exact_mut(K)).zip(z.chunks_exact_mut(K));
+            for (((xi, ri), zi), (pi, (api, &inv_i))) in
+                rows.zip(p.chunks_exact(K).zip(ap.chunks_exact(K).zip(&inv)))
+            {
+                for l in 0..K {
+                    xi[l] += alpha[l] * pi[l];
+                    ri[l] -= alpha[l] * api[l];
+                    zi[l] = ri[l] * inv_i;
+                    rz_next[l] += ri[l] * zi[l];
+                    rr[l] += ri[l] * ri[l];
                 }
             }
             for l in 0..k {
@@ -215,8 +250,8 @@ impl CoveredMass {
                 }
                 active[l] = active[l] && rr[l].sqrt() > target[l];
             }
-            for (pi, zi) in p.chunks_exact_mut(k).zip(z.chunks_exact(k)) {
-                for l in 0..k {
+            for (pi, zi) in p.chunks_exact_mut(K).zip(z.chunks_exact(K)) {
+                for l in 0..K {
                     pi[l] = zi[l] + beta[l] * pi[l];
                 }
             }
@@ -225,25 +260,8 @@ impl CoveredMass {
         (x, converged)
     }
 
-    /// y = D_CC x for `k` interleaved columns, rows in parallel (each row's
+    /// y = D_CC x for `K` interleaved columns, rows in parallel (each row's
     /// sums in column order).
-    fn multiply(&self, x: &[f64], y: &mut [f64], k: usize) {
-        match k {
-            1 => self.multiply_k::<1>(x, y),
-            2 => self.multiply_k::<2>(x, y),
-            3 => self.multiply_k::<3>(x, y),
-            4 => self.multiply_k::<4>(x, y),
-            _ => {
-                for l in 0..k {
-                    let xl: Vec<f64> = x.iter().skip(l).step_by(k).copied().collect();
-                    let mut yl = vec![0.0; xl.len()];
-                    self.multiply_k::<1>(&xl, &mut yl);
-                    y.iter_mut().skip(l).step_by(k).zip(yl).for_each(|(y, v)| *y = v);
-                }
-            }
-        }
-    }
-
     fn multiply_k<const K: usize>(&self, x: &[f64], y: &mut [f64]) {
         const ROWS: usize = 4096;
         let (ptr, cols, vals) = (&self.dcc.indptr, &self.dcc.indices, &self.dcc.values);
