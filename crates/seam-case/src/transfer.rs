@@ -9,7 +9,7 @@ use crate::{Expression, Failure};
 use anyhow::{bail, Context};
 use seam::{assemble, normal_gaps_from, Mortar, MortarOptions, Multiplier};
 use seam_io::Field;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -104,13 +104,14 @@ pub struct Summary {
 
 /// Seconds per phase of a transfer (they add up to `seconds`, but for the
 /// checks of the output paths before reading).
-#[derive(Clone, Copy, Debug, Default, Serialize)]
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize)]
 pub struct Phases {
     /// Reading both files and the values to move.
     pub read: f64,
     /// Search and assembly of B and D (one operator).
     pub assemble: f64,
-    /// T = D⁻¹B (a sparse Cholesky factorisation for standard multipliers).
+    /// T = D⁻¹B (explicit when D is diagonal; for standard multipliers D
+    /// restricted to the covered points, to solve with).
     pub operator: f64,
     /// T f or Tᵀ f.
     pub apply: f64,

@@ -12,8 +12,8 @@
 use anyhow::Context;
 use seam::generate::{cylinder, patch, Pattern};
 use seam::SurfaceMesh;
+use seam_case::transfer::Phases;
 use seam_io::Field;
-use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// Source triangles per target quad in the problem compared with preCICE.
@@ -68,23 +68,6 @@ pub struct Files {
     pub source_faces: usize,
     /// Target quads.
     pub target_faces: usize,
-}
-
-/// Seconds per phase, as `seam transfer` writes them in its summary.
-#[derive(Clone, Copy, Debug, Default, Deserialize)]
-pub struct Phases {
-    /// Reading both files.
-    pub read: f64,
-    /// Search and assembly.
-    pub assemble: f64,
-    /// T = D⁻¹B.
-    pub operator: f64,
-    /// T f or Tᵀ f.
-    pub apply: f64,
-    /// Coverage, gaps, checks.
-    pub diagnostics: f64,
-    /// The VTU.
-    pub write: f64,
 }
 
 /// The table's header, two lines of Markdown.
