@@ -153,9 +153,9 @@ struct TargetView {
 }
 
 impl TargetView {
-    /// The target as the operator's slave: its own coverage, the mortar
-    /// gaps n_p·((T x_m)_p − x_p) from `transferred_points` = T x_m, the largest gap and overlap of the point
-    /// pairs of the assembly.
+    /// The target as the operator's slave: its own coverage, the mortar gaps
+    /// n_p·((T x_m)_p − x_p) from `transferred_points` = T x_m, the largest
+    /// gap and overlap of the point pairs of the assembly.
     fn of_slave(mortar: &Mortar, target: &Surface, transferred_points: &[f64]) -> TargetView {
         let s = &mortar.summary;
         TargetView {
@@ -242,9 +242,8 @@ pub fn transfer_files(args: &Transfer) -> Result<Summary, Failure> {
     let t = mortar.transfer().context("the transfer operator")?;
     phases.operator = clock.lap();
     // Consistent: the field and the source's points in one application (the
-    // points give the target's normal gaps).
-    let mut points = None;
-    let (transferred, totals) = match args.mode {
+    // points give the target's normal gaps); conservative: no points.
+    let (transferred, totals, points) = match args.mode {
         Mode::Consistent => {
             let xs = source.mesh.points();
             let both: Vec<f64> = (0..xs.len())
@@ -253,18 +252,17 @@ pub fn transfer_files(args: &Transfer) -> Result<Summary, Failure> {
                 .collect();
             let moved = t.apply(&both, k + 3);
             let (field, at): (Vec<_>, Vec<_>) = moved.chunks_exact(k + 3).map(|c| c.split_at(k)).unzip();
-            points = Some(at.concat());
-            (field.concat(), None)
+            (field.concat(), None, at.concat())
         }
         Mode::Conservative => {
             let moved = t.apply_transpose(&masked(&values, k, &mortar.covered), k);
             let totals = (totals_of(&values, k), totals_of(&moved, k));
-            (moved, Some(totals))
+            (moved, Some(totals), Vec::new())
         }
     };
     phases.apply = clock.lap();
     let view = match args.mode {
-        Mode::Consistent => TargetView::of_slave(&mortar, &target, points.as_deref().unwrap_or_default()),
+        Mode::Consistent => TargetView::of_slave(&mortar, &target, &points),
         Mode::Conservative => TargetView::of_master(&mortar, &source, &target),
     };
     let (l2_error, l2_relative) = match (&expression, args.mode) {

@@ -740,8 +740,9 @@ fn add_columns<const N: usize>(
 
 impl Scratch {
     /// Sorts the face block's columns by master point and sums the columns of
-    /// the same point, in the order the pairs added them (a stable sort: the
-    /// sums do not depend on it), so that the rows later merge sorted runs.
+    /// the same point in the order the pairs added them (a stable sort), so
+    /// that the sums are those of a search-and-add and the rows later merge
+    /// sorted runs.
     /// O(c log c) in the c columns: a coarse slave face over a fine master
     /// has thousands.
     fn merge_columns(&mut self, n_s: usize) {

@@ -70,8 +70,8 @@ struct CoveredMass {
     covered: Vec<usize>,
     /// D_CC in local numbering.
     dcc: CsrMatrix,
-    /// Its diagonal (positive).
-    diag: Vec<f64>,
+    /// 1 / its diagonal (positive).
+    inv_diag: Vec<f64>,
     llt: OnceLock<Result<Llt<usize, f64>, MortarError>>,
     /// Conjugate-gradient steps taken so far (by all solves).
     sweeps: AtomicUsize,
@@ -142,7 +142,8 @@ impl CoveredMass {
             let e = format!("D has the diagonal entry {} at covered slave point {}", diag[k], covered[k]);
             return Err(MortarError::Factorization(e));
         }
-        Ok(CoveredMass { covered, dcc, diag, llt: OnceLock::new(), sweeps: AtomicUsize::new(0) })
+        let inv_diag = diag.iter().map(|d| 1.0 / d).collect();
+        Ok(CoveredMass { covered, dcc, inv_diag, llt: OnceLock::new(), sweeps: AtomicUsize::new(0) })
     }
 
     /// The Cholesky factorisation of D_CC, made once.
@@ -172,50 +173,57 @@ impl CoveredMass {
     /// iterates). Deterministic: the products are row by row, the sums in a
     /// fixed order.
     fn cg(&self, r: &[f64], k: usize, max_iterations: usize) -> (Vec<f64>, bool) {
+        if k <= 4 {
+            return self.cg_group(r, k, max_iterations);
+        }
+        // In groups of at most four columns (a column's iterates do not
+        // depend on the others of its group).
+        let n = self.inv_diag.len();
+        let (mut x, mut converged) = (vec![0.0; r.len()], true);
+        for first in (0..k).step_by(4) {
+            let g = (k - first).min(4);
+            let rg: Vec<f64> = (0..n).flat_map(|i| &r[i * k + first..i * k + first + g]).copied().collect();
+            let (xg, ok) = self.cg_group(&rg, g, max_iterations);
+            converged &= ok;
+            for i in 0..n {
+                x[i * k + first..i * k + first + g].copy_from_slice(&xg[i * g..(i + 1) * g]);
+            }
+        }
+        (x, converged)
+    }
+
+    fn cg_group(&self, r: &[f64], k: usize, max_iterations: usize) -> (Vec<f64>, bool) {
         match k {
             1 => self.cg_k::<1>(r, max_iterations),
             2 => self.cg_k::<2>(r, max_iterations),
             3 => self.cg_k::<3>(r, max_iterations),
-            4 => self.cg_k::<4>(r, max_iterations),
-            _ => {
-                // Column by column (each as alone).
-                let mut x = vec![0.0; r.len()];
-                let mut converged = true;
-                for l in 0..k {
-                    let rl: Vec<f64> = r.iter().skip(l).step_by(k).copied().collect();
-                    let (xl, ok) = self.cg_k::<1>(&rl, max_iterations);
-                    converged &= ok;
-                    x.iter_mut().skip(l).step_by(k).zip(xl).for_each(|(x, v)| *x = v);
-                }
-                (x, converged)
-            }
+            _ => self.cg_k::<4>(r, max_iterations),
         }
     }
 
     /// [`CoveredMass::cg`] for `K` columns.
     fn cg_k<const K: usize>(&self, r: &[f64], max_iterations: usize) -> (Vec<f64>, bool) {
-        let (n, k) = (self.diag.len(), K);
-        let inv: Vec<f64> = self.diag.iter().map(|d| 1.0 / d).collect();
+        let (n, inv) = (self.inv_diag.len(), &self.inv_diag);
         // Σ_i v_il w_il per column l, in row order.
         let dots = |v: &[f64], w: &[f64]| {
             let mut s = [0.0; K];
             for (vi, wi) in v.chunks_exact(K).zip(w.chunks_exact(K)) {
-                for l in 0..k {
+                for l in 0..K {
                     s[l] += vi[l] * wi[l];
                 }
             }
             s
         };
         let target = dots(r, r).map(|rr| CG_RTOL * rr.sqrt());
-        let mut x: Vec<f64> = (0..n * k).map(|i| r[i] * inv[i / k]).collect();
-        let mut ap = vec![0.0; n * k];
+        let mut x: Vec<f64> = (0..n * K).map(|i| r[i] * inv[i / K]).collect();
+        let mut ap = vec![0.0; n * K];
         self.multiply_k::<K>(&x, &mut ap);
         let mut res: Vec<f64> = r.iter().zip(&ap).map(|(r, a)| r - a).collect();
-        let mut z: Vec<f64> = (0..n * k).map(|i| res[i] * inv[i / k]).collect();
+        let mut z: Vec<f64> = (0..n * K).map(|i| res[i] * inv[i / K]).collect();
         let mut p = z.clone();
         let mut rz = dots(&res, &z);
-        let mut active: Vec<bool> =
-            dots(&res, &res).iter().zip(&target).map(|(rr, t)| rr.sqrt() > *t).collect();
+        let rr0 = dots(&res, &res);
+        let mut active: [bool; K] = std::array::from_fn(|l| rr0[l].sqrt() > target[l]);
         let (mut alpha, mut beta) = ([0.0; K], [0.0; K]);
         for _ in 0..max_iterations {
             if !active.contains(&true) {
@@ -224,7 +232,7 @@ impl CoveredMass {
             self.sweeps.fetch_add(1, Ordering::Relaxed);
             self.multiply_k::<K>(&p, &mut ap);
             let pap = dots(&p, &ap);
-            for l in 0..k {
+            for l in 0..K {
                 if active[l] && pap[l].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                     return (x, false);
                 }
@@ -233,7 +241,7 @@ impl CoveredMass {
             let (mut rz_next, mut rr) = ([0.0; K], [0.0; K]);
             let rows = x.chunks_exact_mut(K).zip(res.chunks_exact_mut(K)).zip(z.chunks_exact_mut(K));
             for (((xi, ri), zi), (pi, (api, &inv_i))) in
-                rows.zip(p.chunks_exact(K).zip(ap.chunks_exact(K).zip(&inv)))
+                rows.zip(p.chunks_exact(K).zip(ap.chunks_exact(K).zip(inv)))
             {
                 for l in 0..K {
                     xi[l] += alpha[l] * pi[l];
@@ -243,7 +251,7 @@ impl CoveredMass {
                     rr[l] += ri[l] * ri[l];
                 }
             }
-            for l in 0..k {
+            for l in 0..K {
                 beta[l] = if active[l] { rz_next[l] / rz[l] } else { 0.0 };
                 if active[l] {
                     rz[l] = rz_next[l];
@@ -284,9 +292,9 @@ impl CoveredMass {
     /// x with x_C = D_CC⁻¹ r_C on the covered rows C and 0 elsewhere (k
     /// components): conjugate gradients, or the factorisation once they have
     /// been slow (over [`CG_MAX`] steps) or have taken
-    /// [`CG_SWEEPS_BEFORE_FACTORING`] steps over all solves. If the factorisation fails (D_CC
-    /// is positive definite but for round-off, the Gram matrix of the λ_p on
-    /// the covered part), the last iterates.
+    /// [`CG_SWEEPS_BEFORE_FACTORING`] steps over all solves. If the
+    /// factorisation fails (D_CC, the Gram matrix of the λ_p on the covered
+    /// part, is positive definite but for round-off), the last iterates.
     fn solve(&self, r: &[f64], k: usize) -> Vec<f64> {
         let rc: Vec<f64> = self.covered.iter().flat_map(|&p| r[p * k..(p + 1) * k].iter().copied()).collect();
         if self.sweeps.load(Ordering::Relaxed) >= CG_SWEEPS_BEFORE_FACTORING {
@@ -438,6 +446,12 @@ mod tests {
         assert_eq!(xx.iter().step_by(2).copied().collect::<Vec<_>>(), x);
         let ones: Vec<f64> = xx.iter().skip(1).step_by(2).copied().collect();
         assert!(residual(&d, &ones, &vec![1.0; 3000]) <= CG_RTOL);
+        // Six columns go in groups of four and two, each column as alone.
+        let six: Vec<f64> = r.iter().flat_map(|&v| [v, 1.0, v, 2.0, -v, 1.0]).collect();
+        let (x6, converged) = mass.cg(&six, 6, 40);
+        assert!(converged);
+        assert_eq!(x6.iter().step_by(6).copied().collect::<Vec<_>>(), x);
+        assert_eq!(x6.iter().skip(1).step_by(6).copied().collect::<Vec<_>>(), ones);
         // Bit for bit on any number of threads.
         let on = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
