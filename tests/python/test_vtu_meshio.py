@@ -34,8 +34,12 @@ VTK_CELL_TYPES = {"triangle": 5, "quad": 9}
 
 
 def run_rust_test(name, **env):
-    """Runs one test of crates/seam-io/tests/vtu.rs with extra environment variables."""
-    command = ["cargo", "test", "--quiet", "-p", "seam-io", "--test", "vtu", name, "--", "--exact"]
+    """Runs one test of crates/seam-io/tests/vtu.rs with extra environment variables.
+
+    `--workspace --locked` as in scripts/test, so that cargo finds the test binary that
+    run already built (with `-p seam-io` alone its features differ and it would build
+    seam-io, seam and the test a second time)."""
+    command = ["cargo", "test", "--quiet", "--workspace", "--locked", "--test", "vtu", name, "--", "--exact"]
     done = subprocess.run(
         command, cwd=ROOT, env={**os.environ, **env}, capture_output=True, text=True, timeout=1800
     )
@@ -173,9 +177,7 @@ def test_meshio_reads_the_committed_fixtures_as_described():
 def test_volume_cells_read_by_meshio_and_vtk(tmp_path):
     """The volume writer: cell types and fields as meshio reads them, and positive
     volumes in VTK (so Gmsh's node orders are VTK's for every cell type)."""
-    env = dict(os.environ, SEAM_VTU_OUT=str(tmp_path))
-    subprocess.run(["cargo", "test", "-q", "-p", "seam-io", "--test", "vtu", "write_volume_fixture_for_python",
-                    "--", "--exact"], cwd=ROOT, env=env, check=True, capture_output=True)
+    run_rust_test("write_volume_fixture_for_python", SEAM_VTU_OUT=str(tmp_path))
     m = meshio.read(tmp_path / "volume.vtu")
     assert [c.type for c in m.cells] == ["tetra", "hexahedron", "wedge", "pyramid"]
     assert np.array_equal(m.point_data["z"], m.points[:, 2])
