@@ -180,20 +180,21 @@ impl ConvexClipper {
         let mut lens = [subject.len().min(MAX_POLYGON), 0];
         buffers[0][..lens[0]].copy_from_slice(&subject[..lens[0]]);
         let mut current = 0;
+        let mut cuts = 0;
         for &(a, n) in &self.edges {
             // Signed distance to the edge's line: positive inside.
             let dist = |p: Point2| n[0] * (p[0] - a[0]) + n[1] * (p[1] - a[1]);
+            let n_in = lens[current];
+            // An edge with every vertex inside leaves the polygon as it is (the
+            // common case: a face crosses one or two edges of the other).
+            if buffers[current][..n_in].iter().all(|&q| dist(q) >= -tol) {
+                continue;
+            }
+            cuts += 1;
             let (first, second) = buffers.split_at_mut(1);
             let (input, out) =
                 if current == 0 { (&first[0], &mut second[0]) } else { (&second[0], &mut first[0]) };
-            let n_in = lens[current];
             let mut n_out = 0;
-            let mut push = |x: Point2| {
-                if n_out < MAX_POLYGON && (n_out == 0 || !close(out[n_out - 1], x, tol)) {
-                    out[n_out] = x;
-                    n_out += 1;
-                }
-            };
             let mut p = input[n_in - 1];
             let mut dp = dist(p);
             for &q in &input[..n_in] {
@@ -201,24 +202,53 @@ impl ConvexClipper {
                 let (p_in, q_in) = (dp >= -tol, dq >= -tol);
                 if p_in != q_in && dp != dq {
                     let t = dp / (dp - dq);
-                    push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
+                    push_distinct(out, &mut n_out, [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])], tol);
                 }
                 if q_in {
-                    push(q);
+                    push_distinct(out, &mut n_out, q, tol);
                 }
                 (p, dp) = (q, dq);
             }
-            while n_out > 1 && close(out[0], out[n_out - 1], tol) {
-                n_out -= 1;
-            }
+            n_out = close_ring(out, n_out, tol);
             if n_out < 3 {
                 return Polygon::new();
             }
             current = 1 - current;
             lens[current] = n_out;
         }
+        if cuts == 0 {
+            // The subject lies inside: merge its near-duplicate vertices as a cut would.
+            let mut n_out = 0;
+            for &q in &subject[..lens[0]] {
+                push_distinct(&mut buffers[1], &mut n_out, q, tol);
+            }
+            (current, lens[1]) = (1, close_ring(&buffers[1], n_out, tol));
+            if lens[1] < 3 {
+                return Polygon::new();
+            }
+        }
         buffers[current][..lens[current]].iter().copied().collect()
     }
+}
+
+/// Appends `x` to the first `n` points of `out` unless it is within `tol` of
+/// the last one (or `out` is full).
+#[inline]
+fn push_distinct(out: &mut [Point2; MAX_POLYGON], n: &mut usize, x: Point2, tol: f64) {
+    if *n < MAX_POLYGON && (*n == 0 || !close(out[*n - 1], x, tol)) {
+        out[*n] = x;
+        *n += 1;
+    }
+}
+
+/// The length of the ring `out[..n]` without its last points that are within
+/// `tol` of the first.
+#[inline]
+fn close_ring(out: &[Point2; MAX_POLYGON], mut n: usize, tol: f64) -> usize {
+    while n > 1 && close(out[0], out[n - 1], tol) {
+        n -= 1;
+    }
+    n
 }
 
 /// (C4) Intersection of two convex counter-clockwise polygons; see

@@ -238,6 +238,8 @@ pub struct PlaneFace {
     inv: [[f64; 2]; 2],
     /// max(|b|, |c|): the size of the face in the plane.
     scale: f64,
+    /// |d| ≤ 1e-13 · scale: see [`PlaneFace::is_affine`].
+    affine: bool,
 }
 
 impl PlaneFace {
@@ -255,7 +257,8 @@ impl PlaneFace {
         let r = 1.0 / (b[0] * c[1] - b[1] * c[0]);
         let inv = [[c[1] * r, -c[0] * r], [-b[1] * r, b[0] * r]];
         let scale = norm2(b).max(norm2(c)).max(f64::MIN_POSITIVE);
-        PlaneFace { kind, q, a, b, c, d, inv, scale }
+        let affine = norm2(d) <= 1e-13 * scale;
+        PlaneFace { kind, q, a, b, c, d, inv, scale, affine }
     }
 
     /// The projected corners actually used.
@@ -269,26 +272,38 @@ impl PlaneFace {
     /// The ξ with Σ λ_i(ξ) q_i = `target`. Triangle: closed form, ξ = [b c]⁻¹(p − a).
     /// Quad: Newton on the 2×2 bilinear system from that parallelogram guess
     /// (exact for parallelograms); if it does not converge in a few steps, the
-    /// exact root of the system's quadratic is used (the safeguard).
+    /// exact root of the system's quadratic is used (the safeguard). A quad
+    /// that is a parallelogram to round-off ([`PlaneFace::is_affine`]) takes
+    /// one fixed-point step ξ ← [b c]⁻¹(e − dξη) instead, exact to O(|d|²).
     #[inline]
     pub fn inverse(&self, target: [f64; 2]) -> InverseMap {
         let e = sub2(target, self.a);
-        let xi =
-            [self.inv[0][0] * e[0] + self.inv[0][1] * e[1], self.inv[1][0] * e[0] + self.inv[1][1] * e[1]];
+        let xi = self.apply_inv(e);
         match self.kind {
             FaceKind::Tri3 => InverseMap::classify(xi, FaceKind::Tri3),
+            FaceKind::Quad4 if self.affine => {
+                let st = xi[0] * xi[1];
+                let xi = self.apply_inv([e[0] - self.d[0] * st, e[1] - self.d[1] * st]);
+                InverseMap::classify(xi, FaceKind::Quad4)
+            }
             FaceKind::Quad4 => self.newton(xi, e),
         }
     }
 
-    /// As [`PlaneFace::inverse`], with Newton started from `guess` (for a quad;
-    /// a triangle's inverse is closed-form): a point of a small plane triangle
+    /// [b c]⁻¹ v.
+    #[inline]
+    fn apply_inv(&self, v: [f64; 2]) -> Xi {
+        [self.inv[0][0] * v[0] + self.inv[0][1] * v[1], self.inv[1][0] * v[0] + self.inv[1][1] * v[1]]
+    }
+
+    /// As [`PlaneFace::inverse`], with Newton started from `guess` (for a
+    /// quad that is not a parallelogram; the other inverses are closed-form): a point of a small plane triangle
     /// whose vertices' reference coordinates are known starts next to its root.
     #[inline]
     pub fn inverse_near(&self, target: [f64; 2], guess: Xi) -> InverseMap {
         match self.kind {
-            FaceKind::Tri3 => self.inverse(target),
-            FaceKind::Quad4 => self.newton(guess, sub2(target, self.a)),
+            FaceKind::Quad4 if !self.affine => self.newton(guess, sub2(target, self.a)),
+            _ => self.inverse(target),
         }
     }
 
@@ -386,7 +401,7 @@ impl PlaneFace {
     /// True when the map is affine: a triangle, or a quad whose projection is a
     /// parallelogram (to round-off).
     pub fn is_affine(&self) -> bool {
-        norm2(self.d) <= 1e-13 * self.scale
+        self.affine
     }
 
     /// How far the inverse map ξ(q) is from a polynomial over a plane triangle

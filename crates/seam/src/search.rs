@@ -117,21 +117,58 @@ impl FaceTree {
     /// [lo, hi], in increasing face order.
     pub fn faces_meeting_box_into(&self, lo: Point3, hi: Point3, out: &mut Vec<usize>) {
         out.clear();
+        self.visit_leaves(&lo, &hi, |k| {
+            if self.boxes[k].meets(&lo, &hi) {
+                out.push(self.order[k]);
+            }
+        });
+        out.sort_unstable();
+    }
+
+    /// Clears `out`, then fills it with the slots (positions in leaf order) of
+    /// the faces whose boxes meet [lo, hi], for [`FaceTree::faces_in_slots_into`]:
+    /// one query for a group of neighbouring boxes, each then filtered alone.
+    pub fn slots_meeting_box_into(&self, lo: Point3, hi: Point3, out: &mut Vec<u32>) {
+        out.clear();
+        self.visit_leaves(&lo, &hi, |k| {
+            if self.boxes[k].meets(&lo, &hi) {
+                out.push(k as u32);
+            }
+        });
+    }
+
+    /// Clears `out`, then fills it with the faces among `slots` whose boxes
+    /// meet [lo, hi], in increasing face order: the result of
+    /// [`FaceTree::faces_meeting_box_into`] when `slots` came from a box
+    /// containing [lo, hi].
+    pub fn faces_in_slots_into(&self, slots: &[u32], lo: Point3, hi: Point3, out: &mut Vec<usize>) {
+        out.clear();
+        out.extend(
+            slots
+                .iter()
+                .filter(|&&k| self.boxes[k as usize].meets(&lo, &hi))
+                .map(|&k| self.order[k as usize]),
+        );
+        out.sort_unstable();
+    }
+
+    /// Calls `leaf_slot(k)` for every slot k of the leaves whose node box
+    /// meets [lo, hi] (depth first, fixed-size stack).
+    #[inline]
+    fn visit_leaves(&self, lo: &Point3, hi: &Point3, mut leaf_slot: impl FnMut(usize)) {
         let mut stack = [0usize; 64];
         let mut top = 1;
         stack[0] = 1;
         while top > 0 {
             top -= 1;
             let node = stack[top];
-            if !self.nodes[node].meets(&lo, &hi) {
+            if !self.nodes[node].meets(lo, hi) {
                 continue;
             }
             if node >= self.leaves {
                 let first = (node - self.leaves) * LEAF;
                 for k in first..(first + LEAF).min(self.order.len()) {
-                    if self.boxes[k].meets(&lo, &hi) {
-                        out.push(self.order[k]);
-                    }
+                    leaf_slot(k);
                 }
             } else {
                 stack[top] = 2 * node + 1;
@@ -139,7 +176,6 @@ impl FaceTree {
                 top += 2;
             }
         }
-        out.sort_unstable();
     }
 
     /// Distance from `point` to the nearest face box (0 inside one), by
@@ -263,6 +299,26 @@ mod tests {
                 tree.faces_meeting_box_into(lo, hi, &mut out);
                 assert_eq!(out, brute_force(m, lo, hi), "query at x = {x}");
             }
+        }
+    }
+
+    #[test]
+    fn group_query_filtered_per_box_matches_single_queries() {
+        let m =
+            patch(17, 13, Pattern::JitteredTriangles { amplitude: 0.25, seed: 4 }, cylinder(1.0, 4.0, 1.0));
+        let tree = FaceTree::new(&m);
+        let boxes: Vec<_> = (0..6)
+            .map(|i| face_box(&[[0.1 * i as f64, 0.2, 0.1], [0.1 * i as f64 + 0.3, 0.8, 0.1]], 0.2))
+            .collect();
+        let lo = std::array::from_fn(|k| boxes.iter().map(|b| b.0[k]).fold(f64::INFINITY, f64::min));
+        let hi = std::array::from_fn(|k| boxes.iter().map(|b| b.1[k]).fold(f64::NEG_INFINITY, f64::max));
+        let (mut slots, mut grouped, mut single) = (Vec::new(), Vec::new(), Vec::new());
+        tree.slots_meeting_box_into(lo, hi, &mut slots);
+        for &(lo, hi) in &boxes {
+            tree.faces_in_slots_into(&slots, lo, hi, &mut grouped);
+            tree.faces_meeting_box_into(lo, hi, &mut single);
+            assert!(!single.is_empty());
+            assert_eq!(grouped, single);
         }
     }
 

@@ -28,9 +28,26 @@ const CLIP_RTOL: f64 = 1e-12;
 /// are empty: shared edges and touching vertices.
 const AREA_RTOL: f64 = 1e-12;
 
+/// A first-order slave face with an affine |J| whose pairs cover its area to
+/// this relative tolerance is fully covered: its D block is the face's own
+/// mass matrix ([`face_mass`]) instead of the sum over its segments.
+const FULL_COVER_RTOL: f64 = 1e-12;
+
 /// A curved slave face whose clipped polygons cover less than 1 − this of its
 /// chord polygons is segmented again with sub-faces (the coverage ends inside).
 const COVER_RTOL: f64 = 1e-9;
+
+/// Neighbouring first-order slave faces (consecutive indices, aligned so
+/// that a group never spans two chunks of the assembly) whose candidates come
+/// from one tree query of their union box, each face then filtering the
+/// union's candidates by its own box (A1): the same candidates as a query
+/// per face, for about a third of the tree walks.
+const GROUP: usize = 4;
+
+/// A group is queried as one only if the sum of its union box's extents is at
+/// most this many times the largest of its faces': consecutive faces that are
+/// not neighbours (a scattered numbering) are queried one by one.
+const GROUP_SPREAD: f64 = 3.5;
 
 /// The quadrature rules by integrand (D3): exact for polynomial integrands.
 pub(super) struct Rules {
@@ -124,6 +141,17 @@ pub(super) struct Kernel<'a> {
 #[derive(Default)]
 pub(super) struct Scratch {
     candidates: Vec<usize>,
+    /// The straight segments of the current slave face (slave reference
+    /// triangle, signed reference area): their D is integrated only if the
+    /// face turns out partly covered.
+    straight: Vec<([Xi; 3], f64)>,
+    /// The slave faces of the current group ([`GROUP`]) and their swept boxes;
+    /// when `grouped`, `slots` holds the tree slots meeting their union,
+    /// otherwise the faces are queried one by one.
+    group: std::ops::Range<usize>,
+    group_boxes: [(Point3, Point3); GROUP],
+    grouped: bool,
+    slots: Vec<u32>,
     /// Master points touched by this slave face (the block's columns): one
     /// per pair and master node while pairs are added, then merged.
     cols: Vec<usize>,
@@ -244,17 +272,87 @@ impl<'a> Kernel<'a> {
     ) -> [f64; MAX_NODES] {
         let sf = self.prepare(s);
         let n_s = sf.element.n_nodes();
-        let (lo, hi) = swept_box(sf.element.corners(), sf.frame.normal(), sf.gap_tol);
-        self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates);
+        self.flat_candidates(s, scratch);
         stats.candidates = scratch.candidates.len() as u32;
+        scratch.straight.clear();
         for k in 0..scratch.candidates.len() {
             let m = scratch.candidates[k];
             let record = self.options.record_segments.then_some(&mut out.segments);
-            let Some(pair) = self.pair(&sf, s, m, stats, record) else { continue };
+            let Some(pair) = self.pair(&sf, s, m, stats, record, &mut scratch.straight) else { continue };
             let nodes = self.master.faces()[m].nodes();
             scratch.add_pair(d, stats, n_s, nodes, (&pair.d, &pair.b), (pair.covered_area, pair.segments));
         }
+        // (D4) for D: the face's mass matrix, in closed form, if it is fully
+        // covered (the common case), else its covered part, segment by segment
+        // (a warped quad always: its rule is calibrated on segments).
+        let area: f64 = sf.full.iter().sum();
+        let full_mass = match sf.jacobian {
+            JacobianField::Affine(j) if (stats.covered_area - area).abs() <= FULL_COVER_RTOL * area => {
+                Some(face_mass(sf.element.kind, j))
+            }
+            _ => None,
+        };
+        if let Some(mass) = full_mass {
+            for p in 0..n_s {
+                d[p * MAX_NODES..p * MAX_NODES + n_s].copy_from_slice(&mass[p][..n_s]);
+            }
+        } else {
+            let rule = self.rules.select(&sf, FaceKind::Tri3);
+            let mut block = [[0.0; 4]; 4];
+            for &(ts, area_ref) in &scratch.straight {
+                match sf.element.kind {
+                    FaceKind::Tri3 => accumulate_d::<3>(&sf.jacobian, ts, area_ref, &rule, &mut block),
+                    FaceKind::Quad4 => accumulate_d::<4>(&sf.jacobian, ts, area_ref, &rule, &mut block),
+                }
+            }
+            for p in 0..n_s {
+                for q in 0..n_s {
+                    d[p * MAX_NODES + q] += block[p.min(q)][p.max(q)];
+                }
+            }
+        }
         std::array::from_fn(|p| if p < 4 { sf.full[p] } else { 0.0 })
+    }
+
+    /// (A1) The candidates of first-order slave face `s` (whose swept box is
+    /// that of [`Kernel::prepare`]) into `scratch.candidates`, from its group's
+    /// query.
+    fn flat_candidates(&self, s: usize, scratch: &mut Scratch) {
+        if !scratch.group.contains(&s) {
+            self.query_group(s, scratch);
+        }
+        let (lo, hi) = scratch.group_boxes[s - scratch.group.start];
+        match scratch.grouped {
+            true => self.tree.faces_in_slots_into(&scratch.slots, lo, hi, &mut scratch.candidates),
+            false => self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates),
+        }
+    }
+
+    /// The swept boxes of the first-order faces of the group of `s` and, if
+    /// they lie close together ([`GROUP_SPREAD`]), the tree slots meeting their
+    /// union.
+    fn query_group(&self, s: usize, scratch: &mut Scratch) {
+        let start = s - s % GROUP;
+        scratch.group = start..(start + GROUP).min(self.slave.n_faces());
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let mut largest = 0.0f64;
+        let extent = |lo: Point3, hi: Point3| (0..3).map(|k| hi[k] - lo[k]).sum::<f64>();
+        for f in scratch.group.clone() {
+            if self.slave.faces()[f].is_curved() {
+                continue;
+            }
+            let element = FaceElement::of(self.slave, f);
+            let gap_tol = self.options.max_gap.at(element.diameter());
+            let b = swept_box(element.corners(), element.normal(), gap_tol);
+            scratch.group_boxes[f - start] = b;
+            largest = largest.max(extent(b.0, b.1));
+            lo = std::array::from_fn(|k| lo[k].min(b.0[k]));
+            hi = std::array::from_fn(|k| hi[k].max(b.1[k]));
+        }
+        scratch.grouped = largest > 0.0 && extent(lo, hi) <= GROUP_SPREAD * largest;
+        if scratch.grouped {
+            self.tree.slots_meeting_box_into(lo, hi, &mut scratch.slots);
+        }
     }
 
     /// The general path ([`isoparametric`]): any pair with a curved face.
@@ -354,7 +452,12 @@ impl<'a> Kernel<'a> {
             plane,
             clipper,
         };
-        sf.full = face_integrals(&sf.element, self.rules.select(&sf, sf.element.kind).degree);
+        sf.full = match sf.jacobian {
+            JacobianField::Affine(j) => affine_face_integrals(sf.element.kind, j),
+            JacobianField::Norm(_) => {
+                face_integrals(&sf.element, self.rules.select(&sf, sf.element.kind).degree)
+            }
+        };
         if let JacobianField::Affine(_) = sf.jacobian {
             sf.area_ratio = Some(sf.full.iter().sum::<f64>() / plane_area);
         }
@@ -370,6 +473,7 @@ impl<'a> Kernel<'a> {
         m: usize,
         stats: &mut FaceStats,
         mut record: Option<&mut Vec<Segment>>,
+        straight: &mut Vec<([Xi; 3], f64)>,
     ) -> Option<PairBlock> {
         let facing = isoparametric::facing_ok(
             self.options.facing,
@@ -436,7 +540,7 @@ impl<'a> Kernel<'a> {
                 };
                 on.integrate(em.kind, Piece { q: plane, xs: ts, xm: [xm[a], xm[b], xm[c]] }, &mut block);
             } else {
-                integrate_segment(sf, em.kind, ts, [xm[a], xm[b], xm[c]], &rule, &mut block);
+                integrate_segment(sf, em.kind, ts, [xm[a], xm[b], xm[c]], &rule, &mut block, straight);
             }
             if let Some(segments) = record.as_deref_mut() {
                 segments.push(Segment { slave: s, master: m, corners: ts.map(|xi| sf.element.map(xi)) });
@@ -449,6 +553,23 @@ impl<'a> Kernel<'a> {
             }
         }
         Some(block)
+    }
+}
+
+/// ∫_e λ_p |J| in closed form for an affine |J| = j₀ + j₁ξ + j₂η (triangles and
+/// planar quads): on the reference triangle ∫λ_p = 1/6 and ∫λ_p λ_r =
+/// (1 + δ_pr)/24 with ξ = λ₁, η = λ₂; on [0,1]² ∫λ_p = 1/4 and ∫λ_p ξ is 1/6
+/// for the two corners at ξ = 1, 1/12 for the others (likewise η).
+fn affine_face_integrals(kind: FaceKind, [j0, j1, j2]: [f64; 3]) -> [f64; 4] {
+    match kind {
+        FaceKind::Tri3 => {
+            let m = |p: usize, r: usize| if p == r { 2.0 / 24.0 } else { 1.0 / 24.0 };
+            std::array::from_fn(|p| if p < 3 { j0 / 6.0 + j1 * m(p, 1) + j2 * m(p, 2) } else { 0.0 })
+        }
+        FaceKind::Quad4 => {
+            let m = |at_one: bool| if at_one { 1.0 / 6.0 } else { 1.0 / 12.0 };
+            std::array::from_fn(|p| j0 / 4.0 + j1 * m(p == 1 || p == 2) + j2 * m(p == 2 || p == 3))
+        }
     }
 }
 
@@ -474,7 +595,8 @@ fn count_failure(r: InverseMap, stats: &mut FaceStats) -> Xi {
 /// placed affinely in the slave's reference triangle, given their master
 /// coordinates by the affine map between the two triangles, and weighted by
 /// ω'_l = ω_l |J_s(x_l^s)| |T̂s|. Dispatches once to the loop specialised for
-/// the two faces' node counts.
+/// the two faces' node counts. B and the covered area only: the segment is
+/// appended to `straight` for D ([`Kernel::flat_face`]).
 #[inline]
 fn integrate_segment(
     sf: &SlaveFace,
@@ -483,6 +605,7 @@ fn integrate_segment(
     tm: [Xi; 3],
     rule: &TriangleRule,
     block: &mut PairBlock,
+    straight: &mut Vec<([Xi; 3], f64)>,
 ) {
     // Relative to the orientation of the slave's map.
     let area_ref = sf.orientation * signed_area(ts);
@@ -490,6 +613,7 @@ fn integrate_segment(
         return;
     }
     block.segments += 1;
+    straight.push((ts, area_ref));
     let j = &sf.jacobian;
     match (sf.element.kind, master) {
         (FaceKind::Tri3, FaceKind::Tri3) => accumulate::<3, 3>(j, ts, tm, area_ref, rule, block),
@@ -500,8 +624,7 @@ fn integrate_segment(
 }
 
 /// The quadrature loop of [`integrate_segment`] for an `NS`-node slave and an
-/// `NM`-node master face (fixed sizes: unrolled, no bounds checks). Only the
-/// upper triangle of the symmetric D block is accumulated.
+/// `NM`-node master face (fixed sizes: unrolled, no bounds checks).
 #[inline(always)]
 fn accumulate<const NS: usize, const NM: usize>(
     jacobian: &JacobianField,
@@ -517,8 +640,66 @@ fn accumulate<const NS: usize, const NM: usize>(
         let lam: [f64; NM] = shape_of(barycentric(tm, *pt));
         let wj = w * area_ref * jacobian.at(xis);
         block.covered_area += wj;
-        add_point(&mut block.d, &mut block.b, wj, &phi, &lam);
+        add_b(&mut block.b, wj, &phi, &lam);
     }
+}
+
+/// D's share (upper triangle) of a straight segment of an `NS`-node slave face.
+fn accumulate_d<const NS: usize>(
+    jacobian: &JacobianField,
+    ts: [Xi; 3],
+    area_ref: f64,
+    rule: &TriangleRule,
+    d: &mut [[f64; 4]; 4],
+) {
+    for (pt, &w) in rule.points.iter().zip(rule.weights) {
+        let xis = barycentric(ts, *pt);
+        let phi: [f64; NS] = shape_of(xis);
+        add_d(d, w * area_ref * jacobian.at(xis), &phi);
+    }
+}
+
+/// The mass matrix ∫_e λ_p λ_q |J| of a first-order face with an affine
+/// |J| = j₀ + j₁ξ + j₂η, in closed form: on the reference triangle
+/// ∫λ_aλ_bλ_c = a!b!c!/(a+b+c+2)! in the exponents of λ₀, λ₁ = ξ, λ₂ = η; on
+/// [0,1]² the integrals factor into ∫f_p f_q (1/3 for equal 1D factors, 1/6
+/// otherwise) and ∫f_p f_q ξ (1/4 when both are ξ, 1/12 otherwise).
+fn face_mass(kind: FaceKind, [j0, j1, j2]: [f64; 3]) -> [[f64; 4]; 4] {
+    let mut m = [[0.0; 4]; 4];
+    match kind {
+        FaceKind::Tri3 => {
+            let factorial = [1.0, 1.0, 2.0, 6.0];
+            let moment = |a: usize, b: usize, c: Option<usize>| {
+                let mut e = [0usize; 3];
+                for i in [Some(a), Some(b), c].into_iter().flatten() {
+                    e[i] += 1;
+                }
+                let order = e.iter().sum::<usize>();
+                e.iter().map(|&k| factorial[k]).product::<f64>() / if order == 2 { 24.0 } else { 120.0 }
+            };
+            for p in 0..3 {
+                for q in 0..3 {
+                    m[p][q] =
+                        j0 * moment(p, q, None) + j1 * moment(p, q, Some(1)) + j2 * moment(p, q, Some(2));
+                }
+            }
+        }
+        FaceKind::Quad4 => {
+            // λ_p = f_p(ξ) g_p(η): f_p = ξ for p = 1, 2; g_p = η for p = 2, 3.
+            let (fx, gy) = (|p: usize| p == 1 || p == 2, |p: usize| p == 2 || p == 3);
+            let plain = |a: bool, b: bool| if a == b { 1.0 / 3.0 } else { 1.0 / 6.0 };
+            let moment = |a: bool, b: bool| if a && b { 1.0 / 4.0 } else { 1.0 / 12.0 };
+            for p in 0..4 {
+                for q in 0..4 {
+                    let (f, g) = ((fx(p), fx(q)), (gy(p), gy(q)));
+                    m[p][q] = j0 * plain(f.0, f.1) * plain(g.0, g.1)
+                        + j1 * moment(f.0, f.1) * plain(g.0, g.1)
+                        + j2 * plain(f.0, f.1) * moment(g.0, g.1);
+                }
+            }
+        }
+    }
+    m
 }
 
 /// A plane triangle and the reference coordinates of its vertices on the
@@ -705,11 +886,31 @@ pub(super) fn add_point<const N: usize, const NS: usize, const NM: usize>(
     phi: &[f64; NS],
     lam: &[f64; NM],
 ) {
+    add_d(d, wj, phi);
+    add_b(b, wj, phi, lam);
+}
+
+/// D_pq += w φ_p φ_q, upper triangle (q ≥ p).
+#[inline(always)]
+fn add_d<const N: usize, const NS: usize>(d: &mut [[f64; N]; N], wj: f64, phi: &[f64; NS]) {
     for p in 0..NS {
         let wp = wj * phi[p];
         for q in p..NS {
             d[p][q] += wp * phi[q];
         }
+    }
+}
+
+/// B_pq += w φ_p λ_q.
+#[inline(always)]
+fn add_b<const N: usize, const NS: usize, const NM: usize>(
+    b: &mut [[f64; N]; N],
+    wj: f64,
+    phi: &[f64; NS],
+    lam: &[f64; NM],
+) {
+    for p in 0..NS {
+        let wp = wj * phi[p];
         for q in 0..NM {
             b[p][q] += wp * lam[q];
         }
@@ -877,6 +1078,74 @@ mod tests {
 
     /// The justification of [`PLANE_LADDER`] (first-order quads; each rung at
     /// least as fine as the pair's polynomial rule).
+    #[test]
+    fn affine_face_integrals_agree_with_quadrature() {
+        let faces = [
+            FaceElement {
+                kind: FaceKind::Tri3,
+                x: [[0.1, 0.0, 0.3], [1.3, 0.2, 0.1], [0.4, 0.9, 0.7], [0.0; 3]],
+            },
+            // A planar quad that is no parallelogram (affine, not constant, |J|).
+            FaceElement {
+                kind: FaceKind::Quad4,
+                x: [[0.0, 0.0, 0.0], [2.0, 0.3, 0.0], [1.7, 1.9, 0.0], [-0.2, 1.0, 0.0]],
+            },
+        ];
+        for e in faces {
+            let JacobianField::Affine(j) = e.jacobian_field() else { panic!("planar face") };
+            let (closed, reference) = (affine_face_integrals(e.kind, j), face_integrals(&e, 8));
+            for p in 0..4 {
+                assert!(
+                    (closed[p] - reference[p]).abs() <= 1e-15 * reference[0].abs(),
+                    "{p}: {closed:?} {reference:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn face_mass_agrees_with_quadrature() {
+        let faces = [
+            FaceElement {
+                kind: FaceKind::Tri3,
+                x: [[0.1, 0.0, 0.3], [1.3, 0.2, 0.1], [0.4, 0.9, 0.7], [0.0; 3]],
+            },
+            FaceElement {
+                kind: FaceKind::Quad4,
+                x: [[0.0, 0.0, 0.0], [2.0, 0.3, 0.0], [1.7, 1.9, 0.0], [-0.2, 1.0, 0.0]],
+            },
+        ];
+        let fine = rule(crate::quadrature::MAX_TRIANGLE_DEGREE);
+        for e in faces {
+            let jacobian = e.jacobian_field();
+            let JacobianField::Affine(j) = jacobian else { panic!("planar face") };
+            let mass = face_mass(e.kind, j);
+            let mut reference = [[0.0; 4]; 4];
+            for t in e.reference_triangles() {
+                // Each reference triangle cut into four, so the reference is no copy of `face_mass`.
+                let m = edge_midpoints(*t);
+                for c in [[t[0], m[0], m[2]], [m[0], t[1], m[1]], [m[2], m[1], t[2]], [m[1], m[2], m[0]]] {
+                    match e.kind {
+                        FaceKind::Tri3 => {
+                            accumulate_d::<3>(&jacobian, c, triangle_area(c), &fine, &mut reference)
+                        }
+                        FaceKind::Quad4 => {
+                            accumulate_d::<4>(&jacobian, c, triangle_area(c), &fine, &mut reference)
+                        }
+                    }
+                }
+            }
+            let n = e.n_nodes();
+            for p in 0..n {
+                for q in p..n {
+                    let tol = 1e-13 * reference[0][0];
+                    assert!((mass[p][q] - reference[p][q]).abs() <= tol, "{:?} {p}{q}: {mass:?}", e.kind);
+                    assert_eq!(mass[p][q], mass[q][p]);
+                }
+            }
+        }
+    }
+
     #[test]
     fn plane_ladder_accuracy() {
         let (worst, cut) = ladder_accuracy(CurvedKind::Quad4, &PLANE_LADDER, PLANE_MAX_DEPTH, 7);
