@@ -110,6 +110,11 @@ pub fn convex_hull(points: &[Point2]) -> Polygon {
 /// (C3) The convex polygon of a projected face: its corners counter-clockwise,
 /// or their convex hull when the projection is not convex.
 pub fn face_polygon(q: &[Point2]) -> Polygon {
+    if let [a, b, c] = *q {
+        // A triangle is convex: only its orientation is in question.
+        let turn = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        return Polygon::from_iter(if turn < 0.0 { [c, b, a] } else { [a, b, c] });
+    }
     let mut p: Polygon = q.iter().copied().collect();
     if polygon_area(&p) < 0.0 {
         p.reverse();
@@ -175,80 +180,74 @@ impl ConvexClipper {
         {
             return Polygon::new();
         }
-        // Two plain buffers used in turn: the input of one edge is the output of the last.
-        let mut buffers = [[[0.0f64; 2]; MAX_POLYGON]; 2];
-        let mut lens = [subject.len().min(MAX_POLYGON), 0];
-        buffers[0][..lens[0]].copy_from_slice(&subject[..lens[0]]);
+        // Two buffers used in turn: the input of one edge is the output of the last.
+        let mut buffers = [Polygon::new(), Polygon::new()];
+        buffers[0].extend(subject.iter().take(MAX_POLYGON).copied());
         let mut current = 0;
         let mut cuts = 0;
         for &(a, n) in &self.edges {
             // Signed distance to the edge's line: positive inside.
             let dist = |p: Point2| n[0] * (p[0] - a[0]) + n[1] * (p[1] - a[1]);
-            let n_in = lens[current];
             // An edge with every vertex inside leaves the polygon as it is (the
             // common case: a face crosses one or two edges of the other).
-            if buffers[current][..n_in].iter().all(|&q| dist(q) >= -tol) {
+            if buffers[current].iter().all(|&q| dist(q) >= -tol) {
                 continue;
             }
             cuts += 1;
-            let (first, second) = buffers.split_at_mut(1);
-            let (input, out) =
-                if current == 0 { (&first[0], &mut second[0]) } else { (&second[0], &mut first[0]) };
-            let mut n_out = 0;
-            let mut p = input[n_in - 1];
+            let [first, second] = &mut buffers;
+            let (input, out) = if current == 0 { (&*first, second) } else { (&*second, first) };
+            out.clear();
+            let mut p = input[input.len() - 1];
             let mut dp = dist(p);
-            for &q in &input[..n_in] {
+            for &q in input {
                 let dq = dist(q);
                 let (p_in, q_in) = (dp >= -tol, dq >= -tol);
                 if p_in != q_in && dp != dq {
                     let t = dp / (dp - dq);
-                    push_distinct(out, &mut n_out, [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])], tol);
+                    push_distinct(out, [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])], tol);
                 }
                 if q_in {
-                    push_distinct(out, &mut n_out, q, tol);
+                    push_distinct(out, q, tol);
                 }
                 (p, dp) = (q, dq);
             }
-            n_out = close_ring(out, n_out, tol);
-            if n_out < 3 {
+            close_ring(out, tol);
+            if out.len() < 3 {
                 return Polygon::new();
             }
             current = 1 - current;
-            lens[current] = n_out;
         }
         if cuts == 0 {
             // The subject lies inside: merge its near-duplicate vertices as a cut would.
-            let mut n_out = 0;
-            for &q in &subject[..lens[0]] {
-                push_distinct(&mut buffers[1], &mut n_out, q, tol);
+            let [input, out] = &mut buffers;
+            for &q in input.iter() {
+                push_distinct(out, q, tol);
             }
-            (current, lens[1]) = (1, close_ring(&buffers[1], n_out, tol));
-            if lens[1] < 3 {
+            close_ring(out, tol);
+            current = 1;
+            if out.len() < 3 {
                 return Polygon::new();
             }
         }
-        buffers[current][..lens[current]].iter().copied().collect()
+        std::mem::take(&mut buffers[current])
     }
 }
 
-/// Appends `x` to the first `n` points of `out` unless it is within `tol` of
-/// the last one (or `out` is full).
+/// Appends `x` to `out` unless it is within `tol` of its last point (or
+/// `out` is full).
 #[inline]
-fn push_distinct(out: &mut [Point2; MAX_POLYGON], n: &mut usize, x: Point2, tol: f64) {
-    if *n < MAX_POLYGON && (*n == 0 || !close(out[*n - 1], x, tol)) {
-        out[*n] = x;
-        *n += 1;
+fn push_distinct(out: &mut Polygon, x: Point2, tol: f64) {
+    if !out.is_full() && out.last().is_none_or(|&l| !close(l, x, tol)) {
+        out.push(x);
     }
 }
 
-/// The length of the ring `out[..n]` without its last points that are within
-/// `tol` of the first.
+/// Drops the last points of the ring `out` that are within `tol` of its first.
 #[inline]
-fn close_ring(out: &[Point2; MAX_POLYGON], mut n: usize, tol: f64) -> usize {
-    while n > 1 && close(out[0], out[n - 1], tol) {
-        n -= 1;
+fn close_ring(out: &mut Polygon, tol: f64) {
+    while out.len() > 1 && close(out[0], out[out.len() - 1], tol) {
+        out.pop();
     }
-    n
 }
 
 /// (C4) Intersection of two convex counter-clockwise polygons; see

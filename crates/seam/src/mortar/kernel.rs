@@ -275,10 +275,13 @@ impl<'a> Kernel<'a> {
         self.flat_candidates(s, scratch);
         stats.candidates = scratch.candidates.len() as u32;
         scratch.straight.clear();
+        let mut pair = PairBlock::default();
         for k in 0..scratch.candidates.len() {
             let m = scratch.candidates[k];
             let record = self.options.record_segments.then_some(&mut out.segments);
-            let Some(pair) = self.pair(&sf, s, m, stats, record, &mut scratch.straight) else { continue };
+            if !self.pair(&sf, s, m, stats, record, &mut scratch.straight, &mut pair) {
+                continue;
+            }
             let nodes = self.master.faces()[m].nodes();
             scratch.add_pair(d, stats, n_s, nodes, (&pair.d, &pair.b), (pair.covered_area, pair.segments));
         }
@@ -464,8 +467,8 @@ impl<'a> Kernel<'a> {
         sf
     }
 
-    /// (C1)–(C6) for the pair (slave face, master face `m`); `None` when the pair
-    /// is filtered out or does not overlap.
+    /// (C1)–(C6) for the pair (slave face, master face `m`) into `block`;
+    /// false when the pair is filtered out or does not overlap.
     fn pair(
         &self,
         sf: &SlaveFace,
@@ -474,7 +477,8 @@ impl<'a> Kernel<'a> {
         stats: &mut FaceStats,
         mut record: Option<&mut Vec<Segment>>,
         straight: &mut Vec<([Xi; 3], f64)>,
-    ) -> Option<PairBlock> {
+        block: &mut PairBlock,
+    ) -> bool {
         let facing = isoparametric::facing_ok(
             self.options.facing,
             sf.frame.normal(),
@@ -483,7 +487,7 @@ impl<'a> Kernel<'a> {
         );
         if !facing {
             stats.rejected_angle += 1;
-            return None;
+            return false;
         }
         // (C3)–(C4)
         let em = FaceElement::of(self.master, m);
@@ -491,7 +495,7 @@ impl<'a> Kernel<'a> {
         let polygon = sf.clipper.clip(&face_polygon(&q[..em.n_nodes()]));
         if polygon.len() < 3 || polygon_area(&polygon) <= sf.area_tol {
             stats.empty += 1;
-            return None;
+            return false;
         }
         // (D1)–(D2): reference coordinates of every polygon vertex on both faces.
         let master_plane = PlaneFace::new(em.kind, q);
@@ -506,7 +510,7 @@ impl<'a> Kernel<'a> {
             let g = dot4(em.shape(xm[v]), master_heights) - dot4(sf.element.shape(xs[v]), sf.heights);
             if g.abs() > sf.gap_tol {
                 stats.rejected_gap += 1;
-                return None;
+                return false;
             }
             gap = gap.max(g);
             overlap = overlap.max(-g);
@@ -514,7 +518,7 @@ impl<'a> Kernel<'a> {
         stats.max_gap = stats.max_gap.max(gap);
         stats.max_overlap = stats.max_overlap.max(overlap);
         let rule = self.rules.select(sf, em.kind);
-        let mut block = PairBlock { d: [[0.0; 4]; 4], b: [[0.0; 4]; 4], covered_area: 0.0, segments: 0 };
+        *block = PairBlock::default();
         // Both projected faces affine (triangles, parallelograms): ξ_s and ξ_m
         // are affine in the plane point, a segment is a straight triangle in
         // both reference cells and the rule is exact. Otherwise the preimages
@@ -538,21 +542,21 @@ impl<'a> Kernel<'a> {
                     fixed,
                     stats: &mut *stats,
                 };
-                on.integrate(em.kind, Piece { q: plane, xs: ts, xm: [xm[a], xm[b], xm[c]] }, &mut block);
+                on.integrate(em.kind, Piece { q: plane, xs: ts, xm: [xm[a], xm[b], xm[c]] }, block);
             } else {
-                integrate_segment(sf, em.kind, ts, [xm[a], xm[b], xm[c]], &rule, &mut block, straight);
+                integrate_segment(sf, em.kind, ts, [xm[a], xm[b], xm[c]], &rule, block, straight);
             }
             if let Some(segments) = record.as_deref_mut() {
                 segments.push(Segment { slave: s, master: m, corners: ts.map(|xi| sf.element.map(xi)) });
             }
         }
-        // D is symmetric: only its upper triangle was accumulated.
+        // D (of segments in the plane) is symmetric: only its upper triangle was accumulated.
         for p in 0..4 {
             for q in 0..p {
                 block.d[p][q] = block.d[q][p];
             }
         }
-        Some(block)
+        true
     }
 }
 
@@ -634,13 +638,21 @@ fn accumulate<const NS: usize, const NM: usize>(
     rule: &TriangleRule,
     block: &mut PairBlock,
 ) {
+    // Sums in locals (registers), added to the block once per segment.
+    let (mut b, mut area) = ([[0.0; NM]; NS], 0.0);
     for (pt, &w) in rule.points.iter().zip(rule.weights) {
         let xis = barycentric(ts, *pt);
         let phi: [f64; NS] = shape_of(xis);
         let lam: [f64; NM] = shape_of(barycentric(tm, *pt));
-        let wj = w * area_ref * jacobian.at(xis);
-        block.covered_area += wj;
-        add_b(&mut block.b, wj, &phi, &lam);
+        let wj = w * jacobian.at(xis);
+        area += wj;
+        add_b(&mut b, wj, &phi, &lam);
+    }
+    block.covered_area += area_ref * area;
+    for p in 0..NS {
+        for q in 0..NM {
+            block.b[p][q] += area_ref * b[p][q];
+        }
     }
 }
 
@@ -903,8 +915,8 @@ fn add_d<const N: usize, const NS: usize>(d: &mut [[f64; N]; N], wj: f64, phi: &
 
 /// B_pq += w φ_p λ_q.
 #[inline(always)]
-fn add_b<const N: usize, const NS: usize, const NM: usize>(
-    b: &mut [[f64; N]; N],
+fn add_b<const N: usize, const NS: usize, const NM: usize, const NB: usize>(
+    b: &mut [[f64; NB]; N],
     wj: f64,
     phi: &[f64; NS],
     lam: &[f64; NM],
