@@ -191,10 +191,13 @@ struct SlaveFace {
 struct PairBlock {
     /// n_s × n_s: `d[p][q]`.
     d: [[f64; 4]; 4],
-    /// n_s × n_m: `b[p][q]`.
+    /// B's n_s × n_m block by columns: `b[q][p]`.
     b: [[f64; 4]; 4],
     covered_area: f64,
     segments: u32,
+    /// Whether `d` holds the pair's D (segments in the plane; a straight
+    /// segment's D is left to [`Kernel::flat_face`]).
+    has_d: bool,
 }
 
 impl PairBlock {
@@ -283,7 +286,8 @@ impl<'a> Kernel<'a> {
                 continue;
             }
             let nodes = self.master.faces()[m].nodes();
-            scratch.add_pair(d, stats, n_s, nodes, (&pair.d, &pair.b), (pair.covered_area, pair.segments));
+            let pair_d = pair.has_d.then_some(&pair.d);
+            scratch.add_pair(d, stats, n_s, nodes, (pair_d, &pair.b), (pair.covered_area, pair.segments));
         }
         // (D4) for D: the face's mass matrix, in closed form, if it is fully
         // covered (the common case), else its covered part, segment by segment
@@ -427,7 +431,14 @@ impl<'a> Kernel<'a> {
             };
             plane_area += pair.plane_area;
             let nodes = self.master.faces()[m].nodes();
-            scratch.add_pair(d, stats, n_s, nodes, (&pair.d, &pair.b), (pair.covered_area, pair.segments));
+            scratch.add_pair(
+                d,
+                stats,
+                n_s,
+                nodes,
+                (Some(&pair.d), &pair.b),
+                (pair.covered_area, pair.segments),
+            );
         }
         plane_area
     }
@@ -524,6 +535,7 @@ impl<'a> Kernel<'a> {
         // both reference cells and the rule is exact. Otherwise the preimages
         // of straight plane edges are curved: the points are placed in the plane.
         let in_plane = !(sf.plane.is_affine() && master_plane.is_affine());
+        block.has_d = in_plane;
         // A rule fixed by the options wins for warped quads.
         let fixed = sf.warped_rule.filter(|_| self.options.warped_quad_degree.is_some());
         for [a, b, c] in fan_triangles(polygon.len()) {
@@ -551,9 +563,11 @@ impl<'a> Kernel<'a> {
             }
         }
         // D (of segments in the plane) is symmetric: only its upper triangle was accumulated.
-        for p in 0..4 {
-            for q in 0..p {
-                block.d[p][q] = block.d[q][p];
+        if in_plane {
+            for p in 0..4 {
+                for q in 0..p {
+                    block.d[p][q] = block.d[q][p];
+                }
             }
         }
         true
@@ -639,7 +653,7 @@ fn accumulate<const NS: usize, const NM: usize>(
     block: &mut PairBlock,
 ) {
     // Sums in locals (registers), added to the block once per segment.
-    let (mut b, mut area) = ([[0.0; NM]; NS], 0.0);
+    let (mut b, mut area) = ([[0.0; NS]; NM], 0.0);
     for (pt, &w) in rule.points.iter().zip(rule.weights) {
         let xis = barycentric(ts, *pt);
         let phi: [f64; NS] = shape_of(xis);
@@ -649,9 +663,9 @@ fn accumulate<const NS: usize, const NM: usize>(
         add_b(&mut b, wj, &phi, &lam);
     }
     block.covered_area += area_ref * area;
-    for p in 0..NS {
-        for q in 0..NM {
-            block.b[p][q] += area_ref * b[p][q];
+    for q in 0..NM {
+        for p in 0..NS {
+            block.b[q][p] += area_ref * b[q][p];
         }
     }
 }
@@ -864,23 +878,25 @@ pub(super) fn signed_area(t: [Xi; 3]) -> f64 {
 }
 
 impl Scratch {
-    /// Adds a pair's blocks (n_s × n_s of D into `d`, n_s × n_m of B into the
-    /// face's columns) and counts to the face's.
+    /// Adds a pair's blocks (n_s × n_s of D, if any, into `d`, n_s × n_m of B
+    /// into the face's columns) and counts to the face's.
     fn add_pair<const N: usize>(
         &mut self,
         d: &mut [f64; MAX_NODES * MAX_NODES],
         stats: &mut FaceStats,
         n_s: usize,
         master_nodes: &[usize],
-        (pair_d, pair_b): (&[[f64; N]; N], &[[f64; N]; N]),
+        (pair_d, pair_b): (Option<&[[f64; N]; N]>, &[[f64; N]; N]),
         (covered_area, segments): (f64, u32),
     ) {
         stats.intersecting += 1;
         stats.segments += segments;
         stats.covered_area += covered_area;
-        for p in 0..n_s {
-            for q in 0..n_s {
-                d[p * MAX_NODES + q] += pair_d[p][q];
+        if let Some(pair_d) = pair_d {
+            for p in 0..n_s {
+                for q in 0..n_s {
+                    d[p * MAX_NODES + q] += pair_d[p][q];
+                }
             }
         }
         add_columns(&mut self.cols, &mut self.b, n_s, master_nodes, pair_b);
@@ -913,7 +929,7 @@ fn add_d<const N: usize, const NS: usize>(d: &mut [[f64; N]; N], wj: f64, phi: &
     }
 }
 
-/// B_pq += w φ_p λ_q.
+/// B_pq += w φ_p λ_q, into B's columns `b[q][p]`.
 #[inline(always)]
 fn add_b<const N: usize, const NS: usize, const NM: usize, const NB: usize>(
     b: &mut [[f64; NB]; N],
@@ -921,10 +937,10 @@ fn add_b<const N: usize, const NS: usize, const NM: usize, const NB: usize>(
     phi: &[f64; NS],
     lam: &[f64; NM],
 ) {
-    for p in 0..NS {
-        let wp = wj * phi[p];
-        for q in 0..NM {
-            b[p][q] += wp * lam[q];
+    for q in 0..NM {
+        let wq = wj * lam[q];
+        for p in 0..NS {
+            b[q][p] += wq * phi[p];
         }
     }
 }
@@ -935,9 +951,9 @@ pub(super) fn edge_midpoints([a, b, c]: [[f64; 2]; 3]) -> [[f64; 2]; 3] {
     [mid(a, b), mid(b, c), mid(c, a)]
 }
 
-/// Appends a pair's n_s × n_m block `b` to the face's block (columns of
-/// `n_s` rows), one column per master point; [`Scratch::merge_columns`] sums
-/// the columns of the same point.
+/// Appends a pair's n_s × n_m block, by columns `b[q][p]`, to the face's
+/// block (columns of `n_s` rows), one column per master point;
+/// [`Scratch::merge_columns`] sums the columns of the same point.
 fn add_columns<const N: usize>(
     cols: &mut Vec<usize>,
     block: &mut Vec<f64>,
@@ -947,7 +963,7 @@ fn add_columns<const N: usize>(
 ) {
     for (q, &node) in master_nodes.iter().enumerate() {
         cols.push(node);
-        block.extend((0..n_s).map(|p| b[p][q]));
+        block.extend_from_slice(&b[q][..n_s]);
     }
 }
 
