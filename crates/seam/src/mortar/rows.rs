@@ -93,10 +93,9 @@ impl Blocks {
     /// Row `l` of face f's B block as (master point, value) pairs.
     fn b_row(&self, f: usize, l: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
         let n_s = self.n_s(f);
-        let base = self.b_ptr[f];
-        (self.col_ptr[f]..self.col_ptr[f + 1])
-            .enumerate()
-            .map(move |(j, c)| (self.cols[c] as usize, self.b[base + j * n_s + l]))
+        let cols = &self.cols[self.col_ptr[f]..self.col_ptr[f + 1]];
+        let b = &self.b[self.b_ptr[f]..self.b_ptr[f + 1]];
+        cols.iter().zip(b.chunks_exact(n_s)).map(move |(&c, column)| (c as usize, column[l]))
     }
 
     /// Row `l` of face f's D block.
@@ -167,9 +166,9 @@ pub(super) fn into_mortar(
 ) -> Mortar {
     let around = PointFaces::new(slave);
     let n = slave.n_points();
-    let b = sum_rows(n, master.n_points(), &around, |f, l, out| {
+    let b = sum_rows(n, master.n_points(), &around, |f, l, row| {
         let (c, k) = blocks.at(f);
-        out.extend(c.b_row(k, l));
+        row.add(c.b_row(k, l));
     });
     // The B blocks are done with: free them before D is built (peak memory).
     for c in &mut blocks.chunks {
@@ -178,26 +177,11 @@ pub(super) fn into_mortar(
         c.col_ptr = Vec::new();
         c.b_ptr = Vec::new();
     }
-    let d = sum_rows(n, n, &around, |f, l, out| {
+    let d = sum_rows(n, n, &around, |f, l, row| {
         let (c, k) = blocks.at(f);
-        out.extend(slave.faces()[f].nodes().iter().copied().zip(c.d_row(k, l).iter().copied()));
+        row.add(slave.faces()[f].nodes().iter().copied().zip(c.d_row(k, l).iter().copied()));
     });
-    let node_coverage: Vec<f64> = (0..n)
-        .into_par_iter()
-        .map(|p| {
-            let (mut covered, mut full) = (0.0, 0.0);
-            for &(f, l) in around.around(p) {
-                let (c, k) = blocks.at(f);
-                covered += c.covered[c.node_ptr[k] + l];
-                full += c.full[c.node_ptr[k] + l];
-            }
-            if full > 0.0 {
-                covered / full
-            } else {
-                0.0
-            }
-        })
-        .collect();
+    let node_coverage = node_coverage(slave, &blocks);
     let on_surface = slave.used_points();
     let mut covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
     let basis = (multiplier == Multiplier::Dual && transforms(slave, transformation))
@@ -212,6 +196,25 @@ pub(super) fn into_mortar(
     let faces = blocks.chunks.iter_mut().flat_map(|c| std::mem::take(&mut c.faces)).collect();
     let segments = blocks.chunks.iter_mut().flat_map(|c| std::mem::take(&mut c.segments)).collect();
     Mortar { b, d, multiplier, basis, faces, node_coverage, covered, on_surface, segments, summary }
+}
+
+/// Per point: the covered over the full measure of the faces around it (0 when
+/// the full measure is), each summed in increasing face order like the rows.
+/// One pass over the faces, scattering into the points.
+fn node_coverage(slave: &SurfaceMesh, blocks: &ChunkedBlocks) -> Vec<f64> {
+    let n = slave.n_points();
+    let (mut covered, mut full) = (vec![0.0; n], vec![0.0; n]);
+    let mut faces = slave.faces().iter();
+    for c in &blocks.chunks {
+        for r in c.node_ptr.windows(2) {
+            let nodes = faces.next().expect("one block per slave face").nodes();
+            for ((&p, &a), &b) in nodes.iter().zip(&c.covered[r[0]..r[1]]).zip(&c.full[r[0]..r[1]]) {
+                covered[p] += a;
+                full[p] += b;
+            }
+        }
+    }
+    covered.iter().zip(&full).map(|(&c, &f)| if f > 0.0 { c / f } else { 0.0 }).collect()
 }
 
 /// The global basis transformation λ̃ = Q λ of a surface's second-order faces
@@ -244,53 +247,32 @@ pub(super) fn basis_transformation(slave: &SurfaceMesh) -> CsrMatrix {
 }
 
 /// Builds an nrows × ncols CSR matrix whose row p collects, for each face around
-/// p in order, the (column, value) entries `entries(face, local)` pushes;
+/// p in order, the (column, value) entries `entries(face, local)` adds;
 /// duplicates are summed in that order and exact zeros dropped.
 fn sum_rows(
     nrows: usize,
     ncols: usize,
     around: &PointFaces,
-    entries: impl Fn(usize, usize, &mut Vec<(usize, f64)>) + Sync,
+    entries: impl Fn(usize, usize, &mut RowSum) + Sync,
 ) -> CsrMatrix {
     const CHUNK: usize = 4096;
-    let parts: Vec<(Vec<usize>, Vec<usize>, Vec<f64>)> = (0..nrows.div_ceil(CHUNK))
+    assert!(ncols <= u32::MAX as usize, "{ncols} columns: at most {} are supported", u32::MAX);
+    let parts: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..nrows.div_ceil(CHUNK))
         .into_par_iter()
-        .map(|c| {
-            let rows = c * CHUNK..((c + 1) * CHUNK).min(nrows);
-            let mut lens = Vec::with_capacity(rows.len());
-            let guess = 16 * rows.len();
-            let (mut cols, mut vals) = (Vec::with_capacity(guess), Vec::with_capacity(guess));
-            let mut buf: Vec<(usize, f64)> = Vec::new();
-            for p in rows {
-                buf.clear();
-                for &(f, l) in around.around(p) {
-                    entries(f, l, &mut buf);
-                }
-                sort_by_column(&mut buf); // stable: equal columns keep face order
-                let start = cols.len();
-                for &(j, v) in &buf {
-                    if cols.len() > start && cols[cols.len() - 1] == j {
-                        *vals.last_mut().unwrap() += v;
-                    } else {
-                        cols.push(j);
-                        vals.push(v);
+        .map_init(
+            || RowSum::new(ncols),
+            |sum, c| {
+                let rows = c * CHUNK..((c + 1) * CHUNK).min(nrows);
+                sum.begin(rows.len());
+                for p in rows {
+                    for &(f, l) in around.around(p) {
+                        entries(f, l, sum);
                     }
+                    sum.end_row();
                 }
-                // Drop exact zeros (e.g. off-diagonal entries of a dual D).
-                let mut keep = start;
-                for k in start..cols.len() {
-                    if vals[k] != 0.0 {
-                        cols[keep] = cols[k];
-                        vals[keep] = vals[k];
-                        keep += 1;
-                    }
-                }
-                cols.truncate(keep);
-                vals.truncate(keep);
-                lens.push(keep - start);
-            }
-            (lens, cols, vals)
-        })
+                sum.take()
+            },
+        )
         .collect();
     // Exact sizes up front; the parts are copied into disjoint slices in parallel
     // (zeroed allocations are mapped lazily, so the pages are first touched there).
@@ -313,26 +295,93 @@ fn sum_rows(
         (rest_i, rest_v) = (tail_i, tail_v);
     }
     targets.into_par_iter().zip(parts.par_iter()).for_each(|((ti, tv), (_, cols, vals))| {
-        ti.copy_from_slice(cols);
+        for (t, &c) in ti.iter_mut().zip(cols) {
+            *t = c as usize;
+        }
         tv.copy_from_slice(vals);
     });
     CsrMatrix { nrows, ncols, indptr, indices, values }
 }
 
-/// Stable sort by column: the faces' runs are sorted. Rows of a few dozen
-/// entries by insertion; longer ones (the thousands of columns a coarse slave
-/// face over a fine master brings, where insertion was quadratic) by the
-/// standard library's stable sort, O(n log n). The order is the same.
-fn sort_by_column(v: &mut [(usize, f64)]) {
-    if v.len() > 64 {
-        v.sort_by_key(|e| e.0);
-        return;
+/// Sums the rows of a chunk of consecutive rows, one at a time. A dense
+/// marker over all columns (4 bytes a column, one per worker) gives each
+/// column its slot in the current row, so a duplicate is added on the spot,
+/// in the order the entries come (face order: the same sums as a stable sort
+/// by column and a left-to-right merge), and only the row's unique columns
+/// are sorted: O(entries + unique · log unique) per row, however many columns
+/// the row has.
+struct RowSum {
+    /// Per column: its slot in `row`, or [`RowSum::NONE`]. Every row leaves it clear.
+    slot: Vec<u32>,
+    /// The current row's sums, by slot.
+    row: Vec<f64>,
+    /// The finished rows' lengths, columns and values; the current row's
+    /// columns follow in `cols` (u32: half the memory and copying).
+    lens: Vec<usize>,
+    cols: Vec<u32>,
+    vals: Vec<f64>,
+}
+
+impl RowSum {
+    const NONE: u32 = u32::MAX;
+
+    fn new(ncols: usize) -> RowSum {
+        let slot = vec![RowSum::NONE; ncols];
+        RowSum { slot, row: Vec::new(), lens: Vec::new(), cols: Vec::new(), vals: Vec::new() }
     }
-    for i in 1..v.len() {
-        let mut j = i;
-        while j > 0 && v[j - 1].0 > v[j].0 {
-            v.swap(j - 1, j);
-            j -= 1;
+
+    /// Starts a chunk of `rows` rows.
+    fn begin(&mut self, rows: usize) {
+        let guess = 16 * rows;
+        self.lens = Vec::with_capacity(rows);
+        self.cols = Vec::with_capacity(guess);
+        self.vals = Vec::with_capacity(guess);
+    }
+
+    /// Adds (column, value) entries to the current row.
+    #[inline]
+    fn add(&mut self, entries: impl Iterator<Item = (usize, f64)>) {
+        let RowSum { slot, row, cols, .. } = self;
+        for (c, v) in entries {
+            let k = &mut slot[c];
+            if *k == RowSum::NONE {
+                *k = row.len() as u32;
+                row.push(v);
+                cols.push(c as u32);
+            } else {
+                row[*k as usize] += v;
+            }
         }
+    }
+
+    /// Ends the current row: sorts its columns and drops exact zeros (e.g.
+    /// off-diagonal entries of a dual D).
+    fn end_row(&mut self) {
+        let RowSum { slot, row, lens, cols, vals } = self;
+        let start = vals.len(); // finished rows have as many values as columns
+        cols[start..].sort_unstable(); // unique columns: stability is moot
+        vals.extend(
+            cols[start..]
+                .iter()
+                .map(|&c| row[std::mem::replace(&mut slot[c as usize], RowSum::NONE) as usize]),
+        );
+        row.clear();
+        if vals[start..].contains(&0.0) {
+            let mut keep = start;
+            for k in start..vals.len() {
+                if vals[k] != 0.0 {
+                    (cols[keep], vals[keep]) = (cols[k], vals[k]);
+                    keep += 1;
+                }
+            }
+            cols.truncate(keep);
+            vals.truncate(keep);
+        }
+        lens.push(vals.len() - start);
+    }
+
+    /// The chunk's rows: lengths, columns, values.
+    fn take(&mut self) -> (Vec<usize>, Vec<u32>, Vec<f64>) {
+        (std::mem::take(&mut self.lens), std::mem::take(&mut self.cols), std::mem::take(&mut self.vals))
     }
 }
