@@ -157,8 +157,9 @@ pub(super) struct Scratch {
     cols: Vec<usize>,
     /// Column-major n_s × |cols| block of B: `b[j * n_s + p]`.
     b: Vec<f64>,
-    /// The merge's order and output.
-    order: Vec<usize>,
+    /// The merge's order, as keys (master point << 32 | position; points fit
+    /// in 32 bits, checked in `assemble_with_tree`), and output.
+    order: Vec<u64>,
     merged_cols: Vec<usize>,
     merged_b: Vec<f64>,
 }
@@ -975,13 +976,15 @@ impl Scratch {
     /// O(c log c) in the c columns: a coarse slave face over a fine master
     /// has thousands.
     fn merge_columns(&mut self, n_s: usize) {
+        // Keys (column, position): unique, so an unstable sort keeps the
+        // columns of one point in the order they were added.
         self.order.clear();
-        self.order.extend(0..self.cols.len());
-        let cols = &self.cols;
-        self.order.sort_by_key(|&j| cols[j]);
+        self.order.extend(self.cols.iter().enumerate().map(|(j, &c)| (c as u64) << 32 | j as u64));
+        self.order.sort_unstable();
         self.merged_cols.clear();
         self.merged_b.clear();
-        for &j in &self.order {
+        let cols = &self.cols;
+        for j in self.order.iter().map(|&key| (key & u64::from(u32::MAX)) as usize) {
             if self.merged_cols.last() != Some(&cols[j]) {
                 self.merged_cols.push(cols[j]);
                 self.merged_b.extend(std::iter::repeat_n(0.0, n_s));
