@@ -18,7 +18,11 @@
 //! Build O(N log N): the boxes and Morton codes in parallel, one parallel sort,
 //! O(N) for the node boxes; deterministic (ties broken by face index). A query
 //! costs O(log N + k) for k hits on average, with a fixed-size stack: it
-//! allocates nothing but the caller's output vector.
+//! allocates nothing but the caller's output vector. Neighbouring query boxes
+//! can share one walk: [`FaceTree::slots_meeting_box_into`] for their union,
+//! then [`FaceTree::faces_in_slots_into`] per box (the assembly does this for
+//! groups of four slave faces, which takes the query from ~4 300 to ~2 400
+//! instructions per slave face).
 //!
 //! # References
 //! Lauterbach et al., *Fast BVH construction on GPUs*, Eurographics 2009 (linear

@@ -29,9 +29,12 @@ const CLIP_RTOL: f64 = 1e-12;
 const AREA_RTOL: f64 = 1e-12;
 
 /// A first-order slave face with an affine |J| whose pairs cover its area to
-/// this relative tolerance is fully covered: its D block is the face's own
-/// mass matrix ([`face_mass`]) instead of the sum over its segments.
-const FULL_COVER_RTOL: f64 = 1e-12;
+/// this relative tolerance (round-off of the segments' tiling) is fully
+/// covered: its D block is the face's own mass matrix ([`face_mass`]) instead
+/// of the sum over its segments. D·1 and B·1 then differ by at most this
+/// relative amount, so I1 keeps holding to round-off; a face with a sliver
+/// uncovered beyond it takes its D from the segments, as B.
+const FULL_COVER_RTOL: f64 = 1e-14;
 
 /// A curved slave face whose clipped polygons cover less than 1 − this of its
 /// chord polygons is segmented again with sub-faces (the coverage ends inside).
