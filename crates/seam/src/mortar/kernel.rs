@@ -1110,35 +1110,12 @@ mod tests {
         (worst, cut)
     }
 
-    /// The justification of [`PLANE_LADDER`] (first-order quads; each rung at
-    /// least as fine as the pair's polynomial rule).
+    /// The closed forms for faces with an affine |J| (a triangle, a planar quad
+    /// that is no parallelogram) against quadrature: ∫λ_p|J| by the degree-8
+    /// rule, ∫λ_pλ_q|J| by the degree-20 rule on each reference triangle cut
+    /// into four (so that the reference is no copy of the closed form).
     #[test]
-    fn affine_face_integrals_agree_with_quadrature() {
-        let faces = [
-            FaceElement {
-                kind: FaceKind::Tri3,
-                x: [[0.1, 0.0, 0.3], [1.3, 0.2, 0.1], [0.4, 0.9, 0.7], [0.0; 3]],
-            },
-            // A planar quad that is no parallelogram (affine, not constant, |J|).
-            FaceElement {
-                kind: FaceKind::Quad4,
-                x: [[0.0, 0.0, 0.0], [2.0, 0.3, 0.0], [1.7, 1.9, 0.0], [-0.2, 1.0, 0.0]],
-            },
-        ];
-        for e in faces {
-            let JacobianField::Affine(j) = e.jacobian_field() else { panic!("planar face") };
-            let (closed, reference) = (affine_face_integrals(e.kind, j), face_integrals(&e, 8));
-            for p in 0..4 {
-                assert!(
-                    (closed[p] - reference[p]).abs() <= 1e-15 * reference[0].abs(),
-                    "{p}: {closed:?} {reference:?}"
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn face_mass_agrees_with_quadrature() {
+    fn closed_forms_agree_with_quadrature() {
         let faces = [
             FaceElement {
                 kind: FaceKind::Tri3,
@@ -1153,10 +1130,16 @@ mod tests {
         for e in faces {
             let jacobian = e.jacobian_field();
             let JacobianField::Affine(j) = jacobian else { panic!("planar face") };
+            let (closed, reference) = (affine_face_integrals(e.kind, j), face_integrals(&e, 8));
+            for p in 0..4 {
+                assert!(
+                    (closed[p] - reference[p]).abs() <= 1e-15 * reference[0].abs(),
+                    "{p}: {closed:?} {reference:?}"
+                );
+            }
             let mass = face_mass(e.kind, j);
             let mut reference = [[0.0; 4]; 4];
             for t in e.reference_triangles() {
-                // Each reference triangle cut into four, so the reference is no copy of `face_mass`.
                 let m = edge_midpoints(*t);
                 for c in [[t[0], m[0], m[2]], [m[0], t[1], m[1]], [m[2], m[1], t[2]], [m[1], m[2], m[0]]] {
                     match e.kind {
@@ -1180,6 +1163,8 @@ mod tests {
         }
     }
 
+    /// The justification of [`PLANE_LADDER`] (first-order quads; each rung at
+    /// least as fine as the pair's polynomial rule).
     #[test]
     fn plane_ladder_accuracy() {
         let (worst, cut) = ladder_accuracy(CurvedKind::Quad4, &PLANE_LADDER, PLANE_MAX_DEPTH, 7);
