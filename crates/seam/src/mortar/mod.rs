@@ -439,12 +439,15 @@ pub fn assemble_with_tree(
             return Err(MortarError::LumpedSecondOrder { face, kind });
         }
     }
-    if master.n_points() > u32::MAX as usize {
-        return Err(MortarError::InvalidOption(format!(
-            "the master mesh has {} points; at most {} are supported",
-            master.n_points(),
-            u32::MAX
-        )));
+    // Columns of B (master points) and of D (slave points) are kept as u32.
+    for (side, mesh) in [("master", master), ("slave", slave)] {
+        if mesh.n_points() > u32::MAX as usize {
+            return Err(MortarError::InvalidOption(format!(
+                "the {side} mesh has {} points; at most {} are supported",
+                mesh.n_points(),
+                u32::MAX
+            )));
+        }
     }
     let kernel = Kernel::new(master, tree, slave, options);
     const CHUNK: usize = 256;
