@@ -84,3 +84,27 @@ def test_lumped_multipliers_are_refused_on_tri6_slaves():
     slave = quadratic_patch(3, "tri6", 1.5)
     with pytest.raises(Exception, match="use dual multipliers"):
         seam.assemble(master, slave, multiplier="lumped")
+
+
+def test_check_of_second_order_files_is_that_of_the_cli(tmp_path):
+    # The Tet10 top (Tri6 faces) under the Hex27 top (Quad9 faces): fully
+    # covered, flat, so the invariants hold; the same report as `seam check`.
+    import json
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests" / "python"))
+    from seam_cli import seam as run_cli
+
+    master, slave = MSH_DATA / "box_hex_o2.v41.bin.msh", MSH_DATA / "box_tet_o2.v22.ascii.msh"
+    groups = ("--master-group", "top", "--slave-group", "top")
+    r = run_cli("check", master, slave, *groups, "--json", "r.json", "--multiplier", "dual", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    cli_report = json.loads((tmp_path / "r.json").read_text())
+    meshes = (seam.read_mesh(master, group="top"), seam.read_mesh(slave, group="top"))
+    report = seam.check(*meshes, multiplier="dual", threads=1)
+    assert (report["master"], report["slave"]) == ("master", "slave")
+    assert report == {**cli_report, "master": "master", "slave": "slave"}
+    assert report["ok"] and report["uncovered_slave_nodes"] == 0
+    assert all(i["ok"] for i in report["invariants"])
+    assert abs(report["covered_fraction"] - 1.0) < 1e-12

@@ -31,9 +31,10 @@ BOXES = {
 EPS = 1e-6
 
 
-def mesh_box(path, box, size):
+def mesh_box(path, box, size, order):
     """One box meshed by Gmsh with the physical surfaces bottom, top, xmin,
-    ymin, xmax, ymax and the physical volume "body", written as MSH 4.1."""
+    ymin, xmax, ymax and the physical volume "body", of `order` 1 (Tet4) or 2
+    (Tet10, Tri6 faces), written as MSH 4.1."""
     gmsh.initialize(readConfigFiles=False, interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
@@ -53,6 +54,7 @@ def mesh_box(path, box, size):
         gmsh.option.setNumber("Mesh.MeshSizeMin", size)
         gmsh.option.setNumber("Mesh.MeshSizeMax", size)
         gmsh.model.mesh.generate(3)
+        gmsh.model.mesh.setOrder(order)
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
         gmsh.option.setNumber("Mesh.Binary", 0)
         gmsh.write(str(path))
@@ -83,16 +85,18 @@ INTERFACES = {
 
 @pytest.fixture(scope="module")
 def meshes(tmp_path_factory):
-    """lower.msh and upper.msh, made once by Gmsh."""
+    """lower.msh and upper.msh of each order (in o1/ and o2/), made once by Gmsh."""
     d = tmp_path_factory.mktemp("gmsh")
-    for name, (box, size) in BOXES.items():
-        mesh_box(d / f"{name}.msh", box, size)
+    for order in (1, 2):
+        (d / f"o{order}").mkdir()
+        for name, (box, size) in BOXES.items():
+            mesh_box(d / f"o{order}" / f"{name}.msh", box, size, order)
     return d
 
 
-def setup_case(meshes, tmp_path, interface):
+def setup_case(meshes, tmp_path, interface, order=1):
     for name in BOXES:
-        (tmp_path / f"{name}.msh").write_bytes((meshes / f"{name}.msh").read_bytes())
+        (tmp_path / f"{name}.msh").write_bytes((meshes / f"o{order}" / f"{name}.msh").read_bytes())
     (tmp_path / "case.toml").write_text(case_text(INTERFACES[interface]))
 
 
@@ -104,23 +108,26 @@ def without_paths_times_and_threads(summary):
     return s
 
 
-def test_gmsh_writes_msh41_tetrahedra_with_named_groups(meshes):
+@pytest.mark.parametrize("order, kinds", [(1, ("triangle", "tetra")), (2, ("triangle6", "tetra10"))])
+def test_gmsh_writes_msh41_tetrahedra_with_named_groups(meshes, order, kinds):
     import meshio
 
     sizes = []
     for name in BOXES:
-        text = (meshes / f"{name}.msh").read_text()
+        path = meshes / f"o{order}" / f"{name}.msh"
+        text = path.read_text()
         assert text.startswith("$MeshFormat\n4.1 0 8\n"), text[:40]
-        m = meshio.read(meshes / f"{name}.msh")
-        assert {c.type for c in m.cells} == {"triangle", "tetra"}
+        m = meshio.read(path)
+        assert {c.type for c in m.cells} == set(kinds)
         assert {"bottom", "top", "xmin", "ymin", "body"} <= set(m.field_data)
-        sizes.append(sum(len(c.data) for c in m.cells if c.type == "tetra"))
+        sizes.append(sum(len(c.data) for c in m.cells if c.type == kinds[1]))
     assert sizes[0] != sizes[1] and min(sizes) > 20  # unstructured, non-matching
 
 
+@pytest.mark.parametrize("order", [1, 2])
 @pytest.mark.parametrize("interface", sorted(INTERFACES))
-def test_python_and_cli_write_the_same_bytes(meshes, tmp_path, monkeypatch, interface):
-    setup_case(meshes, tmp_path, interface)
+def test_python_and_cli_write_the_same_bytes(meshes, tmp_path, monkeypatch, interface, order):
+    setup_case(meshes, tmp_path, interface, order)
     monkeypatch.chdir(tmp_path)
     solution = seam.solve("case.toml", threads=1)
     written = solution.write(tmp_path / "py")
@@ -138,6 +145,10 @@ def test_python_and_cli_write_the_same_bytes(meshes, tmp_path, monkeypatch, inte
             assert b["interfaces"][0]["kind"] == interface.split("-")[0]
         else:
             assert a == b, name
+    if order == 2:  # quadratic tetrahedra went through (VTK type 24, node order converted)
+        import meshio
+
+        assert {c.type for c in meshio.read(tmp_path / "out" / "upper.vtu").cells} == {"tetra10"}
     # Something was solved: the upper block moved down under its load.
     assert solution.bodies["upper"].displacement[:, 2].max() < 0.0
     assert len(solution.bodies["lower"].stress) > 20

@@ -528,3 +528,87 @@ fn bench_transfer_prints_a_row_per_run_and_leaves_nothing_behind() {
         .count();
     assert_eq!(pid_dirs, 0, "the benchmark removes its files");
 }
+
+/// `seam transfer` and `seam check` on second-order files: the top of the
+/// Hex27 box (Quad9 faces, MSH 4.1 binary) and of the Tet10 box (Tri6 faces,
+/// MSH 2.2 ASCII). Both tops are flat with straight edges, where
+/// second-order spaces reproduce every quadratic field: the transferred field
+/// equals the expression at every target node, mid-side nodes included, in
+/// both directions and both modes keep the total.
+#[test]
+fn second_order_files_go_through_transfer_and_check() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (hex, tet) = (fixture("box_hex_o2.v41.bin.msh"), fixture("box_tet_o2.v22.ascii.msh"));
+    let groups = ["--source-group", "top", "--target-group", "top"];
+    let expr = "1 + x - 2*y + 0.5*x*x - x*y + 2*y*y";
+    let exact = |x: [f64; 3]| 1.0 + x[0] - 2.0 * x[1] + 0.5 * x[0] * x[0] - x[0] * x[1] + 2.0 * x[1] * x[1];
+    for (source, target, name) in [(&hex, &tet, "to_tet"), (&tet, &hex, "to_hex")] {
+        for multiplier in ["standard", "dual"] {
+            let out = format!("{name}_{multiplier}.vtu");
+            let o = seam(
+                &[
+                    &["transfer", source, target, "-o", &out, "--expr", expr, "--multiplier", multiplier][..],
+                    &groups,
+                ]
+                .concat(),
+                tmp.path(),
+            );
+            assert!(o.status.success(), "{name} {multiplier}: {}", stderr(&o));
+            let result = vtu(&tmp.path().join(&out));
+            let f = result.point_field("f").unwrap();
+            let used = result.mesh.used_points();
+            let (mut checked, mut corner_only) = (0, 0);
+            for (p, &x) in result.mesh.points().iter().enumerate().filter(|&(p, _)| used[p]) {
+                // The hex top is [0,2]×[0,1], the tet top [0,1]²: only covered nodes.
+                if x[0] > 1.0 + 1e-12 {
+                    continue;
+                }
+                assert!(
+                    (f.values[p] - exact(x)).abs() < 1e-11,
+                    "{name} {multiplier} at {x:?}: {}",
+                    f.values[p]
+                );
+                checked += 1;
+                corner_only +=
+                    result.mesh.faces().iter().any(|face| face.corner_nodes().contains(&p)) as usize;
+            }
+            assert!(checked > 0 && corner_only < checked, "{name}: mid-side nodes checked");
+        }
+        if name == "to_tet" {
+            continue; // conservative: the hex top's right half has no target to receive its loads
+        }
+        let out = format!("{name}_conservative.vtu");
+        let o = seam(
+            &[
+                &["transfer", source, target, "-o", &out, "--expr", expr, "--mode", "conservative"][..],
+                &groups,
+            ]
+            .concat(),
+            tmp.path(),
+        );
+        assert!(o.status.success(), "{name} conservative: {}", stderr(&o));
+        let s = json(&tmp.path().join(format!("{name}_conservative.json")));
+        let (a, b) = (s["total_source"][0].as_f64().unwrap(), s["total_target"][0].as_f64().unwrap());
+        assert!((a - b).abs() < 1e-12 * a.abs(), "{name}: total {a} vs {b}");
+    }
+    // check: the Tet10 top as slave is fully covered by the Hex27 top.
+    let o = seam(
+        &[
+            "check",
+            &hex,
+            &tet,
+            "--master-group",
+            "top",
+            "--slave-group",
+            "top",
+            "--json",
+            "c.json",
+            "--strict",
+        ],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = json(&tmp.path().join("c.json"));
+    assert_eq!(r["ok"], true, "{r}");
+    assert!(r["invariants"].as_array().unwrap().iter().all(|i| i["ok"] == true), "{r}");
+}

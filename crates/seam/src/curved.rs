@@ -772,6 +772,66 @@ mod tests {
         }
     }
 
+    /// The control net is the face's Bernstein–Bézier net: the map equals
+    /// Σ_i B_i(ξ) c_i with Bernstein polynomials B_i ≥ 0, Σ B_i = 1, so the face
+    /// lies in the convex hull of the c_i and their box encloses it (the
+    /// search boxes of (A1)). Checked on strongly curved faces (mid-side and
+    /// centre nodes moved by up to half the face size), with every sampled
+    /// point of the face inside the net's box.
+    #[test]
+    fn the_control_net_is_the_bezier_net_and_its_box_encloses_the_face() {
+        let mut seed = 3u64;
+        let mut random = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        // Quadratic Bernstein polynomials on [0, 1] in the order of `lagrange`.
+        let bernstein = |s: f64| [(1.0 - s) * (1.0 - s), s * s, 2.0 * s * (1.0 - s)];
+        for kind in KINDS {
+            for _ in 0..50 {
+                let mut face = sphere_face(kind, 1.0, 0.8);
+                for (i, x) in face.x.iter_mut().enumerate().take(kind.n_nodes()) {
+                    let amplitude = if i < 3 || (i == 3 && !kind.is_triangle()) { 0.1 } else { 0.5 };
+                    for c in x.iter_mut() {
+                        *c += amplitude * random();
+                    }
+                }
+                let (net, n) = face.control_net();
+                let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+                for c in &net[..n] {
+                    for k in 0..3 {
+                        lo[k] = lo[k].min(c[k]);
+                        hi[k] = hi[k].max(c[k]);
+                    }
+                }
+                let size = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
+                for xi in samples(kind).into_iter().filter(|&xi| kind.contains(xi, 0.0)) {
+                    let weights: Vec<f64> = if kind.is_triangle() {
+                        let l = [1.0 - xi[0] - xi[1], xi[0], xi[1]];
+                        let mut w = vec![l[0] * l[0], l[1] * l[1], l[2] * l[2]];
+                        w.extend((0..3).map(|i| 2.0 * l[i] * l[(i + 1) % 3]));
+                        w
+                    } else {
+                        let (a, b) = (bernstein(xi[0]), bernstein(xi[1]));
+                        QUAD9_GRID.iter().map(|&(p, q)| a[p] * b[q]).collect()
+                    };
+                    assert_eq!(weights.len(), n, "{kind:?}");
+                    assert!(weights.iter().all(|&w| w >= 0.0));
+                    let x = face.map(xi);
+                    for k in 0..3 {
+                        let bezier: f64 = weights.iter().zip(&net).map(|(w, c)| w * c[k]).sum();
+                        assert!(
+                            (bezier - x[k]).abs() < 1e-14 * size,
+                            "{kind:?} {xi:?}: {bezier} vs {}",
+                            x[k]
+                        );
+                        assert!(lo[k] <= x[k] && x[k] <= hi[k], "{kind:?} {xi:?}: outside the box");
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn a_line_that_misses_or_grazes_gives_no_inside_hit() {
         let face = sphere_face(CurvedKind::Quad9, 1.0, 0.5);

@@ -344,3 +344,106 @@ fn nodal_d_of_the_transformed_dual_basis_constrains_nodal_values() {
         }
     }
 }
+
+/// I6 and I7 on curved faces, over more slave faces than one chunk of the
+/// assembly (256), so that threads share the work: Quad9 and Tri6 slaves
+/// (the latter with the transformed dual basis) on a cylinder against a
+/// jittered, non-matching Tri6 master with a gap.
+#[test]
+fn curved_operators_conserve_and_do_not_depend_on_the_thread_count() {
+    for (ks, n) in [(Kind::Quad9, 24), (Kind::Tri6, 17)] {
+        let slave = patch(ks, n, (0.0, 1.0), cylinder(2.0));
+        let master = seam::generate::quadratic_patch(19, 19, Kind::Tri6, Some((0.2, 5)), |u, v| {
+            cylinder(2.0 + 1e-4)(-0.1 + 1.2 * u, -0.1 + 1.2 * v)
+        });
+        assert!(slave.n_faces() > 512, "{}", slave.n_faces());
+        for multiplier in [Multiplier::Standard, Multiplier::Dual] {
+            let what = format!("{ks:?} slave, {multiplier:?}");
+            let o = options(multiplier);
+            let reference = assemble(&master, &slave, &o).unwrap();
+            assert_eq!(reference.summary.uncovered_slave_nodes, 0, "{what}");
+            // I6: 1ᵀ(Tᵀ f) = 1ᵀ f.
+            let t = reference.transfer().unwrap();
+            let f: Vec<f64> = (0..slave.n_points()).map(|p| 1.0 + ((p * 7919) % 13) as f64).collect();
+            let f: Vec<f64> =
+                f.iter().zip(&reference.covered).map(|(v, &c)| if c { *v } else { 0.0 }).collect();
+            let (total, moved): (f64, f64) = (f.iter().sum(), t.apply_transpose(&f, 1).iter().sum());
+            assert!((total - moved).abs() <= 1e-12 * total, "{what}: I6 {moved} vs {total}");
+            // I7: B, D (and Q) bit for bit with 1, 2 and 3 threads.
+            for threads in [1, 2, 3] {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+                let m = pool.install(|| assemble(&master, &slave, &o).unwrap());
+                assert!(m.b == reference.b && m.d == reference.d, "{what}: I7 with {threads} threads");
+                assert_eq!(m.basis, reference.basis, "{what}: I7 with {threads} threads");
+            }
+        }
+    }
+}
+
+/// One mesh of first- and second-order faces, on either side: a flat square
+/// whose left half is Quad9 (slave) or Tri6 (master) and right half Quad4 or
+/// Tri3. Every face reproduces linear fields, so T does too (I4), and I1, I2
+/// hold; the second-order faces' mid-side nodes get rows and columns.
+#[test]
+fn first_and_second_order_faces_mix_in_one_mesh() {
+    /// A (2n+1)² grid of [0, 1]² at height z, cells of the left half as the
+    /// `second` kind, of the right half as first order.
+    fn half_and_half(n: usize, triangles: bool, z: f64) -> SurfaceMesh {
+        let m = 2 * n + 1;
+        let points: Vec<Point3> = (0..m * m)
+            .map(|k| {
+                let (u, v) = ((k % m) as f64 / (m - 1) as f64, (k / m) as f64 / (m - 1) as f64);
+                [u, v, z]
+            })
+            .collect();
+        let id = |i: usize, j: usize| j * m + i;
+        let mut faces = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let (a, b) = (2 * i, 2 * j);
+                let c = [id(a, b), id(a + 2, b), id(a + 2, b + 2), id(a, b + 2)];
+                let e = [id(a + 1, b), id(a + 2, b + 1), id(a + 1, b + 2), id(a, b + 1)];
+                let mid = id(a + 1, b + 1);
+                match (2 * i < n, triangles) {
+                    (true, false) => {
+                        faces.push(seam::Face::Quad9([c[0], c[1], c[2], c[3], e[0], e[1], e[2], e[3], mid]))
+                    }
+                    (false, false) => faces.push(seam::Face::Quad4(c)),
+                    (true, true) => {
+                        faces.push(seam::Face::Tri6([c[0], c[1], c[2], e[0], e[1], mid]));
+                        faces.push(seam::Face::Tri6([c[0], c[2], c[3], mid, e[2], e[3]]));
+                    }
+                    (false, true) => {
+                        faces.push(seam::Face::Tri3([c[0], c[1], c[2]]));
+                        faces.push(seam::Face::Tri3([c[0], c[2], c[3]]));
+                    }
+                }
+            }
+        }
+        SurfaceMesh::new(points, faces).unwrap()
+    }
+    let slave = half_and_half(4, false, 0.0);
+    let master = half_and_half(5, true, 1e-3);
+    let linear = |x: Point3| 0.7 - 1.3 * x[0] + 2.1 * x[1];
+    for multiplier in [Multiplier::Standard, Multiplier::Dual] {
+        let what = format!("{multiplier:?}");
+        let mortar = assemble(&master, &slave, &options(multiplier)).unwrap();
+        check_rows(&mortar, &what);
+        assert_eq!(mortar.summary.uncovered_slave_nodes, 0, "{what}");
+        assert!((mortar.summary.covered_area - 1.0).abs() < 1e-12, "{what}: {}", mortar.summary.covered_area);
+        let fm: Vec<f64> = master.points().iter().map(|&x| linear(x)).collect();
+        let ts = mortar.transfer().unwrap().apply(&fm, 1);
+        let used = slave.used_points();
+        let mut mid_side = 0;
+        for (p, &x) in slave.points().iter().enumerate().filter(|&(p, _)| used[p]) {
+            assert!(
+                (ts[p] - linear(x)).abs() < 1e-12,
+                "{what}: node {p} at {x:?}: {} vs {}",
+                ts[p],
+                linear(x)
+            );
+            mid_side += (x[0] * 8.0).round() as usize % 2;
+        }
+        assert!(mid_side > 0, "mid-side nodes have rows");
+    }
+}
