@@ -173,7 +173,7 @@ type Surface = dyn Fn(f64) -> Box<dyn Fn(f64, f64) -> Point3>;
 
 /// I9 for one surface and one (slave, master) kind pair.
 fn i9_rate(surface: &Surface, ks: Kind, km: Kind, multiplier: Multiplier) -> f64 {
-    let levels = [3usize, 6, 12];
+    let levels = [3usize, 6, 12, 24];
     let mut h = Vec::new();
     let mut e = Vec::new();
     for &n in &levels {
@@ -186,7 +186,7 @@ fn i9_rate(surface: &Surface, ks: Kind, km: Kind, multiplier: Multiplier) -> f64
         e.push(transfer_error(&master, &slave, multiplier));
     }
     let rate = fitted_rate(&h, &e);
-    eprintln!("I9 {ks:?} slave, {km:?} master, {multiplier:?}: errors {e:.3?}, rate {rate:.2}");
+    eprintln!("I9 {ks:?} slave, {km:?} master, {multiplier:?}: errors {e:.3e?}, rate {rate:.2}");
     rate
 }
 
