@@ -186,7 +186,10 @@ fn i9_rate(surface: &Surface, ks: Kind, km: Kind, multiplier: Multiplier) -> f64
         e.push(transfer_error(&master, &slave, multiplier));
     }
     let rate = fitted_rate(&h, &e);
-    eprintln!("I9 {ks:?} slave, {km:?} master, {multiplier:?}: errors {e:.3e?}, rate {rate:.2}");
+    eprintln!(
+        "I9 {ks:?} slave, {km:?} master, {multiplier:?}: errors {:?}, rate {rate:.2}",
+        e.iter().map(|v| format!("{v:.3e}")).collect::<Vec<_>>()
+    );
     rate
 }
 
