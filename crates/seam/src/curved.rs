@@ -189,6 +189,61 @@ pub fn shape_and_gradients(kind: CurvedKind, xi: Xi) -> ([f64; 9], [[f64; 2]; 9]
     (n, g)
 }
 
+/// Shape function values N_i(ξ) of the kind with `N` nodes (3 Tri3, 4 Quad4,
+/// 6 Tri6, 8 Quad8, 9 Quad9): [`shape_and_gradients`] without the gradients,
+/// sized for the quadrature loops.
+#[inline(always)]
+pub fn shape_values<const N: usize>(xi: Xi) -> [f64; N] {
+    let [s, t] = xi;
+    let mut n = [0.0; N];
+    match N {
+        3 => n.copy_from_slice(&[1.0 - s - t, s, t]),
+        4 => n.copy_from_slice(&[(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t]),
+        6 => {
+            let l0 = 1.0 - s - t;
+            n.copy_from_slice(&[
+                l0 * (2.0 * l0 - 1.0),
+                s * (2.0 * s - 1.0),
+                t * (2.0 * t - 1.0),
+                4.0 * l0 * s,
+                4.0 * s * t,
+                4.0 * t * l0,
+            ]);
+        }
+        8 | 9 => {
+            let (a, b) = (lagrange(s).0, lagrange(t).0);
+            let mut all = [0.0; 9];
+            for (i, &(p, q)) in QUAD9_GRID.iter().enumerate() {
+                all[i] = a[p] * b[q];
+            }
+            if N == 8 {
+                // Serendipity: the bubble goes back to the other nodes.
+                let bubble = all[8];
+                for (i, v) in all.iter_mut().enumerate().take(8) {
+                    *v += if i < 4 { -0.25 } else { 0.5 } * bubble;
+                }
+            }
+            n.copy_from_slice(&all[..N]);
+        }
+        _ => unreachable!("faces have 3, 4, 6, 8 or 9 nodes"),
+    }
+    n
+}
+
+/// How many of the monomials of [`MonomialMap`] the map of a face with
+/// `n_nodes` nodes uses (they come in the order 1, s, t, s², st, t², s²t, st²,
+/// s²t²): Tri3 the first 3, Quad4 5 (no s², but st), Tri6 6, Quad8 8, Quad9
+/// 9. The coefficients of the others are zero.
+pub const fn monomials_of(n_nodes: usize) -> usize {
+    match n_nodes {
+        3 => 3,
+        4 => 5,
+        6 => 6,
+        8 => 8,
+        _ => MONOMIALS,
+    }
+}
+
 /// The biquadratic monomials m(ξ) = (1, s, t, s², st, t², s²t, st², s²t²) in
 /// which every face map of this module is a polynomial (Tri6 uses the first
 /// six, Quad8 the first eight).
@@ -303,18 +358,48 @@ impl<const D: usize> MonomialMap<D> {
 
     /// x(ξ), ∂x/∂ξ and ∂x/∂η.
     #[inline(always)]
-    pub fn map_and_tangents(&self, [s, t]: Xi) -> ([f64; D], [f64; D], [f64; D]) {
-        let (ss, st, tt) = (s * s, s * t, t * t);
-        let m = [1.0, s, t, ss, st, tt, ss * t, s * tt, ss * tt];
-        let ms = [0.0, 1.0, 0.0, 2.0 * s, t, 0.0, 2.0 * st, tt, 2.0 * s * tt];
-        let mt = [0.0, 0.0, 1.0, 0.0, s, 2.0 * t, ss, 2.0 * st, 2.0 * ss * t];
+    pub fn map_and_tangents(&self, xi: Xi) -> ([f64; D], [f64; D], [f64; D]) {
+        self.map_and_tangents_first(xi, MONOMIALS)
+    }
+
+    /// [`MonomialMap::map_and_tangents`] over the first `m` monomials only,
+    /// for a face that uses no others ([`monomials_of`]); meant for a
+    /// constant `m`, so that the unused terms are never computed. In Horner
+    /// form along s: x = A(t) + s B(t) + s² C(t) with A = c₀ + t c₂ + t² c₅,
+    /// B = c₁ + t c₄ + t² c₇, C = c₃ + t c₆ + t² c₈, so ∂x/∂s = B + 2s C and
+    /// ∂x/∂t = A′ + s B′ + s² C′.
+    #[inline(always)]
+    pub fn map_and_tangents_first(&self, [s, t]: Xi, m: usize) -> ([f64; D], [f64; D], [f64; D]) {
+        let c = &self.c;
         let (mut x, mut a, mut b) = ([0.0; D], [0.0; D], [0.0; D]);
-        for k in 0..MONOMIALS {
-            for d in 0..D {
-                x[d] += m[k] * self.c[k][d];
-                a[d] += ms[k] * self.c[k][d];
-                b[d] += mt[k] * self.c[k][d];
+        for d in 0..D {
+            // A, B, C and their t-derivatives, with the terms the kind has.
+            let (mut pa, mut pb, mut pc) = (c[0][d] + t * c[2][d], c[1][d], 0.0);
+            let (mut da, mut db, mut dc) = (c[2][d], 0.0, 0.0);
+            if m > 3 {
+                pb += t * c[4][d];
+                db += c[4][d];
+                pc += c[3][d];
             }
+            if m > 5 {
+                pa += t * t * c[5][d];
+                da += 2.0 * t * c[5][d];
+            }
+            if m > 6 {
+                pc += t * c[6][d];
+                dc += c[6][d];
+            }
+            if m > 7 {
+                pb += t * t * c[7][d];
+                db += 2.0 * t * c[7][d];
+            }
+            if m > 8 {
+                pc += t * t * c[8][d];
+                dc += 2.0 * t * c[8][d];
+            }
+            x[d] = pa + s * (pb + s * pc);
+            a[d] = pb + 2.0 * s * pc;
+            b[d] = da + s * (db + s * dc);
         }
         (x, a, b)
     }
@@ -368,10 +453,17 @@ impl ProjectedFace {
     /// quadratically, so the next residual is of the order of its square);
     /// on failure the best iterate.
     pub fn inverse(&self, target: [f64; 2], guess: Xi) -> (Xi, bool) {
+        self.inverse_first(target, guess, MONOMIALS)
+    }
+
+    /// [`ProjectedFace::inverse`] for a face whose map uses only the first
+    /// `m` monomials ([`monomials_of`]), meant for a constant `m`.
+    #[inline(always)]
+    pub fn inverse_first(&self, target: [f64; 2], guess: Xi, m: usize) -> (Xi, bool) {
         let mut xi = guess;
         let mut best = (f64::INFINITY, xi);
         for _ in 0..MAX_NEWTON {
-            let (q, pa, pb) = self.map.map_and_tangents(xi);
+            let (q, pa, pb) = self.map.map_and_tangents_first(xi, m);
             let r = [q[0] - target[0], q[1] - target[1]];
             let det = pa[0] * pb[1] - pa[1] * pb[0];
             let size = (pa[0].abs() + pa[1].abs()).max(pb[0].abs() + pb[1].abs());

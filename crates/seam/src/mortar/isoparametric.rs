@@ -41,7 +41,9 @@
 use super::kernel::{add_point, barycentric, edge_midpoints, signed_area, Piece};
 use super::{FaceStats, Facing, Segment};
 use crate::clip::{face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame, MAX_POLYGON};
-use crate::curved::{shape_and_gradients, CurvedFace, CurvedKind, MonomialMap, ProjectedFace};
+use crate::curved::{
+    monomials_of, shape_and_gradients, shape_values, CurvedFace, CurvedKind, MonomialMap, ProjectedFace,
+};
 use crate::element::{cross, dot, norm, FaceKind, PlaneFace, Xi};
 use crate::mesh::Point3;
 use crate::quadrature::TriangleRule;
@@ -236,6 +238,7 @@ impl CurvedSlave {
 }
 
 /// What one curved pair contributes: n_s × n_s and n_s × n_m blocks.
+#[derive(Clone, Copy)]
 pub(super) struct CurvedBlock {
     pub(super) d: [[f64; MAX_NODES]; MAX_NODES],
     pub(super) b: [[f64; MAX_NODES]; MAX_NODES],
@@ -255,25 +258,32 @@ pub(super) fn facing_ok(facing: Facing, ns: Point3, nm: Point3, cos_max: f64) ->
     aligned >= cos_max
 }
 
-/// (C3)–(D5) for the slave face `cs` against master face `master`; `None`
-/// when the projections do not overlap (`stats.empty`) or a point pair is
-/// farther apart than the gap limit (`stats.rejected_gap`).
-pub(super) fn pair(
-    cs: &CurvedSlave,
-    master: &CurvedFace,
-    ladder: &[TriangleRule; CURVED_LADDER.len()],
-    stats: &mut FaceStats,
-    mut record: Option<(&mut Vec<Segment>, usize, usize)>,
-) -> Option<CurvedBlock> {
-    let (ks, km) = (cs.face.kind, master.kind);
-    let n_s = ks.n_nodes();
-    let mut block = CurvedBlock {
+impl CurvedBlock {
+    /// All zero.
+    pub(super) const ZERO: CurvedBlock = CurvedBlock {
         d: [[0.0; MAX_NODES]; MAX_NODES],
         b: [[0.0; MAX_NODES]; MAX_NODES],
         covered_area: 0.0,
         plane_area: 0.0,
         segments: 0,
     };
+}
+
+/// (C3)–(D5) for the slave face `cs` against master face `master` into
+/// `block` (overwritten); false when the projections do not overlap
+/// (`stats.empty`) or a point pair is farther apart than the gap limit
+/// (`stats.rejected_gap`).
+pub(super) fn pair(
+    cs: &CurvedSlave,
+    master: &CurvedFace,
+    ladder: &[TriangleRule; CURVED_LADDER.len()],
+    stats: &mut FaceStats,
+    mut record: Option<(&mut Vec<Segment>, usize, usize)>,
+    block: &mut CurvedBlock,
+) -> bool {
+    let (ks, km) = (cs.face.kind, master.kind);
+    let n_s = ks.n_nodes();
+    *block = CurvedBlock::ZERO;
     let (mut gap, mut overlap) = (0.0f64, 0.0f64);
     let mut any = false;
     let projected = ProjectedFace::new(master, &cs.frame);
@@ -300,7 +310,7 @@ pub(super) fn pair(
                 let g = projected.height.map(xm[v])[0] - cs.frame.height(x);
                 if g.abs() > cs.gap_tol {
                     stats.rejected_gap += 1;
-                    return None;
+                    return false;
                 }
                 gap = gap.max(g);
                 overlap = overlap.max(-g);
@@ -321,7 +331,7 @@ pub(super) fn pair(
                     ladder,
                     stats: &mut *stats,
                 };
-                segment.integrate(triangle, 0, &mut block);
+                segment.integrate_kinds(triangle, block);
                 if let Some((segments, s, m)) = record.as_mut() {
                     let corners = [xs[a], xs[b], xs[c]].map(|xi| cs.map.map(xi));
                     segments.push(Segment { slave: *s, master: *m, corners });
@@ -331,7 +341,7 @@ pub(super) fn pair(
     }
     if !any || block.segments == 0 {
         stats.empty += 1;
-        return None;
+        return false;
     }
     stats.max_gap = stats.max_gap.max(gap);
     stats.max_overlap = stats.max_overlap.max(overlap);
@@ -340,7 +350,7 @@ pub(super) fn pair(
             block.d[p][q] = block.d[q][p];
         }
     }
-    Some(block)
+    true
 }
 
 /// (D3)–(D5) on the plane triangles of one clipped polygon of a curved pair.
@@ -365,8 +375,49 @@ impl CurvedSegment<'_> {
         slave.max(master)
     }
 
+    /// [`CurvedSegment::integrate`] specialised on the node counts of the
+    /// pair's kinds (fixed-size shape arrays, face maps over the monomials
+    /// they use).
+    fn integrate_kinds(&mut self, t: Piece, block: &mut CurvedBlock) {
+        macro_rules! by_nodes {
+            ($(($ns:literal, $nm:literal)),*) => {
+                match (self.kinds.0.n_nodes(), self.kinds.1.n_nodes()) {
+                    $(($ns, $nm) => self.integrate::<$ns, $nm>(t, 0, block),)*
+                    _ => unreachable!("faces have 3, 4, 6, 8 or 9 nodes"),
+                }
+            };
+        }
+        by_nodes!(
+            (3, 3),
+            (3, 4),
+            (3, 6),
+            (3, 8),
+            (3, 9),
+            (4, 3),
+            (4, 4),
+            (4, 6),
+            (4, 8),
+            (4, 9),
+            (6, 3),
+            (6, 4),
+            (6, 6),
+            (6, 8),
+            (6, 9),
+            (8, 3),
+            (8, 4),
+            (8, 6),
+            (8, 8),
+            (8, 9),
+            (9, 3),
+            (9, 4),
+            (9, 6),
+            (9, 8),
+            (9, 9)
+        )
+    }
+
     /// The rule of [`CURVED_LADDER`] for `t`, or its four children.
-    fn integrate(&mut self, t: Piece, depth: u32, block: &mut CurvedBlock) {
+    fn integrate<const NS: usize, const NM: usize>(&mut self, t: Piece, depth: u32, block: &mut CurvedBlock) {
         let r = self.fold_ratio(&t);
         let rule = match CURVED_LADDER.iter().position(|&(max, _)| r <= max) {
             Some(i) => Some(&self.ladder[i]),
@@ -374,7 +425,7 @@ impl CurvedSegment<'_> {
             None => None,
         };
         if let Some(rule) = rule {
-            return self.accumulate(&t, rule, block);
+            return self.accumulate::<NS, NM>(&t, rule, block);
         }
         let (m, guesses) = (t.midpoints(), edge_midpoints(t.xm));
         let mut mu = [[0.0; 2]; 3];
@@ -386,22 +437,33 @@ impl CurvedSegment<'_> {
         }
         let children = t.children(mu, mm);
         for child in children {
-            self.integrate(child, depth + 1, block);
+            self.integrate::<NS, NM>(child, depth + 1, block);
         }
     }
 
     /// The points of `rule` on `t`: ξ_s by the slave chord's inverse, ξ_m by
-    /// Newton onto the true master face from the interpolated corners.
-    fn accumulate(&mut self, t: &Piece, rule: &TriangleRule, block: &mut CurvedBlock) {
-        let (cs, (ks, km)) = (self.cs, self.kinds);
+    /// Newton onto the true master face from the interpolated corners; an
+    /// `NS`-node slave and an `NM`-node master face.
+    #[inline(always)]
+    fn accumulate<const NS: usize, const NM: usize>(
+        &mut self,
+        t: &Piece,
+        rule: &TriangleRule,
+        block: &mut CurvedBlock,
+    ) {
+        let cs = self.cs;
         let area = signed_area(t.q);
+        let (slave_monomials, master_monomials) = (monomials_of(NS), monomials_of(NM));
         for (pt, &w) in rule.points.iter().zip(rule.weights) {
             let (_, xi_s, ratio) = self.sub.pull_back(barycentric(t.q, *pt), self.stats);
-            let phi = shape_and_gradients(ks, xi_s).0;
-            let (x, ta, tb) = cs.map.map_and_tangents(xi_s);
-            let xi_m = inverse(self.master, cs.frame.project(x), barycentric(t.xm, *pt), self.stats);
+            let phi: [f64; NS] = shape_values(xi_s);
+            let (x, ta, tb) = cs.map.map_and_tangents_first(xi_s, slave_monomials);
+            let target = cs.frame.project(x);
+            let (xi_m, converged) =
+                self.master.inverse_first(target, barycentric(t.xm, *pt), master_monomials);
+            self.stats.inverse_failures += u32::from(!converged);
             let wj = w * area * ratio * norm(cross(ta, tb));
-            let lam = shape_and_gradients(km, xi_m).0;
+            let lam: [f64; NM] = shape_values(xi_m);
             block.covered_area += wj;
             add_point(&mut block.d, &mut block.b, wj, &phi, &lam);
         }

@@ -8,7 +8,7 @@
 //! dual and lumped multipliers transform them per face afterwards
 //! (`multiplier`).
 
-use super::isoparametric::{self, CurvedSlave, MAX_NODES};
+use super::isoparametric::{self, CurvedBlock, CurvedSlave, MAX_NODES};
 use super::multiplier::{apply_multiplier, FaceMeasures};
 use super::rows::Blocks;
 use super::{face_integrals, warped_quad_degree, FaceStats, MortarOptions, Segment};
@@ -417,6 +417,7 @@ impl<'a> Kernel<'a> {
         let n_s = cs.face.kind.n_nodes();
         stats.candidates = scratch.candidates.len() as u32;
         let mut plane_area = 0.0;
+        let mut pair = CurvedBlock::ZERO;
         for k in 0..scratch.candidates.len() {
             let m = scratch.candidates[k];
             if !isoparametric::facing_ok(
@@ -430,19 +431,13 @@ impl<'a> Kernel<'a> {
             }
             let master = CurvedFace::of(self.master, m);
             let record = self.options.record_segments.then_some((&mut out.segments, s, m));
-            let Some(pair) = isoparametric::pair(cs, &master, &self.rules.curved, stats, record) else {
+            if !isoparametric::pair(cs, &master, &self.rules.curved, stats, record, &mut pair) {
                 continue;
-            };
+            }
             plane_area += pair.plane_area;
             let nodes = self.master.faces()[m].nodes();
-            scratch.add_pair(
-                d,
-                stats,
-                n_s,
-                nodes,
-                (Some(&pair.d), &pair.b),
-                (pair.covered_area, pair.segments),
-            );
+            let covered = (pair.covered_area, pair.segments);
+            scratch.add_pair(d, stats, n_s, nodes, (Some(&pair.d), &pair.b), covered);
         }
         plane_area
     }
