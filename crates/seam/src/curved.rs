@@ -140,7 +140,7 @@ pub fn shape_and_gradients(kind: CurvedKind, xi: Xi) -> ([f64; 9], [[f64; 2]; 9]
         }
         CurvedKind::Quad4 => {
             let [s, t] = xi;
-            n[..4].copy_from_slice(&[(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t]);
+            n[..4].copy_from_slice(&shape_values::<4>(xi));
             g[..4].copy_from_slice(&[[t - 1.0, s - 1.0], [1.0 - t, -s], [t, s], [-t, 1.0 - s]]);
         }
         CurvedKind::Tri6 => {
@@ -148,14 +148,7 @@ pub fn shape_and_gradients(kind: CurvedKind, xi: Xi) -> ([f64; 9], [[f64; 2]; 9]
             // mid-edge nodes 4 l_i l_(i+1).
             let [s, t] = xi;
             let l0 = 1.0 - s - t;
-            n[..6].copy_from_slice(&[
-                l0 * (2.0 * l0 - 1.0),
-                s * (2.0 * s - 1.0),
-                t * (2.0 * t - 1.0),
-                4.0 * l0 * s,
-                4.0 * s * t,
-                4.0 * t * l0,
-            ]);
+            n[..6].copy_from_slice(&shape_values::<6>(xi));
             let (c0, c1, c2) = (4.0 * l0 - 1.0, 4.0 * s - 1.0, 4.0 * t - 1.0);
             g[..6].copy_from_slice(&[
                 [-c0, -c0],
