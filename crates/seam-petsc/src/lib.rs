@@ -1,0 +1,496 @@
+//! seam's PETSc layer: a sparse symmetric system A x = b solved by a PETSc
+//! KSP, by default conjugate gradients preconditioned by smoothed-aggregation
+//! algebraic multigrid (GAMG) with block size 3 and the six rigid-body modes
+//! of the points as its near-nullspace — what PETSc's own elasticity example
+//! (`src/ksp/ksp/tutorials/ex56.c`) does. Any PETSc option reaches it: from
+//! the `PETSC_OPTIONS` environment variable, from the string given to
+//! [`initialize`], e.g. `-pc_type hypre`, `-pc_type lu
+//! -pc_factor_mat_solver_type mumps`, `-ksp_monitor`, `-log_view`.
+//!
+//! PETSc's API is built on C macros (communicators, error checks), so its
+//! calls are written once in C (`src/shim.c`, compiled against the
+//! installed headers) and reach Rust through the five functions of [`ffi`];
+//! this crate is the only one of the workspace with `unsafe` code, every
+//! block of it in this file with its justification.
+//!
+//! - PETSc (and MPI) is initialised once per process, on the first
+//!   [`initialize`], and finalised at process exit (so `-log_view` prints
+//!   its table then).
+//! - PETSc is not thread-safe: every call into it holds one process-wide
+//!   lock.
+//! - Errors are [`PetscError`]: one line, PETSc's own message (a bad option
+//!   such as `-pc_type nonsense`, a failed setup); a KSP that stops without
+//!   converging is reported by [`Report::converged`] with PETSc's reason.
+//!
+//! One process (`PETSC_COMM_SELF`): the matrices are sequential.
+
+use std::ffi::{c_char, c_int, CStr, CString};
+use std::ptr::NonNull;
+use std::sync::Mutex;
+
+/// The C functions of `src/shim.c` and the layout of what they share.
+mod ffi {
+    use std::ffi::{c_char, c_int};
+
+    /// PETSc's `PetscInt` in this build (32-bit indices: `PETSC_SIZEOF_INT
+    /// 4`, checked by [`super::initialize`] against the shim's `sizeof`).
+    pub type PetscInt = i32;
+
+    /// `seam_petsc_report` of the shim.
+    #[repr(C)]
+    pub struct RawReport {
+        pub iterations: PetscInt,
+        pub ksp_residual: f64,
+        pub reason: c_int,
+        pub reason_name: [c_char; 64],
+        pub ksp_type: [c_char; 64],
+        pub pc_type: [c_char; 64],
+        pub assembly_seconds: f64,
+        pub setup_seconds: f64,
+        pub solve_seconds: f64,
+    }
+
+    /// The shim's opaque `seam_petsc_system` (a Mat and its KSP).
+    #[repr(C)]
+    pub struct RawSystem {
+        _private: [u8; 0],
+    }
+
+    extern "C" {
+        pub fn seam_petsc_initialize(
+            argc: c_int,
+            argv: *mut *mut c_char,
+            more: *const c_char,
+            world_size: *mut c_int,
+            err: *mut c_char,
+            errlen: usize,
+        ) -> c_int;
+        pub fn seam_petsc_petscint_size() -> c_int;
+        pub fn seam_petsc_system_create(
+            n: PetscInt,
+            bs: PetscInt,
+            rowptr: *const PetscInt,
+            cols: *const PetscInt,
+            vals: *const f64,
+            modes: *const f64,
+            n_modes: PetscInt,
+            symmetric: c_int,
+            ksp_type: *const c_char,
+            pc_type: *const c_char,
+            rtol: f64,
+            max_it: PetscInt,
+            out: *mut *mut RawSystem,
+            err: *mut c_char,
+            errlen: usize,
+        ) -> c_int;
+        pub fn seam_petsc_system_solve(
+            s: *mut RawSystem,
+            b: *const f64,
+            x: *mut f64,
+            nonzero_guess: c_int,
+            report: *mut RawReport,
+            err: *mut c_char,
+            errlen: usize,
+        ) -> c_int;
+        pub fn seam_petsc_system_destroy(s: *mut RawSystem);
+    }
+}
+
+use ffi::PetscInt;
+
+/// The one lock around every call into PETSc (not thread-safe).
+static PETSC: Mutex<Initialised> = Mutex::new(Initialised(false));
+
+/// Whether PETSc has been initialised in this process.
+struct Initialised(bool);
+
+/// A PETSc failure, as one line.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct PetscError(pub String);
+
+/// Length of the shim's error buffers.
+const ERR_LEN: usize = 512;
+
+fn error_text(buffer: &[c_char; ERR_LEN], code: c_int) -> PetscError {
+    // SAFETY: the shim writes a NUL-terminated string (snprintf) into the
+    // zero-initialised buffer, which stays NUL-terminated in any case.
+    let text = unsafe { CStr::from_ptr(buffer.as_ptr()) }.to_string_lossy().trim().to_string();
+    PetscError(if text.is_empty() { format!("PETSc error code {code}") } else { text })
+}
+
+fn c_string(field: &[c_char; 64]) -> String {
+    // SAFETY: snprintf in the shim NUL-terminates every 64-byte field.
+    unsafe { CStr::from_ptr(field.as_ptr()) }.to_string_lossy().into_owned()
+}
+
+fn lock() -> std::sync::MutexGuard<'static, Initialised> {
+    // A panic while holding the lock leaves PETSc in a consistent state (the
+    // shim has returned): go on with the guard.
+    PETSC.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Initialises PETSc on the first call (with `options`, a string of PETSc
+/// options such as `"-pc_type hypre -ksp_monitor"`, as if given on the
+/// command line, after those of `PETSC_OPTIONS`); later calls add `options`
+/// to PETSc's options database. PETSc is finalised at process exit.
+///
+/// # Errors
+/// PETSc's initialisation failed, the options do not parse, or the process
+/// runs under `mpirun` with more than one rank (this layer is sequential).
+pub fn initialize(options: &str) -> Result<(), PetscError> {
+    let mut initialised = lock();
+    let options_c = CString::new(options)
+        .map_err(|_| PetscError("PETSc options must not contain a NUL character".into()))?;
+    let mut err = [0 as c_char; ERR_LEN];
+    let mut world = 0;
+    let code = if initialised.0 {
+        // SAFETY: PETSc is initialised; the strings are NUL-terminated and
+        // outlive the call; err has ERR_LEN bytes; world is a valid int.
+        unsafe {
+            ffi::seam_petsc_initialize(
+                0,
+                std::ptr::null_mut(),
+                options_c.as_ptr(),
+                &mut world,
+                err.as_mut_ptr(),
+                ERR_LEN,
+            )
+        }
+    } else {
+        // argv as PETSc's command line: the program name, no signal handler
+        // of PETSc's (Rust's own stay in place), then the options. PETSc
+        // keeps pointers into argv: the strings are leaked on purpose (once
+        // per process).
+        let words = ["seam", "-no_signal_handler"]
+            .into_iter()
+            .map(String::from)
+            .chain(options.split_whitespace().map(String::from));
+        let mut argv: Vec<*mut c_char> =
+            words.map(|w| CString::new(w).expect("no NUL: checked above").into_raw()).collect();
+        argv.push(std::ptr::null_mut());
+        let argv = Box::leak(argv.into_boxed_slice());
+        // SAFETY: argv is a NULL-terminated array of argc NUL-terminated
+        // strings that live for the rest of the process; err and world as above.
+        let code = unsafe {
+            ffi::seam_petsc_initialize(
+                (argv.len() - 1) as c_int,
+                argv.as_mut_ptr(),
+                std::ptr::null(),
+                &mut world,
+                err.as_mut_ptr(),
+                ERR_LEN,
+            )
+        };
+        if code == 0 {
+            initialised.0 = true;
+            // SAFETY: a pure function of the shim (returns sizeof(PetscInt)).
+            let size = unsafe { ffi::seam_petsc_petscint_size() };
+            if size as usize != std::mem::size_of::<PetscInt>() {
+                return Err(PetscError(format!(
+                    "this PETSc uses {size}-byte indices; seam's layer is built for {}",
+                    std::mem::size_of::<PetscInt>()
+                )));
+            }
+        }
+        code
+    };
+    if code != 0 {
+        return Err(error_text(&err, code));
+    }
+    if world > 1 {
+        return Err(PetscError(format!(
+            "running on {world} MPI ranks, but this seam solves on one process (build with the mpi feature for more)"
+        )));
+    }
+    Ok(())
+}
+
+/// How the KSP is set up before the options database has its say.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KspConfig {
+    /// KSP type (`-ksp_type`), e.g. "cg".
+    pub ksp_type: String,
+    /// PC type (`-pc_type`), e.g. "gamg".
+    pub pc_type: String,
+    /// Relative tolerance of the residual (`-ksp_rtol`).
+    pub rtol: f64,
+    /// Iteration cap (`-ksp_max_it`).
+    pub max_iterations: usize,
+    /// The matrix is symmetric (told to PETSc).
+    pub symmetric: bool,
+}
+
+impl Default for KspConfig {
+    fn default() -> Self {
+        KspConfig {
+            ksp_type: "cg".into(),
+            pc_type: "gamg".into(),
+            rtol: 1e-10,
+            max_iterations: 10_000,
+            symmetric: true,
+        }
+    }
+}
+
+/// What a solve reports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Report {
+    /// KSP iterations.
+    pub iterations: usize,
+    /// The residual norm KSP's convergence test used (preconditioned for CG
+    /// by default).
+    pub ksp_residual: f64,
+    /// PETSc's `KSPConvergedReason` (> 0 converged, < 0 diverged).
+    pub reason: i32,
+    /// Its name, e.g. "CONVERGED_RTOL", "DIVERGED_ITS".
+    pub reason_name: String,
+    /// The KSP type used (after the options).
+    pub ksp_type: String,
+    /// The PC type used.
+    pub pc_type: String,
+    /// Seconds to build the PETSc matrix.
+    pub assembly_seconds: f64,
+    /// Seconds of KSPSetUp (the preconditioner).
+    pub setup_seconds: f64,
+    /// Seconds of KSPSolve.
+    pub solve_seconds: f64,
+}
+
+impl Report {
+    /// Whether the KSP converged.
+    pub fn converged(&self) -> bool {
+        self.reason > 0
+    }
+}
+
+/// A square sparse matrix in PETSc with its KSP, the preconditioner set up:
+/// solve with any number of right-hand sides.
+pub struct System {
+    raw: NonNull<ffi::RawSystem>,
+    n: usize,
+}
+
+/// A matrix in compressed sparse rows: `rowptr` (n + 1 offsets), sorted
+/// 0-based `cols` and `values` of each row.
+#[derive(Clone, Copy, Debug)]
+pub struct Csr<'a> {
+    /// Row offsets.
+    pub rowptr: &'a [usize],
+    /// Column indices.
+    pub cols: &'a [usize],
+    /// Values.
+    pub values: &'a [f64],
+}
+
+fn index(v: usize, what: &str) -> Result<PetscInt, PetscError> {
+    PetscInt::try_from(v).map_err(|_| PetscError(format!("{what} {v} exceeds PETSc's 32-bit indices")))
+}
+
+impl System {
+    /// Builds the matrix (block size `block_size`) and its KSP, with the
+    /// span of `near_nullspace` (vectors of n entries, e.g. the rigid-body
+    /// modes for elasticity; orthonormalised here, dependent ones dropped) as
+    /// the near-nullspace that GAMG's aggregates must represent. Options in
+    /// PETSc's database override `config`. [`initialize`] must have been
+    /// called.
+    ///
+    /// # Errors
+    /// A PETSc error (an unknown type in the options, a failed setup), or
+    /// inconsistent input.
+    pub fn new(
+        matrix: Csr<'_>,
+        block_size: usize,
+        near_nullspace: &[Vec<f64>],
+        config: &KspConfig,
+    ) -> Result<System, PetscError> {
+        let n = matrix.rowptr.len().saturating_sub(1);
+        let nnz = matrix.rowptr.last().copied().unwrap_or(0);
+        let consistent = !matrix.rowptr.is_empty()
+            && matrix.cols.len() == nnz
+            && matrix.values.len() == nnz
+            && block_size > 0
+            && n % block_size == 0
+            && matrix.cols.iter().all(|&c| c < n)
+            && near_nullspace.iter().all(|v| v.len() == n);
+        if !consistent {
+            return Err(PetscError("inconsistent matrix passed to PETSc".into()));
+        }
+        let modes = orthonormal(near_nullspace);
+        let rowptr: Vec<PetscInt> =
+            matrix.rowptr.iter().map(|&v| index(v, "entry")).collect::<Result<_, _>>()?;
+        let cols: Vec<PetscInt> =
+            matrix.cols.iter().map(|&v| index(v, "column")).collect::<Result<_, _>>()?;
+        let (ksp_type, pc_type) =
+            (CString::new(config.ksp_type.as_str()), CString::new(config.pc_type.as_str()));
+        let (Ok(ksp_type), Ok(pc_type)) = (ksp_type, pc_type) else {
+            return Err(PetscError("KSP and PC types must not contain a NUL character".into()));
+        };
+        let guard = lock();
+        if !guard.0 {
+            return Err(PetscError("PETSc is not initialised".into()));
+        }
+        let mut raw = std::ptr::null_mut();
+        let mut err = [0 as c_char; ERR_LEN];
+        // SAFETY: the arrays have the lengths the shim reads (n + 1 offsets,
+        // nnz columns and values, n entries per near-nullspace vector), checked
+        // above; the shim copies them into PETSc objects before returning; the
+        // strings are NUL-terminated; raw receives a new system or stays NULL.
+        let code = unsafe {
+            ffi::seam_petsc_system_create(
+                index(n, "size")?,
+                index(block_size, "block size")?,
+                rowptr.as_ptr(),
+                cols.as_ptr(),
+                matrix.values.as_ptr(),
+                modes.as_ptr(),
+                index(modes.len() / n.max(1), "near-nullspace size")?,
+                c_int::from(config.symmetric),
+                ksp_type.as_ptr(),
+                pc_type.as_ptr(),
+                config.rtol,
+                index(config.max_iterations, "iteration cap")?,
+                &mut raw,
+                err.as_mut_ptr(),
+                ERR_LEN,
+            )
+        };
+        drop(guard);
+        match (code, NonNull::new(raw)) {
+            (0, Some(raw)) => Ok(System { raw, n }),
+            _ => Err(error_text(&err, code)),
+        }
+    }
+
+    /// Solves A x = b; `x` is the initial guess when `nonzero_guess`.
+    ///
+    /// # Errors
+    /// A PETSc error during the solve (not a KSP that did not converge: see
+    /// [`Report::converged`]).
+    pub fn solve(&mut self, b: &[f64], x: &mut [f64], nonzero_guess: bool) -> Result<Report, PetscError> {
+        if b.len() != self.n || x.len() != self.n {
+            return Err(PetscError(format!(
+                "right-hand side of {} and solution of {} entries for a system of {}",
+                b.len(),
+                x.len(),
+                self.n
+            )));
+        }
+        let _guard = lock();
+        let mut raw = std::mem::MaybeUninit::<ffi::RawReport>::zeroed();
+        let mut err = [0 as c_char; ERR_LEN];
+        // SAFETY: self.raw is a live system of size n; b and x have n
+        // entries and are only used during the call (wrapped, not kept, by
+        // PETSc Vecs that the shim destroys before returning); the report is
+        // written in full by the shim (memset first).
+        let code = unsafe {
+            ffi::seam_petsc_system_solve(
+                self.raw.as_ptr(),
+                b.as_ptr(),
+                x.as_mut_ptr(),
+                c_int::from(nonzero_guess),
+                raw.as_mut_ptr(),
+                err.as_mut_ptr(),
+                ERR_LEN,
+            )
+        };
+        if code != 0 {
+            return Err(error_text(&err, code));
+        }
+        // SAFETY: zero-initialised and filled by the shim: every field valid.
+        let raw = unsafe { raw.assume_init() };
+        Ok(Report {
+            iterations: raw.iterations.max(0) as usize,
+            ksp_residual: raw.ksp_residual,
+            reason: raw.reason,
+            reason_name: c_string(&raw.reason_name),
+            ksp_type: c_string(&raw.ksp_type),
+            pc_type: c_string(&raw.pc_type),
+            assembly_seconds: raw.assembly_seconds,
+            setup_seconds: raw.setup_seconds,
+            solve_seconds: raw.solve_seconds,
+        })
+    }
+}
+
+/// An orthonormal basis of the span of `vectors` (modified Gram–Schmidt,
+/// twice; vectors whose remainder is below 1e-10 of their norm are dropped),
+/// one after the other.
+fn orthonormal(vectors: &[Vec<f64>]) -> Vec<f64> {
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    for v in vectors {
+        let norm = dot(v, v).sqrt();
+        let mut w = v.clone();
+        for _ in 0..2 {
+            for q in &basis {
+                let c = dot(&w, q);
+                w.iter_mut().zip(q).for_each(|(a, b)| *a -= c * b);
+            }
+        }
+        let rest = dot(&w, &w).sqrt();
+        if norm > 0.0 && rest > 1e-10 * norm {
+            w.iter_mut().for_each(|a| *a /= rest);
+            basis.push(w);
+        }
+    }
+    basis.concat()
+}
+
+impl Drop for System {
+    fn drop(&mut self) {
+        let _guard = lock();
+        // SAFETY: self.raw came from seam_petsc_system_create and is destroyed
+        // exactly once, here.
+        unsafe { ffi::seam_petsc_system_destroy(self.raw.as_ptr()) }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 1D Laplacian (tridiagonal 2, −1) of n unknowns in CSR.
+    fn laplacian(n: usize) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+        let (mut rowptr, mut cols, mut values) = (vec![0], Vec::new(), Vec::new());
+        for i in 0..n {
+            for j in i.saturating_sub(1)..(i + 2).min(n) {
+                cols.push(j);
+                values.push(if i == j { 2.0 } else { -1.0 });
+            }
+            rowptr.push(cols.len());
+        }
+        (rowptr, cols, values)
+    }
+
+    #[test]
+    fn cg_solves_a_laplacian_and_bad_options_are_one_line_errors() {
+        initialize("").unwrap();
+        let n = 30;
+        let (rowptr, cols, values) = laplacian(n);
+        let matrix = Csr { rowptr: &rowptr, cols: &cols, values: &values };
+        let config = KspConfig { pc_type: "jacobi".into(), rtol: 1e-12, ..KspConfig::default() };
+        let mut system = System::new(matrix, 1, &[], &config).unwrap();
+        // x = (1, 2, …, n): b = A x.
+        let exact: Vec<f64> = (1..=n).map(|i| i as f64).collect();
+        let b: Vec<f64> =
+            (0..n).map(|i| (rowptr[i]..rowptr[i + 1]).map(|k| values[k] * exact[cols[k]]).sum()).collect();
+        let mut x = vec![0.0; n];
+        let report = system.solve(&b, &mut x, false).unwrap();
+        assert!(report.converged(), "{report:?}");
+        assert_eq!((report.ksp_type.as_str(), report.pc_type.as_str()), ("cg", "jacobi"));
+        assert!(report.iterations > 0 && report.iterations <= n, "{report:?}");
+        for i in 0..n {
+            assert!((x[i] - exact[i]).abs() < 1e-8 * n as f64, "{i}: {} vs {}", x[i], exact[i]);
+        }
+        // An unknown PC type: PETSc's message, one line.
+        let bad = KspConfig { pc_type: "nonsense".into(), ..KspConfig::default() };
+        let e = System::new(matrix, 1, &[], &bad).err().expect("an unknown PC type fails");
+        assert!(e.0.contains("nonsense") && !e.0.contains('\n'), "{e}");
+        // An iteration cap of 1: solved without error, reported as diverged.
+        let capped = KspConfig { pc_type: "none".into(), max_iterations: 1, ..KspConfig::default() };
+        let mut system = System::new(matrix, 1, &[], &capped).unwrap();
+        let report = system.solve(&b, &mut x, false).unwrap();
+        assert!(!report.converged() && report.reason_name == "DIVERGED_ITS", "{report:?}");
+    }
+}

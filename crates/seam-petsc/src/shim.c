@@ -1,0 +1,269 @@
+/*
+ * The C side of seam's PETSc layer: PETSc's API is macro-heavy (communicators,
+ * error checking), so the few things seam needs are written here once, in C,
+ * against PETSc's own headers, and called from Rust through five functions
+ * (src/lib.rs). Every PETSc call is checked; an error returns its code and a
+ * one-line message in the caller's buffer (PETSc's return-error handler is
+ * pushed at initialisation, so nothing is printed). Single process:
+ * PETSC_COMM_SELF.
+ */
+#include <petscksp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* What a solve reports. */
+typedef struct {
+  PetscInt iterations;
+  PetscReal ksp_residual; /* the norm KSP's convergence test used */
+  int reason;             /* KSPConvergedReason: > 0 converged, < 0 diverged */
+  char reason_name[64];
+  char ksp_type[64];
+  char pc_type[64];
+  double assembly_seconds; /* building the PETSc matrix */
+  double setup_seconds;    /* KSPSetUp: the preconditioner (GAMG's hierarchy) */
+  double solve_seconds;    /* KSPSolve */
+} seam_petsc_report;
+
+/* A matrix with its KSP, set up (the preconditioner built) once, solved
+ * with any number of right-hand sides. */
+typedef struct {
+  Mat A;
+  KSP ksp;
+  PetscInt n, bs;
+  double assembly_seconds, setup_seconds;
+} seam_petsc_system;
+
+static void message(PetscErrorCode code, char *err, size_t len)
+{
+  const char *text = NULL;
+  char       *specific = NULL;
+  if (!err || !len) return;
+  PetscErrorMessage(code, &text, &specific);
+  const char *m = (specific && *specific) ? specific : (text ? text : "unknown PETSc error");
+  snprintf(err, len, "%s", m);
+  /* One line: PETSc's messages may end in or contain newlines. */
+  for (char *c = err; *c; c++)
+    if (*c == '\n' || *c == '\r') *c = ' ';
+  size_t l = strlen(err);
+  while (l && err[l - 1] == ' ') err[--l] = '\0';
+}
+
+#define TRY(call) \
+  do { \
+    PetscErrorCode ierr_ = (call); \
+    if (ierr_) { \
+      message(ierr_, err, errlen); \
+      code = ierr_; \
+      goto fail; \
+    } \
+  } while (0)
+
+static void finalize_at_exit(void)
+{
+  PetscBool initialized = PETSC_FALSE, finalized = PETSC_FALSE;
+  PetscInitialized(&initialized);
+  PetscFinalized(&finalized);
+  if (initialized && !finalized) PetscFinalize();
+}
+
+static double now(void)
+{
+  PetscLogDouble t = 0;
+  PetscTime(&t);
+  return (double)t;
+}
+
+/* Initialises PETSc (and MPI) once per process with the options in argv
+ * (after PETSC_OPTIONS, which PETSc reads itself); PetscFinalize runs at
+ * process exit (so that -log_view prints). Later calls insert their options
+ * into the database. Returns 0 or an error code. */
+int seam_petsc_initialize(int argc, char **argv, const char *more, int *world_size, char *err, size_t errlen)
+{
+  PetscErrorCode code = 0;
+  PetscBool      initialized = PETSC_FALSE;
+  PetscInitialized(&initialized);
+  if (!initialized) {
+    code = PetscInitialize(&argc, &argv, NULL, NULL);
+    if (code) {
+      snprintf(err, errlen, "PetscInitialize failed with error code %d", (int)code);
+      return (int)code;
+    }
+    PetscPushErrorHandler(PetscReturnErrorHandler, NULL);
+    atexit(finalize_at_exit);
+  }
+  if (more && *more) TRY(PetscOptionsInsertString(NULL, more));
+  {
+    PetscMPIInt size = 1;
+    if (MPI_Comm_size(PETSC_COMM_WORLD, &size) != MPI_SUCCESS) size = -1;
+    *world_size = (int)size;
+  }
+  return 0;
+fail:
+  return (int)code;
+}
+
+/* sizeof(PetscInt), for the Rust side to check its index type. */
+int seam_petsc_petscint_size(void)
+{
+  return (int)sizeof(PetscInt);
+}
+
+/* Builds the n × n matrix (CSR, 0-based, sorted columns; block size bs) as
+ * AIJ (or what -mat_type chooses), the n_modes orthonormal vectors at
+ * `modes` (n entries each, one after the other; the rigid-body modes for
+ * elasticity) as its near-nullspace, and a KSP of
+ * `ksp_type` with `pc_type` (defaults that options override), relative
+ * tolerance rtol and at most max_it iterations; sets the preconditioner up. */
+int seam_petsc_system_create(PetscInt n, PetscInt bs, const PetscInt *rowptr, const PetscInt *cols,
+                             const PetscScalar *vals, const PetscScalar *modes, PetscInt n_modes, int symmetric,
+                             const char *ksp_type,
+                             const char *pc_type, double rtol, PetscInt max_it, seam_petsc_system **out, char *err,
+                             size_t errlen)
+{
+  PetscErrorCode      code = 0;
+  seam_petsc_system  *s = NULL;
+  PetscInt           *nnz = NULL, *bnnz = NULL, *mark = NULL;
+  PetscBool           sbaij = PETSC_FALSE;
+  Vec                 near[16] = {NULL};
+  MatNullSpace        nullspace = NULL;
+  PC                  pc;
+  double              t0;
+
+  *out = NULL;
+  s = (seam_petsc_system *)calloc(1, sizeof(*s));
+  if (!s) {
+    snprintf(err, errlen, "out of memory");
+    return PETSC_ERR_MEM;
+  }
+  s->n  = n;
+  s->bs = bs;
+  t0    = now();
+  TRY(MatCreate(PETSC_COMM_SELF, &s->A));
+  TRY(MatSetSizes(s->A, n, n, n, n));
+  TRY(MatSetType(s->A, MATAIJ));
+  TRY(MatSetBlockSize(s->A, bs));
+  TRY(MatSetFromOptions(s->A));
+  /* Preallocation for AIJ (entries per row) and BAIJ/SBAIJ (blocks per
+   * block row); only the call of the matrix's type takes effect. */
+  TRY(PetscMalloc1(n, &nnz));
+  TRY(PetscCalloc1(n / bs + 1, &bnnz));
+  TRY(PetscMalloc1(n / bs + 1, &mark));
+  for (PetscInt r = 0; r <= n / bs; r++) mark[r] = -1;
+  for (PetscInt i = 0; i < n; i++) {
+    nnz[i] = rowptr[i + 1] - rowptr[i];
+    for (PetscInt j = rowptr[i]; j < rowptr[i + 1]; j++) {
+      PetscInt block = cols[j] / bs;
+      if (mark[block] != i / bs) {
+        mark[block] = i / bs;
+        bnnz[i / bs]++;
+      }
+    }
+  }
+  TRY(MatSeqAIJSetPreallocation(s->A, 0, nnz));
+  TRY(MatSeqBAIJSetPreallocation(s->A, bs, 0, bnnz));
+  TRY(MatSeqSBAIJSetPreallocation(s->A, bs, 0, bnnz));
+  TRY(MatSetOption(s->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+  TRY(PetscObjectTypeCompareAny((PetscObject)s->A, &sbaij, MATSEQSBAIJ, MATSBAIJ, ""));
+  if (sbaij) TRY(MatSetOption(s->A, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
+  for (PetscInt i = 0; i < n; i++)
+    TRY(MatSetValues(s->A, 1, &i, rowptr[i + 1] - rowptr[i], cols + rowptr[i], vals + rowptr[i], INSERT_VALUES));
+  TRY(MatAssemblyBegin(s->A, MAT_FINAL_ASSEMBLY));
+  TRY(MatAssemblyEnd(s->A, MAT_FINAL_ASSEMBLY));
+  if (symmetric) TRY(MatSetOption(s->A, MAT_SYMMETRIC, PETSC_TRUE));
+  if (n_modes > 16) {
+    snprintf(err, errlen, "at most 16 near-nullspace vectors, got %d", (int)n_modes);
+    code = PETSC_ERR_ARG_OUTOFRANGE;
+    goto fail;
+  }
+  for (PetscInt k = 0; k < n_modes; k++) {
+    PetscScalar *a;
+    TRY(VecCreateSeq(PETSC_COMM_SELF, n, &near[k]));
+    TRY(VecSetBlockSize(near[k], bs));
+    TRY(VecGetArray(near[k], &a));
+    memcpy(a, modes + (size_t)k * (size_t)n, (size_t)n * sizeof(PetscScalar));
+    TRY(VecRestoreArray(near[k], &a));
+  }
+  if (n_modes > 0) {
+    TRY(MatNullSpaceCreate(PETSC_COMM_SELF, PETSC_FALSE, n_modes, near, &nullspace));
+    TRY(MatSetNearNullSpace(s->A, nullspace));
+  }
+  s->assembly_seconds = now() - t0;
+  t0 = now();
+  TRY(KSPCreate(PETSC_COMM_SELF, &s->ksp));
+  TRY(KSPSetOperators(s->ksp, s->A, s->A));
+  TRY(KSPSetType(s->ksp, ksp_type));
+  TRY(KSPGetPC(s->ksp, &pc));
+  TRY(PCSetType(pc, pc_type));
+  TRY(KSPSetTolerances(s->ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, max_it));
+  TRY(KSPSetFromOptions(s->ksp));
+  TRY(KSPSetUp(s->ksp));
+  s->setup_seconds = now() - t0;
+  PetscFree(nnz);
+  PetscFree(bnnz);
+  PetscFree(mark);
+  MatNullSpaceDestroy(&nullspace);
+  for (PetscInt k = 0; k < 16; k++) VecDestroy(&near[k]);
+  *out = s;
+  return 0;
+fail:
+  PetscFree(nnz);
+  PetscFree(bnnz);
+  PetscFree(mark);
+  MatNullSpaceDestroy(&nullspace);
+  for (PetscInt k = 0; k < 16; k++) VecDestroy(&near[k]);
+  if (s) {
+    KSPDestroy(&s->ksp);
+    MatDestroy(&s->A);
+    free(s);
+  }
+  return (int)code;
+}
+
+/* Solves A x = b; x holds the initial guess when nonzero_guess. */
+int seam_petsc_system_solve(seam_petsc_system *s, const PetscScalar *b, PetscScalar *x, int nonzero_guess,
+                            seam_petsc_report *report, char *err, size_t errlen)
+{
+  PetscErrorCode     code = 0;
+  Vec                vb = NULL, vx = NULL;
+  PC                 pc;
+  KSPType            kt;
+  PCType             pt;
+  KSPConvergedReason reason;
+  double             t0;
+
+  memset(report, 0, sizeof(*report));
+  TRY(VecCreateSeqWithArray(PETSC_COMM_SELF, s->bs, s->n, b, &vb));
+  TRY(VecCreateSeqWithArray(PETSC_COMM_SELF, s->bs, s->n, x, &vx));
+  TRY(KSPSetInitialGuessNonzero(s->ksp, nonzero_guess ? PETSC_TRUE : PETSC_FALSE));
+  t0 = now();
+  TRY(KSPSolve(s->ksp, vb, vx));
+  report->solve_seconds = now() - t0;
+  report->setup_seconds = s->setup_seconds;
+  report->assembly_seconds = s->assembly_seconds;
+  TRY(KSPGetIterationNumber(s->ksp, &report->iterations));
+  TRY(KSPGetResidualNorm(s->ksp, &report->ksp_residual));
+  TRY(KSPGetConvergedReason(s->ksp, &reason));
+  report->reason = (int)reason;
+  snprintf(report->reason_name, sizeof(report->reason_name), "%s", KSPConvergedReasons[reason]);
+  TRY(KSPGetType(s->ksp, &kt));
+  TRY(KSPGetPC(s->ksp, &pc));
+  TRY(PCGetType(pc, &pt));
+  snprintf(report->ksp_type, sizeof(report->ksp_type), "%s", kt ? kt : "");
+  snprintf(report->pc_type, sizeof(report->pc_type), "%s", pt ? pt : "");
+  VecDestroy(&vb);
+  VecDestroy(&vx);
+  return 0;
+fail:
+  VecDestroy(&vb);
+  VecDestroy(&vx);
+  return (int)code;
+}
+
+void seam_petsc_system_destroy(seam_petsc_system *s)
+{
+  if (!s) return;
+  KSPDestroy(&s->ksp);
+  MatDestroy(&s->A);
+  free(s);
+}
