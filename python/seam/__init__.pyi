@@ -321,14 +321,17 @@ class Solution:
 
 def solve(
     case: Union[str, "os.PathLike[str]", dict],
-    solver: Literal["direct", "pcg"] = "direct",
+    solver: Literal["direct", "pcg", "petsc"] = "direct",
     threads: Optional[int] = None,
     *,
     rtol: float = 1e-10,
+    petsc_options: Optional[str] = None,
 ) -> Solution:
     """Solves a case (a case file, or a dict with its schema) as ``seam solve`` does, without writing.
 
-    ``rtol``: PCG stops when ‖r‖₂ ≤ rtol ‖b‖₂ (``seam solve --rtol``), in (0, 1).
+    ``rtol``: PCG and PETSc stop when ‖r‖₂ ≤ rtol ‖b‖₂ (``seam solve --rtol``), in (0, 1).
+    ``solver="petsc"``: a PETSc KSP (CG + GAMG by default; the module built with the
+    cargo feature ``petsc``); ``petsc_options`` as ``seam solve --petsc-options``.
 
     Raises:
         SolveError: The one-line message of ``seam solve`` (also an rtol outside (0, 1)).

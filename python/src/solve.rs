@@ -132,9 +132,15 @@ impl PySolution {
 ///     case: The path of a case file (str or os.PathLike), or a dict with the
 ///         schema of a case file, whose relative paths are relative to the
 ///         current working directory.
-///     solver: "direct" or "pcg".
+///     solver: "direct", "pcg" or "petsc" (a PETSc KSP, by default CG with
+///         algebraic multigrid; needs the module built with the cargo
+///         feature `petsc`).
 ///     threads: Worker threads (default: all cores).
-///     rtol: PCG stops when ‖r‖₂ ≤ rtol ‖b‖₂ (`seam solve --rtol`), in (0, 1).
+///     rtol: PCG and PETSc stop when ‖r‖₂ ≤ rtol ‖b‖₂ (`seam solve --rtol`),
+///         in (0, 1).
+///     petsc_options: PETSc options as on its command line
+///         (`seam solve --petsc-options`), e.g. "-pc_type hypre"; they stay
+///         in PETSc's options database for later solves of the process.
 ///
 /// Returns:
 ///     A Solution: `summary`, `bodies`, `interfaces`, `write(dir, force)`.
@@ -144,23 +150,33 @@ impl PySolution {
 ///         a missing mesh, surfaces that do not meet, a singular system, …).
 ///     ValueError: an unknown solver, threads < 1.
 #[pyfunction]
-#[pyo3(signature = (case, solver = "direct", threads = None, *, rtol = 1e-10))]
+#[pyo3(signature = (case, solver = "direct", threads = None, *, rtol = 1e-10, petsc_options = None))]
 pub fn solve(
     py: Python<'_>,
     case: &Bound<'_, PyAny>,
     solver: &str,
     threads: Option<i64>,
     rtol: f64,
+    petsc_options: Option<&str>,
 ) -> PyResult<PySolution> {
     let solver = match solver {
         "direct" => LinearSolver::Direct,
         "pcg" => LinearSolver::Pcg,
+        "petsc" => LinearSolver::Petsc,
         other => {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "solver must be \"direct\" or \"pcg\", got {other:?}"
+                "solver must be \"direct\", \"pcg\" or \"petsc\", got {other:?}"
             )))
         }
     };
+    match (solver, petsc_options) {
+        (LinearSolver::Petsc, options) => seam_case::solve::initialize_petsc(options.unwrap_or(""))
+            .map_err(|e| SolveError::new_err(format!("solver=\"petsc\": {e}")))?,
+        (_, Some(_)) => {
+            return Err(pyo3::exceptions::PyValueError::new_err("petsc_options needs solver=\"petsc\""))
+        }
+        (_, None) => {}
+    }
     let options = SolveOptions { solver, rtol };
     let pool = thread_pool(threads)?;
     let source = match case.cast::<PyDict>() {

@@ -56,9 +56,22 @@ pub fn report(s: &Solved) -> Vec<String> {
             ));
         }
     }
+    if let Some(p) = &m.petsc {
+        let iterations: Vec<String> = p.iterations.iter().map(|i| i.to_string()).collect();
+        lines.push(format!(
+            "petsc      {} + {}, iterations {}, last residual {:.1e}; setup {:.2} s, solve {:.2} s",
+            p.ksp_type,
+            p.pc_type,
+            iterations.join(", "),
+            p.residual,
+            p.seconds.setup,
+            p.seconds.solve
+        ));
+    }
     match m.contact.as_ref() {
         None => {
-            let steps = if m.method.contains("CG") { "iterations" } else { "refinement steps" };
+            let iterative = m.method.contains("CG") || m.petsc.is_some();
+            let steps = if iterative { "iterations" } else { "refinement steps" };
             lines.push(format!(
                 "system     {} dofs, {} constraints; {}, {} {steps}, residual {:.1e}",
                 m.dofs, m.constraints, m.method, m.iterations, m.residual

@@ -41,6 +41,8 @@ use anyhow::{anyhow, Context};
 use rayon::prelude::*;
 use seam::{Face, Facing, MaxGap, MortarOptions, MortarSummary, Multiplier, Point3, SurfaceMesh};
 use seam_fem::pcg::PcgOptions;
+pub use seam_fem::petsc::initialize_petsc;
+use seam_fem::petsc::PetscOptions;
 use seam_fem::{
     Coupling, Load, Material, Problem, ProblemBody, ProblemError, ProblemInterface, Solution, Stresses,
     Support, SurfaceId,
@@ -116,7 +118,7 @@ pub struct Summary {
     pub case: String,
     /// The directory the results are written to.
     pub output_dir: String,
-    /// "direct" or "pcg".
+    /// "direct", "pcg" or "petsc".
     pub solver: &'static str,
     /// The method the solver used, e.g. "saddle-point LU".
     pub method: &'static str,
@@ -140,12 +142,61 @@ pub struct Summary {
     /// Contact cases only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact: Option<ContactSummary>,
+    /// The PETSc solver only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub petsc: Option<PetscSummary>,
     /// Seconds per phase.
     pub seconds: Seconds,
     /// Worker threads.
     pub threads: usize,
     /// The version of seam.
     pub seam_version: &'static str,
+}
+
+/// The `petsc` object of `summary.json`: what PETSc did.
+#[derive(Serialize, Clone)]
+pub struct PetscSummary {
+    /// The KSP type, e.g. "cg" (after PETSc's options).
+    pub ksp_type: String,
+    /// The PC type, e.g. "gamg".
+    pub pc_type: String,
+    /// KSP iterations of each solve (one for glue, one per active-set step).
+    pub iterations: Vec<usize>,
+    /// The last solve's ‖b − A x‖₂ / ‖b‖₂.
+    pub residual: f64,
+    /// PETSc's converged reason of each solve, e.g. "CONVERGED_RTOL".
+    pub reasons: Vec<String>,
+    /// PETSc's own seconds: building its matrices (`assembly`), the
+    /// preconditioner's setup (`setup`) and the KSP solves (`solve`).
+    pub seconds: PetscSeconds,
+}
+
+/// Seconds inside PETSc.
+#[derive(Serialize, Clone)]
+pub struct PetscSeconds {
+    /// Building PETSc's matrices.
+    pub assembly: f64,
+    /// KSPSetUp: the preconditioner (GAMG's hierarchy).
+    pub setup: f64,
+    /// KSPSolve.
+    pub solve: f64,
+}
+
+impl From<&seam_fem::petsc::PetscSummary> for PetscSummary {
+    fn from(p: &seam_fem::petsc::PetscSummary) -> Self {
+        PetscSummary {
+            ksp_type: p.ksp_type.clone(),
+            pc_type: p.pc_type.clone(),
+            iterations: p.solves.iter().map(|s| s.iterations).collect(),
+            residual: p.solves.last().map_or(0.0, |s| s.residual),
+            reasons: p.solves.iter().map(|s| s.reason.clone()).collect(),
+            seconds: PetscSeconds {
+                assembly: p.assembly_seconds,
+                setup: p.setup_seconds,
+                solve: p.solve_seconds,
+            },
+        }
+    }
 }
 
 /// The `contact` object of `summary.json`.
@@ -302,14 +353,19 @@ pub enum LinearSolver {
     Direct,
     /// Preconditioned conjugate gradients ([`SolveOptions::rtol`]).
     Pcg,
+    /// A PETSc KSP, by default CG + GAMG ([`SolveOptions::rtol`]; PETSc's
+    /// options from [`seam_fem::petsc::initialize_petsc`] and
+    /// `PETSC_OPTIONS`); needs the cargo feature `petsc`.
+    Petsc,
 }
 
 impl LinearSolver {
-    /// The name written to summary.json: "direct" or "pcg".
+    /// The name written to summary.json: "direct", "pcg" or "petsc".
     pub fn name(self) -> &'static str {
         match self {
             LinearSolver::Direct => "direct",
             LinearSolver::Pcg => "pcg",
+            LinearSolver::Petsc => "petsc",
         }
     }
 }
@@ -497,6 +553,12 @@ fn run_problem(
         LinearSolver::Direct => seam_fem::Solver::Direct,
         LinearSolver::Pcg => {
             seam_fem::Solver::Pcg(PcgOptions { rtol: options.rtol, ..PcgOptions::default() })
+        }
+        LinearSolver::Petsc => {
+            // Idempotent: PETSc starts here unless the caller started it with options.
+            seam_fem::petsc::initialize_petsc("")
+                .map_err(|e| Failure::Error(anyhow!("{}: {e}", case_path.display())))?;
+            seam_fem::Solver::Petsc(PetscOptions { rtol: options.rtol, ..PetscOptions::default() })
         }
     };
     let fem_options = seam_fem::SolveOptions { solver, max_active_set_steps: case.contact.max_iterations };
@@ -1046,6 +1108,7 @@ fn summary(
         bodies,
         interfaces,
         contact,
+        petsc: r.petsc.as_ref().map(PetscSummary::from),
         seconds,
         threads: rayon::current_num_threads(),
         seam_version: env!("CARGO_PKG_VERSION"),

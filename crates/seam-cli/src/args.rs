@@ -206,6 +206,12 @@ pub enum SolverArg {
     /// Preconditioned conjugate gradients on the reduced system (any
     /// multiplier, matrix-free): for large problems.
     Pcg,
+    /// A PETSc KSP, by default CG with algebraic multigrid (GAMG, the
+    /// rigid-body modes as near-nullspace), on the reduced system (dual and
+    /// lumped multipliers) and on each active-set step of contact; any
+    /// PETSc option via PETSC_OPTIONS or --petsc-options. Needs a build with
+    /// `--features petsc`.
+    Petsc,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -216,9 +222,13 @@ pub struct SolveArgs {
     /// How the linear systems (glued, or each active-set step of contact) are solved.
     #[arg(long, value_enum, default_value_t)]
     pub solver: SolverArg,
-    /// PCG: stop when ‖r‖₂ ≤ RTOL ‖b‖₂.
+    /// PCG and PETSc: stop when ‖r‖₂ ≤ RTOL ‖b‖₂ (PETSc: in its KSP's norm).
     #[arg(long, default_value_t = 1e-10, value_name = "RTOL", allow_negative_numbers = true)]
     pub rtol: f64,
+    /// PETSc options, as on PETSc's command line (after those of
+    /// PETSC_OPTIONS), e.g. "-pc_type hypre -ksp_monitor" or "-log_view".
+    #[arg(long, value_name = "OPTIONS", allow_hyphen_values = true)]
+    pub petsc_options: Option<String>,
     /// Overwrite output files that already exist.
     #[arg(long)]
     pub force: bool,

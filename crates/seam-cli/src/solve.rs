@@ -26,9 +26,16 @@ pub fn solve(args: &SolveArgs) -> Result<Solved, Failure> {
         solver: match args.solver {
             SolverArg::Direct => LinearSolver::Direct,
             SolverArg::Pcg => LinearSolver::Pcg,
+            SolverArg::Petsc => LinearSolver::Petsc,
         },
         rtol: args.rtol,
     };
+    match (args.solver, &args.petsc_options) {
+        (SolverArg::Petsc, options) => seam_fem::petsc::initialize_petsc(options.as_deref().unwrap_or(""))
+            .map_err(|e| anyhow!("--solver petsc: {e}"))?,
+        (_, Some(_)) => return Err(anyhow!("--petsc-options needs --solver petsc").into()),
+        (_, None) => {}
+    }
     let pool = crate::assemble::thread_pool(args.threads)?;
     pool.install(|| seam_case::solve::solve_case_to_output(&args.case, &options, args.force))
         .map_err(Failure::from_solve)

@@ -235,3 +235,20 @@ fn the_second_order_warped_glue_example_runs_and_reruns() {
     assert_eq!(again["dofs"], first["dofs"]);
     assert_eq!(again["interfaces"][0]["force"], first["interfaces"][0]["force"]);
 }
+
+/// Built without the `petsc` feature, `--solver petsc` says how to get it
+/// (one line, exit code 2, nothing written).
+#[cfg(not(feature = "petsc"))]
+#[test]
+fn petsc_without_the_feature_says_how_to_build_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = seam(&["example", "warped-glue", "-o", "ex", "--ratio", "2"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::remove_dir_all(tmp.path().join("ex/out")).unwrap();
+    let o = seam(&["solve", "ex/case.toml", "--solver", "petsc"], tmp.path());
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+    assert!(e.contains("built without PETSc") && e.contains("--features petsc"), "{e}");
+    assert!(!tmp.path().join("ex/out").exists());
+}

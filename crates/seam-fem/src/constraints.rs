@@ -583,3 +583,43 @@ impl<'a> Reduction<'a> {
         z
     }
 }
+
+/// The glued interfaces eliminated (dual or lumped multipliers, module doc
+/// of [`crate::glue`]): u = P_g y with y the unknowns of all dofs, eliminated
+/// ones left out (empty rows and columns), so the contact points keep their
+/// numbering.
+pub(crate) struct Elimination {
+    /// P_g, n × n.
+    pub(crate) p: CsrMatrix,
+    /// P_gᵀ K P_g.
+    pub(crate) k: CsrMatrix,
+    /// P_gᵀ f.
+    pub(crate) f: Vec<f64>,
+    /// Per dof: [`NONE`] if eliminated.
+    pub(crate) retained: Vec<usize>,
+}
+
+impl Elimination {
+    pub(crate) fn new(
+        constraints: &Constraints,
+        k: &CsrMatrix,
+        f: &[f64],
+    ) -> Result<Elimination, ProblemError> {
+        if !constraints.eliminated_block_is_diagonal() {
+            let interface = constraints.rows[0].interface;
+            let what = "with the PCG and PETSc solvers, glued interfaces that constrain each other's slave \
+                        points (crosspoints) next to contact interfaces are not supported (use the direct solver)"
+                .into();
+            return Err(ProblemError::BadInterface { interface, what });
+        }
+        let (p, retained) = prolongation(constraints);
+        let mut dof_of = vec![0; p.ncols];
+        for (dof, &r) in retained.iter().enumerate().filter(|(_, &r)| r != NONE) {
+            dof_of[r] = dof;
+        }
+        let n = k.nrows;
+        let indices = p.indices.iter().map(|&r| dof_of[r]).collect();
+        let p = CsrMatrix { nrows: n, ncols: n, indptr: p.indptr, indices, values: p.values };
+        Ok(Elimination { k: triple_product(&p, k), f: p.transpose_mul_vec(f, 1), p, retained })
+    }
+}

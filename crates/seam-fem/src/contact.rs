@@ -100,10 +100,11 @@
 //! - [`Solver::Pcg`]: every step solves the whole system by PCG, warm-started
 //!   from the previous step.
 
-use crate::constraints::{free_dofs, matrix_free, prolongation, saddle_point, triple_product};
-use crate::constraints::{Constraints, Row, NONE};
+use crate::constraints::{free_dofs, matrix_free, saddle_point, triple_product};
+use crate::constraints::{Constraints, Elimination, Row, NONE};
 use crate::multibody::{Body, Coupling, Interface, ProblemError, Solver, System, Timings};
 use crate::pcg::solve_pcg_from;
+use crate::petsc::{rigid_body_modes_in, solve_petsc_from, PetscSummary};
 use crate::solution::{ContactFields, InterfaceSolution, SolveOptions};
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
@@ -200,12 +201,13 @@ pub(crate) fn solve_contact(
         dirichlet: basis.dirichlet.clone(),
         offsets: system.offsets.clone(),
         mortars: std::mem::take(&mut system.mortars),
+        points: std::mem::take(&mut system.points),
     };
     let mut glued = constraints.clone();
     glued.c = basis.times(&constraints.c);
     seconds.setup += clock.elapsed().as_secs_f64();
     let steps = active_set_steps(bodies, interfaces, options, &transformed, &glued, seconds);
-    system.mortars = transformed.mortars;
+    (system.mortars, system.points) = (transformed.mortars, transformed.points);
     let mut steps = steps?;
     steps.u = basis.p.mul_vec(&steps.u, 1);
     Ok(steps)
@@ -409,6 +411,8 @@ pub(crate) struct Steps {
     pub kkt: Kkt,
     pub method: &'static str,
     pub points: Vec<ContactPoint>,
+    /// The PETSc solves, with [`Solver::Petsc`].
+    pub petsc: Option<PetscSummary>,
 }
 
 /// The singular-step error.
@@ -428,7 +432,7 @@ fn rotated_steps(
 ) -> Result<Steps, ProblemError> {
     let (k, f, dirichlet, offsets) = (&system.k, &system.f, &system.dirichlet, &system.offsets);
     let clock = Instant::now();
-    let glued = if constraints.rows.is_empty() { None } else { Some(Glued::new(constraints, k, f)?) };
+    let glued = if constraints.rows.is_empty() { None } else { Some(Elimination::new(constraints, k, f)?) };
     let (k, f) = match &glued {
         Some(g) => (&g.k, &g.f[..]),
         None => (k, &f[..]),
@@ -443,6 +447,7 @@ fn rotated_steps(
 
     let scale = length_scale(bodies);
     let active = initial_active_set(&points, interfaces.len(), 1e-9 * scale);
+    let mut petsc = None;
     let (x, active, mu, steps) = match options.solver {
         Solver::Direct => {
             let clock = Instant::now();
@@ -469,8 +474,15 @@ fn rotated_steps(
             seconds.solve += clock.elapsed().as_secs_f64();
             (x, active, mu, steps)
         }
-        Solver::Pcg(pcg) => {
+        Solver::Pcg(_) | Solver::Petsc(_) => {
             let clock = Instant::now();
+            // PETSc's near-nullspace: the rigid-body modes in the unknowns x
+            // (u = P_g P x), zero at eliminated dofs and rotated into the
+            // nodal frames at contact points.
+            let modes = matches!(options.solver, Solver::Petsc(_)).then(|| {
+                let retained = glued.as_ref().map(|g| &g.retained[..]);
+                rigid_body_modes_in(&system.points, retained, Some(&p))
+            });
             let mut previous: Option<Vec<f64>> = None;
             let (active, _, mu, steps) =
                 active_set_method(&points, active, scale, options.max_active_set_steps, |active, step| {
@@ -479,16 +491,28 @@ fn rotated_steps(
                         fixed.fix_dof(c.first_dof, c.gap);
                     }
                     let n_active = active.iter().filter(|&&on| on).count();
-                    let (x, report) =
-                        solve_pcg_from(&a, &b, &fixed, &pcg, previous.as_deref()).map_err(|e| match e {
-                            SolveError::Singular => singular(step, n_active),
-                            e => ProblemError::Solve(e),
-                        })?;
+                    // Each step from the previous one's solution.
+                    let start = previous.as_deref();
+                    let solved = match (options.solver, &modes) {
+                        (Solver::Petsc(o), Some(modes)) => {
+                            let summary = petsc.get_or_insert_with(PetscSummary::default);
+                            solve_petsc_from(&a, &b, &fixed, modes, &o, start, summary)
+                                .map(|x| (x, summary.solves.last().map_or(0, |s| s.iterations)))
+                        }
+                        (Solver::Pcg(o), _) => {
+                            solve_pcg_from(&a, &b, &fixed, &o, start).map(|(x, r)| (x, r.iterations))
+                        }
+                        _ => unreachable!("an iterative solver"),
+                    };
+                    let (x, iterations) = solved.map_err(|e| match e {
+                        SolveError::Singular => singular(step, n_active),
+                        e => ProblemError::Solve(e),
+                    })?;
                     let r = residual_at_normals(&a, &b, &x, &points);
                     let mu = r.iter().zip(active).map(|(&r, &on)| if on { r } else { 0.0 }).collect();
                     let w = points.iter().map(|c| x[c.first_dof]).collect();
                     previous = Some(x);
-                    Ok((w, mu, report.iterations))
+                    Ok((w, mu, iterations))
                 })?;
             seconds.factorization += clock.elapsed().as_secs_f64();
             (previous.expect("at least one step"), active, mu, steps)
@@ -506,10 +530,11 @@ fn rotated_steps(
     let method = match options.solver {
         Solver::Direct => "sparse Cholesky, active set on the condensed contact normals",
         Solver::Pcg(_) => "PCG per active-set step",
+        Solver::Petsc(_) => "PETSc KSP per active-set step",
     };
     let w = points.iter().map(|c| x[c.first_dof]).collect();
     seconds.solve += clock.elapsed().as_secs_f64();
-    Ok(Steps { u, w, mu, active, steps, lambda, kkt, method, points })
+    Ok(Steps { u, w, mu, active, steps, lambda, kkt, method, points, petsc })
 }
 
 /// The active set with glued interfaces that do not eliminate node by node
@@ -545,8 +570,12 @@ fn saddle_steps(
             .collect()
     };
     let mut last: Option<(Vec<f64>, Vec<f64>)> = None;
-    let (active, w, mu, steps) =
-        active_set_method(&points, active, scale, options.max_active_set_steps, |active, step| {
+    let (active, w, mu, steps) = active_set_method(
+        &points,
+        active,
+        scale,
+        options.max_active_set_steps,
+        |active, step| {
             let mut c = constraints.clone();
             for point in points.iter().zip(active).filter(|(_, &on)| on).map(|(p, _)| p) {
                 let n = point.frame[0];
@@ -574,6 +603,12 @@ fn saddle_steps(
             let solved = match &options.solver {
                 Solver::Direct => saddle_point(k, f, dirichlet, &c, seconds),
                 Solver::Pcg(pcg) => matrix_free(k, f, dirichlet, &c, pcg, seconds),
+                Solver::Petsc(_) => Err(ProblemError::BadInterface {
+                    interface: constraints.rows[0].interface,
+                    what: "the PETSc solver needs the glued interfaces next to contact to eliminate their \
+                           slave points (dual or lumped multipliers, no crosspoints): use --solver direct or pcg"
+                        .into(),
+                }),
             };
             let (u, nu, _, iterations) = solved.map_err(|e| match e {
                 ProblemError::Solve(SolveError::Singular) => singular(step, n_active),
@@ -588,7 +623,8 @@ fn saddle_steps(
             last = Some((u, nu[..n_glue].to_vec()));
             let linear_iterations = if matches!(options.solver, Solver::Pcg(_)) { iterations } else { 0 };
             Ok((w, mu, linear_iterations))
-        })?;
+        },
+    )?;
     let clock = Instant::now();
     let (u, lambda) = last.expect("at least one step");
     // KKT with the glued reactions C_gᵀλ moved to the load side.
@@ -611,8 +647,10 @@ fn saddle_steps(
         method: match options.solver {
             Solver::Direct => "saddle-point LDLᵀ per active-set step",
             Solver::Pcg(_) => "matrix-free PCG per active-set step (u_s = T u_m)",
+            Solver::Petsc(_) => "PETSc KSP per active-set step",
         },
         points,
+        petsc: None,
     })
 }
 
@@ -644,39 +682,7 @@ pub(crate) fn check_couplings(interfaces: &[Interface]) -> Result<(), ProblemErr
     Ok(())
 }
 
-/// The glued interfaces eliminated (dual or lumped multipliers, module doc
-/// of [`crate::glue`]): u = P_g y with y the unknowns of all dofs, eliminated
-/// ones left out (empty rows and columns), so the contact points keep their
-/// numbering.
-struct Glued {
-    /// P_g, n × n.
-    p: CsrMatrix,
-    /// P_gᵀ K P_g.
-    k: CsrMatrix,
-    /// P_gᵀ f.
-    f: Vec<f64>,
-}
-
-impl Glued {
-    fn new(constraints: &Constraints, k: &CsrMatrix, f: &[f64]) -> Result<Glued, ProblemError> {
-        if !constraints.eliminated_block_is_diagonal() {
-            let interface = constraints.rows[0].interface;
-            let what = "with the PCG solver, glued interfaces that constrain each other's slave points \
-                        (crosspoints) next to contact interfaces are not supported (use the direct solver)"
-                .into();
-            return Err(ProblemError::BadInterface { interface, what });
-        }
-        let (p, retained) = prolongation(constraints);
-        let mut dof_of = vec![0; p.ncols];
-        for (dof, &r) in retained.iter().enumerate().filter(|(_, &r)| r != NONE) {
-            dof_of[r] = dof;
-        }
-        let n = k.nrows;
-        let indices = p.indices.iter().map(|&r| dof_of[r]).collect();
-        let p = CsrMatrix { nrows: n, ncols: n, indptr: p.indptr, indices, values: p.values };
-        Ok(Glued { k: triple_product(&p, k), f: p.transpose_mul_vec(f, 1), p })
-    }
-
+impl Elimination {
     /// The glued interfaces' multipliers at u: λ_r = (f − Ku − C_cᵀμ)_{dof r} /
     /// C_{r, dof r} (the slave rows of the saddle point, C_S diagonal), C_c the
     /// contact constraints.

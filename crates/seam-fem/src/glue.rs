@@ -39,6 +39,10 @@
 //! - [`Solver::Pcg`]: the reduced system by preconditioned conjugate
 //!   gradients, matrix-free for any multiplier: P x needs C_S⁻¹, one sparse LU
 //!   solve on the interface.
+//! - [`Solver::Petsc`]: the reduced system assembled in the numbering of all
+//!   dofs (eliminated ones as identity rows, so the point blocks stay whole)
+//!   and solved by a PETSc KSP ([`crate::petsc`]), for dual and lumped
+//!   multipliers.
 //!
 //! # Multipliers and tractions
 //! The slave rows of the saddle point read (K u)_S + C_Sᵀ λ = f_S, so
@@ -46,8 +50,9 @@
 //! (force per area); the resultant on the slave is −Σ_p (D λ)_p.
 
 use crate::constraints::{free_dofs, matrix_free, prolongation, saddle_point, triple_product};
-use crate::constraints::{Constraints, Solved};
+use crate::constraints::{Constraints, Elimination, Solved};
 use crate::multibody::{ProblemError, Solver, System, Timings};
+use crate::petsc::{rigid_body_modes_in, solve_petsc_from, PetscOptions, PetscSummary};
 use crate::solution::InterfaceSolution;
 use crate::solve::{solve, Dirichlet};
 use seam::CsrMatrix;
@@ -61,6 +66,7 @@ pub(crate) struct Glued {
     pub method: &'static str,
     pub iterations: usize,
     pub residual: f64,
+    pub petsc: Option<PetscSummary>,
 }
 
 /// Solves the glued problem (module doc): `system` with the constraints of
@@ -73,15 +79,77 @@ pub(crate) fn solve_glued(
 ) -> Result<Glued, ProblemError> {
     let System { k, f, dirichlet, .. } = system;
     let diagonal = constraints.eliminated_block_is_diagonal();
+    let mut petsc = None;
     let (u, lambda, method, iterations) = match solver {
         Solver::Direct if diagonal && !constraints.elimination_fills_in(k) => {
             eliminated(k, f, dirichlet, constraints, seconds)?
         }
         Solver::Direct => saddle_point(k, f, dirichlet, constraints, seconds)?,
         Solver::Pcg(options) => matrix_free(k, f, dirichlet, constraints, &options, seconds)?,
+        Solver::Petsc(options) => {
+            let summary = petsc.insert(PetscSummary::default());
+            reduced_petsc(system, constraints, &options, seconds, summary)?
+        }
     };
     let residual = residual(k, f, dirichlet, constraints, &u, &lambda);
-    Ok(Glued { u, lambda, method, iterations, residual })
+    Ok(Glued { u, lambda, method, iterations, residual, petsc })
+}
+
+/// Diagonal C_S (dual, lumped): u = P_g y with P_gᵀKP_g y = P_gᵀf assembled
+/// in the numbering of all dofs and solved by PETSc, the rigid-body modes of
+/// the points (zero at eliminated dofs) as near-nullspace.
+fn reduced_petsc(
+    system: &System,
+    constraints: &Constraints,
+    options: &PetscOptions,
+    seconds: &mut Timings,
+    summary: &mut PetscSummary,
+) -> Result<Solved, ProblemError> {
+    let System { k, f, dirichlet, .. } = system;
+    if !constraints.rows.is_empty() && !constraints.eliminated_block_is_diagonal() {
+        let interface = constraints.rows[0].interface;
+        let what = "the PETSc solver needs dual or lumped multipliers (standard multipliers, and glued \
+                    interfaces that constrain each other's slave points, need --solver direct or pcg)"
+            .into();
+        return Err(ProblemError::BadInterface { interface, what });
+    }
+    let clock = Instant::now();
+    let elimination = match constraints.rows.is_empty() {
+        true => None,
+        false => Some(Elimination::new(constraints, k, f)?),
+    };
+    let (a, g) = match &elimination {
+        Some(e) => (&e.k, &e.f[..]),
+        None => (k, &f[..]),
+    };
+    let modes = rigid_body_modes_in(&system.points, elimination.as_ref().map(|e| &e.retained[..]), None);
+    seconds.setup += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let y = solve_petsc_from(a, g, dirichlet, &modes, options, None, summary)?;
+    seconds.factorization += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let u = match &elimination {
+        Some(e) => e.p.mul_vec(&y, 1),
+        None => y,
+    };
+    let lambda = eliminated_multipliers(k, f, constraints, &u);
+    seconds.solve += clock.elapsed().as_secs_f64();
+    let iterations = summary.solves.iter().map(|s| s.iterations).sum();
+    Ok((u, lambda, "PETSc KSP on the reduced system (u_s = T u_m)", iterations))
+}
+
+/// λ_r = (f − Ku)_{dof r} / C_{r, dof r}: the slave rows of the saddle point
+/// when C_S is diagonal.
+fn eliminated_multipliers(k: &CsrMatrix, f: &[f64], constraints: &Constraints, u: &[f64]) -> Vec<f64> {
+    let ku = k.mul_vec(u, 1);
+    constraints
+        .rows
+        .iter()
+        .enumerate()
+        .map(|(r, row)| (f[row.dof] - ku[row.dof]) / constraints.c.get(r, row.dof))
+        .collect()
 }
 
 /// Diagonal C_S (dual, lumped): u = P u_R with PᵀKP u_R = Pᵀf, by sparse
@@ -109,13 +177,7 @@ fn eliminated(
 
     let clock = Instant::now();
     let u = p.mul_vec(&u_r, 1);
-    let ku = k.mul_vec(&u, 1);
-    let lambda = constraints
-        .rows
-        .iter()
-        .enumerate()
-        .map(|(r, row)| (f[row.dof] - ku[row.dof]) / constraints.c.get(r, row.dof))
-        .collect();
+    let lambda = eliminated_multipliers(k, f, constraints, &u);
     seconds.solve += clock.elapsed().as_secs_f64();
     Ok((u, lambda, "reduced Cholesky (u_s = T u_m)", 0))
 }

@@ -73,3 +73,4 @@ pub use solve::{Dirichlet, SolveError};
 pub use stress::{recover_stresses, von_mises, Stresses};
 pub mod ordering;
 pub mod pcg;
+pub mod petsc;

@@ -10,6 +10,7 @@
 
 use crate::material::Material;
 use crate::pcg::PcgOptions;
+use crate::petsc::PetscOptions;
 use crate::solve::{Dirichlet, SolveError};
 use crate::{stiffness, AssemblyError};
 use seam::{BasisTransformation, CsrMatrix, Mortar, MortarError, MortarOptions, SurfaceMesh, VolumeMesh};
@@ -63,9 +64,14 @@ pub enum Solver {
     /// Sparse Cholesky of the reduced system (dual, lumped) or sparse LU of the
     /// saddle point (standard).
     Direct,
-    /// Preconditioned conjugate gradients on the reduced system PᵀKP (explicit
-    /// for dual and lumped multipliers, matrix-free for standard ones).
+    /// Preconditioned conjugate gradients on the reduced system PᵀKP,
+    /// matrix-free.
     Pcg(PcgOptions),
+    /// A PETSc KSP (by default CG + GAMG with the rigid-body modes) on the
+    /// reduced system PᵀKP, assembled (dual and lumped multipliers), and on
+    /// each active-set step of contact ([`crate::petsc`]; cargo feature
+    /// `petsc`).
+    Petsc(PetscOptions),
 }
 
 /// Why a multi-body problem (glued, in contact, or both) could not be solved.
@@ -199,6 +205,9 @@ pub(crate) struct System {
     pub offsets: Vec<usize>,
     /// Per interface.
     pub mortars: Vec<Mortar>,
+    /// The points of all bodies, one after the other (point i carries dofs
+    /// 3i, 3i + 1, 3i + 2).
+    pub points: Vec<seam::Point3>,
 }
 
 /// Assembles K_b per body (timed as `assembly`), the mortar operator per
@@ -248,8 +257,9 @@ pub(crate) fn assemble_system(
             dirichlet.fix_dof(offsets[b] + dof, v);
         }
     }
+    let points = bodies.iter().flat_map(|b| b.mesh.points().iter().copied()).collect();
     seconds.setup = clock.elapsed().as_secs_f64();
-    Ok(System { k, f, dirichlet, offsets, mortars })
+    Ok(System { k, f, dirichlet, offsets, mortars, points })
 }
 
 pub(crate) fn check_input(bodies: &[Body], interfaces: &[Interface]) -> Result<(), ProblemError> {

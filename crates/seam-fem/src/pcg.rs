@@ -321,24 +321,17 @@ pub fn solve_pcg(
     solve_pcg_from(k, f, dirichlet, options, None)
 }
 
-/// [`solve_pcg`] from the initial guess `start` (a full u; its prescribed
-/// entries are ignored), e.g. the previous solution of a sequence of nearby
-/// problems. The tolerance stays relative to ‖f_F − K_FD ū_D‖₂.
-///
-/// # Errors
-/// As [`solve_pcg`]; [`SolveError::Dimension`] when `start` has another length.
-pub fn solve_pcg_from(
+/// The free dofs of K u = f with the values of `dirichlet` (rows of K that are
+/// not empty and not prescribed) and b = f − K ū on them (0 elsewhere),
+/// after checking the input (and the length of a start vector).
+pub(crate) fn free_system(
     k: &CsrMatrix,
     f: &[f64],
     dirichlet: &Dirichlet,
-    options: &PcgOptions,
     start: Option<&[f64]>,
-) -> Result<(Vec<f64>, PcgReport), SolveError> {
+) -> Result<(Vec<bool>, Vec<f64>), SolveError> {
     let n = k.nrows;
-    if start.is_some_and(|s| s.len() != n) {
-        return Err(SolveError::Dimension { nrows: k.nrows, ncols: k.ncols, f_len: f.len() });
-    }
-    if k.ncols != n || f.len() != n {
+    if k.ncols != n || f.len() != n || start.is_some_and(|s| s.len() != n) {
         return Err(SolveError::Dimension { nrows: k.nrows, ncols: k.ncols, f_len: f.len() });
     }
     let mut prescribed = vec![0.0; n];
@@ -353,12 +346,29 @@ pub fn solve_pcg_from(
         prescribed[dof] = v;
         active[dof] = false;
     }
-    // b = f − K ū on the free dofs, 0 elsewhere.
     let mut b = vec![0.0; n];
     par_mul(k, &prescribed, &mut b);
     b.par_iter_mut().zip(f.par_iter().zip(active.par_iter())).for_each(|(bi, (fi, &a))| {
         *bi = if a { fi - *bi } else { 0.0 };
     });
+    Ok((active, b))
+}
+
+/// [`solve_pcg`] from the initial guess `start` (a full u; its prescribed
+/// entries are ignored), e.g. the previous solution of a sequence of nearby
+/// problems. The tolerance stays relative to ‖f_F − K_FD ū_D‖₂.
+///
+/// # Errors
+/// As [`solve_pcg`]; [`SolveError::Dimension`] when `start` has another length.
+pub fn solve_pcg_from(
+    k: &CsrMatrix,
+    f: &[f64],
+    dirichlet: &Dirichlet,
+    options: &PcgOptions,
+    start: Option<&[f64]>,
+) -> Result<(Vec<f64>, PcgReport), SolveError> {
+    let n = k.nrows;
+    let (active, b) = free_system(k, f, dirichlet, start)?;
     // A x = K x on the free rows (x vanishes on the others), x elsewhere.
     let apply_a = |x: &[f64], y: &mut [f64]| {
         par_mul(k, x, y);

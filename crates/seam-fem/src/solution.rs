@@ -148,6 +148,9 @@ pub struct Report {
     pub residual: f64,
     /// With contact: active-set steps and KKT residuals.
     pub contact: Option<ContactReport>,
+    /// With [`crate::Solver::Petsc`]: the KSP and PC, each solve's
+    /// iterations and residual, PETSc's own seconds.
+    pub petsc: Option<crate::petsc::PetscSummary>,
     /// Seconds per phase.
     pub seconds: Timings,
 }
@@ -191,7 +194,7 @@ pub fn solve_coupled(
         true => Some(solve_contact(bodies, interfaces, options, &mut system, &constraints, &mut seconds)?),
         false => None,
     };
-    let (u, lambda, method, iterations, residual, contact) = match &mut steps {
+    let (u, lambda, method, iterations, residual, contact, petsc) = match &mut steps {
         Some(s) => {
             let report = ContactReport {
                 contact_points: s.points.len(),
@@ -200,11 +203,11 @@ pub fn solve_coupled(
                 kkt: s.kkt,
             };
             let (u, lambda) = (std::mem::take(&mut s.u), std::mem::take(&mut s.lambda));
-            (u, lambda, s.method, s.steps.len(), s.kkt.max(), Some(report))
+            (u, lambda, s.method, s.steps.len(), s.kkt.max(), Some(report), s.petsc.take())
         }
         None => {
             let g = solve_glued(&system, &constraints, options.solver, &mut seconds)?;
-            (g.u, g.lambda, g.method, g.iterations, g.residual, None)
+            (g.u, g.lambda, g.method, g.iterations, g.residual, None, g.petsc)
         }
     };
     let offsets = &system.offsets;
@@ -240,7 +243,8 @@ pub fn solve_coupled(
         })
         .collect::<Result<Vec<_>, _>>()?;
     seconds.stresses = clock.elapsed().as_secs_f64();
-    let report = Report { dofs, constraints: n_constraints, method, iterations, residual, contact, seconds };
+    let report =
+        Report { dofs, constraints: n_constraints, method, iterations, residual, contact, petsc, seconds };
     Ok(Solution { displacement, stresses, interfaces: out, report })
 }
 

@@ -102,6 +102,26 @@ pub enum SolveError {
         /// ‖r‖ / ‖b‖ at the end.
         relative_residual: f64,
     },
+    /// The PETSc solver was asked for, but this build has no PETSc.
+    #[error(
+        "this seam was built without PETSc: build it with `cargo build --release -p seam-cli --features petsc` \
+         (needs PETSc, e.g. `apt-get install petsc-dev pkg-config`)"
+    )]
+    PetscUnavailable,
+    /// PETSc reported an error (PETSc's own message): an unknown option
+    /// value, a failed setup.
+    #[error("PETSc: {0}")]
+    Petsc(String),
+    /// The PETSc KSP stopped without converging.
+    #[error("the PETSc solve did not converge: {reason} after {iterations} iterations, relative residual {residual:.1e}")]
+    PetscNotConverged {
+        /// PETSc's converged reason, e.g. "DIVERGED_ITS".
+        reason: String,
+        /// Iterations done.
+        iterations: usize,
+        /// ‖b − A x‖ / ‖b‖ at the end.
+        residual: f64,
+    },
 }
 
 /// Prescribed displacements: a value per fixed dof (`dof = 3·point + component`).

@@ -39,61 +39,10 @@
 mod common;
 
 use common::manufactured::{exact, gradient, load, stress};
-use common::shell::{sector, L, R};
-use common::{error_sums, fitted_rate, solve_two, stress_vector, tensor, ErrorSums, Errors};
+use common::shell::{level, Sides, L};
+use common::{fitted_rate, tensor, Errors};
 use seam::{Multiplier, Point3};
-use seam_fem::generate::{block, BlockKind, Grid, Side};
-use seam_fem::Body;
-use seam_fem::{body_force, traction, Dirichlet, Material};
-
-/// The boundary conditions on the sides θ = const and z = const (the faces
-/// r = const away from the interface are always prescribed).
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Sides {
-    /// Loaded by the exact traction σ(u) n.
-    Loaded,
-    /// Prescribed u = u_exact, slave interface nodes on them included (their
-    /// multipliers are dropped by `solve_coupled`).
-    Prescribed,
-}
-
-/// One level: the slave has n³ cells, the master `nm` in θ and z and
-/// ⌈nm/4⌉ in r. Returns the relative errors and the largest gap or overlap.
-fn level(n: usize, nm: usize, multiplier: Multiplier, sides: Sides) -> (Errors, f64) {
-    let material = Material::new(100.0, 0.3).unwrap();
-    let nr = nm.div_ceil(4);
-    let master = (block(nm, nm, nr, sector(R - L / 4.0, R), BlockKind::Hex), Grid::new(nm, nm, nr));
-    let slave = (block(n, n, n, sector(R, R + L), BlockKind::Hex), Grid::new(n, n, n));
-    let bodies: Vec<Body> = [(&master, Side::ZMax), (&slave, Side::ZMin)]
-        .into_iter()
-        .map(|((mesh, grid), interface)| {
-            let mut f = body_force(mesh, load(&material)).unwrap();
-            let mut dirichlet = Dirichlet::new();
-            for side in Side::ALL.into_iter().filter(|&s| s != interface) {
-                if sides == Sides::Loaded && !matches!(side, Side::ZMin | Side::ZMax) {
-                    let faces = grid.side_faces(mesh, side).unwrap();
-                    let t = traction(&faces, |x, n| stress_vector(&stress(&material, x), n));
-                    f.iter_mut().zip(t).for_each(|(a, b)| *a += b);
-                    continue;
-                }
-                for p in grid.side_points(side) {
-                    dirichlet.fix(p, exact(mesh.points()[p]).map(Some));
-                }
-            }
-            Body { mesh, material, load: f, dirichlet }
-        })
-        .collect();
-    let master_surface = master.1.side_faces(&master.0, Side::ZMax).unwrap();
-    let slave_surface = slave.1.side_faces(&slave.0, Side::ZMin).unwrap();
-    let sol = solve_two(&bodies, &master_surface, &slave_surface, multiplier);
-    let sums = bodies
-        .iter()
-        .zip(&sol.displacement)
-        .map(|(b, u)| error_sums(b.mesh, &material, u, exact, gradient))
-        .fold(ErrorSums::default(), ErrorSums::plus);
-    let summary = &sol.interfaces[0].mortar.summary;
-    (sums.relative(), summary.max_gap.max(summary.max_overlap))
-}
+use seam_fem::{Material, Solver};
 
 /// Fits and asserts the rates over the levels `ns` (slave cells per side) with
 /// master cells `master(n)`.
@@ -104,7 +53,7 @@ fn converges(ns: &[usize], master: impl Fn(usize) -> usize, sides: Sides, label:
         let mut hs = Vec::new();
         let mut errors = Vec::new();
         for &n in ns {
-            let (e, gap) = level(n, master(n), multiplier, sides);
+            let (e, gap) = level(n, master(n), multiplier, sides, Solver::Direct);
             let h = L / n as f64;
             let m = master(n);
             table += &format!(

@@ -9,9 +9,9 @@
 //!
 //! PETSc's API is built on C macros (communicators, error checks), so its
 //! calls are written once in C (`src/shim.c`, compiled against the
-//! installed headers) and reach Rust through the five functions of [`ffi`];
-//! this crate is the only one of the workspace with `unsafe` code, every
-//! block of it in this file with its justification.
+//! installed headers) and reach Rust through the few functions of the `ffi`
+//! module; this crate is the only one of the workspace with `unsafe` code,
+//! every block of it in this file with its justification.
 //!
 //! - PETSc (and MPI) is initialised once per process, on the first
 //!   [`initialize`], and finalised at process exit (so `-log_view` prints

@@ -115,8 +115,13 @@ pub fn solve(label: &str, p: &Hertz) -> Measured {
 
 /// [`solve`], also returning the problem and its solution.
 pub fn solve_scene(label: &str, p: &Hertz) -> (Measured, Problem, Solution) {
+    solve_scene_with(label, p, &SolveOptions::default())
+}
+
+/// [`solve_scene`] with `options`.
+pub fn solve_scene_with(label: &str, p: &Hertz, options: &SolveOptions) -> (Measured, Problem, Solution) {
     let problem = hertz(p).unwrap();
-    let s = problem.solve(&SolveOptions::default()).unwrap();
+    let s = problem.solve(options).unwrap();
     let (report, contact) = (&s.report, s.report.contact.as_ref().expect("a contact report"));
     let force = -s.interfaces[0].force[2];
     let force_error = (force / (p.force() / 4.0) - 1.0).abs();

@@ -1,11 +1,11 @@
 //! Shared helpers of the integration tests.
 #![allow(dead_code)]
 
-use seam::{Cell, Face, Facing, MortarOptions, Multiplier, Point3, SurfaceMesh, VolumeMesh};
+use seam::{nodal_normals, Cell, Face, Facing, MortarOptions, Multiplier, Point3, SurfaceMesh, VolumeMesh};
 use seam_fem::assembly::{geometry, map_point};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
 use seam_fem::{recover_stresses, traction, Dirichlet, ElementKind, Material};
-use seam_fem::{solve_coupled, Body, Coupling, Interface, Solution, SolveOptions};
+use seam_fem::{solve_coupled, Body, Coupling, Interface, Solution, SolveOptions, Solver};
 
 /// A smooth, non-affine map of the unit cube (positive Jacobian).
 pub fn warp(u: f64, v: f64, w: f64) -> Point3 {
@@ -288,10 +288,123 @@ pub fn solve_two(
     slave_surface: &SurfaceMesh,
     multiplier: Multiplier,
 ) -> Solution {
+    solve_two_with(bodies, master_surface, slave_surface, multiplier, Solver::Direct)
+}
+
+/// [`solve_two`] by `solver`.
+pub fn solve_two_with(
+    bodies: &[Body],
+    master_surface: &SurfaceMesh,
+    slave_surface: &SurfaceMesh,
+    multiplier: Multiplier,
+    solver: Solver,
+) -> Solution {
     let options = MortarOptions { multiplier, facing: Facing::Opposite, ..MortarOptions::default() };
     let interfaces =
         [Interface { master: 0, master_surface, slave: 1, slave_surface, options, kind: Coupling::Glue }];
-    solve_coupled(bodies, &interfaces, &SolveOptions::default()).unwrap()
+    solve_coupled(bodies, &interfaces, &SolveOptions { solver, ..SolveOptions::default() }).unwrap()
+}
+
+/// (master body, master surface, slave body, slave surface).
+pub type Glue = (usize, SurfaceMesh, usize, SurfaceMesh);
+
+/// The glued patch tests (`tests/glue_supports.rs`): solves and returns the
+/// largest relative error of displacement, cell stress and slave traction
+/// against the affine `field`, and the method that solved.
+pub fn glued_patch_error(
+    label: &str,
+    parts: &[&Part],
+    loads: Vec<Vec<f64>>,
+    dirichlet: Vec<Dirichlet>,
+    glues: &[Glue],
+    field: &Affine,
+    (multiplier, solver): (Multiplier, Solver),
+) -> (f64, &'static str) {
+    let material = Material::new(1000.0, 0.3).unwrap();
+    let sigma = field.stress(&material);
+    let bodies: Vec<Body> = parts
+        .iter()
+        .zip(loads)
+        .zip(dirichlet)
+        .map(|((part, load), dirichlet)| Body { mesh: &part.mesh, material, load, dirichlet })
+        .collect();
+    let options = MortarOptions { multiplier, facing: Facing::Opposite, ..MortarOptions::default() };
+    let interfaces: Vec<Interface> = glues
+        .iter()
+        .map(|(master, master_surface, slave, slave_surface)| Interface {
+            master: *master,
+            master_surface,
+            slave: *slave,
+            slave_surface,
+            options,
+            kind: Coupling::Glue,
+        })
+        .collect();
+    let sol = solve_coupled(&bodies, &interfaces, &SolveOptions { solver, ..Default::default() }).unwrap();
+
+    let (mut u_error, mut s_error, mut t_error) = (0.0f64, 0.0f64, 0.0f64);
+    let u_scale =
+        parts.iter().flat_map(|p| p.mesh.points().iter().map(|&x| max_abs(&field.at(x)))).fold(0.0, f64::max);
+    let s_scale = max_abs(&sigma);
+    for (b, part) in parts.iter().enumerate() {
+        for (p, &x) in part.mesh.points().iter().enumerate() {
+            let e = field.at(x);
+            let diff: Vec<f64> = (0..3).map(|c| sol.displacement[b][3 * p + c] - e[c]).collect();
+            u_error = u_error.max(max_abs(&diff) / u_scale);
+        }
+        let s = recover_stresses(&part.mesh, &material, &sol.displacement[b]).unwrap();
+        for cell in &s.cell {
+            let diff: Vec<f64> = (0..6).map(|k| cell[k] - sigma[k]).collect();
+            s_error = s_error.max(max_abs(&diff) / s_scale);
+        }
+    }
+    for ((_, _, _, slave_surface), glued) in glues.iter().zip(&sol.interfaces) {
+        let normals = nodal_normals(slave_surface);
+        for p in (0..normals.len()).filter(|&p| glued.mortar.covered[p]) {
+            let t = stress_vector(&sigma, normals[p]);
+            let diff: Vec<f64> = (0..3).map(|c| glued.traction[p][c] - t[c]).collect();
+            t_error = t_error.max(max_abs(&diff) / s_scale);
+        }
+    }
+    let solver_name = if matches!(solver, Solver::Direct) { "direct" } else { "PCG" };
+    println!(
+        "  {label:<34} {:<9} {solver_name:<7} u {u_error:.1e}  σ {s_error:.1e}  t {t_error:.1e}  ({})",
+        format!("{multiplier:?}"),
+        sol.report.method
+    );
+    (u_error.max(s_error).max(t_error), sol.report.method)
+}
+
+/// The rollers patch test (`tests/glue_supports.rs`): a master block of
+/// `m` = (cells, kind) under a slave block `s` on the plane z = 1 + slope·x,
+/// both on a roller u_x = 0 at x = 0 touching the interface, the master
+/// clamped to the exact field at z = 0, every other outer face loaded by σ n;
+/// biaxial with σ_yz. The error and method of [`glued_patch_error`] and a
+/// label.
+pub fn rollers_patch_error(
+    m: ([usize; 3], BlockKind),
+    s: ([usize; 3], BlockKind),
+    slope: f64,
+    variant: (Multiplier, Solver),
+) -> (f64, &'static str, String) {
+    let field =
+        Affine { a: [[1e-3, 0.0, 0.0], [0.0, -5e-4, 4e-4], [0.0, 1e-4, 7e-4]], c: [0.0, -2e-3, 5e-4] };
+    let sigma = field.stress(&Material::new(1000.0, 0.3).unwrap());
+    let interface = move |x: f64| 1.0 + slope * x;
+    let master = Part::new(m.0, m.1, |u, v, w| [u, v, w * interface(u)]);
+    let slave = Part::new(s.0, s.1, |u, v, w| [u, v, interface(u) + w * (1.7 - interface(u))]);
+    let mut fixed = [Dirichlet::new(), Dirichlet::new()];
+    master.fix(&mut fixed[0], &field, Side::ZMin, [true; 3]);
+    for (part, d) in [&master, &slave].into_iter().zip(&mut fixed) {
+        part.fix(d, &field, Side::XMin, [true, false, false]);
+    }
+    use Side::*;
+    let loads = vec![master.load(&sigma, &[XMax, YMin, YMax]), slave.load(&sigma, &[XMax, YMin, YMax, ZMax])];
+    let glues = [(0, master.side(ZMax), 1, slave.side(ZMin))];
+    let label = format!("{:?}|{:?} slope {slope}", m.1, s.1);
+    let (e, method) =
+        glued_patch_error(&label, &[&master, &slave], loads, fixed.to_vec(), &glues, &field, variant);
+    (e, method, label)
 }
 
 /// A structured block and its grid, with the patch tests' loads and supports.
@@ -368,11 +481,16 @@ pub fn check_affine(mesh: &VolumeMesh, u: &[f64], label: &str) {
     assert!(s.cell_von_mises.iter().all(|v| (v - vm).abs() < 1e-10 * vm));
 }
 pub mod hertz;
+pub mod stack;
 
 /// The thick cylindrical shell sector of the glued convergence studies:
 /// θ ∈ [THETA0, THETA0 + L/R], z ∈ [0, L], split at the radius R.
 pub mod shell {
-    use seam::Point3;
+    use super::manufactured::{exact, gradient, load, stress};
+    use super::{error_sums, solve_two_with, stress_vector, ErrorSums, Errors};
+    use seam::{Multiplier, Point3};
+    use seam_fem::generate::{block, BlockKind, Grid, Side};
+    use seam_fem::{body_force, traction, Body, Dirichlet, Material, Solver};
 
     /// The radius of the interface.
     pub const R: f64 = 1.5;
@@ -387,5 +505,56 @@ pub mod shell {
             let (theta, r) = (THETA0 + L / R * u, r0 + (r1 - r0) * w);
             [r * theta.cos(), r * theta.sin(), L * v]
         }
+    }
+
+    /// The boundary conditions on the sides θ = const and z = const (the faces
+    /// r = const away from the interface are always prescribed).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub enum Sides {
+        /// Loaded by the exact traction σ(u) n.
+        Loaded,
+        /// Prescribed u = u_exact, slave interface nodes on them included (their
+        /// multipliers are dropped by `solve_coupled`).
+        Prescribed,
+    }
+
+    /// One level of the glued convergence study (`tests/glue_convergence.rs`):
+    /// the manufactured solution on the sector, the slave with n³ cells, the
+    /// master `nm` in θ and z and ⌈nm/4⌉ in r, solved by `solver`. Returns the
+    /// relative errors and the largest gap or overlap.
+    pub fn level(n: usize, nm: usize, multiplier: Multiplier, sides: Sides, solver: Solver) -> (Errors, f64) {
+        let material = Material::new(100.0, 0.3).unwrap();
+        let nr = nm.div_ceil(4);
+        let master = (block(nm, nm, nr, sector(R - L / 4.0, R), BlockKind::Hex), Grid::new(nm, nm, nr));
+        let slave = (block(n, n, n, sector(R, R + L), BlockKind::Hex), Grid::new(n, n, n));
+        let bodies: Vec<Body> = [(&master, Side::ZMax), (&slave, Side::ZMin)]
+            .into_iter()
+            .map(|((mesh, grid), interface)| {
+                let mut f = body_force(mesh, load(&material)).unwrap();
+                let mut dirichlet = Dirichlet::new();
+                for side in Side::ALL.into_iter().filter(|&s| s != interface) {
+                    if sides == Sides::Loaded && !matches!(side, Side::ZMin | Side::ZMax) {
+                        let faces = grid.side_faces(mesh, side).unwrap();
+                        let t = traction(&faces, |x, n| stress_vector(&stress(&material, x), n));
+                        f.iter_mut().zip(t).for_each(|(a, b)| *a += b);
+                        continue;
+                    }
+                    for p in grid.side_points(side) {
+                        dirichlet.fix(p, exact(mesh.points()[p]).map(Some));
+                    }
+                }
+                Body { mesh, material, load: f, dirichlet }
+            })
+            .collect();
+        let master_surface = master.1.side_faces(&master.0, Side::ZMax).unwrap();
+        let slave_surface = slave.1.side_faces(&slave.0, Side::ZMin).unwrap();
+        let sol = solve_two_with(&bodies, &master_surface, &slave_surface, multiplier, solver);
+        let sums = bodies
+            .iter()
+            .zip(&sol.displacement)
+            .map(|(b, u)| error_sums(b.mesh, &material, u, exact, gradient))
+            .fold(ErrorSums::default(), ErrorSums::plus);
+        let summary = &sol.interfaces[0].mortar.summary;
+        (sums.relative(), summary.max_gap.max(summary.max_overlap))
     }
 }

@@ -1,0 +1,157 @@
+//! `seam solve --solver petsc` (cargo feature `petsc`; `cargo test -p
+//! seam-cli --features petsc --test petsc`), run as a user would: the same
+//! answers as the direct solver to the solver tolerance, the summary's PETSc
+//! report, PETSc's options from `--petsc-options` and `PETSC_OPTIONS`, and
+//! one-line errors with exit code 2 that leave nothing behind.
+mod common;
+
+use common::{json, seam, stderr, vtu_field};
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// `seam example NAME -o DIR` with small sizes, then the case's multiplier set
+/// to `multiplier` (the examples' own: standard for warped-glue).
+fn example(dir: &Path, name: &str, extra: &[&str], multiplier: Option<&str>) {
+    let o = seam(&[&["example", name, "-o", "ex"][..], extra].concat(), dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+    if let Some(m) = multiplier {
+        let path = dir.join("ex/case.toml");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let text = text.replace("multiplier = \"standard\"", &format!("multiplier = \"{m}\""));
+        std::fs::write(&path, text).unwrap();
+    }
+}
+
+/// The largest difference of the point field `name` of two VTU files,
+/// relative to the field's largest entry.
+fn difference(a: &Path, b: &Path, name: &str) -> f64 {
+    let ((_, u), (_, v)) = (vtu_field(a, name, false), vtu_field(b, name, false));
+    let scale = u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    u.iter().zip(&v).fold(0.0f64, |m, (x, y)| m.max((x - y).abs())) / scale
+}
+
+/// The displacements in `ex/direct` and `ex/petsc` agree to `tolerance`
+/// relative, both bodies.
+fn same_displacements(ex: &Path, tolerance: f64) {
+    for body in ["lower", "upper"] {
+        let (a, b) = (ex.join(format!("direct/{body}.vtu")), ex.join(format!("petsc/{body}.vtu")));
+        let e = difference(&a, &b, "displacement");
+        assert!(e <= tolerance, "{body}: PETSc against direct {e:.1e}");
+    }
+}
+
+/// Solves `ex/case.toml` with `args`, the results moved to `ex/<to>`.
+fn solve(dir: &Path, args: &[&str], to: &str) -> Output {
+    let o = seam(&[&["solve", "ex/case.toml", "--force"][..], args].concat(), dir);
+    if o.status.success() {
+        std::fs::rename(dir.join("ex/out"), dir.join("ex").join(to)).unwrap();
+    }
+    o
+}
+
+#[test]
+fn warped_glue_gives_the_direct_answer_and_reports_petsc() {
+    let tmp = tempfile::tempdir().unwrap();
+    example(tmp.path(), "warped-glue", &["--ratio", "2"], Some("dual"));
+    let o = solve(tmp.path(), &[], "direct");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = solve(tmp.path(), &["--solver", "petsc", "--rtol", "1e-12"], "petsc");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = String::from_utf8_lossy(&o.stdout);
+    assert!(report.contains("petsc      cg + gamg, iterations"), "{report}");
+    let ex = tmp.path().join("ex");
+    same_displacements(&ex, 1e-9);
+    let s = json(&ex.join("petsc/summary.json"));
+    assert_eq!(s["solver"], "petsc");
+    let p = &s["petsc"];
+    assert_eq!((p["ksp_type"].as_str(), p["pc_type"].as_str()), (Some("cg"), Some("gamg")), "{p}");
+    assert_eq!(p["iterations"].as_array().unwrap().len(), 1, "{p}");
+    assert!(p["iterations"][0].as_u64().unwrap() > 0 && p["reasons"][0] == "CONVERGED_RTOL", "{p}");
+    assert!(p["residual"].as_f64().unwrap() < 1e-9, "{p}");
+    for phase in ["assembly", "setup", "solve"] {
+        assert!(p["seconds"][phase].as_f64().unwrap() > 0.0, "{phase}: {p}");
+    }
+    assert!(json(&ex.join("direct/summary.json")).get("petsc").is_none(), "no petsc report for direct");
+}
+
+#[test]
+fn contact_gives_the_direct_answer() {
+    let tmp = tempfile::tempdir().unwrap();
+    example(tmp.path(), "bulging-contact", &["--slave-cells", "4"], None);
+    let o = solve(tmp.path(), &[], "direct");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = solve(tmp.path(), &["--solver", "petsc", "--rtol", "1e-12"], "petsc");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let ex = tmp.path().join("ex");
+    same_displacements(&ex, 1e-8);
+    let (d, s) = (json(&ex.join("direct/summary.json")), json(&ex.join("petsc/summary.json")));
+    assert_eq!(d["contact"]["active_points"], s["contact"]["active_points"]);
+    let steps = s["contact"]["steps"].as_array().unwrap();
+    assert_eq!(s["petsc"]["iterations"].as_array().unwrap().len(), steps.len(), "one KSP solve per step");
+    for (step, k) in steps.iter().zip(s["petsc"]["iterations"].as_array().unwrap()) {
+        assert_eq!(&step["linear_iterations"], k);
+    }
+}
+
+#[test]
+fn petsc_options_reach_petsc() {
+    let tmp = tempfile::tempdir().unwrap();
+    example(tmp.path(), "warped-glue", &["--ratio", "2"], Some("dual"));
+    // --petsc-options: a direct solve through KSP (MUMPS LU), and -log_view's table at exit.
+    let args =
+        ["--solver", "petsc", "--petsc-options", "-pc_type lu -pc_factor_mat_solver_type mumps -log_view"];
+    let o = solve(tmp.path(), &args, "lu");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = json(&tmp.path().join("ex/lu/summary.json"));
+    assert_eq!(s["petsc"]["pc_type"], "lu");
+    assert!(s["petsc"]["iterations"][0].as_u64().unwrap() <= 2, "{}", s["petsc"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("PETSc Performance Summary"), "-log_view prints at exit: {out}");
+    // PETSC_OPTIONS, which --petsc-options overrides.
+    let env = |options: &str, args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_seam"))
+            .args([&["solve", "ex/case.toml", "--force", "--solver", "petsc"][..], args].concat())
+            .env("PETSC_OPTIONS", options)
+            .current_dir(tmp.path())
+            .output()
+            .unwrap()
+    };
+    let o = env("-pc_type jacobi", &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(json(&tmp.path().join("ex/out/summary.json"))["petsc"]["pc_type"], "jacobi");
+    let o = env("-pc_type jacobi", &["--petsc-options", "-pc_type gamg"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(json(&tmp.path().join("ex/out/summary.json"))["petsc"]["pc_type"], "gamg");
+}
+
+/// A bad option and a KSP that hits its cap: one line naming the case,
+/// PETSc's reason, exit code 2, nothing written.
+#[test]
+fn bad_options_and_diverging_solves_fail_cleanly() {
+    let tmp = tempfile::tempdir().unwrap();
+    example(tmp.path(), "warped-glue", &["--ratio", "2"], Some("dual"));
+    std::fs::remove_dir_all(tmp.path().join("ex/out")).unwrap();
+    for (options, says) in [
+        ("-pc_type nonsense", "Unable to find requested PC type nonsense"),
+        ("-ksp_max_it 1", "DIVERGED_ITS after 1 iterations"),
+    ] {
+        let o = solve(tmp.path(), &["--solver", "petsc", "--petsc-options", options], "never");
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{options}: {e}");
+        assert_eq!(e.trim_end().lines().count(), 1, "{options}: one line: {e}");
+        assert!(e.contains("ex/case.toml") && e.contains(says), "{options}: {e}");
+        assert!(!tmp.path().join("ex/out").exists(), "{options}: nothing written");
+    }
+    // Standard multipliers need the direct or PCG solver for now.
+    let path = tmp.path().join("ex/case.toml");
+    let text =
+        std::fs::read_to_string(&path).unwrap().replace("multiplier = \"dual\"", "multiplier = \"standard\"");
+    std::fs::write(&path, text).unwrap();
+    let o = solve(tmp.path(), &["--solver", "petsc"], "never");
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("dual or lumped"), "{}", stderr(&o));
+    // --petsc-options without --solver petsc.
+    let o = solve(tmp.path(), &["--petsc-options", "-ksp_monitor"], "never");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--petsc-options needs --solver petsc"), "{}", stderr(&o));
+}
