@@ -206,11 +206,12 @@ pub enum SolverArg {
     /// Preconditioned conjugate gradients on the reduced system (any
     /// multiplier, matrix-free): for large problems.
     Pcg,
-    /// A PETSc KSP, by default CG with algebraic multigrid (GAMG, the
-    /// rigid-body modes as near-nullspace), on the reduced system (dual and
-    /// lumped multipliers) and on each active-set step of contact; any
-    /// PETSc option via PETSC_OPTIONS or --petsc-options. Needs a build with
-    /// `--features petsc`.
+    /// A PETSc KSP: by default CG with algebraic multigrid (GAMG, the
+    /// rigid-body modes as near-nullspace) on the reduced system (dual and
+    /// lumped multipliers) and each active-set step of contact, FGMRES with a
+    /// Schur-complement field split on saddle points (standard multipliers);
+    /// any PETSc option via PETSC_OPTIONS or --petsc-options. Needs a build
+    /// with `--features petsc`.
     Petsc,
 }
 

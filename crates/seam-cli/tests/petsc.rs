@@ -51,20 +51,29 @@ fn solve(dir: &Path, args: &[&str], to: &str) -> Output {
 
 #[test]
 fn warped_glue_gives_the_direct_answer_and_reports_petsc() {
+    for multiplier in ["dual", "standard"] {
+        warped_glue(multiplier);
+    }
+}
+
+/// Dual multipliers: CG on the reduced system; standard ones: FGMRES on the
+/// saddle point.
+fn warped_glue(multiplier: &str) {
     let tmp = tempfile::tempdir().unwrap();
-    example(tmp.path(), "warped-glue", &["--ratio", "2"], Some("dual"));
+    example(tmp.path(), "warped-glue", &["--ratio", "2"], Some(multiplier));
     let o = solve(tmp.path(), &[], "direct");
     assert!(o.status.success(), "{}", stderr(&o));
     let o = solve(tmp.path(), &["--solver", "petsc", "--rtol", "1e-12"], "petsc");
     assert!(o.status.success(), "{}", stderr(&o));
     let report = String::from_utf8_lossy(&o.stdout);
-    assert!(report.contains("petsc      cg + gamg, iterations"), "{report}");
+    let (ksp, pc) = if multiplier == "dual" { ("cg", "gamg") } else { ("fgmres", "fieldsplit") };
+    assert!(report.contains(&format!("petsc      {ksp} + {pc}, iterations")), "{report}");
     let ex = tmp.path().join("ex");
     same_displacements(&ex, 1e-9);
     let s = json(&ex.join("petsc/summary.json"));
     assert_eq!(s["solver"], "petsc");
     let p = &s["petsc"];
-    assert_eq!((p["ksp_type"].as_str(), p["pc_type"].as_str()), (Some("cg"), Some("gamg")), "{p}");
+    assert_eq!((p["ksp_type"].as_str(), p["pc_type"].as_str()), (Some(ksp), Some(pc)), "{p}");
     assert_eq!(p["iterations"].as_array().unwrap().len(), 1, "{p}");
     assert!(p["iterations"][0].as_u64().unwrap() > 0 && p["reasons"][0] == "CONVERGED_RTOL", "{p}");
     assert!(p["residual"].as_f64().unwrap() < 1e-9, "{p}");
@@ -142,14 +151,6 @@ fn bad_options_and_diverging_solves_fail_cleanly() {
         assert!(e.contains("ex/case.toml") && e.contains(says), "{options}: {e}");
         assert!(!tmp.path().join("ex/out").exists(), "{options}: nothing written");
     }
-    // Standard multipliers need the direct or PCG solver for now.
-    let path = tmp.path().join("ex/case.toml");
-    let text =
-        std::fs::read_to_string(&path).unwrap().replace("multiplier = \"dual\"", "multiplier = \"standard\"");
-    std::fs::write(&path, text).unwrap();
-    let o = solve(tmp.path(), &["--solver", "petsc"], "never");
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("dual or lumped"), "{}", stderr(&o));
     // --petsc-options without --solver petsc.
     let o = solve(tmp.path(), &["--petsc-options", "-ksp_monitor"], "never");
     assert_eq!(o.status.code(), Some(2));

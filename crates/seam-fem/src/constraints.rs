@@ -276,6 +276,21 @@ pub(crate) fn from_transposed(x: SparseColMat<usize, f64>) -> CsrMatrix {
     CsrMatrix { nrows: ncols, ncols: nrows, indptr, indices, values }
 }
 
+/// CᵀC, by a sparse product (faer, sorted output).
+pub(crate) fn gram(c: &CsrMatrix) -> CsrMatrix {
+    // As CSC: view(C) = Cᵀ and view(Cᵀ) = C, so their product is CᵀC, whose
+    // CSR is its (symmetric) transpose's CSC.
+    let ct = c.transpose();
+    let a = faer::sparse::linalg::matmul::sparse_sparse_matmul(
+        transposed_view(c),
+        transposed_view(&ct),
+        1.0,
+        Par::rayon(0),
+    )
+    .expect("sparse product fits in memory");
+    from_transposed(a)
+}
+
 /// PᵀKP for a symmetric K, by two sparse products (faer, sorted output).
 pub(crate) fn triple_product(p: &CsrMatrix, k: &CsrMatrix) -> CsrMatrix {
     let par = Par::rayon(0);

@@ -104,7 +104,7 @@ use crate::constraints::{free_dofs, matrix_free, saddle_point, triple_product};
 use crate::constraints::{Constraints, Elimination, Row, NONE};
 use crate::multibody::{Body, Coupling, Interface, ProblemError, Solver, System, Timings};
 use crate::pcg::solve_pcg_from;
-use crate::petsc::{rigid_body_modes_in, solve_petsc_from, PetscSummary};
+use crate::petsc::{rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, PetscSummary};
 use crate::solution::{ContactFields, InterfaceSolution, SolveOptions};
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
@@ -570,12 +570,11 @@ fn saddle_steps(
             .collect()
     };
     let mut last: Option<(Vec<f64>, Vec<f64>)> = None;
-    let (active, w, mu, steps) = active_set_method(
-        &points,
-        active,
-        scale,
-        options.max_active_set_steps,
-        |active, step| {
+    let mut petsc: Option<PetscSummary> = None;
+    let modes =
+        matches!(options.solver, Solver::Petsc(_)).then(|| rigid_body_modes_in(&system.points, None, None));
+    let (active, w, mu, steps) =
+        active_set_method(&points, active, scale, options.max_active_set_steps, |active, step| {
             let mut c = constraints.clone();
             for point in points.iter().zip(active).filter(|(_, &on)| on).map(|(p, _)| p) {
                 let n = point.frame[0];
@@ -603,12 +602,23 @@ fn saddle_steps(
             let solved = match &options.solver {
                 Solver::Direct => saddle_point(k, f, dirichlet, &c, seconds),
                 Solver::Pcg(pcg) => matrix_free(k, f, dirichlet, &c, pcg, seconds),
-                Solver::Petsc(_) => Err(ProblemError::BadInterface {
-                    interface: constraints.rows[0].interface,
-                    what: "the PETSc solver needs the glued interfaces next to contact to eliminate their \
-                           slave points (dual or lumped multipliers, no crosspoints): use --solver direct or pcg"
-                        .into(),
-                }),
+                Solver::Petsc(o) => {
+                    // From the previous step: u, and the glued rows' λ (the
+                    // contact rows change with the active set).
+                    let start = last.as_ref().map(|(u, lambda)| {
+                        let mut nu = lambda.clone();
+                        nu.resize(c.rows.len(), 0.0);
+                        (u.clone(), nu)
+                    });
+                    let start = start.as_ref().map(|(u, nu)| (&u[..], &nu[..]));
+                    let summary = petsc.get_or_insert_with(PetscSummary::default);
+                    let modes = modes.as_ref().expect("modes for PETSc");
+                    let clock = Instant::now();
+                    let solved = solve_petsc_saddle(k, f, dirichlet, (&c.c, &c.g), modes, o, start, summary);
+                    seconds.factorization += clock.elapsed().as_secs_f64();
+                    let iterations = summary.solves.last().map_or(0, |s| s.iterations);
+                    solved.map(|(u, nu)| (u, nu, "", iterations)).map_err(ProblemError::Solve)
+                }
             };
             let (u, nu, _, iterations) = solved.map_err(|e| match e {
                 ProblemError::Solve(SolveError::Singular) => singular(step, n_active),
@@ -621,10 +631,9 @@ fn saddle_steps(
                 *m = *rows.next().expect("one multiplier per active point");
             }
             last = Some((u, nu[..n_glue].to_vec()));
-            let linear_iterations = if matches!(options.solver, Solver::Pcg(_)) { iterations } else { 0 };
+            let linear_iterations = if matches!(options.solver, Solver::Direct) { 0 } else { iterations };
             Ok((w, mu, linear_iterations))
-        },
-    )?;
+        })?;
     let clock = Instant::now();
     let (u, lambda) = last.expect("at least one step");
     // KKT with the glued reactions C_gᵀλ moved to the load side.
@@ -647,10 +656,10 @@ fn saddle_steps(
         method: match options.solver {
             Solver::Direct => "saddle-point LDLᵀ per active-set step",
             Solver::Pcg(_) => "matrix-free PCG per active-set step (u_s = T u_m)",
-            Solver::Petsc(_) => "PETSc KSP per active-set step",
+            Solver::Petsc(_) => "PETSc KSP on the saddle point per active-set step",
         },
         points,
-        petsc: None,
+        petsc,
     })
 }
 

@@ -39,10 +39,12 @@
 //! - [`Solver::Pcg`]: the reduced system by preconditioned conjugate
 //!   gradients, matrix-free for any multiplier: P x needs C_S⁻¹, one sparse LU
 //!   solve on the interface.
-//! - [`Solver::Petsc`]: the reduced system assembled in the numbering of all
-//!   dofs (eliminated ones as identity rows, so the point blocks stay whole)
-//!   and solved by a PETSc KSP ([`crate::petsc`]), for dual and lumped
-//!   multipliers.
+//! - [`Solver::Petsc`]: a PETSc KSP ([`crate::petsc`]) on the reduced system
+//!   assembled in the numbering of all dofs (eliminated ones as identity
+//!   rows, so the point blocks stay whole) for dual and lumped multipliers;
+//!   on the saddle point for standard multipliers (or crosspoints), FGMRES
+//!   with a Schur-complement field-split preconditioner (GAMG on the
+//!   augmented K + γCᵀC).
 //!
 //! # Multipliers and tractions
 //! The slave rows of the saddle point read (K u)_S + C_Sᵀ λ = f_S, so
@@ -52,7 +54,7 @@
 use crate::constraints::{free_dofs, matrix_free, prolongation, saddle_point, triple_product};
 use crate::constraints::{Constraints, Elimination, Solved};
 use crate::multibody::{ProblemError, Solver, System, Timings};
-use crate::petsc::{rigid_body_modes_in, solve_petsc_from, PetscOptions, PetscSummary};
+use crate::petsc::{rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, PetscOptions, PetscSummary};
 use crate::solution::InterfaceSolution;
 use crate::solve::{solve, Dirichlet};
 use seam::CsrMatrix;
@@ -88,7 +90,10 @@ pub(crate) fn solve_glued(
         Solver::Pcg(options) => matrix_free(k, f, dirichlet, constraints, &options, seconds)?,
         Solver::Petsc(options) => {
             let summary = petsc.insert(PetscSummary::default());
-            reduced_petsc(system, constraints, &options, seconds, summary)?
+            match diagonal {
+                true => reduced_petsc(system, constraints, &options, seconds, summary)?,
+                false => saddle_petsc(system, constraints, &options, seconds, summary)?,
+            }
         }
     };
     let residual = residual(k, f, dirichlet, constraints, &u, &lambda);
@@ -106,13 +111,6 @@ fn reduced_petsc(
     summary: &mut PetscSummary,
 ) -> Result<Solved, ProblemError> {
     let System { k, f, dirichlet, .. } = system;
-    if !constraints.rows.is_empty() && !constraints.eliminated_block_is_diagonal() {
-        let interface = constraints.rows[0].interface;
-        let what = "the PETSc solver needs dual or lumped multipliers (standard multipliers, and glued \
-                    interfaces that constrain each other's slave points, need --solver direct or pcg)"
-            .into();
-        return Err(ProblemError::BadInterface { interface, what });
-    }
     let clock = Instant::now();
     let elimination = match constraints.rows.is_empty() {
         true => None,
@@ -138,6 +136,28 @@ fn reduced_petsc(
     seconds.solve += clock.elapsed().as_secs_f64();
     let iterations = summary.solves.iter().map(|s| s.iterations).sum();
     Ok((u, lambda, "PETSc KSP on the reduced system (u_s = T u_m)", iterations))
+}
+
+/// Standard multipliers (or crosspoints): the saddle point by PETSc
+/// ([`solve_petsc_saddle`]: FGMRES, a Schur-complement field split with
+/// GAMG on the augmented K).
+fn saddle_petsc(
+    system: &System,
+    constraints: &Constraints,
+    options: &PetscOptions,
+    seconds: &mut Timings,
+    summary: &mut PetscSummary,
+) -> Result<Solved, ProblemError> {
+    let System { k, f, dirichlet, .. } = system;
+    let clock = Instant::now();
+    let modes = rigid_body_modes_in(&system.points, None, None);
+    seconds.setup += clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let c = (&constraints.c, &constraints.g[..]);
+    let (u, lambda) = solve_petsc_saddle(k, f, dirichlet, c, &modes, options, None, summary)?;
+    seconds.factorization += clock.elapsed().as_secs_f64();
+    let iterations = summary.solves.iter().map(|s| s.iterations).sum();
+    Ok((u, lambda, "PETSc KSP on the saddle point (fieldsplit)", iterations))
 }
 
 /// λ_r = (f − Ku)_{dof r} / C_{r, dof r}: the slave rows of the saddle point

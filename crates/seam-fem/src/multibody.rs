@@ -67,10 +67,11 @@ pub enum Solver {
     /// Preconditioned conjugate gradients on the reduced system PᵀKP,
     /// matrix-free.
     Pcg(PcgOptions),
-    /// A PETSc KSP (by default CG + GAMG with the rigid-body modes) on the
-    /// reduced system PᵀKP, assembled (dual and lumped multipliers), and on
-    /// each active-set step of contact ([`crate::petsc`]; cargo feature
-    /// `petsc`).
+    /// A PETSc KSP on the reduced system PᵀKP, assembled (dual and lumped
+    /// multipliers: by default CG + GAMG with the rigid-body modes), on the
+    /// saddle point (standard multipliers: FGMRES with a Schur-complement
+    /// field split), and on each active-set step of contact
+    /// ([`crate::petsc`]; cargo feature `petsc`).
     Petsc(PetscOptions),
 }
 

@@ -25,11 +25,11 @@
 //! every error ≤ 3e-14.
 mod common;
 
-use common::{glued_patch_error, rollers_patch_error, Affine, Part};
+use common::{crossline_patch_error, rollers_patch_error};
 use seam::Multiplier;
-use seam_fem::generate::{BlockKind, Side};
+use seam_fem::generate::BlockKind;
 use seam_fem::pcg::PcgOptions;
-use seam_fem::{Dirichlet, Material, Solver};
+use seam_fem::Solver;
 
 const RTOL: f64 = 1e-10;
 
@@ -69,36 +69,9 @@ fn patch_test_rollers_on_both_bodies_touching_the_interface() {
 #[test]
 fn patch_test_three_blocks_meeting_along_a_crossline() {
     use BlockKind::*;
-    use Side::*;
-    let field = Affine::PATCH;
-    let sigma = field.stress(&Material::new(1000.0, 0.3).unwrap());
     for kinds in [[Hex, Tet, Hex], [Tet, Hex, Tet]] {
-        let a = Part::new([3, 3, 3], kinds[0], |u, v, w| [u, v, w]);
-        let b = Part::new([2, 4, 3], kinds[1], |u, v, w| [1.0 + u, v, w]);
-        let c = Part::new([4, 5, 2], kinds[2], |u, v, w| [2.0 * u, v, 1.0 + 0.6 * w]);
-        let mut fixed = [Dirichlet::new(), Dirichlet::new(), Dirichlet::new()];
-        a.fix(&mut fixed[0], &field, ZMin, [true; 3]);
-        let loads = vec![
-            a.load(&sigma, &[XMin, YMin, YMax]),
-            b.load(&sigma, &[XMax, YMin, YMax, ZMin]),
-            c.load(&sigma, &[XMin, XMax, YMin, YMax, ZMax]),
-        ];
-        let glues = [
-            (0, a.side(XMax), 1, b.side(XMin)),
-            (0, a.side(ZMax), 2, c.side_where(ZMin, |[i, _, _]| i <= 2)),
-            (1, b.side(ZMax), 2, c.side_where(ZMin, |[i, _, _]| i >= 2)),
-        ];
-        let label = format!("crossline {kinds:?}");
         for variant in variants() {
-            let (e, _) = glued_patch_error(
-                &label,
-                &[&a, &b, &c],
-                loads.clone(),
-                fixed.to_vec(),
-                &glues,
-                &field,
-                variant,
-            );
+            let (e, _, label) = crossline_patch_error(kinds, variant);
             assert!(e <= RTOL, "{label} {variant:?}: error {e:.3e}");
         }
     }

@@ -10,9 +10,9 @@
 mod common;
 
 use common::hertz::solve_scene_with;
-use common::rollers_patch_error;
 use common::shell::{level, Sides};
 use common::stack::Stack;
+use common::{crossline_patch_error, rollers_patch_error};
 use seam::Multiplier;
 use seam_fem::generate::BlockKind;
 use seam_fem::petsc::{initialize_petsc, PetscOptions};
@@ -24,16 +24,38 @@ fn petsc(rtol: f64) -> Solver {
     Solver::Petsc(PetscOptions { rtol, ..PetscOptions::default() })
 }
 
-/// The rollers case of `glue_supports.rs` (both bodies on a roller at x = 0
-/// touching the tilted interface), dual multipliers (lumped ones do not pass
-/// patch tests, I4): the affine field to 1e-10 by CG + GAMG.
+/// The rollers and crossline cases of `glue_supports.rs`: dual multipliers
+/// (the reduced system, or the saddle point at the crossline) and standard
+/// ones (the saddle point; lumped multipliers do not pass patch tests, I4):
+/// the affine field to 1e-10.
 #[test]
-fn glued_patch_test() {
+fn glued_patch_tests() {
     use BlockKind::*;
-    for (m, s) in [(([4, 3, 2], Hex), ([3, 5, 2], Tet)), (([3, 4, 2], Tet), ([5, 3, 2], Hex))] {
-        let (e, method, label) = rollers_patch_error(m, s, 0.2, (Multiplier::Dual, petsc(1e-13)));
-        assert!(e <= 1e-10, "{label}: error {e:.3e}");
-        assert!(method.contains("PETSc"), "{method}");
+    for multiplier in [Multiplier::Dual, Multiplier::Standard] {
+        let variant = (multiplier, petsc(1e-14));
+        for (m, s) in [(([4, 3, 2], Hex), ([3, 5, 2], Tet)), (([3, 4, 2], Tet), ([5, 3, 2], Hex))] {
+            let (e, method, label) = rollers_patch_error(m, s, 0.2, variant);
+            assert!(e <= 1e-10, "{label} {multiplier:?}: error {e:.3e}");
+            assert!(method.contains("PETSc"), "{method}");
+        }
+        let (e, method, label) = crossline_patch_error([Hex, Tet, Hex], variant);
+        assert!(e <= 1e-10, "{label} {multiplier:?}: error {e:.3e}");
+        assert!(method.contains("saddle point"), "{method}");
+    }
+}
+
+/// Glue and contact in one problem (`mixed.rs`): contact on the rotated
+/// system after eliminating dual glue, or a saddle point per active-set step
+/// with standard glue; the uniaxial solution to 1e-10.
+#[test]
+fn glue_and_contact_in_one_problem() {
+    let stack = common::mixed::Stack::new([BlockKind::Hex, BlockKind::Tet, BlockKind::Hex]);
+    for glue in [Multiplier::Dual, Multiplier::Standard] {
+        let s = stack.solve(Multiplier::Lumped, glue, petsc(1e-13)).unwrap();
+        let e = stack.error(&s);
+        println!("glue {glue:?}: {} — error {e:.1e}", s.report.method);
+        assert!(e <= 1e-10, "glue {glue:?}: error {e:.3e}");
+        assert!(s.report.petsc.as_ref().is_some_and(|p| !p.solves.is_empty()));
     }
 }
 

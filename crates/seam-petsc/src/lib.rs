@@ -68,6 +68,7 @@ mod ffi {
         pub fn seam_petsc_petscint_size() -> c_int;
         pub fn seam_petsc_system_create(
             n: PetscInt,
+            n_first: PetscInt,
             bs: PetscInt,
             rowptr: *const PetscInt,
             cols: *const PetscInt,
@@ -206,6 +207,26 @@ pub fn initialize(options: &str) -> Result<(), PetscError> {
     Ok(())
 }
 
+/// The structure of a system's matrix.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Structure {
+    /// Points of `block_size` unknowns each (3 for elasticity).
+    Blocks(usize),
+    /// A saddle point [A Bᵀ; B 0]: its first `first` unknowns (A's, in
+    /// points of `block_size`) and the others (B's rows), split by
+    /// PCFIELDSPLIT when the PC is "fieldsplit": Schur complement, full
+    /// factorisation, the complement approximated by
+    /// B diag(A)⁻¹ Bᵀ ("selfp"), one GAMG cycle on A and Jacobi on the
+    /// approximation unless the options say otherwise
+    /// (`-fieldsplit_0_pc_type`, `-fieldsplit_1_ksp_type`, …).
+    Saddle {
+        /// Unknowns of the first field.
+        first: usize,
+        /// Its points' size.
+        block_size: usize,
+    },
+}
+
 /// How the KSP is set up before the options database has its say.
 #[derive(Clone, Debug, PartialEq)]
 pub struct KspConfig {
@@ -288,10 +309,11 @@ fn index(v: usize, what: &str) -> Result<PetscInt, PetscError> {
 }
 
 impl System {
-    /// Builds the matrix (block size `block_size`) and its KSP, with the
-    /// span of `near_nullspace` (vectors of n entries, e.g. the rigid-body
-    /// modes for elasticity; orthonormalised here, dependent ones dropped) as
-    /// the near-nullspace that GAMG's aggregates must represent. Options in
+    /// Builds the matrix (of `structure`) and its KSP, with the span of
+    /// `near_nullspace` (vectors of as many entries as the points' unknowns:
+    /// n, or a saddle point's first field; e.g. the rigid-body modes for
+    /// elasticity; orthonormalised here, dependent ones dropped) as the
+    /// near-nullspace that GAMG's aggregates must represent. Options in
     /// PETSc's database override `config`. [`initialize`] must have been
     /// called.
     ///
@@ -300,23 +322,29 @@ impl System {
     /// inconsistent input.
     pub fn new(
         matrix: Csr<'_>,
-        block_size: usize,
+        structure: Structure,
         near_nullspace: &[Vec<f64>],
         config: &KspConfig,
     ) -> Result<System, PetscError> {
         let n = matrix.rowptr.len().saturating_sub(1);
         let nnz = matrix.rowptr.last().copied().unwrap_or(0);
+        let (first, block_size) = match structure {
+            Structure::Blocks(block_size) => (n, block_size),
+            Structure::Saddle { first, block_size } => (first, block_size),
+        };
         let consistent = !matrix.rowptr.is_empty()
             && matrix.cols.len() == nnz
             && matrix.values.len() == nnz
             && block_size > 0
-            && n % block_size == 0
+            && first <= n
+            && first % block_size == 0
             && matrix.cols.iter().all(|&c| c < n)
-            && near_nullspace.iter().all(|v| v.len() == n);
+            && near_nullspace.iter().all(|v| v.len() == first);
         if !consistent {
             return Err(PetscError("inconsistent matrix passed to PETSc".into()));
         }
         let modes = orthonormal(near_nullspace);
+        let n_modes = modes.len().checked_div(first).unwrap_or(0);
         let rowptr: Vec<PetscInt> =
             matrix.rowptr.iter().map(|&v| index(v, "entry")).collect::<Result<_, _>>()?;
         let cols: Vec<PetscInt> =
@@ -339,12 +367,13 @@ impl System {
         let code = unsafe {
             ffi::seam_petsc_system_create(
                 index(n, "size")?,
+                index(first, "size")?,
                 index(block_size, "block size")?,
                 rowptr.as_ptr(),
                 cols.as_ptr(),
                 matrix.values.as_ptr(),
                 modes.as_ptr(),
-                index(modes.len() / n.max(1), "near-nullspace size")?,
+                index(n_modes, "near-nullspace size")?,
                 c_int::from(config.symmetric),
                 ksp_type.as_ptr(),
                 pc_type.as_ptr(),
@@ -470,7 +499,7 @@ mod tests {
         let (rowptr, cols, values) = laplacian(n);
         let matrix = Csr { rowptr: &rowptr, cols: &cols, values: &values };
         let config = KspConfig { pc_type: "jacobi".into(), rtol: 1e-12, ..KspConfig::default() };
-        let mut system = System::new(matrix, 1, &[], &config).unwrap();
+        let mut system = System::new(matrix, Structure::Blocks(1), &[], &config).unwrap();
         // x = (1, 2, …, n): b = A x.
         let exact: Vec<f64> = (1..=n).map(|i| i as f64).collect();
         let b: Vec<f64> =
@@ -485,11 +514,11 @@ mod tests {
         }
         // An unknown PC type: PETSc's message, one line.
         let bad = KspConfig { pc_type: "nonsense".into(), ..KspConfig::default() };
-        let e = System::new(matrix, 1, &[], &bad).err().expect("an unknown PC type fails");
+        let e = System::new(matrix, Structure::Blocks(1), &[], &bad).err().expect("an unknown PC type fails");
         assert!(e.0.contains("nonsense") && !e.0.contains('\n'), "{e}");
         // An iteration cap of 1: solved without error, reported as diverged.
         let capped = KspConfig { pc_type: "none".into(), max_iterations: 1, ..KspConfig::default() };
-        let mut system = System::new(matrix, 1, &[], &capped).unwrap();
+        let mut system = System::new(matrix, Structure::Blocks(1), &[], &capped).unwrap();
         let report = system.solve(&b, &mut x, false).unwrap();
         assert!(!report.converged() && report.reason_name == "DIVERGED_ITS", "{report:?}");
     }

@@ -115,11 +115,10 @@ int seam_petsc_petscint_size(void)
  * elasticity) as its near-nullspace, and a KSP of
  * `ksp_type` with `pc_type` (defaults that options override), relative
  * tolerance rtol and at most max_it iterations; sets the preconditioner up. */
-int seam_petsc_system_create(PetscInt n, PetscInt bs, const PetscInt *rowptr, const PetscInt *cols,
-                             const PetscScalar *vals, const PetscScalar *modes, PetscInt n_modes, int symmetric,
-                             const char *ksp_type,
-                             const char *pc_type, double rtol, PetscInt max_it, seam_petsc_system **out, char *err,
-                             size_t errlen)
+int seam_petsc_system_create(PetscInt n, PetscInt n_first, PetscInt bs, const PetscInt *rowptr,
+                             const PetscInt *cols, const PetscScalar *vals, const PetscScalar *modes,
+                             PetscInt n_modes, int symmetric, const char *ksp_type, const char *pc_type, double rtol,
+                             PetscInt max_it, seam_petsc_system **out, char *err, size_t errlen)
 {
   PetscErrorCode      code = 0;
   seam_petsc_system  *s = NULL;
@@ -127,7 +126,13 @@ int seam_petsc_system_create(PetscInt n, PetscInt bs, const PetscInt *rowptr, co
   PetscBool           sbaij = PETSC_FALSE;
   Vec                 near[16] = {NULL};
   MatNullSpace        nullspace = NULL;
+  IS                  fields[2] = {NULL, NULL};
   PC                  pc;
+  /* A saddle point [A Bᵀ; B 0] when the first field ends before n: the
+   * matrix without blocks, the first field (block size bs) split from the
+   * second by PCFIELDSPLIT, the near-nullspace on the first field. */
+  const PetscBool     split = n_first < n;
+  const PetscInt      mat_bs = split ? 1 : bs;
   double              t0;
 
   *out = NULL;
@@ -137,32 +142,32 @@ int seam_petsc_system_create(PetscInt n, PetscInt bs, const PetscInt *rowptr, co
     return PETSC_ERR_MEM;
   }
   s->n  = n;
-  s->bs = bs;
+  s->bs = mat_bs;
   t0    = now();
   TRY(MatCreate(PETSC_COMM_SELF, &s->A));
   TRY(MatSetSizes(s->A, n, n, n, n));
   TRY(MatSetType(s->A, MATAIJ));
-  TRY(MatSetBlockSize(s->A, bs));
+  TRY(MatSetBlockSize(s->A, mat_bs));
   TRY(MatSetFromOptions(s->A));
   /* Preallocation for AIJ (entries per row) and BAIJ/SBAIJ (blocks per
    * block row); only the call of the matrix's type takes effect. */
   TRY(PetscMalloc1(n, &nnz));
-  TRY(PetscCalloc1(n / bs + 1, &bnnz));
-  TRY(PetscMalloc1(n / bs + 1, &mark));
-  for (PetscInt r = 0; r <= n / bs; r++) mark[r] = -1;
+  TRY(PetscCalloc1(n / mat_bs + 1, &bnnz));
+  TRY(PetscMalloc1(n / mat_bs + 1, &mark));
+  for (PetscInt r = 0; r <= n / mat_bs; r++) mark[r] = -1;
   for (PetscInt i = 0; i < n; i++) {
     nnz[i] = rowptr[i + 1] - rowptr[i];
     for (PetscInt j = rowptr[i]; j < rowptr[i + 1]; j++) {
-      PetscInt block = cols[j] / bs;
-      if (mark[block] != i / bs) {
-        mark[block] = i / bs;
-        bnnz[i / bs]++;
+      PetscInt block = cols[j] / mat_bs;
+      if (mark[block] != i / mat_bs) {
+        mark[block] = i / mat_bs;
+        bnnz[i / mat_bs]++;
       }
     }
   }
   TRY(MatSeqAIJSetPreallocation(s->A, 0, nnz));
-  TRY(MatSeqBAIJSetPreallocation(s->A, bs, 0, bnnz));
-  TRY(MatSeqSBAIJSetPreallocation(s->A, bs, 0, bnnz));
+  TRY(MatSeqBAIJSetPreallocation(s->A, mat_bs, 0, bnnz));
+  TRY(MatSeqSBAIJSetPreallocation(s->A, mat_bs, 0, bnnz));
   TRY(MatSetOption(s->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
   TRY(PetscObjectTypeCompareAny((PetscObject)s->A, &sbaij, MATSEQSBAIJ, MATSBAIJ, ""));
   if (sbaij) TRY(MatSetOption(s->A, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
@@ -178,16 +183,14 @@ int seam_petsc_system_create(PetscInt n, PetscInt bs, const PetscInt *rowptr, co
   }
   for (PetscInt k = 0; k < n_modes; k++) {
     PetscScalar *a;
-    TRY(VecCreateSeq(PETSC_COMM_SELF, n, &near[k]));
+    TRY(VecCreateSeq(PETSC_COMM_SELF, n_first, &near[k]));
     TRY(VecSetBlockSize(near[k], bs));
     TRY(VecGetArray(near[k], &a));
-    memcpy(a, modes + (size_t)k * (size_t)n, (size_t)n * sizeof(PetscScalar));
+    memcpy(a, modes + (size_t)k * (size_t)n_first, (size_t)n_first * sizeof(PetscScalar));
     TRY(VecRestoreArray(near[k], &a));
   }
-  if (n_modes > 0) {
-    TRY(MatNullSpaceCreate(PETSC_COMM_SELF, PETSC_FALSE, n_modes, near, &nullspace));
-    TRY(MatSetNearNullSpace(s->A, nullspace));
-  }
+  if (n_modes > 0) TRY(MatNullSpaceCreate(PETSC_COMM_SELF, PETSC_FALSE, n_modes, near, &nullspace));
+  if (nullspace && !split) TRY(MatSetNearNullSpace(s->A, nullspace));
   s->assembly_seconds = now() - t0;
   t0 = now();
   TRY(KSPCreate(PETSC_COMM_SELF, &s->ksp));
@@ -195,6 +198,33 @@ int seam_petsc_system_create(PetscInt n, PetscInt bs, const PetscInt *rowptr, co
   TRY(KSPSetType(s->ksp, ksp_type));
   TRY(KSPGetPC(s->ksp, &pc));
   TRY(PCSetType(pc, pc_type));
+  if (split) {
+    PetscBool fieldsplit = PETSC_FALSE;
+    TRY(ISCreateStride(PETSC_COMM_SELF, n_first, 0, 1, &fields[0]));
+    TRY(ISSetBlockSize(fields[0], bs));
+    TRY(ISCreateStride(PETSC_COMM_SELF, n - n_first, n_first, 1, &fields[1]));
+    if (nullspace) TRY(PetscObjectCompose((PetscObject)fields[0], "nearnullspace", (PetscObject)nullspace));
+    TRY(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &fieldsplit));
+    if (fieldsplit) {
+      TRY(PCFieldSplitSetIS(pc, "0", fields[0]));
+      TRY(PCFieldSplitSetIS(pc, "1", fields[1]));
+      TRY(PCFieldSplitSetType(pc, PC_COMPOSITE_SCHUR));
+      TRY(PCFieldSplitSetSchurFactType(pc, PC_FIELDSPLIT_SCHUR_FACT_FULL));
+      TRY(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_SELFP, NULL));
+      /* The blocks' defaults, unless the options database sets them: one
+       * multigrid cycle on the displacements, Jacobi on the Schur
+       * complement's approximation B diag(A)⁻¹ Bᵀ. */
+      const char *defaults[][2] = {{"-fieldsplit_0_ksp_type", "preonly"},
+                                   {"-fieldsplit_0_pc_type", "gamg"},
+                                   {"-fieldsplit_1_ksp_type", "preonly"},
+                                   {"-fieldsplit_1_pc_type", "jacobi"}};
+      for (size_t k = 0; k < sizeof(defaults) / sizeof(defaults[0]); k++) {
+        PetscBool set = PETSC_FALSE;
+        TRY(PetscOptionsHasName(NULL, NULL, defaults[k][0], &set));
+        if (!set) TRY(PetscOptionsSetValue(NULL, defaults[k][0], defaults[k][1]));
+      }
+    }
+  }
   TRY(KSPSetTolerances(s->ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, max_it));
   TRY(KSPSetFromOptions(s->ksp));
   TRY(KSPSetUp(s->ksp));
@@ -204,6 +234,8 @@ int seam_petsc_system_create(PetscInt n, PetscInt bs, const PetscInt *rowptr, co
   PetscFree(mark);
   MatNullSpaceDestroy(&nullspace);
   for (PetscInt k = 0; k < 16; k++) VecDestroy(&near[k]);
+  ISDestroy(&fields[0]);
+  ISDestroy(&fields[1]);
   *out = s;
   return 0;
 fail:
@@ -212,6 +244,8 @@ fail:
   PetscFree(mark);
   MatNullSpaceDestroy(&nullspace);
   for (PetscInt k = 0; k < 16; k++) VecDestroy(&near[k]);
+  ISDestroy(&fields[0]);
+  ISDestroy(&fields[1]);
   if (s) {
     KSPDestroy(&s->ksp);
     MatDestroy(&s->A);

@@ -366,7 +366,11 @@ pub fn glued_patch_error(
             t_error = t_error.max(max_abs(&diff) / s_scale);
         }
     }
-    let solver_name = if matches!(solver, Solver::Direct) { "direct" } else { "PCG" };
+    let solver_name = match solver {
+        Solver::Direct => "direct",
+        Solver::Pcg(_) => "PCG",
+        Solver::Petsc(_) => "PETSc",
+    };
     println!(
         "  {label:<34} {:<9} {solver_name:<7} u {u_error:.1e}  σ {s_error:.1e}  t {t_error:.1e}  ({})",
         format!("{multiplier:?}"),
@@ -404,6 +408,39 @@ pub fn rollers_patch_error(
     let label = format!("{:?}|{:?} slope {slope}", m.1, s.1);
     let (e, method) =
         glued_patch_error(&label, &[&master, &slave], loads, fixed.to_vec(), &glues, &field, variant);
+    (e, method, label)
+}
+
+/// The crossline patch test (`tests/glue_supports.rs`): blocks A = [0,1]³,
+/// B = [1,2]×[0,1]² and C = [0,2]×[0,1]×[1,1.6] of `kinds`, glued A|B,
+/// A|C and B|C, C's points on the line x = 1, z = 1 slave of two
+/// interfaces; the patch field, A clamped at z = 0, all other outer faces
+/// loaded. The error and method of [`glued_patch_error`] and a label.
+pub fn crossline_patch_error(
+    kinds: [BlockKind; 3],
+    variant: (Multiplier, Solver),
+) -> (f64, &'static str, String) {
+    use Side::*;
+    let field = Affine::PATCH;
+    let sigma = field.stress(&Material::new(1000.0, 0.3).unwrap());
+    let a = Part::new([3, 3, 3], kinds[0], |u, v, w| [u, v, w]);
+    let b = Part::new([2, 4, 3], kinds[1], |u, v, w| [1.0 + u, v, w]);
+    let c = Part::new([4, 5, 2], kinds[2], |u, v, w| [2.0 * u, v, 1.0 + 0.6 * w]);
+    let mut fixed = [Dirichlet::new(), Dirichlet::new(), Dirichlet::new()];
+    a.fix(&mut fixed[0], &field, ZMin, [true; 3]);
+    let loads = vec![
+        a.load(&sigma, &[XMin, YMin, YMax]),
+        b.load(&sigma, &[XMax, YMin, YMax, ZMin]),
+        c.load(&sigma, &[XMin, XMax, YMin, YMax, ZMax]),
+    ];
+    let glues = [
+        (0, a.side(XMax), 1, b.side(XMin)),
+        (0, a.side(ZMax), 2, c.side_where(ZMin, |[i, _, _]| i <= 2)),
+        (1, b.side(ZMax), 2, c.side_where(ZMin, |[i, _, _]| i >= 2)),
+    ];
+    let label = format!("crossline {kinds:?}");
+    let (e, method) =
+        glued_patch_error(&label, &[&a, &b, &c], loads, fixed.to_vec(), &glues, &field, variant);
     (e, method, label)
 }
 
@@ -481,6 +518,7 @@ pub fn check_affine(mesh: &VolumeMesh, u: &[f64], label: &str) {
     assert!(s.cell_von_mises.iter().all(|v| (v - vm).abs() < 1e-10 * vm));
 }
 pub mod hertz;
+pub mod mixed;
 pub mod stack;
 
 /// The thick cylindrical shell sector of the glued convergence studies:
