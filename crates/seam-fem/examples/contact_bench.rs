@@ -11,11 +11,12 @@
 //! out to 12.5a), bulging `n` = slave cells across (master 1.5× finer).
 //! Solvers: `direct` (one Cholesky analysis, a numeric factorisation per
 //! active-set step), `pcg` (point-block Jacobi PCG, rtol 1e-10, warm-started
-//! from the previous step).
+//! from the previous step), `petsc` (CG + GAMG per step, rtol 1e-10,
+//! warm-started; `--features petsc`).
 
 mod common;
 
-use common::{flag_sizes, flag_value, peak_mb};
+use common::{flag_sizes, flag_value, peak_mb, petsc, petsc_columns};
 use seam_fem::pcg::PcgOptions;
 use seam_fem::scene::{bulging_contact, hertz, BulgingContact, Hertz};
 use seam_fem::Problem;
@@ -28,6 +29,7 @@ fn row(scene: &str, n: usize, solver: &str) {
     let solver = match solver {
         "direct" => Solver::Direct,
         "pcg" => Solver::Pcg(PcgOptions { rtol: 1e-10, ..PcgOptions::default() }),
+        "petsc" => petsc(1e-10),
         other => panic!("unknown solver {other}"),
     };
     let clock = Instant::now();
@@ -48,7 +50,7 @@ fn row(scene: &str, n: usize, solver: &str) {
     let linear: usize = c.steps.iter().map(|s| s.linear_iterations).sum();
     let changes: usize = c.steps.iter().map(|s| s.added + s.removed).sum();
     println!(
-        "| {} | {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.0e} | {:.0} |",
+        "| {} | {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.0e} | {:.0} | {} |",
         r.dofs,
         c.contact_points,
         c.active,
@@ -62,6 +64,7 @@ fn row(scene: &str, n: usize, solver: &str) {
         total,
         c.kkt.max(),
         peak_mb(),
+        petsc_columns(r),
     );
 }
 
@@ -77,9 +80,9 @@ fn main() {
     ];
     let solvers = flag_value(&args, "--solvers", "direct,pcg");
     println!(
-        "| scene n | solver | dofs | contact points | active | steps | changes (/ PCG its) | meshing s | K s | mortar s | setup s | solves s | total s | KKT | peak MB |"
+        "| scene n | solver | dofs | contact points | active | steps | changes (/ linear its) | meshing s | K s | mortar s | setup s | solves s | total s | KKT | peak MB | KSP | KSP its | PETSc setup s | PETSc solve s |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let exe = std::env::current_exe().expect("own path");
     for (scene, list) in &scenes {
         for &n in list {

@@ -9,12 +9,20 @@
 //!
 //! Solvers: `standard-direct` (saddle-point LDLᵀ), `dual-direct` (reduced
 //! Cholesky, or LDLᵀ when the elimination fills in), `standard-pcg`,
-//! `dual-pcg` (matrix-free PCG, rtol 1e-8). Every row runs in a fresh process
-//! (`--row s solver`), so the peak memory (VmHWM) is its own.
+//! `dual-pcg` (matrix-free PCG, rtol 1e-8), `dual-petsc` (CG + GAMG on the
+//! reduced system) and `standard-petsc` (FGMRES + field split on the saddle
+//! point), rtol 1e-8, which need `--features petsc`:
+//!
+//! ```text
+//! cargo run --release -p seam-fem --features petsc --example glue_bench -- --sizes 10,16,22,31 --solvers dual-petsc
+//! ```
+//!
+//! Every row runs in a fresh process (`--row s solver`), so the peak memory
+//! (VmHWM) is its own.
 
 mod common;
 
-use common::{flag_sizes, flag_value, peak_mb};
+use common::{flag_sizes, flag_value, peak_mb, petsc, petsc_columns};
 use seam::Multiplier;
 use seam_fem::pcg::PcgOptions;
 use seam_fem::scene::{warped_glue, WarpedGlue};
@@ -32,6 +40,7 @@ fn row(s: usize, solver: &str) {
     let solver = match method {
         "direct" => Solver::Direct,
         "pcg" => Solver::Pcg(PcgOptions { rtol: 1e-8, ..PcgOptions::default() }),
+        "petsc" => petsc(1e-8),
         other => panic!("unknown method {other}"),
     };
     let clock = Instant::now();
@@ -50,7 +59,7 @@ fn row(s: usize, solver: &str) {
     let r = &solution.report;
     let t = &r.seconds;
     println!(
-        "| {} | {} | {:.2} | {:.2} | {:.3} | {:.2} | {:.2} | {:.2} | {:.1} | {} | {:.0e} | {:.0} | {} |",
+        "| {} | {} | {:.2} | {:.2} | {:.3} | {:.2} | {:.2} | {:.2} | {:.1} | {} | {:.0e} | {:.0} | {} | {} |",
         r.dofs,
         r.constraints,
         meshing,
@@ -63,7 +72,8 @@ fn row(s: usize, solver: &str) {
         r.iterations,
         r.residual,
         peak_mb(),
-        r.method
+        r.method,
+        petsc_columns(r)
     );
 }
 
@@ -76,9 +86,9 @@ fn main() {
     let sizes = flag_sizes(&args, "--sizes", "6,8,10,12,15");
     let solvers = flag_value(&args, "--solvers", "standard-direct,dual-direct,standard-pcg,dual-pcg");
     println!(
-        "| solver | dofs | constraints | meshing s | K s | mortar s | setup s | factor/PCG s | solve s | total s | iterations | residual | peak MB | method |"
+        "| solver | dofs | constraints | meshing s | K s | mortar s | setup s | factor/PCG s | solve s | total s | iterations | residual | peak MB | method | KSP | KSP its | PETSc setup s | PETSc solve s |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let exe = std::env::current_exe().expect("own path");
     for &s in &sizes {
         for solver in solvers.split(',') {

@@ -29,3 +29,28 @@ pub fn flag_sizes(args: &[String], flag: &str, default: &str) -> Vec<usize> {
         .map(|s| s.parse().expect("sizes are integers"))
         .collect()
 }
+
+/// `Solver::Petsc` with relative tolerance `rtol`, PETSc started (its options
+/// from PETSC_OPTIONS).
+#[allow(dead_code)]
+pub fn petsc(rtol: f64) -> seam_fem::Solver {
+    seam_fem::petsc::initialize_petsc("").expect("PETSc (build with --features petsc)");
+    seam_fem::Solver::Petsc(seam_fem::petsc::PetscOptions { rtol, ..Default::default() })
+}
+
+/// The PETSc columns of a row: KSP + PC, iterations (summed over the
+/// solves), PETSc's setup and solve seconds; dashes without PETSc.
+#[allow(dead_code)]
+pub fn petsc_columns(report: &seam_fem::Report) -> String {
+    match &report.petsc {
+        Some(p) => format!(
+            "{} + {} | {} | {:.2} | {:.2}",
+            p.ksp_type,
+            p.pc_type,
+            p.solves.iter().map(|s| s.iterations).sum::<usize>(),
+            p.setup_seconds,
+            p.solve_seconds
+        ),
+        None => "– | – | – | –".into(),
+    }
+}
