@@ -112,6 +112,7 @@ use faer::{Mat, Side};
 use rayon::prelude::*;
 use seam::vec3::{cross, dot, norm, sub};
 use seam::{nodal_normals, CsrMatrix, Mortar, Multiplier, Point3};
+use std::borrow::Cow;
 use std::time::Instant;
 
 /// One active-set step.
@@ -496,7 +497,7 @@ fn rotated_steps(
                     let solved = match (options.solver, &modes) {
                         (Solver::Petsc(o), Some(modes)) => {
                             let summary = petsc.get_or_insert_with(PetscSummary::default);
-                            solve_petsc_from(&a, &b, &fixed, modes, &o, start, summary)
+                            solve_petsc_from(Cow::Borrowed(&a), &b, &fixed, modes, &o, start, summary)
                                 .map(|x| (x, summary.solves.last().map_or(0, |s| s.iterations)))
                         }
                         (Solver::Pcg(o), _) => {

@@ -58,6 +58,7 @@ use crate::petsc::{rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, Pe
 use crate::solution::InterfaceSolution;
 use crate::solve::{solve, Dirichlet};
 use seam::CsrMatrix;
+use std::borrow::Cow;
 use std::time::Instant;
 
 /// The glued system solved: u, λ (one per row of C), the method, its
@@ -116,20 +117,21 @@ fn reduced_petsc(
         true => None,
         false => Some(Elimination::new(constraints, k, f)?),
     };
-    let (a, g) = match &elimination {
-        Some(e) => (&e.k, &e.f[..]),
-        None => (k, &f[..]),
-    };
     let modes = rigid_body_modes_in(&system.points, elimination.as_ref().map(|e| &e.retained[..]), None);
+    // The reduced matrix goes to PETSc, which keeps the only copy while it solves.
+    let (a, g, p) = match elimination {
+        Some(e) => (Cow::Owned(e.k), Cow::Owned(e.f), Some(e.p)),
+        None => (Cow::Borrowed(k), Cow::Borrowed(&f[..]), None),
+    };
     seconds.setup += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let y = solve_petsc_from(a, g, dirichlet, &modes, options, None, summary)?;
+    let y = solve_petsc_from(a, &g, dirichlet, &modes, options, None, summary)?;
     seconds.factorization += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let u = match &elimination {
-        Some(e) => e.p.mul_vec(&y, 1),
+    let u = match p {
+        Some(p) => p.mul_vec(&y, 1),
         None => y,
     };
     let lambda = eliminated_multipliers(k, f, constraints, &u);

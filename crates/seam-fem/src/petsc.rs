@@ -28,6 +28,7 @@ use crate::constraints::NONE;
 use crate::pcg::free_system;
 use crate::solve::{Dirichlet, SolveError};
 use seam::CsrMatrix;
+use std::borrow::Cow;
 
 /// Options of the PETSc solver (those of the KSP that PETSc's options do not
 /// override).
@@ -123,7 +124,7 @@ pub(crate) fn rigid_body_modes_in(
 /// ([`SolveError::Petsc`]); a KSP that stops without converging
 /// ([`SolveError::PetscNotConverged`]); no PETSc in this build.
 pub(crate) fn solve_petsc_from(
-    k: &CsrMatrix,
+    k: Cow<'_, CsrMatrix>,
     f: &[f64],
     dirichlet: &Dirichlet,
     modes: &[Vec<f64>],
@@ -132,34 +133,85 @@ pub(crate) fn solve_petsc_from(
     summary: &mut PetscSummary,
 ) -> Result<Vec<f64>, SolveError> {
     let n = k.nrows;
-    let (active, b) = free_system(k, f, dirichlet, start)?;
+    let (active, b) = free_system(&k, f, dirichlet, start)?;
     // A = K on the free rows and columns, the identity elsewhere.
-    let (mut indptr, mut indices, mut values) = (Vec::with_capacity(n + 1), Vec::new(), Vec::new());
-    indptr.push(0);
+    let mut a = Rows::new(n, n, k.nnz())?;
     for i in 0..n {
         if active[i] {
             let (cols, vals) = k.row(i);
             for (&j, &v) in cols.iter().zip(vals).filter(|(&j, _)| active[j]) {
-                indices.push(j);
-                values.push(v);
+                a.push(j, v);
             }
         } else {
-            indices.push(i);
-            values.push(1.0);
+            a.push(i, 1.0);
         }
-        indptr.push(indices.len());
+        a.end_row()?;
     }
+    drop(k); // an owned K (a reduced system) is not needed any more: PETSc gets A
     let mut u: Vec<f64> = match start {
         Some(s) => s.iter().zip(&active).map(|(&v, &a)| if a { v } else { 0.0 }).collect(),
         None => vec![0.0; n],
     };
-    let a = (indptr, indices, values);
     ksp_solve(&a, &b, &mut u, (Split::None, modes), options, start.is_some(), summary)?;
     for (dof, v) in dirichlet.iter() {
         u[dof] = v;
     }
     Ok(u)
 }
+
+/// A matrix in compressed rows with PETSc's indices (32 bits), built row by
+/// row: 12 bytes an entry, the only copy of a system besides PETSc's own.
+struct Rows {
+    indptr: Vec<Index>,
+    indices: Vec<Index>,
+    values: Vec<f64>,
+}
+
+impl Rows {
+    /// Room for `rows` rows and about `entries` entries, columns below `cols`.
+    fn new(rows: usize, cols: usize, entries: usize) -> Result<Rows, SolveError> {
+        if rows.max(cols) > Index::MAX as usize {
+            return Err(too_large());
+        }
+        let mut indptr = Vec::with_capacity(rows + 1);
+        indptr.push(0);
+        Ok(Rows { indptr, indices: Vec::with_capacity(entries), values: Vec::with_capacity(entries) })
+    }
+
+    #[inline]
+    fn push(&mut self, col: usize, value: f64) {
+        self.indices.push(col as Index);
+        self.values.push(value);
+    }
+
+    fn end_row(&mut self) -> Result<(), SolveError> {
+        let end = Index::try_from(self.indices.len()).map_err(|_| too_large())?;
+        self.indptr.push(end);
+        Ok(())
+    }
+
+    /// A x.
+    #[cfg_attr(not(feature = "petsc"), allow(dead_code))]
+    fn mul(&self, x: &[f64]) -> Vec<f64> {
+        (0..self.indptr.len() - 1)
+            .map(|i| {
+                let range = self.indptr[i] as usize..self.indptr[i + 1] as usize;
+                let (cols, vals) = (&self.indices[range.clone()], &self.values[range]);
+                cols.iter().zip(vals).map(|(&j, &v)| v * x[j as usize]).sum()
+            })
+            .collect()
+    }
+}
+
+fn too_large() -> SolveError {
+    SolveError::Petsc("the system exceeds PETSc's 32-bit indices (2³¹ − 1 entries)".into())
+}
+
+/// PETSc's index type (`PetscInt`, 32 bits in Debian's build).
+#[cfg(feature = "petsc")]
+type Index = seam_petsc::Index;
+#[cfg(not(feature = "petsc"))]
+type Index = i32;
 
 /// The saddle point [K Cᵀ; C 0] [u; λ] = [f; g] with the values of
 /// `dirichlet` (prescribed dofs and empty rows of K as identity rows, C's
@@ -226,8 +278,7 @@ pub(crate) fn solve_petsc_saddle(
     // harder for multigrid).
     let gamma = if sum_c > 0.0 { sum_k / sum_c } else { 0.0 };
     let ctg = ct.mul_vec(&g_free, 1);
-    let (mut indptr, mut indices, mut values) = (Vec::with_capacity(n + m + 1), Vec::new(), Vec::new());
-    indptr.push(0);
+    let mut a = Rows::new(n + m, n + m, k.nnz() + ctc.nnz() + 2 * c_free.nnz())?;
     for i in 0..n {
         if active[i] {
             b[i] += gamma * ctg[i];
@@ -255,24 +306,24 @@ pub(crate) fn solve_petsc_saddle(
                     (None, None) => unreachable!("one of the rows has entries left"),
                 };
                 if active[j] {
-                    indices.push(j);
-                    values.push(v);
+                    a.push(j, v);
                 }
             }
             let (rows, vals) = ct.row(i);
-            indices.extend(rows.iter().map(|&r| n + r));
-            values.extend_from_slice(vals);
+            for (&r, &v) in rows.iter().zip(vals) {
+                a.push(n + r, v);
+            }
         } else {
-            indices.push(i);
-            values.push(1.0);
+            a.push(i, 1.0);
         }
-        indptr.push(indices.len());
+        a.end_row()?;
     }
     for r in 0..m {
         let (cols, vals) = c_free.row(r);
-        indices.extend_from_slice(cols);
-        values.extend_from_slice(vals);
-        indptr.push(indices.len());
+        for (&j, &v) in cols.iter().zip(vals) {
+            a.push(j, v);
+        }
+        a.end_row()?;
     }
     b.extend_from_slice(&g_free);
     let mut x: Vec<f64> = match start {
@@ -284,7 +335,6 @@ pub(crate) fn solve_petsc_saddle(
             .collect(),
         None => vec![0.0; n + m],
     };
-    let a = (indptr, indices, values);
     ksp_solve(&a, &b, &mut x, (Split::Saddle(n), modes), options, start.is_some(), summary)?;
     let lambda = x.split_off(n);
     for (dof, v) in dirichlet.iter() {
@@ -302,12 +352,9 @@ enum Split {
     Saddle(usize),
 }
 
-/// The CSR arrays of a matrix.
-type Csr = (Vec<usize>, Vec<usize>, Vec<f64>);
-
 #[cfg(feature = "petsc")]
 fn ksp_solve(
-    (indptr, indices, values): &Csr,
+    a: &Rows,
     b: &[f64],
     x: &mut [f64],
     (split, modes): (Split, &[Vec<f64>]),
@@ -317,7 +364,7 @@ fn ksp_solve(
 ) -> Result<(), SolveError> {
     use seam_petsc::{KspConfig, Structure};
     let n = b.len();
-    let matrix = seam_petsc::Csr { rowptr: indptr, cols: indices, values };
+    let matrix = seam_petsc::Csr { rowptr: &a.indptr, cols: &a.indices, values: &a.values };
     let base = KspConfig { rtol: options.rtol, max_iterations: options.max_iter, ..KspConfig::default() };
     let (structure, config) = match split {
         Split::None => (Structure::Blocks(if n % 3 == 0 { 3 } else { 1 }), base),
@@ -331,10 +378,9 @@ fn ksp_solve(
     let report = system.solve(b, x, warm).map_err(petsc)?;
     // The true residual ‖b − A x‖₂ / ‖b‖₂ (the KSP's own may be preconditioned).
     let (mut r2, mut b2) = (0.0, 0.0);
-    for i in 0..n {
-        let ax: f64 = (indptr[i]..indptr[i + 1]).map(|k| values[k] * x[indices[k]]).sum();
-        r2 += (b[i] - ax) * (b[i] - ax);
-        b2 += b[i] * b[i];
+    for (&bi, ax) in b.iter().zip(a.mul(x)) {
+        r2 += (bi - ax) * (bi - ax);
+        b2 += bi * bi;
     }
     let residual = if b2 > 0.0 { (r2 / b2).sqrt() } else { r2.sqrt() };
     summary.ksp_type = report.ksp_type.clone();
@@ -359,7 +405,7 @@ fn ksp_solve(
 
 #[cfg(not(feature = "petsc"))]
 fn ksp_solve(
-    _: &Csr,
+    _: &Rows,
     _: &[f64],
     _: &mut [f64],
     _: (Split, &[Vec<f64>]),

@@ -297,12 +297,16 @@ pub struct System {
 #[derive(Clone, Copy, Debug)]
 pub struct Csr<'a> {
     /// Row offsets.
-    pub rowptr: &'a [usize],
+    pub rowptr: &'a [Index],
     /// Column indices.
-    pub cols: &'a [usize],
+    pub cols: &'a [Index],
     /// Values.
     pub values: &'a [f64],
 }
+
+/// PETSc's index type (`PetscInt`: 32 bits in Debian's PETSc), in which
+/// matrices are passed without a copy of their indices.
+pub type Index = PetscInt;
 
 fn index(v: usize, what: &str) -> Result<PetscInt, PetscError> {
     PetscInt::try_from(v).map_err(|_| PetscError(format!("{what} {v} exceeds PETSc's 32-bit indices")))
@@ -327,7 +331,7 @@ impl System {
         config: &KspConfig,
     ) -> Result<System, PetscError> {
         let n = matrix.rowptr.len().saturating_sub(1);
-        let nnz = matrix.rowptr.last().copied().unwrap_or(0);
+        let nnz = matrix.rowptr.last().map_or(0, |&v| v.max(0) as usize);
         let (first, block_size) = match structure {
             Structure::Blocks(block_size) => (n, block_size),
             Structure::Saddle { first, block_size } => (first, block_size),
@@ -338,17 +342,14 @@ impl System {
             && block_size > 0
             && first <= n
             && first % block_size == 0
-            && matrix.cols.iter().all(|&c| c < n)
+            && matrix.cols.iter().all(|&c| c >= 0 && (c as usize) < n)
+            && matrix.rowptr.windows(2).all(|w| w[0] <= w[1])
             && near_nullspace.iter().all(|v| v.len() == first);
         if !consistent {
             return Err(PetscError("inconsistent matrix passed to PETSc".into()));
         }
         let modes = orthonormal(near_nullspace);
         let n_modes = modes.len().checked_div(first).unwrap_or(0);
-        let rowptr: Vec<PetscInt> =
-            matrix.rowptr.iter().map(|&v| index(v, "entry")).collect::<Result<_, _>>()?;
-        let cols: Vec<PetscInt> =
-            matrix.cols.iter().map(|&v| index(v, "column")).collect::<Result<_, _>>()?;
         let (ksp_type, pc_type) =
             (CString::new(config.ksp_type.as_str()), CString::new(config.pc_type.as_str()));
         let (Ok(ksp_type), Ok(pc_type)) = (ksp_type, pc_type) else {
@@ -369,8 +370,8 @@ impl System {
                 index(n, "size")?,
                 index(first, "size")?,
                 index(block_size, "block size")?,
-                rowptr.as_ptr(),
-                cols.as_ptr(),
+                matrix.rowptr.as_ptr(),
+                matrix.cols.as_ptr(),
                 matrix.values.as_ptr(),
                 modes.as_ptr(),
                 index(n_modes, "near-nullspace size")?,
@@ -480,14 +481,14 @@ mod tests {
     use super::*;
 
     /// A 1D Laplacian (tridiagonal 2, −1) of n unknowns in CSR.
-    fn laplacian(n: usize) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    fn laplacian(n: usize) -> (Vec<Index>, Vec<Index>, Vec<f64>) {
         let (mut rowptr, mut cols, mut values) = (vec![0], Vec::new(), Vec::new());
         for i in 0..n {
             for j in i.saturating_sub(1)..(i + 2).min(n) {
-                cols.push(j);
+                cols.push(j as Index);
                 values.push(if i == j { 2.0 } else { -1.0 });
             }
-            rowptr.push(cols.len());
+            rowptr.push(cols.len() as Index);
         }
         (rowptr, cols, values)
     }
@@ -502,8 +503,13 @@ mod tests {
         let mut system = System::new(matrix, Structure::Blocks(1), &[], &config).unwrap();
         // x = (1, 2, …, n): b = A x.
         let exact: Vec<f64> = (1..=n).map(|i| i as f64).collect();
-        let b: Vec<f64> =
-            (0..n).map(|i| (rowptr[i]..rowptr[i + 1]).map(|k| values[k] * exact[cols[k]]).sum()).collect();
+        let b: Vec<f64> = (0..n)
+            .map(|i| {
+                (rowptr[i] as usize..rowptr[i + 1] as usize)
+                    .map(|k| values[k] * exact[cols[k] as usize])
+                    .sum()
+            })
+            .collect();
         let mut x = vec![0.0; n];
         let report = system.solve(&b, &mut x, false).unwrap();
         assert!(report.converged(), "{report:?}");
