@@ -41,6 +41,7 @@ mod ffi {
     pub struct RawReport {
         pub iterations: PetscInt,
         pub ksp_residual: f64,
+        pub true_residual: f64,
         pub reason: c_int,
         pub reason_name: [c_char; 64],
         pub ksp_type: [c_char; 64],
@@ -262,6 +263,8 @@ pub struct Report {
     /// The residual norm KSP's convergence test used (preconditioned for CG
     /// by default).
     pub ksp_residual: f64,
+    /// ‖b − A x‖₂ / ‖b‖₂ at the end.
+    pub residual: f64,
     /// PETSc's `KSPConvergedReason` (> 0 converged, < 0 diverged).
     pub reason: i32,
     /// Its name, e.g. "CONVERGED_RTOL", "DIVERGED_ITS".
@@ -272,7 +275,7 @@ pub struct Report {
     pub pc_type: String,
     /// Seconds to build the PETSc matrix.
     pub assembly_seconds: f64,
-    /// Seconds of KSPSetUp (the preconditioner).
+    /// Seconds of KSPSetUp (the preconditioner), since the last report.
     pub setup_seconds: f64,
     /// Seconds of KSPSolve.
     pub solve_seconds: f64,
@@ -432,6 +435,7 @@ impl System {
         Ok(Report {
             iterations: raw.iterations.max(0) as usize,
             ksp_residual: raw.ksp_residual,
+            residual: raw.true_residual,
             reason: raw.reason,
             reason_name: c_string(&raw.reason_name),
             ksp_type: c_string(&raw.ksp_type),
