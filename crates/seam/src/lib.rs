@@ -13,7 +13,7 @@
 //! |---|---|---|
 //! | plain data: [`SurfaceMesh`], [`VolumeMesh`] | `mesh` | |
 //! | reference elements, inverse projection | `element` | D1–D2 |
-//! | second-order faces (Tri6, Quad8, Quad9; not yet used by the operator) | [`curved`] | D1–D2 |
+//! | second-order (curved) faces: Tri6, Quad8, Quad9 maps, control nets, inverse projection | [`curved`] | D1–D2 |
 //! | triangle quadrature rules | `quadrature` | D3 |
 //! | proximity search: [`FaceTree`] | `search` | A1 |
 //! | Householder frame, projection, polygon clipping | `clip` | C2–C4 |
