@@ -6,11 +6,11 @@
 //!   system — by default by CG preconditioned by smoothed-aggregation
 //!   multigrid (GAMG) with block size 3 and the six rigid-body modes of the
 //!   bodies' points as near-nullspace, as PETSc's elasticity example ex56
-//!   ([`solve_petsc_from`]).
+//!   (`solve_petsc_from`).
 //! - The saddle points of standard multipliers (and crosspoints), glued or
 //!   at each active-set step: augmented, by default by FGMRES with a
 //!   Schur-complement field split whose displacement block is one GAMG
-//!   cycle ([`solve_petsc_saddle`]).
+//!   cycle (`solve_petsc_saddle`).
 //!
 //! Everything PETSc offers is reachable by its options (`PETSC_OPTIONS`, or
 //! the string given to [`initialize_petsc`]: `-pc_type hypre`, `-pc_type lu
