@@ -97,8 +97,64 @@ pub struct Summary {
     pub threads: usize,
     /// Wall-clock seconds per stage.
     pub seconds: Seconds,
+    /// Processes (MPI ranks) the operator was assembled on; absent for one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ranks: Option<usize>,
+    /// What each rank did, rank 0 first; absent for one process.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub per_rank: Option<Vec<RankReport>>,
     /// The version of seam that wrote it.
     pub seam_version: &'static str,
+}
+
+/// What one rank did (`summary.json`'s `per_rank`).
+#[derive(Serialize, Clone, Debug, Default, PartialEq)]
+pub struct RankReport {
+    /// Slave faces it assembled.
+    pub slave_faces: usize,
+    /// Master faces it received for its region (ghosts: it owns none).
+    pub ghost_master_faces: usize,
+    /// Bytes it received (its part of both surfaces).
+    pub bytes_received: u64,
+    /// Bytes it sent (its faces' blocks).
+    pub bytes_sent: u64,
+    /// Seconds it spent assembling its part.
+    pub seconds: f64,
+}
+
+/// Where the operator is assembled: in this process ([`Here`]), or by parts
+/// on other processes (the binary's MPI ranks, with [`seam::parts`]).
+pub trait Assembler {
+    /// (A1)–(D5) for `slave` against `master` (searched by `tree`), and
+    /// what each rank did when there were several.
+    ///
+    /// # Errors
+    /// A [`seam::MortarError`] (wrapped) when the surfaces do not couple;
+    /// anything else when a process failed.
+    fn assemble(
+        &self,
+        master: &SurfaceMesh,
+        tree: &FaceTree,
+        slave: &SurfaceMesh,
+        options: &MortarOptions,
+        progress: &dyn Progress,
+    ) -> anyhow::Result<(Mortar, Option<Vec<RankReport>>)>;
+}
+
+/// The operator assembled in this process, on the current rayon pool.
+pub struct Here;
+
+impl Assembler for Here {
+    fn assemble(
+        &self,
+        master: &SurfaceMesh,
+        tree: &FaceTree,
+        slave: &SurfaceMesh,
+        options: &MortarOptions,
+        progress: &dyn Progress,
+    ) -> anyhow::Result<(Mortar, Option<Vec<RankReport>>)> {
+        Ok((assemble_with_tree(master, tree, slave, options, &|n| progress.advance(n))?, None))
+    }
 }
 
 /// Stored entries of the matrices.
@@ -138,6 +194,19 @@ pub struct Seconds {
 /// (unreadable input, existing output without `force`, a non-finite T) is a
 /// [`Failure::Error`] naming the file.
 pub fn assemble_files(args: &Assemble, progress: &dyn Progress) -> Result<Assembled, Failure> {
+    assemble_files_with(args, progress, &Here)
+}
+
+/// [`assemble_files`] with the operator from `assembler`: the same files,
+/// byte for byte, wherever it is assembled.
+///
+/// # Errors
+/// See [`assemble_files`].
+pub fn assemble_files_with(
+    args: &Assemble,
+    progress: &dyn Progress,
+    assembler: &dyn Assembler,
+) -> Result<Assembled, Failure> {
     let start = Instant::now();
     let options = MortarOptions { record_segments: args.segments.is_some(), ..args.options };
     let file = |name: &str| args.output.join(name);
@@ -161,8 +230,13 @@ pub fn assemble_files(args: &Assemble, progress: &dyn Progress) -> Result<Assemb
 
     let t = Instant::now();
     progress.start(slave.n_faces());
-    let mortar = assemble_with_tree(&master, &tree, &slave, &options, &|n| progress.advance(n))
-        .map_err(|e| Failure::from_coupling(e, &args.pair.slave, &args.pair.master))?;
+    let (mortar, per_rank) =
+        assembler.assemble(&master, &tree, &slave, &options, progress).map_err(|e| match e
+            .downcast::<seam::MortarError>()
+        {
+            Ok(e) => Failure::from_coupling(e, &args.pair.slave, &args.pair.master),
+            Err(e) => Failure::Error(e),
+        })?;
     progress.finish();
     // T is written when D is diagonal (dual, lumped); for standard multipliers it
     // is dense and never formed, so no factorisation is spent on it here.
@@ -208,8 +282,9 @@ pub fn assemble_files(args: &Assemble, progress: &dyn Progress) -> Result<Assemb
     seconds.write = t.elapsed().as_secs_f64();
     seconds.total = start.elapsed().as_secs_f64();
 
-    let summary =
+    let mut summary =
         summary(args, &options, &mortar, t_matrix.map(|t| t.nnz()), rayon::current_num_threads(), seconds);
+    (summary.ranks, summary.per_rank) = (per_rank.as_ref().map(Vec::len), per_rank);
     let json = serde_json::to_string_pretty(&summary).context("summary")?;
     out.write(&file("summary.json"), |p| std::fs::write(p, json + "\n"))?;
     out.commit(&[file("T.mtx"), file("Q.mtx")])?;
@@ -261,6 +336,8 @@ fn summary(
         nnz: Nnz { b: mortar.b.nnz(), d: mortar.d.nnz(), t: nnz_t },
         threads,
         seconds,
+        ranks: None,
+        per_rank: None,
         seam_version: env!("CARGO_PKG_VERSION"),
     }
 }

@@ -13,17 +13,43 @@ use std::sync::OnceLock;
 const PROGRESS_FROM: usize = 20_000;
 
 pub fn run(args: &AssembleArgs) -> Result<(), Failure> {
-    let options = options(&args.coupling)?;
     let pool = thread_pool(args.coupling.threads)?;
-    let job = Assemble {
+    pool.install(|| assemble_files(&job(args)?, &Bar::default()))?;
+    Ok(())
+}
+
+/// Rank 0 of `mpirun -np N seam assemble` ([`crate::ranks`]): the same files.
+/// MPI is called from this (the main) thread only; the work runs on rayon's
+/// global pool, sized by `--threads`.
+#[cfg(feature = "mpi")]
+pub fn run_over_ranks(args: &AssembleArgs, ranks: &crate::ranks::Ranks) -> Result<(), Failure> {
+    let assembler = ranks.assembler();
+    let result = global_pool(args.coupling.threads)
+        .map_err(Failure::from)
+        .and_then(|()| seam_case::assemble::assemble_files_with(&job(args)?, &Bar::default(), &assembler));
+    assembler.release();
+    result.map(|_| ())
+}
+
+/// Sizes rayon's global pool by `--threads` (all cores without it).
+#[cfg(feature = "mpi")]
+pub fn global_pool(threads: Option<usize>) -> anyhow::Result<()> {
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        let n = seam_case::threads::check_threads(n).map_err(|e| anyhow::anyhow!("--threads: {e}"))?;
+        builder = builder.num_threads(n);
+    }
+    builder.build_global().context("cannot start the worker threads")
+}
+
+fn job(args: &AssembleArgs) -> anyhow::Result<Assemble> {
+    Ok(Assemble {
         pair: pair(&args.pair),
         output: args.output.clone(),
-        options,
+        options: options(&args.coupling)?,
         segments: args.segments.clone(),
         force: args.force,
-    };
-    pool.install(|| assemble_files(&job, &Bar::default()))?;
-    Ok(())
+    })
 }
 
 /// The two surfaces of the flags.

@@ -15,6 +15,8 @@ mod assemble;
 mod bench;
 mod check;
 mod example;
+#[cfg(feature = "mpi")]
+mod ranks;
 mod solve;
 mod transfer;
 
@@ -27,11 +29,20 @@ use std::process::ExitCode;
 pub use seam_case::Failure;
 
 fn main() -> ExitCode {
+    #[cfg(feature = "mpi")]
+    let ranks = match ranks::Ranks::initialize() {
+        Ok(ranks) => ranks,
+        Err(e) => return exit(Err(Failure::Error(e))),
+    };
+    #[cfg(feature = "mpi")]
+    if ranks.size() > 1 {
+        return over_ranks(&ranks);
+    }
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => return usage_error(e),
     };
-    let result = match cli.command {
+    let code = exit(match cli.command {
         Command::Assemble(a) => assemble::run(&a),
         Command::Transfer(t) => transfer::run(&t),
         Command::Check(c) => check::run(&c),
@@ -40,7 +51,42 @@ fn main() -> ExitCode {
         Command::Bench(b) => bench::run(&b),
         Command::BenchCase(c) => bench::run_case(&c),
         Command::BenchTransfer(t) => bench::run_transfer(&t),
+    });
+    // PETSc (if a solve started it) before MPI.
+    #[cfg(feature = "mpi")]
+    {
+        seam_fem::petsc::finalize_petsc();
+        drop(ranks);
+    }
+    code
+}
+
+/// Under `mpirun -np N` with N > 1: `assemble` over the ranks ([`ranks`]);
+/// every other command is refused. Only rank 0 speaks.
+#[cfg(feature = "mpi")]
+fn over_ranks(ranks: &ranks::Ranks) -> ExitCode {
+    let quiet = ExitCode::from(2);
+    let command = match Cli::try_parse() {
+        Ok(cli) => cli.command,
+        Err(e) if ranks.rank() == 0 => return usage_error(e),
+        Err(_) => return quiet,
     };
+    match (command, ranks.rank()) {
+        (Command::Assemble(a), 0) => exit(assemble::run_over_ranks(&a, ranks)),
+        (Command::Assemble(a), _) => match assemble::global_pool(a.coupling.threads) {
+            Ok(()) if ranks.work().is_ok() => ExitCode::SUCCESS,
+            _ => quiet,
+        },
+        (_, 0) => exit(Err(Failure::Error(anyhow::anyhow!(
+            "only `seam assemble` runs over MPI ranks ({} here): run other commands without mpirun or with -np 1",
+            ranks.size()
+        )))),
+        _ => quiet,
+    }
+}
+
+/// The exit code of a command's result, its error as one line on stderr.
+fn exit(result: Result<(), Failure>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::NoCoupling(e)) => {

@@ -95,6 +95,13 @@ pub fn initialize_petsc(options: &str) -> Result<(), SolveError> {
     }
 }
 
+/// Finalises PETSc if it was initialised (a program that finalises MPI
+/// itself calls this first); nothing without the feature.
+pub fn finalize_petsc() {
+    #[cfg(feature = "petsc")]
+    seam_petsc::finalize();
+}
+
 /// The six rigid-body modes of `points` (GAMG's near-nullspace) in the
 /// unknowns x of a reduced system u = P x: zero at the dofs that `retained`
 /// marks eliminated ([`NONE`]), then taken into nodal frames by `rotation`ᵀ.

@@ -67,6 +67,7 @@ mod ffi {
             errlen: usize,
         ) -> c_int;
         pub fn seam_petsc_petscint_size() -> c_int;
+        pub fn seam_petsc_finalize();
         pub fn seam_petsc_system_create(
             n: PetscInt,
             n_first: PetscInt,
@@ -130,6 +131,16 @@ fn lock() -> std::sync::MutexGuard<'static, Initialised> {
     // A panic while holding the lock leaves PETSc in a consistent state (the
     // shim has returned): go on with the guard.
     PETSC.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Finalises PETSc now, if it was initialised: for a program that
+/// initialised MPI itself and finalises it before exiting (PETSc must go
+/// first). Later PETSc calls fail; the exit handler does nothing.
+pub fn finalize() {
+    let _guard = lock();
+    // SAFETY: no argument; PetscFinalize when PETSc is initialised and not
+    // finalised, under the lock that every other PETSc call takes.
+    unsafe { ffi::seam_petsc_finalize() }
 }
 
 /// Initialises PETSc on the first call (with `options`, a string of PETSc

@@ -69,6 +69,13 @@ static void finalize_at_exit(void)
   if (initialized && !finalized) PetscFinalize();
 }
 
+/* Finalises PETSc now if it was initialised (before the caller finalises an
+ * MPI it initialised itself); the exit handler then does nothing. */
+void seam_petsc_finalize(void)
+{
+  finalize_at_exit();
+}
+
 static double now(void)
 {
   PetscLogDouble t = 0;

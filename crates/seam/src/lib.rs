@@ -58,6 +58,7 @@ mod mortar;
 mod quadrature;
 mod search;
 mod sparse;
+mod wire;
 
 pub use clip::{
     clip_polygon_polygon, convex_hull, face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame,
@@ -77,3 +78,8 @@ pub use mortar::{
 pub use quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};
 pub use search::{face_box, swept_box, FaceTree};
 pub use sparse::CsrMatrix;
+pub use wire::WireError;
+/// The operator in parts, for distributed memory (MPI ranks).
+pub mod parts {
+    pub use crate::mortar::parts::*;
+}

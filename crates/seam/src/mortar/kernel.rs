@@ -118,6 +118,35 @@ impl Rules {
     }
 }
 
+/// (A1) The search box of first-order slave face `f`: its corners' box swept
+/// by the gap limit along its normal.
+fn flat_search_box(slave: &SurfaceMesh, f: usize, options: &MortarOptions) -> (Point3, Point3) {
+    let element = FaceElement::of(slave, f);
+    swept_box(element.corners(), element.normal(), options.max_gap.at(element.diameter()))
+}
+
+/// (A1) The search box of slave face `f` on the curved path: its control
+/// net's box swept by the gap limit along its normal at the centre.
+fn curved_search_box(face: &CurvedFace, normal: Point3, options: &MortarOptions) -> (Point3, Point3) {
+    let x0 = face.x[0];
+    let h = face.nodes().iter().fold(0.0f64, |m, &x| m.max(crate::element::norm(crate::element::sub(x, x0))));
+    isoparametric::control_box(face, normal, options.max_gap.at(h))
+}
+
+/// A box enclosing every search box the kernel may use for slave face `f`
+/// (a first-order face takes the curved path against a curved master).
+pub(super) fn search_box(slave: &SurfaceMesh, f: usize, options: &MortarOptions) -> (Point3, Point3) {
+    let face = CurvedFace::of(slave, f);
+    let (lo, hi) = curved_search_box(&face, face.normal(face.kind.centre()), options);
+    match slave.faces()[f].is_curved() {
+        true => (lo, hi),
+        false => {
+            let (a, b) = flat_search_box(slave, f, options);
+            (std::array::from_fn(|k| lo[k].min(a[k])), std::array::from_fn(|k| hi[k].max(b[k])))
+        }
+    }
+}
+
 fn rule(degree: usize) -> TriangleRule {
     triangle_rule(degree).expect("degree checked against MAX_TRIANGLE_DEGREE")
 }
@@ -223,6 +252,7 @@ impl<'a> Kernel<'a> {
         tree: &'a FaceTree,
         slave: &'a SurfaceMesh,
         options: &'a MortarOptions,
+        transform: bool,
     ) -> Self {
         Kernel {
             master,
@@ -242,7 +272,7 @@ impl<'a> Kernel<'a> {
                 })
                 .collect(),
             curved_master: master.faces().iter().any(|f| f.is_curved()),
-            transform: super::multiplier::transforms(slave, options.transformation),
+            transform,
         }
     }
 
@@ -352,9 +382,7 @@ impl<'a> Kernel<'a> {
             if self.slave.faces()[f].is_curved() {
                 continue;
             }
-            let element = FaceElement::of(self.slave, f);
-            let gap_tol = self.options.max_gap.at(element.diameter());
-            let b = swept_box(element.corners(), element.normal(), gap_tol);
+            let b = flat_search_box(self.slave, f, self.options);
             scratch.group_boxes[f - start] = b;
             largest = largest.max(extent(b.0, b.1));
             lo = std::array::from_fn(|k| lo[k].min(b.0[k]));
@@ -384,7 +412,7 @@ impl<'a> Kernel<'a> {
             .fold(0.0f64, |m, &x| m.max(crate::element::norm(crate::element::sub(x, face.x[0]))));
         let gap_tol = self.options.max_gap.at(h);
         let mut cs = CurvedSlave::new(face, 1, gap_tol, CLIP_RTOL, AREA_RTOL);
-        let (lo, hi) = isoparametric::control_box(&face, cs.normal(), cs.gap_tol);
+        let (lo, hi) = curved_search_box(&face, cs.normal(), self.options);
         self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates);
         let recorded = out.segments.len();
         loop {

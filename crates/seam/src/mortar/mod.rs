@@ -21,6 +21,7 @@ mod diagnostics;
 mod isoparametric;
 mod kernel;
 mod multiplier;
+pub mod parts;
 mod rows;
 mod transfer;
 
@@ -428,29 +429,26 @@ pub fn assemble_with_tree(
     options: &MortarOptions,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Mortar, MortarError> {
-    check_options(options)?;
-    if options.multiplier == Multiplier::Lumped {
-        let refused = slave.faces().iter().enumerate().find_map(|(f, face)| match face {
-            crate::mesh::Face::Tri6(_) => Some((f, "Tri6")),
-            crate::mesh::Face::Quad8(_) => Some((f, "Quad8")),
-            _ => None,
-        });
-        if let Some((face, kind)) = refused {
-            return Err(MortarError::LumpedSecondOrder { face, kind });
-        }
-    }
-    // Columns of B (master points) and of D (slave points) are kept as u32.
-    for (side, mesh) in [("master", master), ("slave", slave)] {
-        if mesh.n_points() > u32::MAX as usize {
-            return Err(MortarError::InvalidOption(format!(
-                "the {side} mesh has {} points; at most {} are supported",
-                mesh.n_points(),
-                u32::MAX
-            )));
-        }
-    }
-    let kernel = Kernel::new(master, tree, slave, options);
-    const CHUNK: usize = 256;
+    check_inputs(master, slave, options)?;
+    let transform = multiplier::transforms(slave, options.transformation);
+    let blocks = face_blocks(master, tree, slave, options, transform, progress);
+    into_operator(master, tree, slave, options, blocks)
+}
+
+/// Faces per chunk of the assembly (fixed, whatever the thread count: I7).
+const CHUNK: usize = 256;
+
+/// (A1)–(D5) for every face of `slave`: the per-face blocks, in chunks of
+/// [`CHUNK`] faces.
+fn face_blocks(
+    master: &SurfaceMesh,
+    tree: &FaceTree,
+    slave: &SurfaceMesh,
+    options: &MortarOptions,
+    transform: bool,
+    progress: &(dyn Fn(usize) + Sync),
+) -> ChunkedBlocks {
+    let kernel = Kernel::new(master, tree, slave, options, transform);
     let n = slave.n_faces();
     let chunks: Vec<Blocks> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
@@ -465,8 +463,19 @@ pub fn assemble_with_tree(
             blocks
         })
         .collect();
-    drop(kernel); // its per-master-face data is not needed any more (peak memory)
-    let blocks = ChunkedBlocks { chunks, chunk: CHUNK };
+    ChunkedBlocks { chunks, chunk: CHUNK }
+}
+
+/// The operator from the blocks of all slave faces, in face order: the
+/// totals, the rows summed face by face (I7), and the checks of the result.
+fn into_operator(
+    master: &SurfaceMesh,
+    tree: &FaceTree,
+    slave: &SurfaceMesh,
+    options: &MortarOptions,
+    blocks: ChunkedBlocks,
+) -> Result<Mortar, MortarError> {
+    let n = slave.n_faces();
     let summary = summarize(master, slave, blocks.stats());
     if summary.intersecting_pairs == 0 {
         let sum = |f: fn(&FaceStats) -> u32| blocks.stats().map(|s| f(s) as usize).sum();
@@ -495,6 +504,37 @@ pub fn assemble_with_tree(
         }
     }
     Ok(mortar)
+}
+
+/// The options, lumped multipliers on a slave surface that refuses them, and
+/// the point counts (columns are kept as u32).
+fn check_inputs(
+    master: &SurfaceMesh,
+    slave: &SurfaceMesh,
+    options: &MortarOptions,
+) -> Result<(), MortarError> {
+    check_options(options)?;
+    if options.multiplier == Multiplier::Lumped {
+        let refused = slave.faces().iter().enumerate().find_map(|(f, face)| match face {
+            crate::mesh::Face::Tri6(_) => Some((f, "Tri6")),
+            crate::mesh::Face::Quad8(_) => Some((f, "Quad8")),
+            _ => None,
+        });
+        if let Some((face, kind)) = refused {
+            return Err(MortarError::LumpedSecondOrder { face, kind });
+        }
+    }
+    // Columns of B (master points) and of D (slave points) are kept as u32.
+    for (side, mesh) in [("master", master), ("slave", slave)] {
+        if mesh.n_points() > u32::MAX as usize {
+            return Err(MortarError::InvalidOption(format!(
+                "the {side} mesh has {} points; at most {} are supported",
+                mesh.n_points(),
+                u32::MAX
+            )));
+        }
+    }
+    Ok(())
 }
 
 fn check_options(o: &MortarOptions) -> Result<(), MortarError> {

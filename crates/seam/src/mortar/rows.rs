@@ -13,6 +13,7 @@ use super::{FaceStats, Mortar, MortarSummary, Multiplier, Segment, COVERED_FRACT
 use crate::curved::CurvedKind;
 use crate::mesh::SurfaceMesh;
 use crate::sparse::CsrMatrix;
+use crate::wire::{Reader, WireError, Writer};
 use rayon::prelude::*;
 
 /// Per-face blocks of a range of slave faces, in face order, each stored
@@ -84,6 +85,139 @@ impl Blocks {
         self.full.extend_from_slice(&measures.full[..n_s]);
         self.node_ptr.push(self.full.len());
         self.faces.push(stats);
+    }
+
+    /// Number of faces held.
+    pub(super) fn len(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Whether every column is below `n`.
+    pub(super) fn columns_below(&self, n: usize) -> bool {
+        self.cols.iter().all(|&c| (c as usize) < n)
+    }
+
+    /// Appends face `k` of `other` (its blocks, measures, statistics and
+    /// segments).
+    pub(super) fn push_face_from(&mut self, other: &Blocks, k: usize) {
+        let (cols, b) = (other.col_ptr[k]..other.col_ptr[k + 1], other.b_ptr[k]..other.b_ptr[k + 1]);
+        self.cols.extend_from_slice(&other.cols[cols]);
+        self.b.extend_from_slice(&other.b[b]);
+        self.col_ptr.push(self.cols.len());
+        self.b_ptr.push(self.b.len());
+        self.d.extend_from_slice(&other.d[other.d_ptr[k]..other.d_ptr[k + 1]]);
+        self.d_ptr.push(self.d.len());
+        let nodes = other.node_ptr[k]..other.node_ptr[k + 1];
+        self.covered.extend_from_slice(&other.covered[nodes.clone()]);
+        self.full.extend_from_slice(&other.full[nodes]);
+        self.node_ptr.push(self.full.len());
+        self.faces.push(other.faces[k]);
+    }
+
+    /// Renumbers the columns (master points) by `global` and the segments'
+    /// faces by `slave_faces` and `master_faces` (a part's local numbering to
+    /// the whole surfaces').
+    pub(super) fn renumber(&mut self, global: &[usize], slave_faces: &[usize], master_faces: &[usize]) {
+        for c in &mut self.cols {
+            *c = global[*c as usize] as u32;
+        }
+        for s in &mut self.segments {
+            (s.slave, s.master) = (slave_faces[s.slave], master_faces[s.master]);
+        }
+    }
+
+    /// Appends the blocks to `w` ([`crate::wire`]).
+    pub(super) fn encode(&self, w: &mut Writer) {
+        w.usizes(&self.col_ptr);
+        w.u32s(&self.cols);
+        w.f64s(&self.b);
+        w.usizes(&self.b_ptr);
+        w.f64s(&self.d);
+        w.usizes(&self.d_ptr);
+        w.f64s(&self.covered);
+        w.f64s(&self.full);
+        w.usizes(&self.node_ptr);
+        w.usize(self.faces.len());
+        for f in &self.faces {
+            for v in [f.area, f.covered_area, f.max_gap, f.max_overlap] {
+                w.f64(v);
+            }
+            let counts = [f.candidates, f.rejected_angle, f.rejected_gap, f.empty, f.intersecting];
+            for v in counts.into_iter().chain([f.segments, f.inverse_failures, f.dual_fallbacks]) {
+                w.u64(u64::from(v));
+            }
+        }
+        w.usize(self.segments.len());
+        for s in &self.segments {
+            w.usize(s.slave);
+            w.usize(s.master);
+            s.corners.iter().flatten().for_each(|&x| w.f64(x));
+        }
+    }
+
+    /// Reads what [`Blocks::encode`] wrote, checking that the offsets are
+    /// consistent with the arrays.
+    pub(super) fn decode(r: &mut Reader) -> Result<Blocks, WireError> {
+        let mut b = Blocks {
+            col_ptr: r.usizes()?,
+            cols: r.u32s()?,
+            b: r.f64s()?,
+            b_ptr: r.usizes()?,
+            d: r.f64s()?,
+            d_ptr: r.usizes()?,
+            covered: r.f64s()?,
+            full: r.f64s()?,
+            node_ptr: r.usizes()?,
+            ..Blocks::default()
+        };
+        let n = r.usize()?;
+        for _ in 0..n.min(r.0.len() / 96) {
+            let [area, covered_area, max_gap, max_overlap] = [r.f64()?, r.f64()?, r.f64()?, r.f64()?];
+            let mut count = || r.u64().and_then(|v| u32::try_from(v).map_err(|_| WireError));
+            b.faces.push(FaceStats {
+                area,
+                covered_area,
+                max_gap,
+                max_overlap,
+                candidates: count()?,
+                rejected_angle: count()?,
+                rejected_gap: count()?,
+                empty: count()?,
+                intersecting: count()?,
+                segments: count()?,
+                inverse_failures: count()?,
+                dual_fallbacks: count()?,
+            });
+        }
+        let segments = r.usize()?;
+        for _ in 0..segments.min(r.0.len() / 88) {
+            let (slave, master) = (r.usize()?, r.usize()?);
+            let mut corners = [[0.0; 3]; 3];
+            for x in corners.iter_mut().flatten() {
+                *x = r.f64()?;
+            }
+            b.segments.push(Segment { slave, master, corners });
+        }
+        let consistent = |ptr: &[usize], len: usize| {
+            ptr.len() == n + 1 && ptr[0] == 0 && ptr[n] == len && ptr.windows(2).all(|w| w[0] <= w[1])
+        };
+        let ok = b.faces.len() == n
+            && b.segments.len() == segments
+            && consistent(&b.col_ptr, b.cols.len())
+            && consistent(&b.b_ptr, b.b.len())
+            && consistent(&b.d_ptr, b.d.len())
+            && consistent(&b.node_ptr, b.full.len())
+            && b.covered.len() == b.full.len()
+            && (0..n).all(|f| {
+                let n_s = b.node_ptr[f + 1] - b.node_ptr[f];
+                (1..=MAX_NODES).contains(&n_s)
+                    && b.d_ptr[f + 1] - b.d_ptr[f] == n_s * n_s
+                    && b.b_ptr[f + 1] - b.b_ptr[f] == n_s * (b.col_ptr[f + 1] - b.col_ptr[f])
+            });
+        match ok {
+            true => Ok(b),
+            false => Err(WireError),
+        }
     }
 
     fn n_s(&self, f: usize) -> usize {

@@ -1,0 +1,157 @@
+//! `mpirun -np N seam assemble …` (cargo feature `mpi`): the operator over
+//! MPI ranks, by the library's parts ([`seam::parts`]).
+//!
+//! Rank 0 reads both surfaces, splits the slave faces by recursive coordinate
+//! bisection, and sends each rank its faces and the master faces of its
+//! region (a rendezvous by boxes); every rank assembles its faces' blocks
+//! (rank 0 too) and sends them back; rank 0 sums the rows in face order and
+//! writes the files: the same bytes as one process. Nothing else runs over
+//! ranks yet: any other command under N > 1 ranks is refused.
+//!
+//! Messages are byte arrays (a u64 length, then chunks of at most 1 GiB, so
+//! MPI's 32-bit counts are never exceeded). A rank whose part cannot be had
+//! (rank 0 failed before sending, or the bytes are not a part) gets or sends
+//! an empty message, and every rank exits: rank 0 with its one-line error and
+//! code 2, the others silently with code 2.
+
+use mpi::topology::{Communicator, SimpleCommunicator};
+use mpi::traits::{Destination, Source};
+use seam::parts::{assemble_parts, split, PartBlocks, PartJob};
+use seam::{FaceTree, Mortar, MortarOptions, SurfaceMesh};
+use seam_case::assemble::{Assembler, Progress, RankReport};
+use std::cell::Cell;
+use std::time::Instant;
+
+/// The largest message MPI is handed at once.
+const CHUNK: usize = 1 << 30;
+
+/// MPI for the whole run (finalised when dropped, at the end of `main`).
+pub struct Ranks {
+    _universe: mpi::environment::Universe,
+    world: SimpleCommunicator,
+}
+
+impl Ranks {
+    /// Initialises MPI (a singleton without `mpirun`), to be called from the
+    /// main thread only (rayon's threads never call MPI).
+    pub fn initialize() -> anyhow::Result<Ranks> {
+        let (universe, _) = mpi::initialize_with_threading(mpi::Threading::Funneled)
+            .ok_or_else(|| anyhow::anyhow!("MPI was initialised twice"))?;
+        let world = universe.world();
+        Ok(Ranks { _universe: universe, world })
+    }
+
+    /// Number of ranks.
+    pub fn size(&self) -> usize {
+        self.world.size() as usize
+    }
+
+    /// This rank.
+    pub fn rank(&self) -> usize {
+        self.world.rank() as usize
+    }
+
+    /// Rank 0's assembler: parts to the other ranks, blocks back.
+    pub fn assembler(&self) -> OverRanks<'_> {
+        OverRanks { world: &self.world, sent: Cell::new(false) }
+    }
+
+    /// A rank other than 0: waits for its part, assembles it on rayon's
+    /// global pool and sends the blocks back. `Err` when there was no part
+    /// (rank 0 failed) or it could not be read.
+    pub fn work(&self) -> Result<(), ()> {
+        let root = self.world.process_at_rank(0);
+        let bytes = receive(&root);
+        let job = match bytes.is_empty() {
+            true => return Err(()),
+            false => PartJob::from_bytes(&bytes),
+        };
+        let Ok(job) = job else {
+            send(&root, &[]);
+            return Err(());
+        };
+        let start = Instant::now();
+        let blocks = job.assemble().to_bytes();
+        send(&root, &blocks);
+        root.send(&start.elapsed().as_secs_f64());
+        Ok(())
+    }
+}
+
+/// Rank 0's side of [`Ranks::work`] ([`Assembler`]).
+pub struct OverRanks<'a> {
+    world: &'a SimpleCommunicator,
+    /// Whether the other ranks have had their parts.
+    sent: Cell<bool>,
+}
+
+impl OverRanks<'_> {
+    /// Tells ranks still waiting for a part that there is none (rank 0
+    /// failed before assembling).
+    pub fn release(&self) {
+        if !self.sent.replace(true) {
+            for r in 1..self.world.size() {
+                send(&self.world.process_at_rank(r), &[]);
+            }
+        }
+    }
+}
+
+impl Assembler for OverRanks<'_> {
+    fn assemble(
+        &self,
+        master: &SurfaceMesh,
+        tree: &FaceTree,
+        slave: &SurfaceMesh,
+        options: &MortarOptions,
+        progress: &dyn Progress,
+    ) -> anyhow::Result<(Mortar, Option<Vec<RankReport>>)> {
+        let size = self.world.size() as usize;
+        let parts = split(tree, slave, options, size);
+        let mut reports = vec![RankReport::default(); size];
+        for (r, part) in parts.iter().enumerate().skip(1) {
+            let job = PartJob::new(master, slave, options, part);
+            let bytes = job.to_bytes();
+            send(&self.world.process_at_rank(r as i32), &bytes);
+            reports[r].bytes_received = bytes.len() as u64;
+        }
+        self.sent.set(true);
+        for (r, part) in parts.iter().enumerate() {
+            (reports[r].slave_faces, reports[r].ghost_master_faces) =
+                (part.slave_faces.len(), part.master_faces.len());
+        }
+        let start = Instant::now();
+        let own = PartJob::new(master, slave, options, &parts[0]).assemble();
+        progress.advance(own.len());
+        reports[0].seconds = start.elapsed().as_secs_f64();
+        let mut blocks = vec![own];
+        for (r, report) in reports.iter_mut().enumerate().skip(1) {
+            let process = self.world.process_at_rank(r as i32);
+            let bytes = receive(&process);
+            let part = PartBlocks::from_bytes(&bytes)
+                .map_err(|_| anyhow::anyhow!("MPI rank {r} could not assemble its part of the interface"))?;
+            (report.seconds, _) = process.receive::<f64>();
+            report.bytes_sent = bytes.len() as u64;
+            progress.advance(part.len());
+            blocks.push(part);
+        }
+        Ok((assemble_parts(master, tree, slave, options, &blocks)?, Some(reports)))
+    }
+}
+
+fn send(to: &impl Destination, bytes: &[u8]) {
+    to.send(&(bytes.len() as u64));
+    for chunk in bytes.chunks(CHUNK) {
+        to.send(chunk);
+    }
+}
+
+fn receive(from: &impl Source) -> Vec<u8> {
+    let (len, _) = from.receive::<u64>();
+    let mut bytes = Vec::with_capacity(len as usize);
+    while bytes.len() < len as usize {
+        let (chunk, _) = from.receive_vec::<u8>();
+        bytes.extend_from_slice(&chunk);
+    }
+    bytes
+}
