@@ -135,7 +135,7 @@ impl Assembler for OverRanks<'_> {
             progress.advance(part.len());
             blocks.push(part);
         }
-        Ok((assemble_parts(master, tree, slave, options, &blocks)?, Some(reports)))
+        Ok((assemble_parts(master, tree, slave, options, blocks)?, Some(reports)))
     }
 }
 

@@ -463,7 +463,7 @@ fn face_blocks(
             blocks
         })
         .collect();
-    ChunkedBlocks { chunks, chunk: CHUNK }
+    ChunkedBlocks { chunks, chunk: CHUNK, index: None }
 }
 
 /// The operator from the blocks of all slave faces, in face order: the

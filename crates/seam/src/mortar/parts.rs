@@ -25,6 +25,7 @@ use super::{Mortar, MortarError, MortarOptions, Multiplier};
 use crate::mesh::{Face, Point3, SurfaceMesh};
 use crate::search::FaceTree;
 use crate::wire::{Reader, WireError, Writer};
+use rayon::prelude::*;
 
 /// The part of each of the points `centres`, by recursive coordinate
 /// bisection into `parts` parts: the longest side of the current set's box is
@@ -91,17 +92,15 @@ pub fn split(tree: &FaceTree, slave: &SurfaceMesh, options: &MortarOptions, part
         out[p].slave_faces.push(f);
     }
     for part in &mut out {
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for &f in &part.slave_faces {
-            let (a, b) = search_box(slave, f, options);
-            for k in 0..3 {
-                lo[k] = lo[k].min(a[k]);
-                hi[k] = hi[k].max(b[k]);
-            }
-        }
         if part.slave_faces.is_empty() {
             continue;
         }
+        let empty = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let union = |(a, b): (Point3, Point3), (c, d): (Point3, Point3)| {
+            (std::array::from_fn(|k| a[k].min(c[k])), std::array::from_fn(|k| b[k].max(d[k])))
+        };
+        let (lo, hi): (Point3, Point3) =
+            part.slave_faces.par_iter().map(|&f| search_box(slave, f, options)).reduce(|| empty, union);
         // A margin far above the round-off of the kernel's own boxes: a superset
         // of the candidates is harmless, a missing one is not.
         let margin = 1e-9 * (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max) + 1e-300;
@@ -128,20 +127,20 @@ impl SubSurface {
         if faces.is_empty() {
             return None;
         }
-        let mut local = vec![usize::MAX; mesh.n_points()];
-        for &f in faces {
-            mesh.faces()[f].nodes().iter().for_each(|&n| local[n] = 0);
-        }
-        let mut points = Vec::new();
-        for (n, l) in local.iter_mut().enumerate().filter(|(_, l)| **l == 0) {
-            *l = points.len();
-            points.push(n);
-        }
+        // The points used, ascending; a face's nodes found by binary search
+        // (no array over the whole mesh per part).
+        let mut points: Vec<usize> =
+            faces.iter().flat_map(|&f| mesh.faces()[f].nodes().iter().copied()).collect();
+        points.par_sort_unstable();
+        points.dedup();
+        let local = |n: &usize| points.binary_search(n).expect("a node of the faces");
         let renumbered = faces
-            .iter()
+            .par_iter()
             .map(|&f| {
-                let nodes: Vec<usize> = mesh.faces()[f].nodes().iter().map(|&n| local[n]).collect();
-                Face::from_nodes(&nodes)
+                let mut nodes = [0; 9];
+                let face = mesh.faces()[f].nodes();
+                face.iter().zip(&mut nodes).for_each(|(n, l)| *l = local(n));
+                Face::from_nodes(&nodes[..face.len()])
             })
             .collect();
         let xs = points.iter().map(|&n| mesh.points()[n]).collect();
@@ -350,38 +349,32 @@ pub fn assemble_parts(
     tree: &FaceTree,
     slave: &SurfaceMesh,
     options: &MortarOptions,
-    parts: &[PartBlocks],
+    parts: Vec<PartBlocks>,
 ) -> Result<Mortar, MortarError> {
     check_inputs(master, slave, options)?;
     let n = slave.n_faces();
     let bad = |what: &str| Err(MortarError::InvalidOption(format!("the parts' blocks {what}")));
-    let mut owner = vec![None; n];
-    for (p, part) in parts.iter().enumerate() {
-        let mut k = 0;
-        for (c, chunk) in part.blocks.iter().enumerate() {
+    let mut index = vec![(u32::MAX, 0u32); n];
+    let mut chunks = Vec::new();
+    for part in parts {
+        let mut faces = part.faces.iter();
+        for chunk in part.blocks {
             if !chunk.columns_below(master.n_points()) {
                 return bad("name master points beyond the master surface");
             }
-            for j in 0..chunk.len() {
-                match owner.get_mut(part.faces[k]) {
-                    Some(slot @ None) => *slot = Some((p, c, j)),
+            for k in 0..chunk.len() {
+                let f = *faces.next().expect("as many faces as blocks (checked when read)");
+                match index.get_mut(f) {
+                    Some(slot) if slot.0 == u32::MAX => *slot = (chunks.len() as u32, k as u32),
                     _ => return bad("hold a slave face twice or one beyond the slave surface"),
                 }
-                k += 1;
             }
+            chunks.push(chunk);
         }
     }
-    let mut merged = Blocks::with_capacity(n);
-    for slot in &owner {
-        let Some((p, c, j)) = *slot else { return bad("miss a slave face") };
-        merged.push_face_from(&parts[p].blocks[c], j);
+    if index.iter().any(|slot| slot.0 == u32::MAX) {
+        return bad("miss a slave face");
     }
-    for part in parts {
-        for chunk in &part.blocks {
-            merged.segments.extend_from_slice(&chunk.segments);
-        }
-    }
-    merged.segments.sort_by_key(|s| s.slave);
-    let blocks = ChunkedBlocks { chunks: vec![merged], chunk: n.max(1) };
+    let blocks = ChunkedBlocks { chunks, chunk: n.max(1), index: Some(index) };
     into_operator(master, tree, slave, options, blocks)
 }

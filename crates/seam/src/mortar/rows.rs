@@ -97,23 +97,6 @@ impl Blocks {
         self.cols.iter().all(|&c| (c as usize) < n)
     }
 
-    /// Appends face `k` of `other` (its blocks, measures, statistics and
-    /// segments).
-    pub(super) fn push_face_from(&mut self, other: &Blocks, k: usize) {
-        let (cols, b) = (other.col_ptr[k]..other.col_ptr[k + 1], other.b_ptr[k]..other.b_ptr[k + 1]);
-        self.cols.extend_from_slice(&other.cols[cols]);
-        self.b.extend_from_slice(&other.b[b]);
-        self.col_ptr.push(self.cols.len());
-        self.b_ptr.push(self.b.len());
-        self.d.extend_from_slice(&other.d[other.d_ptr[k]..other.d_ptr[k + 1]]);
-        self.d_ptr.push(self.d.len());
-        let nodes = other.node_ptr[k]..other.node_ptr[k + 1];
-        self.covered.extend_from_slice(&other.covered[nodes.clone()]);
-        self.full.extend_from_slice(&other.full[nodes]);
-        self.node_ptr.push(self.full.len());
-        self.faces.push(other.faces[k]);
-    }
-
     /// Renumbers the columns (master points) by `global` and the segments'
     /// faces by `slave_faces` and `master_faces` (a part's local numbering to
     /// the whole surfaces').
@@ -239,21 +222,34 @@ impl Blocks {
     }
 }
 
-/// The blocks of all slave faces, as the chunks that computed them (face f is
-/// entry f % chunk of chunk f / chunk): no copy into one array.
+/// The blocks of all slave faces, as the chunks that computed them: face f
+/// is entry f % chunk of chunk f / chunk, or, for blocks gathered from parts
+/// ([`super::parts`]), the (chunk, entry) of `index[f]`; no copy into one
+/// array.
 pub(super) struct ChunkedBlocks {
     pub(super) chunks: Vec<Blocks>,
     pub(super) chunk: usize,
+    pub(super) index: Option<Vec<(u32, u32)>>,
 }
 
 impl ChunkedBlocks {
     fn at(&self, f: usize) -> (&Blocks, usize) {
-        (&self.chunks[f / self.chunk], f % self.chunk)
+        match &self.index {
+            Some(index) => (&self.chunks[index[f].0 as usize], index[f].1 as usize),
+            None => (&self.chunks[f / self.chunk], f % self.chunk),
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.chunks.iter().map(Blocks::len).sum()
     }
 
     /// Per-face statistics, in face order.
     pub(super) fn stats(&self) -> impl Iterator<Item = &FaceStats> {
-        self.chunks.iter().flat_map(|c| c.faces.iter())
+        (0..self.len()).map(|f| {
+            let (c, k) = self.at(f);
+            &c.faces[k]
+        })
     }
 }
 
@@ -327,8 +323,12 @@ pub(super) fn into_mortar(
         covered = (0..n).map(|r| covered[r] && qt.row(r).0.iter().all(|&p| covered[p])).collect();
     }
     summary.uncovered_slave_nodes = (0..n).filter(|&p| on_surface[p] && !covered[p]).count();
-    let faces = blocks.chunks.iter_mut().flat_map(|c| std::mem::take(&mut c.faces)).collect();
-    let segments = blocks.chunks.iter_mut().flat_map(|c| std::mem::take(&mut c.segments)).collect();
+    let faces = blocks.stats().copied().collect();
+    let mut segments: Vec<Segment> =
+        blocks.chunks.iter_mut().flat_map(|c| std::mem::take(&mut c.segments)).collect();
+    if blocks.index.is_some() {
+        segments.sort_by_key(|s| s.slave); // stable: each face's own order
+    }
     Mortar { b, d, multiplier, basis, faces, node_coverage, covered, on_surface, segments, summary }
 }
 
@@ -338,14 +338,12 @@ pub(super) fn into_mortar(
 fn node_coverage(slave: &SurfaceMesh, blocks: &ChunkedBlocks) -> Vec<f64> {
     let n = slave.n_points();
     let (mut covered, mut full) = (vec![0.0; n], vec![0.0; n]);
-    let mut faces = slave.faces().iter();
-    for c in &blocks.chunks {
-        for r in c.node_ptr.windows(2) {
-            let nodes = faces.next().expect("one block per slave face").nodes();
-            for ((&p, &a), &b) in nodes.iter().zip(&c.covered[r[0]..r[1]]).zip(&c.full[r[0]..r[1]]) {
-                covered[p] += a;
-                full[p] += b;
-            }
+    for (f, face) in slave.faces().iter().enumerate() {
+        let (c, k) = blocks.at(f);
+        let r = c.node_ptr[k]..c.node_ptr[k + 1];
+        for ((&p, &a), &b) in face.nodes().iter().zip(&c.covered[r.clone()]).zip(&c.full[r]) {
+            covered[p] += a;
+            full[p] += b;
         }
     }
     covered.iter().zip(&full).map(|(&c, &f)| if f > 0.0 { c / f } else { 0.0 }).collect()
