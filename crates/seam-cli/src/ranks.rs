@@ -16,7 +16,7 @@
 
 use mpi::topology::{Communicator, SimpleCommunicator};
 use mpi::traits::{Destination, Source};
-use seam::parts::{assemble_parts, split, PartBlocks, PartJob};
+use seam::parts::{assemble_here, assemble_parts, split, PartBlocks, PartJob};
 use seam::{FaceTree, Mortar, MortarOptions, SurfaceMesh};
 use seam_case::assemble::{Assembler, Progress, RankReport};
 use std::cell::Cell;
@@ -121,7 +121,7 @@ impl Assembler for OverRanks<'_> {
                 (part.slave_faces.len(), part.master_faces.len());
         }
         let start = Instant::now();
-        let own = PartJob::new(master, slave, options, &parts[0]).assemble();
+        let own = assemble_here(master, tree, slave, options, &parts[0]);
         progress.advance(own.len());
         reports[0].seconds = start.elapsed().as_secs_f64();
         let mut blocks = vec![own];
@@ -130,7 +130,7 @@ impl Assembler for OverRanks<'_> {
             let bytes = receive(&process);
             let part = PartBlocks::from_bytes(&bytes)
                 .map_err(|_| anyhow::anyhow!("MPI rank {r} could not assemble its part of the interface"))?;
-            (report.seconds, _) = process.receive::<f64>();
+            (report.seconds, _) = process.receive::<f64>(); // sent right after the blocks
             report.bytes_sent = bytes.len() as u64;
             progress.advance(part.len());
             blocks.push(part);
@@ -146,7 +146,13 @@ fn send(to: &impl Destination, bytes: &[u8]) {
     }
 }
 
+/// Receives a byte array. Waits by probing every 0.2 ms, not in MPI's
+/// blocking receive, which spins: a rank waiting for its part or for the
+/// others' blocks must leave the cores to the ranks still computing.
 fn receive(from: &impl Source) -> Vec<u8> {
+    while from.immediate_probe().is_none() {
+        std::thread::sleep(std::time::Duration::from_micros(200));
+    }
     let (len, _) = from.receive::<u64>();
     let mut bytes = Vec::with_capacity(len as usize);
     while bytes.len() < len as usize {

@@ -25,13 +25,15 @@ fn main() -> anyhow::Result<()> {
     };
     let (sizes, ranks) = (list(1, "1000000"), list(2, "1,2,4"));
     let seam = std::env::var("SEAM").unwrap_or_else(|_| "target/release/seam".into());
-    let dir = tempfile::tempdir()?;
+    let tmp = tempfile::tempdir()?;
+    // SEAM_BENCH_DIR keeps the meshes (and the outputs) for other runs.
+    let dir = std::env::var("SEAM_BENCH_DIR").map_or(tmp.path().to_path_buf(), std::path::PathBuf::from);
     println!("| slave faces | ranks | total s | read s | search s | assemble s | write s | rank seconds | ghost master faces (max share) | bytes exchanged | peak MB per rank |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for &faces in &sizes {
-        let files = seam_examples::transfer_bench::write_problem(faces, dir.path())?;
+        let files = seam_examples::transfer_bench::write_problem(faces, &dir)?;
         for &n in &ranks {
-            let out = dir.path().join(format!("out{n}"));
+            let out = dir.join(format!("out{n}"));
             let start = Instant::now();
             let o = Command::new("mpirun")
                 .args(["--allow-run-as-root", "--oversubscribe", "-np", &n.to_string()])

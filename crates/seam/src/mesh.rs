@@ -260,6 +260,18 @@ impl SurfaceMesh {
         Ok(mesh)
     }
 
+    /// A mesh of faces taken from a valid mesh (their shapes are checked
+    /// there): only the node indices are checked, not the shapes.
+    pub(crate) fn from_valid_faces(points: Vec<Point3>, faces: Vec<Face>) -> Result<Self, MeshError> {
+        for (f, face) in faces.iter().enumerate() {
+            check_element("face", f, face.nodes(), points.len())?;
+        }
+        match faces.is_empty() {
+            true => Err(MeshError::Empty),
+            false => Ok(SurfaceMesh { points, faces }),
+        }
+    }
+
     /// Checks the invariants; returns the first violation.
     ///
     /// # Errors

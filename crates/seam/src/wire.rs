@@ -21,17 +21,20 @@ impl Writer {
 
     pub(crate) fn usizes(&mut self, v: &[usize]) {
         self.usize(v.len());
-        v.iter().for_each(|&x| self.usize(x));
+        self.0.reserve(8 * v.len());
+        v.iter().for_each(|&x| self.0.extend_from_slice(&(x as u64).to_le_bytes()));
     }
 
     pub(crate) fn u32s(&mut self, v: &[u32]) {
         self.usize(v.len());
+        self.0.reserve(4 * v.len());
         v.iter().for_each(|&x| self.0.extend_from_slice(&x.to_le_bytes()));
     }
 
     pub(crate) fn f64s(&mut self, v: &[f64]) {
         self.usize(v.len());
-        v.iter().for_each(|&x| self.f64(x));
+        self.0.reserve(8 * v.len());
+        v.iter().for_each(|&x| self.0.extend_from_slice(&x.to_le_bytes()));
     }
 }
 
@@ -64,28 +67,39 @@ impl Reader<'_> {
         self.take::<8>().map(f64::from_le_bytes)
     }
 
-    /// An array length whose `size`-byte items fit in what is left.
-    fn len(&mut self, size: usize) -> Result<usize, WireError> {
+    /// The bytes of an array of `size`-byte items (its length first), if
+    /// they fit in what is left.
+    fn array(&mut self, size: usize) -> Result<&[u8], WireError> {
         let n = self.usize()?;
-        match n.checked_mul(size) {
-            Some(bytes) if bytes <= self.0.len() => Ok(n),
-            _ => Err(WireError),
-        }
+        let bytes = n.checked_mul(size).filter(|&b| b <= self.0.len()).ok_or(WireError)?;
+        let (head, rest) = self.0.split_at(bytes);
+        self.0 = rest;
+        Ok(head)
     }
 
     pub(crate) fn usizes(&mut self) -> Result<Vec<usize>, WireError> {
-        let n = self.len(8)?;
-        (0..n).map(|_| self.usize()).collect()
+        self.array(8)?
+            .chunks_exact(8)
+            .map(|c| {
+                usize::try_from(u64::from_le_bytes(c.try_into().expect("8 bytes"))).map_err(|_| WireError)
+            })
+            .collect()
     }
 
     pub(crate) fn u32s(&mut self) -> Result<Vec<u32>, WireError> {
-        let n = self.len(4)?;
-        (0..n).map(|_| self.take::<4>().map(u32::from_le_bytes)).collect()
+        Ok(self
+            .array(4)?
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes(c.try_into().expect("4 bytes")))
+            .collect())
     }
 
     pub(crate) fn f64s(&mut self) -> Result<Vec<f64>, WireError> {
-        let n = self.len(8)?;
-        (0..n).map(|_| self.f64()).collect()
+        Ok(self
+            .array(8)?
+            .chunks_exact(8)
+            .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+            .collect())
     }
 
     /// Whether everything was read.

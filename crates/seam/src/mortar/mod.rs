@@ -466,6 +466,30 @@ fn face_blocks(
     ChunkedBlocks { chunks, chunk: CHUNK, index: None }
 }
 
+/// (A1)–(D5) for the slave faces `faces` (ascending) of `slave`: their
+/// blocks, in chunks of [`CHUNK`] of them.
+fn face_blocks_of(
+    master: &SurfaceMesh,
+    tree: &FaceTree,
+    slave: &SurfaceMesh,
+    options: &MortarOptions,
+    transform: bool,
+    faces: &[usize],
+) -> Vec<Blocks> {
+    let kernel = Kernel::new(master, tree, slave, options, transform);
+    faces
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut scratch = Scratch::default();
+            let mut blocks = Blocks::with_capacity(chunk.len());
+            for &s in chunk {
+                kernel.face(s, &mut scratch, &mut blocks);
+            }
+            blocks
+        })
+        .collect()
+}
+
 /// The operator from the blocks of all slave faces, in face order: the
 /// totals, the rows summed face by face (I7), and the checks of the result.
 fn into_operator(

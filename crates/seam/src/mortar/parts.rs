@@ -20,7 +20,9 @@
 
 use super::kernel::search_box;
 use super::rows::{Blocks, ChunkedBlocks};
-use super::{check_inputs, face_blocks, into_operator, multiplier, BasisTransformation, Facing, MaxGap};
+use super::{
+    check_inputs, face_blocks, face_blocks_of, into_operator, multiplier, BasisTransformation, Facing, MaxGap,
+};
 use super::{Mortar, MortarError, MortarOptions, Multiplier};
 use crate::mesh::{Face, Point3, SurfaceMesh};
 use crate::search::FaceTree;
@@ -144,7 +146,7 @@ impl SubSurface {
             })
             .collect();
         let xs = points.iter().map(|&n| mesh.points()[n]).collect();
-        let mesh = SurfaceMesh::new(xs, renumbered).expect("faces of a valid mesh make a valid mesh");
+        let mesh = SurfaceMesh::from_valid_faces(xs, renumbered).expect("faces of a valid mesh");
         Some(SubSurface { mesh, faces: faces.to_vec(), points })
     }
 
@@ -177,7 +179,8 @@ impl SubSurface {
                 Face::from_nodes(&nodes[at - l..at])
             })
             .collect();
-        let mesh = SurfaceMesh::new(xs, faces_local).map_err(|_| WireError)?;
+        // Faces of rank 0's checked mesh: their node indices are checked here.
+        let mesh = SurfaceMesh::from_valid_faces(xs, faces_local).map_err(|_| WireError)?;
         Ok(SubSurface { mesh, faces, points })
     }
 }
@@ -290,6 +293,21 @@ impl PartJob {
         };
         Ok(PartJob { options, transform, faces })
     }
+}
+
+/// (A1)–(D5) for the slave faces of `part` where the whole surfaces are at
+/// hand (rank 0's own part): the blocks [`PartJob::assemble`] would give,
+/// without the copy of the faces.
+pub fn assemble_here(
+    master: &SurfaceMesh,
+    tree: &FaceTree,
+    slave: &SurfaceMesh,
+    options: &MortarOptions,
+    part: &Part,
+) -> PartBlocks {
+    let transform = multiplier::transforms(slave, options.transformation);
+    let blocks = face_blocks_of(master, tree, slave, options, transform, &part.slave_faces);
+    PartBlocks { faces: part.slave_faces.clone(), blocks }
 }
 
 /// The blocks of a part's slave faces, numbered as in the whole surfaces.
