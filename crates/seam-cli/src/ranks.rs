@@ -72,8 +72,9 @@ impl Ranks {
         };
         let start = Instant::now();
         let blocks = job.assemble().to_bytes();
+        let seconds = start.elapsed().as_secs_f64(); // not the wait for rank 0 to receive
         send(&root, &blocks);
-        root.send(&start.elapsed().as_secs_f64());
+        root.send(&seconds);
         Ok(())
     }
 }
@@ -135,7 +136,8 @@ impl Assembler for OverRanks<'_> {
             progress.advance(part.len());
             blocks.push(part);
         }
-        Ok((assemble_parts(master, tree, slave, options, blocks)?, Some(reports)))
+        let m = assemble_parts(master, tree, slave, options, blocks)?;
+        Ok((m, Some(reports)))
     }
 }
 
@@ -154,10 +156,9 @@ fn receive(from: &impl Source) -> Vec<u8> {
         std::thread::sleep(std::time::Duration::from_micros(200));
     }
     let (len, _) = from.receive::<u64>();
-    let mut bytes = Vec::with_capacity(len as usize);
-    while bytes.len() < len as usize {
-        let (chunk, _) = from.receive_vec::<u8>();
-        bytes.extend_from_slice(&chunk);
+    let mut bytes = vec![0u8; len as usize];
+    for chunk in bytes.chunks_mut(CHUNK) {
+        from.receive_into(chunk);
     }
     bytes
 }
