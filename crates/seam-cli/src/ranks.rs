@@ -68,6 +68,7 @@ impl Ranks {
         };
         let Ok(job) = job else {
             send(&root, &[]);
+            root.send(&0.0f64);
             return Err(());
         };
         let start = Instant::now();
@@ -125,19 +126,21 @@ impl Assembler for OverRanks<'_> {
         let own = assemble_here(master, tree, slave, options, &parts[0]);
         progress.advance(own.len());
         reports[0].seconds = start.elapsed().as_secs_f64();
-        let mut blocks = vec![own];
+        // Every rank's answer is received (blocks, then seconds) before any is
+        // judged, so that no rank is left waiting to hand its blocks over.
+        let mut blocks = vec![Ok(own)];
         for (r, report) in reports.iter_mut().enumerate().skip(1) {
             let process = self.world.process_at_rank(r as i32);
             let bytes = receive(&process);
-            let part = PartBlocks::from_bytes(&bytes)
-                .map_err(|_| anyhow::anyhow!("MPI rank {r} could not assemble its part of the interface"))?;
-            (report.seconds, _) = process.receive::<f64>(); // sent right after the blocks
+            (report.seconds, _) = process.receive::<f64>();
             report.bytes_sent = bytes.len() as u64;
-            progress.advance(part.len());
+            let part = PartBlocks::from_bytes(&bytes)
+                .map_err(|_| anyhow::anyhow!("MPI rank {r} could not assemble its part of the interface"));
+            progress.advance(part.as_ref().map_or(0, PartBlocks::len));
             blocks.push(part);
         }
-        let m = assemble_parts(master, tree, slave, options, blocks)?;
-        Ok((m, Some(reports)))
+        let blocks = blocks.into_iter().collect::<anyhow::Result<Vec<_>>>()?;
+        Ok((assemble_parts(master, tree, slave, options, blocks)?, Some(reports)))
     }
 }
 
