@@ -125,19 +125,22 @@ fn flat_search_box(slave: &SurfaceMesh, f: usize, options: &MortarOptions) -> (P
     swept_box(element.corners(), element.normal(), options.max_gap.at(element.diameter()))
 }
 
-/// (A1) The search box of slave face `f` on the curved path: its control
-/// net's box swept by the gap limit along its normal at the centre.
-fn curved_search_box(face: &CurvedFace, normal: Point3, options: &MortarOptions) -> (Point3, Point3) {
+/// The gap limit of slave face `face` on the curved path, for its size h:
+/// the largest distance of a node from the first corner.
+fn curved_gap_tol(face: &CurvedFace, options: &MortarOptions) -> f64 {
     let x0 = face.x[0];
     let h = face.nodes().iter().fold(0.0f64, |m, &x| m.max(crate::element::norm(crate::element::sub(x, x0))));
-    isoparametric::control_box(face, normal, options.max_gap.at(h))
+    options.max_gap.at(h)
 }
 
 /// A box enclosing every search box the kernel may use for slave face `f`
 /// (a first-order face takes the curved path against a curved master).
 pub(super) fn search_box(slave: &SurfaceMesh, f: usize, options: &MortarOptions) -> (Point3, Point3) {
     let face = CurvedFace::of(slave, f);
-    let (lo, hi) = curved_search_box(&face, face.normal(face.kind.centre()), options);
+    // (A1) on the curved path: the control net's box swept by the gap limit
+    // along the normal at the centre.
+    let (lo, hi) =
+        isoparametric::control_box(&face, face.normal(face.kind.centre()), curved_gap_tol(&face, options));
     match slave.faces()[f].is_curved() {
         true => (lo, hi),
         false => {
@@ -406,13 +409,9 @@ impl<'a> Kernel<'a> {
         stats: &mut FaceStats,
     ) -> [f64; MAX_NODES] {
         let face = CurvedFace::of(self.slave, s);
-        let h = face
-            .nodes()
-            .iter()
-            .fold(0.0f64, |m, &x| m.max(crate::element::norm(crate::element::sub(x, face.x[0]))));
-        let gap_tol = self.options.max_gap.at(h);
+        let gap_tol = curved_gap_tol(&face, self.options);
         let mut cs = CurvedSlave::new(face, 1, gap_tol, CLIP_RTOL, AREA_RTOL);
-        let (lo, hi) = curved_search_box(&face, cs.normal(), self.options);
+        let (lo, hi) = isoparametric::control_box(&face, cs.normal(), gap_tol);
         self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates);
         let recorded = out.segments.len();
         loop {
