@@ -145,6 +145,10 @@ pub struct Summary {
     /// The PETSc solver only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub petsc: Option<PetscSummary>,
+    /// The MPI ranks PETSc's systems were distributed over (`mpirun -np N
+    /// seam solve`); absent for one process.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ranks: Option<usize>,
     /// Seconds per phase.
     pub seconds: Seconds,
     /// Worker threads.
@@ -1109,6 +1113,7 @@ fn summary(
         interfaces,
         contact,
         petsc: r.petsc.as_ref().map(PetscSummary::from),
+        ranks: r.petsc.as_ref().map(|p| p.ranks).filter(|&n| n > 1),
         seconds,
         threads: rayon::current_num_threads(),
         seam_version: env!("CARGO_PKG_VERSION"),

@@ -61,8 +61,10 @@ fn main() -> ExitCode {
     code
 }
 
-/// Under `mpirun -np N` with N > 1: `assemble` over the ranks ([`ranks`]);
-/// every other command is refused. Only rank 0 speaks.
+/// Under `mpirun -np N` with N > 1: `assemble` over the ranks ([`ranks`]),
+/// and `solve --solver petsc` with PETSc's systems over them (rank 0 runs the
+/// pipeline and leads, the others follow its PETSc calls); every other
+/// command is refused. Only rank 0 speaks.
 #[cfg(feature = "mpi")]
 fn over_ranks(ranks: &ranks::Ranks) -> ExitCode {
     let quiet = ExitCode::from(2);
@@ -77,8 +79,30 @@ fn over_ranks(ranks: &ranks::Ranks) -> ExitCode {
             Ok(()) if ranks.work().is_ok() => ExitCode::SUCCESS,
             _ => quiet,
         },
+        (Command::Solve(s), 0) => {
+            seam_fem::petsc::lead_petsc();
+            let result = match s.solver {
+                args::SolverArg::Petsc => solve::run(&s),
+                _ => Err(Failure::Error(anyhow::anyhow!(
+                    "on {} MPI ranks `seam solve` needs --solver petsc (the other solvers run on one process)",
+                    ranks.size()
+                ))),
+            };
+            let code = exit(result);
+            seam_fem::petsc::finalize_petsc(); // releases the other ranks
+            code
+        }
+        (Command::Solve(_), _) => {
+            let followed = seam_fem::petsc::follow_petsc();
+            seam_fem::petsc::finalize_petsc();
+            if followed.is_ok() {
+                ExitCode::SUCCESS
+            } else {
+                quiet
+            }
+        }
         (_, 0) => exit(Err(Failure::Error(anyhow::anyhow!(
-            "only `seam assemble` runs over MPI ranks ({} here): run other commands without mpirun or with -np 1",
+            "only `seam assemble` and `seam solve --solver petsc` run over MPI ranks ({} here): run other commands without mpirun or with -np 1",
             ranks.size()
         )))),
         _ => quiet,

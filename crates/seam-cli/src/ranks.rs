@@ -5,8 +5,9 @@
 //! bisection, and sends each rank its faces and the master faces of its
 //! region (a rendezvous by boxes); every rank assembles its faces' blocks
 //! (rank 0 too) and sends them back; rank 0 sums the rows in face order and
-//! writes the files: the same bytes as one process. Nothing else runs over
-//! ranks yet: any other command under N > 1 ranks is refused.
+//! writes the files: the same bytes as one process. `seam solve --solver
+//! petsc` runs over the ranks by PETSc (`main`); any other command under
+//! N > 1 ranks is refused.
 //!
 //! Messages are byte arrays (a u64 length, then chunks of at most 1 GiB, so
 //! MPI's 32-bit counts are never exceeded). A rank whose part cannot be had
@@ -32,10 +33,12 @@ pub struct Ranks {
 }
 
 impl Ranks {
-    /// Initialises MPI (a singleton without `mpirun`), to be called from the
-    /// main thread only (rayon's threads never call MPI).
+    /// Initialises MPI (a singleton without `mpirun`), from the main thread.
+    /// Calls to MPI come from one thread at a time ("serialized"): the
+    /// operator's from the main thread, PETSc's from whichever thread of the
+    /// solve holds PETSc's lock.
     pub fn initialize() -> anyhow::Result<Ranks> {
-        let (universe, _) = mpi::initialize_with_threading(mpi::Threading::Funneled)
+        let (universe, _) = mpi::initialize_with_threading(mpi::Threading::Serialized)
             .ok_or_else(|| anyhow::anyhow!("MPI was initialised twice"))?;
         let world = universe.world();
         Ok(Ranks { _universe: universe, world })

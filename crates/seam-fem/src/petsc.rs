@@ -76,6 +76,9 @@ pub struct PetscSummary {
     pub setup_seconds: f64,
     /// Seconds of PETSc's solves.
     pub solve_seconds: f64,
+    /// The MPI ranks PETSc's systems were distributed over (1: one process;
+    /// see [`lead_petsc`]).
+    pub ranks: usize,
 }
 
 /// Initialises PETSc once per process with `options` (PETSc's command-line
@@ -95,8 +98,29 @@ pub fn initialize_petsc(options: &str) -> Result<(), SolveError> {
     }
 }
 
+/// Makes this process, rank 0 of an MPI run, lead the other ranks, which
+/// call [`follow_petsc`]: every PETSc solve of this process then runs on all
+/// ranks, each holding a block of the system's rows. Returns the number of
+/// ranks. [`finalize_petsc`] releases the followers.
+#[cfg(feature = "petsc")]
+pub fn lead_petsc() -> usize {
+    seam_petsc::lead()
+}
+
+/// A rank other than 0 of an MPI run whose rank 0 leads ([`lead_petsc`]):
+/// takes its part in every PETSc call of the leader until the leader
+/// finalises; then call [`finalize_petsc`].
+///
+/// # Errors
+/// [`SolveError::Petsc`]: a call failed on this rank (the leader failed too).
+#[cfg(feature = "petsc")]
+pub fn follow_petsc() -> Result<(), SolveError> {
+    seam_petsc::follow().map_err(|e| SolveError::Petsc(e.0))
+}
+
 /// Finalises PETSc if it was initialised (a program that finalises MPI
-/// itself calls this first); nothing without the feature.
+/// itself calls this first; a leader releases its followers); nothing
+/// without the feature.
 pub fn finalize_petsc() {
     #[cfg(feature = "petsc")]
     seam_petsc::finalize();
@@ -378,6 +402,7 @@ fn ksp_solve(
     summary.assembly_seconds += report.assembly_seconds;
     summary.setup_seconds += report.setup_seconds;
     summary.solve_seconds += report.solve_seconds;
+    summary.ranks = report.ranks;
     summary.solves.push(PetscSolve {
         iterations: report.iterations,
         residual,

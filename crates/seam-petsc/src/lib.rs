@@ -22,7 +22,13 @@
 //!   such as `-pc_type nonsense`, a failed setup); a KSP that stops without
 //!   converging is reported by [`Report::converged`] with PETSc's reason.
 //!
-//! One process (`PETSC_COMM_SELF`): the matrices are sequential.
+//! Systems live on `PETSC_COMM_WORLD`: on one process the matrices are
+//! sequential. Under `mpirun` with N > 1 ranks, rank 0 [`lead`]s: it calls
+//! this layer as one process would, and every call is carried out by all
+//! ranks, the others having called [`follow`]; each rank holds a contiguous
+//! block of the rows (whole points, balanced by entries) in PETSc's
+//! distributed matrices and vectors (MPIAIJ), and the solution comes back
+//! whole to rank 0.
 
 use std::ffi::{c_char, c_int, CStr, CString};
 use std::ptr::NonNull;
@@ -49,6 +55,7 @@ mod ffi {
         pub assembly_seconds: f64,
         pub setup_seconds: f64,
         pub solve_seconds: f64,
+        pub ranks: c_int,
     }
 
     /// The shim's opaque `seam_petsc_system` (a Mat and its KSP).
@@ -68,6 +75,8 @@ mod ffi {
         ) -> c_int;
         pub fn seam_petsc_petscint_size() -> c_int;
         pub fn seam_petsc_finalize();
+        pub fn seam_petsc_lead() -> c_int;
+        pub fn seam_petsc_follow(err: *mut c_char, errlen: usize) -> c_int;
         pub fn seam_petsc_system_create(
             n: PetscInt,
             n_first: PetscInt,
@@ -102,10 +111,15 @@ mod ffi {
 use ffi::PetscInt;
 
 /// The one lock around every call into PETSc (not thread-safe).
-static PETSC: Mutex<Initialised> = Mutex::new(Initialised(false));
+static PETSC: Mutex<State> = Mutex::new(State { initialised: false, leading: false });
 
-/// Whether PETSc has been initialised in this process.
-struct Initialised(bool);
+/// PETSc in this process.
+struct State {
+    /// PETSc has been initialised.
+    initialised: bool,
+    /// This process leads the other MPI ranks ([`lead`]).
+    leading: bool,
+}
 
 /// A PETSc failure, as one line.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -127,7 +141,7 @@ fn c_string(field: &[c_char; 64]) -> String {
     unsafe { CStr::from_ptr(field.as_ptr()) }.to_string_lossy().into_owned()
 }
 
-fn lock() -> std::sync::MutexGuard<'static, Initialised> {
+fn lock() -> std::sync::MutexGuard<'static, State> {
     // A panic while holding the lock leaves PETSc in a consistent state (the
     // shim has returned): go on with the guard.
     PETSC.lock().unwrap_or_else(|e| e.into_inner())
@@ -135,12 +149,46 @@ fn lock() -> std::sync::MutexGuard<'static, Initialised> {
 
 /// Finalises PETSc now, if it was initialised: for a program that
 /// initialised MPI itself and finalises it before exiting (PETSc must go
-/// first). Later PETSc calls fail; the exit handler does nothing.
+/// first). A leader first releases its followers ([`follow`] returns there).
+/// Later PETSc calls fail; the exit handler does nothing.
 pub fn finalize() {
     let _guard = lock();
     // SAFETY: no argument; PetscFinalize when PETSc is initialised and not
     // finalised, under the lock that every other PETSc call takes.
     unsafe { ffi::seam_petsc_finalize() }
+}
+
+/// Makes this process (rank 0 of an MPI run that the program initialised)
+/// the leader of the other ranks, which call [`follow`]: every later call of
+/// this layer here runs on all ranks, the systems distributed over them.
+/// Returns the number of ranks. [`finalize`] releases the followers.
+pub fn lead() -> usize {
+    let mut state = lock();
+    // SAFETY: no argument; reads MPI's rank and size (MPI is initialised by
+    // the caller, or the shim reports one process).
+    let size = unsafe { ffi::seam_petsc_lead() };
+    state.leading = true;
+    size.max(1) as usize
+}
+
+/// A rank other than 0 of an MPI run whose rank 0 [`lead`]s: carries out the
+/// leader's calls (PETSc's initialisation, building and solving its systems
+/// on this rank's rows) until the leader finalises; then call [`finalize`].
+///
+/// # Errors
+/// A call failed on this rank (the leader has been told, and has failed
+/// with its own message): PETSc's message.
+pub fn follow() -> Result<(), PetscError> {
+    let mut err = [0 as c_char; ERR_LEN];
+    // SAFETY: err has ERR_LEN bytes. The loop only returns when the leader
+    // releases this rank; no other thread of this process calls PETSc
+    // meanwhile (a follower does nothing else), so the lock is not taken:
+    // the shim's PETSc calls are all on this thread.
+    let code = unsafe { ffi::seam_petsc_follow(err.as_mut_ptr(), ERR_LEN) };
+    match code {
+        0 => Ok(()),
+        _ => Err(error_text(&err, code)),
+    }
 }
 
 /// Initialises PETSc on the first call (with `options`, a string of PETSc
@@ -150,14 +198,15 @@ pub fn finalize() {
 ///
 /// # Errors
 /// PETSc's initialisation failed, the options do not parse, or the process
-/// runs under `mpirun` with more than one rank (this layer is sequential).
+/// runs under `mpirun` with more than one rank without leading them
+/// ([`lead`]).
 pub fn initialize(options: &str) -> Result<(), PetscError> {
-    let mut initialised = lock();
+    let mut state = lock();
     let options_c = CString::new(options)
         .map_err(|_| PetscError("PETSc options must not contain a NUL character".into()))?;
     let mut err = [0 as c_char; ERR_LEN];
     let mut world = 0;
-    let code = if initialised.0 {
+    let code = if state.initialised {
         // SAFETY: PETSc is initialised; the strings are NUL-terminated and
         // outlive the call; err has ERR_LEN bytes; world is a valid int.
         unsafe {
@@ -196,7 +245,7 @@ pub fn initialize(options: &str) -> Result<(), PetscError> {
             )
         };
         if code == 0 {
-            initialised.0 = true;
+            state.initialised = true;
             // SAFETY: a pure function of the shim (returns sizeof(PetscInt)).
             let size = unsafe { ffi::seam_petsc_petscint_size() };
             if size as usize != std::mem::size_of::<PetscInt>() {
@@ -211,9 +260,9 @@ pub fn initialize(options: &str) -> Result<(), PetscError> {
     if code != 0 {
         return Err(error_text(&err, code));
     }
-    if world > 1 {
+    if world > 1 && !state.leading {
         return Err(PetscError(format!(
-            "running on {world} MPI ranks, but this seam solves on one process (build with the mpi feature for more)"
+            "running on {world} MPI ranks, but only rank 0 of `seam solve` built with the mpi feature leads them"
         )));
     }
     Ok(())
@@ -290,6 +339,8 @@ pub struct Report {
     pub setup_seconds: f64,
     /// Seconds of KSPSolve.
     pub solve_seconds: f64,
+    /// The MPI ranks the system was distributed over (1: one process).
+    pub ranks: usize,
 }
 
 impl Report {
@@ -370,7 +421,7 @@ impl System {
             return Err(PetscError("KSP and PC types must not contain a NUL character".into()));
         };
         let guard = lock();
-        if !guard.0 {
+        if !guard.initialised {
             return Err(PetscError("PETSc is not initialised".into()));
         }
         let mut raw = std::ptr::null_mut();
@@ -454,6 +505,7 @@ impl System {
             assembly_seconds: raw.assembly_seconds,
             setup_seconds: raw.setup_seconds,
             solve_seconds: raw.solve_seconds,
+            ranks: raw.ranks.max(1) as usize,
         })
     }
 }

@@ -1,16 +1,27 @@
 /*
  * The C side of seam's PETSc layer: PETSc's API is macro-heavy (communicators,
  * error checking), so the few things seam needs are written here once, in C,
- * against PETSc's own headers, and called from Rust through five functions
- * (src/lib.rs). Every PETSc call is checked; an error returns its code and a
- * one-line message in the caller's buffer (PETSc's return-error handler is
- * pushed at initialisation, so nothing is printed). Single process:
- * PETSC_COMM_SELF.
+ * against PETSc's own headers, and called from Rust (src/lib.rs). Every PETSc
+ * call is checked; an error returns its code and a one-line message in the
+ * caller's buffer (PETSc's return-error handler is pushed at initialisation,
+ * so nothing is printed).
+ *
+ * Systems live on PETSC_COMM_WORLD. One process: sequential matrices, as
+ * before. Under mpirun with N > 1 ranks, rank 0 *leads* (it runs seam's
+ * pipeline and calls the functions below as one process would) and the other
+ * ranks *follow* (seam_petsc_follow): every call of the leader is first
+ * broadcast as a command, with the rows each rank owns (contiguous blocks of
+ * whole points, balanced by entries) sent to it, then all ranks make the same
+ * collective PETSc calls on their rows (MPIAIJ, distributed vectors,
+ * near-nullspace and field splits); a solution's pieces are gathered on the
+ * leader. Every command ends with all ranks agreeing on success (an
+ * MPI_Allreduce of the error code), so that no rank goes on alone.
  */
 #include <petscksp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 /* What a solve reports. */
 typedef struct {
@@ -24,17 +35,45 @@ typedef struct {
   double assembly_seconds; /* building the PETSc matrix */
   double setup_seconds;    /* KSPSetUp: the preconditioner (GAMG's hierarchy) */
   double solve_seconds;    /* KSPSolve */
+  int ranks;               /* the processes the system is distributed over */
 } seam_petsc_report;
 
 /* A matrix with its KSP, the preconditioner set up at the first solve (so
- * that the caller can free its copy of the matrix first), solved
- * with any number of right-hand sides. */
+ * that the caller can free its copy of the matrix first), solved with any
+ * number of right-hand sides. On rank r it holds rows [rstart, rstart + m)
+ * of n; the leader also keeps every rank's first row (ranges, size + 1). */
 typedef struct {
   Mat A;
   KSP ksp;
-  PetscInt n, bs;
+  PetscInt n, bs, rstart, m;
+  PetscInt *ranges;
+  int id;
   double assembly_seconds, setup_seconds;
 } seam_petsc_system;
+
+/* What the leader broadcasts before each call (all ranks run one binary:
+ * the layout is the same everywhere). */
+enum { CMD_INIT = 1, CMD_CREATE, CMD_SOLVE, CMD_DESTROY, CMD_EXIT };
+typedef struct {
+  int cmd, id;
+  PetscInt n, n_first, bs, n_modes, max_it;
+  int symmetric, nonzero_guess, argc;
+  long long bytes; /* CMD_INIT: the options that follow */
+  double rtol;
+  char ksp_type[64], pc_type[64];
+} command;
+
+/* This process leads ranks that follow (rank 0 under mpirun, N > 1). */
+static int leading = 0;
+/* The followers have been told to exit. */
+static int released = 0;
+/* The leader's next system id. */
+static int next_id = 0;
+
+/* The MPI message tag of the leader's data. */
+#define TAG 7301
+/* The most elements handed to MPI at once (its counts are ints). */
+#define CHUNK ((size_t)1 << 27)
 
 static void message(PetscErrorCode code, char *err, size_t len)
 {
@@ -61,6 +100,63 @@ static void message(PetscErrorCode code, char *err, size_t len)
     } \
   } while (0)
 
+static int world_size(void)
+{
+  int initialized = 0, size = 1;
+  (void)MPI_Initialized(&initialized);
+  if (initialized) MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return size;
+}
+
+static int world_rank(void)
+{
+  int initialized = 0, rank = 0;
+  (void)MPI_Initialized(&initialized);
+  if (initialized) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+/* Whether calls are distributed: this process leads other ranks. */
+static int distributed(void)
+{
+  return leading && world_size() > 1;
+}
+
+static void send_array(const void *data, size_t count, MPI_Datatype type, size_t size, int to)
+{
+  const char *p = (const char *)data;
+  for (size_t done = 0; done < count; done += CHUNK) {
+    size_t k = count - done < CHUNK ? count - done : CHUNK;
+    (void)MPI_Send(p + done * size, (int)k, type, to, TAG, MPI_COMM_WORLD);
+  }
+}
+
+static void receive_array(void *data, size_t count, MPI_Datatype type, size_t size, int from)
+{
+  char *p = (char *)data;
+  for (size_t done = 0; done < count; done += CHUNK) {
+    size_t k = count - done < CHUNK ? count - done : CHUNK;
+    (void)MPI_Recv(p + done * size, (int)k, type, from, TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  }
+}
+
+/* The leader's command to every rank (a non-blocking broadcast, which the
+ * followers wait for without spinning: see seam_petsc_follow). */
+static void broadcast(command *c)
+{
+  MPI_Request request;
+  (void)MPI_Ibcast(c, (int)sizeof(*c), MPI_BYTE, 0, MPI_COMM_WORLD, &request);
+  (void)MPI_Wait(&request, MPI_STATUS_IGNORE);
+}
+
+/* Whether every rank succeeded (code 0 here and everywhere). */
+static int agreed(int code)
+{
+  int failed = code != 0, any = failed;
+  if (world_size() > 1) MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  return !any;
+}
+
 static void finalize_at_exit(void)
 {
   PetscBool initialized = PETSC_FALSE, finalized = PETSC_FALSE;
@@ -69,11 +165,33 @@ static void finalize_at_exit(void)
   if (initialized && !finalized) PetscFinalize();
 }
 
+/* The leader tells the followers to leave seam_petsc_follow (once). */
+static void release(void)
+{
+  if (distributed() && !released) {
+    command c;
+    memset(&c, 0, sizeof(c));
+    c.cmd = CMD_EXIT;
+    broadcast(&c);
+    released = 1;
+  }
+}
+
 /* Finalises PETSc now if it was initialised (before the caller finalises an
- * MPI it initialised itself); the exit handler then does nothing. */
+ * MPI it initialised itself); the leader first releases its followers, which
+ * then finalise too. The exit handler then does nothing. */
 void seam_petsc_finalize(void)
 {
+  release();
   finalize_at_exit();
+}
+
+/* Makes this process the leader of the other ranks (which must call
+ * seam_petsc_follow); returns the number of ranks. */
+int seam_petsc_lead(void)
+{
+  leading = world_rank() == 0;
+  return world_size();
 }
 
 static double now(void)
@@ -83,11 +201,9 @@ static double now(void)
   return (double)t;
 }
 
-/* Initialises PETSc (and MPI) once per process with the options in argv
- * (after PETSC_OPTIONS, which PETSc reads itself); PetscFinalize runs at
- * process exit (so that -log_view prints). Later calls insert their options
- * into the database. Returns 0 or an error code. */
-int seam_petsc_initialize(int argc, char **argv, const char *more, int *world_size, char *err, size_t errlen)
+/* PETSc's initialisation on this process with argv (argc words), or the
+ * options `more` added to the database when it is initialised. */
+static int initialize_here(int argc, char **argv, const char *more, char *err, size_t errlen)
 {
   PetscErrorCode code = 0;
   PetscBool      initialized = PETSC_FALSE;
@@ -102,14 +218,46 @@ int seam_petsc_initialize(int argc, char **argv, const char *more, int *world_si
     atexit(finalize_at_exit);
   }
   if (more && *more) TRY(PetscOptionsInsertString(NULL, more));
-  {
-    PetscMPIInt size = 1;
-    if (MPI_Comm_size(PETSC_COMM_WORLD, &size) != MPI_SUCCESS) size = -1;
-    *world_size = (int)size;
-  }
   return 0;
 fail:
   return (int)code;
+}
+
+/* Initialises PETSc (and MPI, unless the caller did) once per process with
+ * the options in argv (after PETSC_OPTIONS, which PETSc reads itself);
+ * PetscFinalize runs at process exit (so that -log_view prints). Later calls
+ * insert `more` into the database. The leader's followers do the same.
+ * Returns 0 or an error code; *world_size is the number of ranks. */
+int seam_petsc_initialize(int argc, char **argv, const char *more, int *world, char *err, size_t errlen)
+{
+  int code;
+  *world = world_size();
+  if (distributed()) {
+    /* argv's words then `more`, each NUL-terminated, after the command. */
+    command c;
+    size_t  bytes = more ? strlen(more) + 1 : 1;
+    memset(&c, 0, sizeof(c));
+    for (int k = 0; k < argc; k++) bytes += strlen(argv[k]) + 1;
+    char *packed = (char *)calloc(bytes, 1), *p = packed;
+    if (!packed) {
+      snprintf(err, errlen, "out of memory");
+      return PETSC_ERR_MEM;
+    }
+    for (int k = 0; k < argc; k++) p = stpcpy(p, argv[k]) + 1;
+    if (more) strcpy(p, more);
+    c.cmd   = CMD_INIT;
+    c.argc  = argc;
+    c.bytes = (long long)bytes;
+    broadcast(&c);
+    (void)MPI_Bcast(packed, (int)bytes, MPI_BYTE, 0, MPI_COMM_WORLD);
+    free(packed);
+  }
+  code = initialize_here(argc, argv, more, err, errlen);
+  if (!agreed(code) && !code) {
+    snprintf(err, errlen, "PETSc failed to start on another MPI rank");
+    code = PETSC_ERR_LIB;
+  }
+  return code;
 }
 
 /* sizeof(PetscInt), for the Rust side to check its index type. */
@@ -118,48 +266,63 @@ int seam_petsc_petscint_size(void)
   return (int)sizeof(PetscInt);
 }
 
-/* The n × n matrix of the CSR arrays (0-based, sorted columns) as AIJ, or
- * what -mat_type chooses, with block size bs. */
-static PetscErrorCode build_matrix(PetscInt n, PetscInt bs, const PetscInt *rowptr, const PetscInt *cols,
-                                   const PetscScalar *vals, int symmetric, Mat *out)
+/* Rows [rstart, rstart + m) of the n × n matrix (local CSR, 0-based, global
+ * sorted columns) as AIJ, or what -mat_type chooses, with block size bs; the
+ * columns of the same range are this rank's diagonal block. */
+static PetscErrorCode build_matrix(PetscInt n, PetscInt rstart, PetscInt m, PetscInt bs, const PetscInt *rowptr,
+                                   const PetscInt *cols, const PetscScalar *vals, int symmetric, Mat *out)
 {
   Mat       A;
-  PetscInt *nnz, *bnnz, *mark;
+  PetscInt *nnz, *onnz, *bnnz, *bonnz, *mark;
+  PetscInt  nb = m / bs + 1, rend = rstart + m;
   PetscBool sbaij = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  PetscCall(MatCreate(PETSC_COMM_SELF, &A));
-  PetscCall(MatSetSizes(A, n, n, n, n));
+  PetscCall(MatCreate(PETSC_COMM_WORLD, &A));
+  PetscCall(MatSetSizes(A, m, m, n, n));
   PetscCall(MatSetType(A, MATAIJ));
   PetscCall(MatSetBlockSize(A, bs));
   PetscCall(MatSetFromOptions(A));
-  /* Preallocation for AIJ (entries per row) and BAIJ/SBAIJ (blocks per
-   * block row); only the call of the matrix's type takes effect. */
-  PetscCall(PetscMalloc1(n, &nnz));
-  PetscCall(PetscCalloc1(n / bs + 1, &bnnz));
+  /* Preallocation for AIJ (entries per row, in the diagonal block and off
+   * it) and BAIJ/SBAIJ (blocks per block row); only the calls of the
+   * matrix's type take effect. */
+  PetscCall(PetscCalloc1(m + 1, &nnz));
+  PetscCall(PetscCalloc1(m + 1, &onnz));
+  PetscCall(PetscCalloc1(nb, &bnnz));
+  PetscCall(PetscCalloc1(nb, &bonnz));
   PetscCall(PetscMalloc1(n / bs + 1, &mark));
   for (PetscInt r = 0; r <= n / bs; r++) mark[r] = -1;
-  for (PetscInt i = 0; i < n; i++) {
-    nnz[i] = rowptr[i + 1] - rowptr[i];
+  for (PetscInt i = 0; i < m; i++) {
     for (PetscInt j = rowptr[i]; j < rowptr[i + 1]; j++) {
-      PetscInt block = cols[j] / bs;
+      PetscInt  col = cols[j], block = col / bs;
+      PetscBool diagonal = col >= rstart && col < rend;
+      if (diagonal) nnz[i]++;
+      else onnz[i]++;
       if (mark[block] != i / bs) {
         mark[block] = i / bs;
-        bnnz[i / bs]++;
+        if (diagonal) bnnz[i / bs]++;
+        else bonnz[i / bs]++;
       }
     }
   }
   PetscCall(MatSeqAIJSetPreallocation(A, 0, nnz));
+  PetscCall(MatMPIAIJSetPreallocation(A, 0, nnz, 0, onnz));
   PetscCall(MatSeqBAIJSetPreallocation(A, bs, 0, bnnz));
+  PetscCall(MatMPIBAIJSetPreallocation(A, bs, 0, bnnz, 0, bonnz));
   PetscCall(MatSeqSBAIJSetPreallocation(A, bs, 0, bnnz));
+  PetscCall(MatMPISBAIJSetPreallocation(A, bs, 0, bnnz, 0, bonnz));
   PetscCall(PetscFree(nnz));
+  PetscCall(PetscFree(onnz));
   PetscCall(PetscFree(bnnz));
+  PetscCall(PetscFree(bonnz));
   PetscCall(PetscFree(mark));
   PetscCall(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &sbaij, MATSEQSBAIJ, MATSBAIJ, ""));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &sbaij, MATSEQSBAIJ, MATMPISBAIJ, MATSBAIJ, ""));
   if (sbaij) PetscCall(MatSetOption(A, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
-  for (PetscInt i = 0; i < n; i++)
-    PetscCall(MatSetValues(A, 1, &i, rowptr[i + 1] - rowptr[i], cols + rowptr[i], vals + rowptr[i], INSERT_VALUES));
+  for (PetscInt i = 0; i < m; i++) {
+    PetscInt row = rstart + i;
+    PetscCall(MatSetValues(A, 1, &row, rowptr[i + 1] - rowptr[i], cols + rowptr[i], vals + rowptr[i], INSERT_VALUES));
+  }
   PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
   if (symmetric) PetscCall(MatSetOption(A, MAT_SYMMETRIC, PETSC_TRUE));
@@ -167,16 +330,38 @@ static PetscErrorCode build_matrix(PetscInt n, PetscInt bs, const PetscInt *rowp
   PetscFunctionReturn(0);
 }
 
-/* Builds the n × n matrix (CSR, 0-based, sorted columns; block size bs) as
- * AIJ (or what -mat_type chooses), the n_modes orthonormal vectors at
- * `modes` (n entries each, one after the other; the rigid-body modes for
- * elasticity) as its near-nullspace, and a KSP of
- * `ksp_type` with `pc_type` (defaults that options override), relative
- * tolerance rtol and at most max_it iterations; sets the preconditioner up. */
-int seam_petsc_system_create(PetscInt n, PetscInt n_first, PetscInt bs, const PetscInt *rowptr,
-                             const PetscInt *cols, const PetscScalar *vals, const PetscScalar *modes,
-                             PetscInt n_modes, int symmetric, const char *ksp_type, const char *pc_type, double rtol,
-                             PetscInt max_it, seam_petsc_system **out, char *err, size_t errlen)
+/* The rows of each rank: contiguous, balanced by entries, split between
+ * points (multiples of bs) below n_first. */
+static void partition_rows(PetscInt n, PetscInt n_first, PetscInt bs, const PetscInt *rowptr, int size, PetscInt *ranges)
+{
+  ranges[0]    = 0;
+  ranges[size] = n;
+  for (int r = 1; r < size; r++) {
+    double   target = (double)rowptr[n] * r / size;
+    PetscInt lo = ranges[r - 1], hi = n;
+    while (lo < hi) { /* the first row whose entries before it reach the target */
+      PetscInt mid = lo + (hi - lo) / 2;
+      if ((double)rowptr[mid] < target) lo = mid + 1;
+      else hi = mid;
+    }
+    if (lo < n_first) lo -= lo % bs;
+    ranges[r] = lo < ranges[r - 1] ? ranges[r - 1] : lo;
+  }
+}
+
+/* The part of the first field [0, n_first) in rows [rstart, rstart + m). */
+static PetscInt first_part(PetscInt n_first, PetscInt rstart, PetscInt m)
+{
+  PetscInt end = rstart + m < n_first ? rstart + m : n_first;
+  return end > rstart ? end - rstart : 0;
+}
+
+/* Every rank: the system of the command from this rank's rows (local CSR
+ * with global columns) and its part of the near-nullspace vectors (the
+ * first-field rows of each, `stride` apart). */
+static int create_here(const command *c, PetscInt rstart, PetscInt m, const PetscInt *rowptr, const PetscInt *cols,
+                       const PetscScalar *vals, const PetscScalar *modes, size_t stride, seam_petsc_system **out,
+                       char *err, size_t errlen)
 {
   PetscErrorCode      code = 0;
   seam_petsc_system  *s = NULL;
@@ -187,8 +372,10 @@ int seam_petsc_system_create(PetscInt n, PetscInt n_first, PetscInt bs, const Pe
   /* A saddle point [A Bᵀ; B 0] when the first field ends before n: the
    * matrix without blocks, the first field (block size bs) split from the
    * second by PCFIELDSPLIT, the near-nullspace on the first field. */
+  const PetscInt      n = c->n, n_first = c->n_first, bs = c->bs;
   const PetscBool     split = n_first < n;
   const PetscInt      mat_bs = split ? 1 : bs;
+  const PetscInt      m_first = first_part(n_first, rstart, m);
   double              t0;
 
   *out = NULL;
@@ -197,37 +384,40 @@ int seam_petsc_system_create(PetscInt n, PetscInt n_first, PetscInt bs, const Pe
     snprintf(err, errlen, "out of memory");
     return PETSC_ERR_MEM;
   }
-  s->n  = n;
-  s->bs = mat_bs;
-  t0    = now();
-  TRY(build_matrix(n, mat_bs, rowptr, cols, vals, symmetric, &s->A));
-  if (n_modes > 16) {
-    snprintf(err, errlen, "at most 16 near-nullspace vectors, got %d", (int)n_modes);
+  s->n      = n;
+  s->bs     = mat_bs;
+  s->rstart = rstart;
+  s->m      = m;
+  s->id     = c->id;
+  t0        = now();
+  TRY(build_matrix(n, rstart, m, mat_bs, rowptr, cols, vals, c->symmetric, &s->A));
+  if (c->n_modes > 16) {
+    snprintf(err, errlen, "at most 16 near-nullspace vectors, got %d", (int)c->n_modes);
     code = PETSC_ERR_ARG_OUTOFRANGE;
     goto fail;
   }
-  for (PetscInt k = 0; k < n_modes; k++) {
+  for (PetscInt k = 0; k < c->n_modes; k++) {
     PetscScalar *a;
-    TRY(VecCreateSeq(PETSC_COMM_SELF, n_first, &near[k]));
+    TRY(VecCreateMPI(PETSC_COMM_WORLD, m_first, n_first, &near[k]));
     TRY(VecSetBlockSize(near[k], bs));
     TRY(VecGetArray(near[k], &a));
-    memcpy(a, modes + (size_t)k * (size_t)n_first, (size_t)n_first * sizeof(PetscScalar));
+    if (m_first) memcpy(a, modes + (size_t)k * stride, (size_t)m_first * sizeof(PetscScalar));
     TRY(VecRestoreArray(near[k], &a));
   }
-  if (n_modes > 0) TRY(MatNullSpaceCreate(PETSC_COMM_SELF, PETSC_FALSE, n_modes, near, &nullspace));
+  if (c->n_modes > 0) TRY(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, c->n_modes, near, &nullspace));
   if (nullspace && !split) TRY(MatSetNearNullSpace(s->A, nullspace));
   s->assembly_seconds = now() - t0;
   t0 = now();
-  TRY(KSPCreate(PETSC_COMM_SELF, &s->ksp));
+  TRY(KSPCreate(PETSC_COMM_WORLD, &s->ksp));
   TRY(KSPSetOperators(s->ksp, s->A, s->A));
-  TRY(KSPSetType(s->ksp, ksp_type));
+  TRY(KSPSetType(s->ksp, c->ksp_type));
   TRY(KSPGetPC(s->ksp, &pc));
-  TRY(PCSetType(pc, pc_type));
+  TRY(PCSetType(pc, c->pc_type));
   if (split) {
     PetscBool fieldsplit = PETSC_FALSE;
-    TRY(ISCreateStride(PETSC_COMM_SELF, n_first, 0, 1, &fields[0]));
+    TRY(ISCreateStride(PETSC_COMM_WORLD, m_first, rstart, 1, &fields[0]));
     TRY(ISSetBlockSize(fields[0], bs));
-    TRY(ISCreateStride(PETSC_COMM_SELF, n - n_first, n_first, 1, &fields[1]));
+    TRY(ISCreateStride(PETSC_COMM_WORLD, m - m_first, rstart + m_first, 1, &fields[1]));
     if (nullspace) TRY(PetscObjectCompose((PetscObject)fields[0], "nearnullspace", (PetscObject)nullspace));
     TRY(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &fieldsplit));
     if (fieldsplit) {
@@ -250,7 +440,7 @@ int seam_petsc_system_create(PetscInt n, PetscInt n_first, PetscInt bs, const Pe
       }
     }
   }
-  TRY(KSPSetTolerances(s->ksp, rtol, PETSC_DEFAULT, PETSC_DEFAULT, max_it));
+  TRY(KSPSetTolerances(s->ksp, c->rtol, PETSC_DEFAULT, PETSC_DEFAULT, c->max_it));
   TRY(KSPSetFromOptions(s->ksp));
   s->setup_seconds = now() - t0; /* KSPSetUp follows at the first solve */
   MatNullSpaceDestroy(&nullspace);
@@ -272,9 +462,81 @@ fail:
   return (int)code;
 }
 
-/* Solves A x = b; x holds the initial guess when nonzero_guess. */
-int seam_petsc_system_solve(seam_petsc_system *s, const PetscScalar *b, PetscScalar *x, int nonzero_guess,
-                            seam_petsc_report *report, char *err, size_t errlen)
+static void destroy_here(seam_petsc_system *s)
+{
+  if (!s) return;
+  KSPDestroy(&s->ksp);
+  MatDestroy(&s->A);
+  free(s->ranges);
+  free(s);
+}
+
+/* Builds the n × n matrix (CSR, 0-based, sorted columns; block size bs) as
+ * AIJ (or what -mat_type chooses), the n_modes vectors at `modes` (n_first
+ * entries each, one after the other, orthonormal; the rigid-body modes for
+ * elasticity) as its near-nullspace, and a KSP of `ksp_type` with `pc_type`
+ * (defaults that options override), relative tolerance rtol and at most
+ * max_it iterations. The leader sends each follower its rows first. */
+int seam_petsc_system_create(PetscInt n, PetscInt n_first, PetscInt bs, const PetscInt *rowptr,
+                             const PetscInt *cols, const PetscScalar *vals, const PetscScalar *modes,
+                             PetscInt n_modes, int symmetric, const char *ksp_type, const char *pc_type, double rtol,
+                             PetscInt max_it, seam_petsc_system **out, char *err, size_t errlen)
+{
+  int       size = distributed() ? world_size() : 1, code;
+  command   c;
+  PetscInt *ranges = (PetscInt *)calloc((size_t)size + 1, sizeof(PetscInt));
+  *out = NULL;
+  if (!ranges) {
+    snprintf(err, errlen, "out of memory");
+    return PETSC_ERR_MEM;
+  }
+  memset(&c, 0, sizeof(c));
+  c.cmd = CMD_CREATE;
+  c.id = next_id++;
+  c.n = n;
+  c.n_first = n_first;
+  c.bs = bs;
+  c.n_modes = n_modes;
+  c.max_it = max_it;
+  c.symmetric = symmetric;
+  c.rtol = rtol;
+  snprintf(c.ksp_type, sizeof(c.ksp_type), "%s", ksp_type);
+  snprintf(c.pc_type, sizeof(c.pc_type), "%s", pc_type);
+  partition_rows(n, n_first, bs, rowptr, size, ranges);
+  if (size > 1) {
+    broadcast(&c);
+    (void)MPI_Bcast(ranges, (size + 1) * (int)sizeof(PetscInt), MPI_BYTE, 0, MPI_COMM_WORLD);
+    for (int r = 1; r < size; r++) {
+      PetscInt  r0 = ranges[r], m = ranges[r + 1] - r0, m_first = first_part(n_first, r0, m);
+      PetscInt *local = (PetscInt *)malloc(((size_t)m + 1) * sizeof(PetscInt));
+      if (!local) MPI_Abort(MPI_COMM_WORLD, 2); /* the followers wait for these rows */
+      for (PetscInt i = 0; i <= m; i++) local[i] = rowptr[r0 + i] - rowptr[r0];
+      send_array(local, (size_t)m + 1, MPIU_INT, sizeof(PetscInt), r);
+      free(local);
+      send_array(cols + rowptr[r0], (size_t)(rowptr[r0 + m] - rowptr[r0]), MPIU_INT, sizeof(PetscInt), r);
+      send_array(vals + rowptr[r0], (size_t)(rowptr[r0 + m] - rowptr[r0]), MPIU_SCALAR, sizeof(PetscScalar), r);
+      for (PetscInt k = 0; k < n_modes; k++)
+        send_array(modes + (size_t)k * (size_t)n_first + r0, (size_t)m_first, MPIU_SCALAR, sizeof(PetscScalar), r);
+    }
+  }
+  code = create_here(&c, 0, ranges[1], rowptr, cols, vals, modes, (size_t)n_first, out, err, errlen);
+  if (!agreed(code)) {
+    if (!code) {
+      snprintf(err, errlen, "PETSc failed on another MPI rank while building the system");
+      code = PETSC_ERR_LIB;
+    }
+    destroy_here(*out);
+    *out = NULL;
+    free(ranges);
+    return code;
+  }
+  (*out)->ranges = ranges;
+  return 0;
+}
+
+/* Every rank: solves with this rank's rows of b and x. */
+static int solve_here(seam_petsc_system *s, const PetscScalar *b, PetscScalar *x, int nonzero_guess,
+                      seam_petsc_report *report, char *err, size_t errlen)
 {
   PetscErrorCode     code = 0;
   Vec                vb = NULL, vx = NULL;
@@ -285,8 +547,9 @@ int seam_petsc_system_solve(seam_petsc_system *s, const PetscScalar *b, PetscSca
   double             t0;
 
   memset(report, 0, sizeof(*report));
-  TRY(VecCreateSeqWithArray(PETSC_COMM_SELF, s->bs, s->n, b, &vb));
-  TRY(VecCreateSeqWithArray(PETSC_COMM_SELF, s->bs, s->n, x, &vx));
+  report->ranks = world_size();
+  TRY(VecCreateMPIWithArray(PETSC_COMM_WORLD, s->bs, s->m, s->n, b, &vb));
+  TRY(VecCreateMPIWithArray(PETSC_COMM_WORLD, s->bs, s->m, s->n, x, &vx));
   TRY(KSPSetInitialGuessNonzero(s->ksp, nonzero_guess ? PETSC_TRUE : PETSC_FALSE));
   t0 = now();
   TRY(KSPSetUp(s->ksp));
@@ -330,10 +593,158 @@ fail:
   return (int)code;
 }
 
+/* Solves A x = b (n entries each, on the leader); x holds the initial guess
+ * when nonzero_guess. The followers get their rows of b and x, and send
+ * their rows of the solution back. */
+int seam_petsc_system_solve(seam_petsc_system *s, const PetscScalar *b, PetscScalar *x, int nonzero_guess,
+                            seam_petsc_report *report, char *err, size_t errlen)
+{
+  int size = distributed() ? world_size() : 1, code;
+  if (size > 1) {
+    command c;
+    memset(&c, 0, sizeof(c));
+    c.cmd           = CMD_SOLVE;
+    c.id            = s->id;
+    c.nonzero_guess = nonzero_guess;
+    broadcast(&c);
+    for (int r = 1; r < size; r++) {
+      size_t r0 = (size_t)s->ranges[r], m = (size_t)(s->ranges[r + 1] - s->ranges[r]);
+      send_array(b + r0, m, MPIU_SCALAR, sizeof(PetscScalar), r);
+      send_array(x + r0, m, MPIU_SCALAR, sizeof(PetscScalar), r);
+    }
+  }
+  code = solve_here(s, b, x, nonzero_guess, report, err, errlen);
+  for (int r = 1; r < size; r++) {
+    size_t r0 = (size_t)s->ranges[r], m = (size_t)(s->ranges[r + 1] - s->ranges[r]);
+    receive_array(x + r0, m, MPIU_SCALAR, sizeof(PetscScalar), r);
+  }
+  if (!agreed(code) && !code) {
+    snprintf(err, errlen, "PETSc failed on another MPI rank during the solve");
+    code = PETSC_ERR_LIB;
+  }
+  return code;
+}
+
 void seam_petsc_system_destroy(seam_petsc_system *s)
 {
   if (!s) return;
-  KSPDestroy(&s->ksp);
-  MatDestroy(&s->A);
-  free(s);
+  if (distributed()) {
+    command c;
+    memset(&c, 0, sizeof(c));
+    c.cmd = CMD_DESTROY;
+    c.id  = s->id;
+    broadcast(&c);
+  }
+  destroy_here(s);
+}
+
+/* A follower's system of each id (ids are consecutive from 0). */
+typedef struct {
+  seam_petsc_system **at;
+  size_t              len;
+} systems;
+
+static int keep(systems *all, seam_petsc_system *s)
+{
+  if ((size_t)s->id >= all->len) {
+    size_t              len = 2 * (size_t)s->id + 8;
+    seam_petsc_system **at = (seam_petsc_system **)realloc(all->at, len * sizeof(*at));
+    if (!at) return 0;
+    memset(at + all->len, 0, (len - all->len) * sizeof(*at));
+    all->at = at, all->len = len;
+  }
+  all->at[s->id] = s;
+  return 1;
+}
+
+static seam_petsc_system *find(const systems *all, int id)
+{
+  return id >= 0 && (size_t)id < all->len ? all->at[id] : NULL;
+}
+
+/* A follower (a rank other than 0, whose rank 0 called seam_petsc_lead):
+ * carries out the leader's calls until the leader finalises. Waits for each
+ * command by testing every 0.2 ms, not in MPI's blocking wait, which spins:
+ * the leader may compute for long between calls. Returns 0, or an error
+ * code when a command failed here (the leader has been told). */
+int seam_petsc_follow(char *err, size_t errlen)
+{
+  systems all = {NULL, 0};
+  int     failed = 0;
+  for (;;) {
+    command     c;
+    MPI_Request request;
+    int         done = 0, code = 0;
+    (void)MPI_Ibcast(&c, (int)sizeof(c), MPI_BYTE, 0, MPI_COMM_WORLD, &request);
+    for (MPI_Test(&request, &done, MPI_STATUS_IGNORE); !done; MPI_Test(&request, &done, MPI_STATUS_IGNORE)) {
+      struct timespec pause = {0, 200000};
+      nanosleep(&pause, NULL);
+    }
+    if (c.cmd == CMD_EXIT) break;
+    if (c.cmd == CMD_INIT) {
+      /* PETSc keeps pointers into argv: the words stay for the process. */
+      char  *packed = (char *)malloc((size_t)c.bytes);
+      char **argv = (char **)calloc((size_t)c.argc + 1, sizeof(char *));
+      if (!packed || !argv) MPI_Abort(MPI_COMM_WORLD, 2);
+      (void)MPI_Bcast(packed, (int)c.bytes, MPI_BYTE, 0, MPI_COMM_WORLD);
+      char *p = packed;
+      for (int k = 0; k < c.argc; k++, p += strlen(p) + 1) argv[k] = p;
+      code = initialize_here(c.argc, argv, p, err, errlen);
+      agreed(code);
+    } else if (c.cmd == CMD_CREATE) {
+      int                size = world_size(), rank = world_rank();
+      PetscInt          *ranges = (PetscInt *)calloc((size_t)size + 1, sizeof(PetscInt));
+      seam_petsc_system *s = NULL;
+      if (!ranges) MPI_Abort(MPI_COMM_WORLD, 2);
+      (void)MPI_Bcast(ranges, (size + 1) * (int)sizeof(PetscInt), MPI_BYTE, 0, MPI_COMM_WORLD);
+      PetscInt r0 = ranges[rank], m = ranges[rank + 1] - r0, m_first = first_part(c.n_first, r0, m);
+      free(ranges);
+      PetscInt *rowptr = (PetscInt *)malloc(((size_t)m + 1) * sizeof(PetscInt));
+      if (!rowptr) MPI_Abort(MPI_COMM_WORLD, 2);
+      receive_array(rowptr, (size_t)m + 1, MPIU_INT, sizeof(PetscInt), 0);
+      size_t       nnz = (size_t)rowptr[m];
+      PetscInt    *cols = (PetscInt *)malloc((nnz + 1) * sizeof(PetscInt));
+      PetscScalar *vals = (PetscScalar *)malloc((nnz + 1) * sizeof(PetscScalar));
+      PetscScalar *modes = (PetscScalar *)malloc(((size_t)c.n_modes * (size_t)m_first + 1) * sizeof(PetscScalar));
+      if (!cols || !vals || !modes) MPI_Abort(MPI_COMM_WORLD, 2);
+      receive_array(cols, nnz, MPIU_INT, sizeof(PetscInt), 0);
+      receive_array(vals, nnz, MPIU_SCALAR, sizeof(PetscScalar), 0);
+      for (PetscInt k = 0; k < c.n_modes; k++)
+        receive_array(modes + (size_t)k * (size_t)m_first, (size_t)m_first, MPIU_SCALAR, sizeof(PetscScalar), 0);
+      code = create_here(&c, r0, m, rowptr, cols, vals, modes, (size_t)m_first, &s, err, errlen);
+      free(rowptr);
+      free(cols);
+      free(vals);
+      free(modes);
+      if (!code && !keep(&all, s)) {
+        snprintf(err, errlen, "out of memory");
+        code = PETSC_ERR_MEM;
+      }
+      if (!agreed(code)) {
+        if (s && find(&all, s->id) == s) all.at[s->id] = NULL;
+        destroy_here(s);
+      }
+    } else if (c.cmd == CMD_SOLVE) {
+      seam_petsc_system *s = find(&all, c.id);
+      seam_petsc_report  report;
+      if (!s) MPI_Abort(MPI_COMM_WORLD, 2); /* the leader solves a system it has */
+      PetscScalar *b = (PetscScalar *)malloc(((size_t)s->m + 1) * sizeof(PetscScalar));
+      PetscScalar *x = (PetscScalar *)malloc(((size_t)s->m + 1) * sizeof(PetscScalar));
+      if (!b || !x) MPI_Abort(MPI_COMM_WORLD, 2);
+      receive_array(b, (size_t)s->m, MPIU_SCALAR, sizeof(PetscScalar), 0);
+      receive_array(x, (size_t)s->m, MPIU_SCALAR, sizeof(PetscScalar), 0);
+      code = solve_here(s, b, x, c.nonzero_guess, &report, err, errlen);
+      send_array(x, (size_t)s->m, MPIU_SCALAR, sizeof(PetscScalar), 0);
+      free(b);
+      free(x);
+      agreed(code);
+    } else if (c.cmd == CMD_DESTROY) {
+      seam_petsc_system *s = find(&all, c.id);
+      if (s) all.at[c.id] = NULL;
+      destroy_here(s);
+    }
+    if (code) failed = code;
+  }
+  free(all.at);
+  return failed;
 }
