@@ -2,12 +2,19 @@
 //! the bytes of one process, for N = 1…4, on flat, cylinder, warped and
 //! second-order surfaces with gaps, overlaps and partial coverage; a bad file
 //! stops every rank with one line from rank 0; other commands are refused.
+//!
+//! `mpirun -np N seam solve --solver petsc`: for N = 1…3 the glued (dual and
+//! standard multipliers) and contact patch tests are exact with MUMPS, and
+//! the warped-glue example gives the single-process solution to the solver's
+//! tolerance with the default GAMG solvers; a bad mesh or another solver
+//! stops every rank with one line.
 
 mod common;
 
-use common::{json, stderr};
+use common::{json, stacked_case, stderr, vtu_field, write_block};
 use seam::generate::{cylinder, flat, hyperbolic_paraboloid, patch, quadratic_patch, Pattern, Quadratic};
 use seam::SurfaceMesh;
+use seam_fem::generate::Side;
 use std::path::Path;
 use std::process::{Command, Output};
 use std::time::Duration;
@@ -142,6 +149,153 @@ fn a_bad_file_stops_every_rank_with_one_line() {
     assert!(!o.status.success() && stderr(&o).contains("--force"), "{}", stderr(&o));
 }
 
+/// `seam solve case.toml --force ARGS` in `dir`, alone or under `ranks`
+/// ranks, the results moved to `dir/<to>`; returns summary.json.
+fn solve_on(dir: &Path, ranks: Option<usize>, args: &[&str], to: &str) -> serde_json::Value {
+    let args = [&["solve", "case.toml", "--force", "--solver", "petsc"][..], args].concat();
+    let o = match ranks {
+        None => common::seam(&args, dir),
+        Some(n) => mpirun(n, &args, dir),
+    };
+    assert!(o.status.success(), "{to}: {}", stderr(&o));
+    std::fs::rename(dir.join("out"), dir.join(to)).unwrap();
+    json(&dir.join(to).join("summary.json"))
+}
+
+/// The largest difference of the bodies' displacements in `dir/a` and
+/// `dir/b`, relative to the largest displacement.
+fn difference(dir: &Path, a: &str, b: &str) -> f64 {
+    ["lower", "upper"]
+        .iter()
+        .map(|body| {
+            let file = format!("{body}.vtu");
+            let ((_, u), (_, v)) = (
+                vtu_field(&dir.join(a).join(&file), "displacement", false),
+                vtu_field(&dir.join(b).join(&file), "displacement", false),
+            );
+            let scale = u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            u.iter().zip(&v).fold(0.0f64, |m, (x, y)| m.max((x - y).abs())) / scale
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Young's modulus, Poisson's ratio and the pressure of the patch tests.
+const E: f64 = 1000.0;
+const NU: f64 = 0.25;
+const P: f64 = 2.0;
+
+/// Two blocks of one material stacked at z = 1/2, meshed 4×3×2 (lower,
+/// master) and 3×2×2 graded along x (upper, slave), both on rollers at x = 0
+/// and y = 0, the lower one at z = 0, pressed by P on top, coupled by an
+/// interface with the keys `interface`: uniaxial stress σ_zz = −P, whose
+/// displacement u = (νPx, νPy, −Pz)/E is linear, so exact for Hex8 and mortar
+/// (glued or in contact).
+fn patch_stack(dir: &Path, interface: &str) {
+    let sides = [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("ymin", Side::YMin)];
+    write_block(&dir.join("lower.msh"), [4, 3, 2], |u, v, w| [u, v, 0.5 * w], &sides);
+    write_block(
+        &dir.join("upper.msh"),
+        [3, 2, 2],
+        |u, v, w| [0.7 * u + 0.3 * u * u, v, 0.5 + 0.5 * w],
+        &sides,
+    );
+    let rest = format!(
+        "[[dirichlet]]\nboundary = \"upper:xmin\"\nux = 0.0\n\n[[dirichlet]]\nboundary = \"upper:ymin\"\nuy = 0.0\n\n\
+         [[traction]]\nboundary = \"upper:top\"\nt = [0.0, 0.0, -{P:?}]\n\n[output]\ndir = \"out\"\n"
+    );
+    std::fs::write(dir.join("case.toml"), stacked_case((E, NU), (E, NU), interface, &rest)).unwrap();
+}
+
+#[test]
+fn ranks_solve_the_glued_and_contact_patch_tests_exactly() {
+    let mumps = ["--petsc-options", "-pc_type lu -pc_factor_mat_solver_type mumps"];
+    for interface in [
+        "kind = \"glue\"\nmultiplier = \"dual\"",
+        "kind = \"glue\"\nmultiplier = \"standard\"",
+        "kind = \"contact\"",
+    ] {
+        let what = interface.replace('\n', " ");
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        patch_stack(dir, interface);
+        let one = solve_on(dir, None, &mumps, "one");
+        assert!(one.get("ranks").is_none(), "{what}: one process writes no `ranks`");
+        for n in 1..=3 {
+            let to = format!("np{n}");
+            let s = solve_on(dir, Some(n), &mumps, &to);
+            assert_eq!(s.get("ranks").and_then(|r| r.as_u64()), (n > 1).then_some(n as u64), "{what}");
+            assert_eq!(s["dofs"], one["dofs"], "{what}");
+            for reason in s["petsc"]["reasons"].as_array().unwrap() {
+                assert!(reason.as_str().unwrap().starts_with("CONVERGED"), "{what}, {n} ranks: {s}");
+            }
+            for body in ["lower", "upper"] {
+                let (points, u) =
+                    vtu_field(&dir.join(&to).join(format!("{body}.vtu")), "displacement", false);
+                for (x, u) in points.iter().zip(u.chunks(3)) {
+                    let exact = [NU * P * x[0] / E, NU * P * x[1] / E, -P * x[2] / E];
+                    let e = (0..3).fold(0.0f64, |m, k| m.max((u[k] - exact[k]).abs()));
+                    assert!(e < 1e-12 * P / E, "{what}, {n} ranks, {body} at {x:?}: {u:?} vs {exact:?}");
+                }
+            }
+            let e = difference(dir, "one", &to);
+            assert!(e <= 1e-10, "{what}, {n} ranks: {e:.1e} from one process");
+            if let Some(c) = s.get("contact") {
+                assert_eq!(c["active_points"], one["contact"]["active_points"], "{what}");
+                assert!(c["kkt"]["max"].as_f64().unwrap() <= 1e-8, "{what}, {n} ranks: {c}");
+            }
+        }
+    }
+}
+
+#[test]
+fn ranks_solve_warped_glue_as_one_process_does() {
+    for multiplier in ["dual", "standard"] {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        let o = common::seam(&["example", "warped-glue", "-o", ".", "--ratio", "2"], dir);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let case = std::fs::read_to_string(dir.join("case.toml")).unwrap();
+        let case = case.replace("multiplier = \"standard\"", &format!("multiplier = \"{multiplier}\""));
+        std::fs::write(dir.join("case.toml"), case).unwrap();
+        // GAMG's aggregates depend on the rows' distribution: the solutions
+        // agree to the solver's tolerance, not to round-off.
+        let rtol = ["--rtol", "1e-12"];
+        let one = solve_on(dir, None, &rtol, "one");
+        for n in 1..=3 {
+            let to = format!("np{n}");
+            let s = solve_on(dir, Some(n), &rtol, &to);
+            assert_eq!(s["petsc"]["pc_type"], one["petsc"]["pc_type"], "{multiplier}");
+            assert_eq!(s["petsc"]["reasons"][0], "CONVERGED_RTOL", "{multiplier}, {n} ranks: {s}");
+            let e = difference(dir, "one", &to);
+            assert!(e <= 1e-8, "{multiplier}, {n} ranks: {e:.1e} from one process");
+        }
+    }
+}
+
+#[test]
+fn a_bad_mesh_or_another_solver_stops_every_rank_of_a_solve() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    patch_stack(dir, "kind = \"glue\"");
+    let good = std::fs::read(dir.join("lower.msh")).unwrap();
+    std::fs::write(dir.join("lower.msh"), &good[..good.len() / 2]).unwrap();
+    let cases: [(&[&str], &str); 2] = [
+        (&["solve", "case.toml", "--solver", "petsc"], "lower.msh"),
+        (&["solve", "case.toml", "--solver", "direct"], "needs --solver petsc"),
+    ];
+    for (args, expected) in cases {
+        for n in [2, 3] {
+            let o = mpirun(n, args, dir);
+            assert_eq!(o.status.code(), Some(2), "{args:?}, {n} ranks: {}", stderr(&o));
+            let lines: Vec<String> =
+                stderr(&o).lines().filter(|l| l.starts_with("seam")).map(String::from).collect();
+            assert_eq!(lines.len(), 1, "{args:?}, {n} ranks: one line from rank 0, got {lines:?}");
+            assert!(lines[0].starts_with("seam: error:") && lines[0].contains(expected), "{lines:?}");
+            assert!(!dir.join("out").exists(), "nothing written");
+        }
+    }
+}
+
 #[test]
 fn other_commands_are_refused_over_ranks() {
     let dir = tempfile::tempdir().unwrap();
@@ -149,6 +303,9 @@ fn other_commands_are_refused_over_ranks() {
     assert!(!o.status.success());
     let lines: Vec<String> = stderr(&o).lines().filter(|l| l.starts_with("seam")).map(String::from).collect();
     assert_eq!(lines.len(), 1, "{lines:?}");
-    assert!(lines[0].contains("only `seam assemble` runs over MPI ranks"), "{lines:?}");
+    assert!(
+        lines[0].contains("only `seam assemble` and `seam solve --solver petsc` run over MPI ranks"),
+        "{lines:?}"
+    );
     assert!(!dir.path().join("out").exists());
 }
