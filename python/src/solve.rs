@@ -177,7 +177,7 @@ pub fn solve(
         }
         (_, None) => {}
     }
-    let options = SolveOptions { solver, rtol };
+    let options = SolveOptions { solver, rtol, pieces: 1 };
     let pool = thread_pool(threads)?;
     let source = match case.cast::<PyDict>() {
         Ok(dict) => {

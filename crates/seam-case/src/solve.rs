@@ -67,6 +67,8 @@ pub struct Solved {
     pub summary: Summary,
     case: Case,
     case_path: PathBuf,
+    /// Pieces of each body's output ([`SolveOptions::pieces`]).
+    pieces: usize,
     /// Per body: the point and cell fields of its VTU file.
     body_files: Vec<(Vec<Field>, Vec<Field>)>,
     /// Per interface: the point fields of its VTU file.
@@ -381,11 +383,15 @@ pub struct SolveOptions {
     pub solver: LinearSolver,
     /// PCG: stop when ‖r‖₂ ≤ rtol ‖b‖₂; in (0, 1).
     pub rtol: f64,
+    /// Pieces of each body's output: 1 writes `<body>.vtu`; N > 1 (a solve
+    /// over N MPI ranks) writes `<body>.pvtu` and its N pieces
+    /// `<body>_<r>.vtu` (module doc).
+    pub pieces: usize,
 }
 
 impl Default for SolveOptions {
     fn default() -> Self {
-        SolveOptions { solver: LinearSolver::Direct, rtol: 1e-10 }
+        SolveOptions { solver: LinearSolver::Direct, rtol: 1e-10, pieces: 1 }
     }
 }
 
@@ -484,7 +490,7 @@ pub fn solve_case_to_output(
     check_rtol(options)?;
     let case = Case::read(case_path).map_err(|e| SolveFailure::Error(e.to_string()))?;
     let out_dir = case.resolve(&case.output.dir);
-    let staged = prepare(&case, case_path, &out_dir, force)?;
+    let staged = prepare(&case, case_path, &out_dir, options.pieces, force)?;
     let mut solved = run(case, case_path, options, start)?;
     solved.summary = solved.write_staged(staged, &out_dir, (0.0, start))?;
     Ok(solved)
@@ -499,8 +505,14 @@ fn check_rtol(options: &SolveOptions) -> Result<(), SolveFailure> {
 
 /// The output files of `case` in `dir`, checked and staged (module doc of
 /// [`crate::output`]).
-fn prepare(case: &Case, case_path: &Path, dir: &Path, force: bool) -> Result<(OutputNames, Staged), Failure> {
-    let names = OutputNames::new(case, dir).map_err(|e| anyhow!("{}: {e}", case_path.display()))?;
+fn prepare(
+    case: &Case,
+    case_path: &Path,
+    dir: &Path,
+    pieces: usize,
+    force: bool,
+) -> Result<(OutputNames, Staged), Failure> {
+    let names = OutputNames::new(case, dir, pieces).map_err(|e| anyhow!("{}: {e}", case_path.display()))?;
     let mut inputs = case.mesh_paths();
     inputs.push(case_path.to_path_buf());
     let out = Staged::prepare(&names.all(), &inputs, force)?;
@@ -599,7 +611,8 @@ fn run_problem(
     seconds.output = clock.elapsed().as_secs_f64();
     let out_dir = case.resolve(&case.output.dir);
     seconds.total = start.elapsed().as_secs_f64();
-    let names = OutputNames::new(&case, &out_dir).map_err(|e| anyhow!("{}: {e}", case_path.display()))?;
+    let names = OutputNames::new(&case, &out_dir, options.pieces)
+        .map_err(|e| anyhow!("{}: {e}", case_path.display()))?;
     let summary = summary(&case, case_path, options.solver, &names, &out_dir, &problem, &solution, seconds)?;
     Ok(Solved {
         out_dir,
@@ -609,6 +622,7 @@ fn run_problem(
         summary,
         case,
         case_path: case_path.to_path_buf(),
+        pieces: options.pieces,
         body_files,
         interface_files,
     })
@@ -628,7 +642,7 @@ impl Solved {
     /// cannot be written.
     pub fn write(&self, dir: &Path, force: bool) -> Result<Summary, SolveFailure> {
         let start = Instant::now();
-        let staged = prepare(&self.case, &self.case_path, dir, force)?;
+        let staged = prepare(&self.case, &self.case_path, dir, self.pieces, force)?;
         Ok(self.write_staged(staged, dir, (self.summary.seconds.total, start))?)
     }
 
@@ -641,11 +655,25 @@ impl Solved {
         total: (f64, Instant),
     ) -> Result<Summary, Failure> {
         let clock = Instant::now();
-        for ((body, (point, cell)), path) in
-            self.problem.bodies.iter().zip(&self.body_files).zip(&names.bodies)
-        {
-            out.write(path, |p| {
-                seam_io::write_volume_vtu_file(p, &body.mesh, point, cell).map_err(std::io::Error::other)
+        for (b, (body, (point, cell))) in self.problem.bodies.iter().zip(&self.body_files).enumerate() {
+            let write = |p: &Path, mesh: &seam::VolumeMesh, point: &[Field], cell: &[Field]| {
+                seam_io::write_volume_vtu_file(p, mesh, point, cell).map_err(std::io::Error::other)
+            };
+            if names.pieces[b].is_empty() {
+                out.write(&names.bodies[b], |p| write(p, &body.mesh, point, cell))?;
+                continue;
+            }
+            let centres: Vec<Point3> =
+                body.mesh.cells().iter().map(|c| centre(body.mesh.points(), c)).collect();
+            let part = seam::parts::bisect(&centres, names.pieces[b].len());
+            for (r, path) in names.pieces[b].iter().enumerate() {
+                let cells: Vec<usize> = (0..part.len()).filter(|&c| part[c] == r).collect();
+                let (mesh, point, cell) = piece(&body.mesh, &cells, point, cell)?;
+                out.write(path, |p| write(p, &mesh, &point, &cell))?;
+            }
+            let sources: Vec<String> = names.pieces[b].iter().map(|p| file_name(p)).collect::<Vec<_>>();
+            out.write(&names.bodies[b], |p| {
+                seam_io::write_pvtu_file(p, &sources, point, cell).map_err(std::io::Error::other)
             })?;
         }
         for ((r, fields), path) in self.interfaces.iter().zip(&self.interface_files).zip(&names.interfaces) {
@@ -664,16 +692,66 @@ impl Solved {
     }
 }
 
+/// The point (rank 0 of a cell's nodes' mean) of a cell: where the
+/// partition into pieces places it.
+fn centre(points: &[Point3], cell: &seam::Cell) -> Point3 {
+    let corners = &cell.nodes()[..cell.n_corners()];
+    let sum = corners
+        .iter()
+        .fold([0.0; 3], |s, &n| [s[0] + points[n][0], s[1] + points[n][1], s[2] + points[n][2]]);
+    sum.map(|v| v / corners.len() as f64)
+}
+
+/// The cells `cells` of `mesh` as a mesh of the points they use (in the
+/// order of `mesh`), with the fields' entries of those points and cells.
+fn piece(
+    mesh: &seam::VolumeMesh,
+    cells: &[usize],
+    point: &[Field],
+    cell: &[Field],
+) -> anyhow::Result<(seam::VolumeMesh, Vec<Field>, Vec<Field>)> {
+    let mut index = vec![usize::MAX; mesh.points().len()];
+    cells.iter().flat_map(|&c| mesh.cells()[c].nodes()).for_each(|&n| index[n] = 0);
+    let used: Vec<usize> = (0..index.len()).filter(|&p| index[p] == 0).collect();
+    used.iter().enumerate().for_each(|(new, &old)| index[old] = new);
+    let points = used.iter().map(|&p| mesh.points()[p]).collect();
+    let piece_cells = cells.iter().map(|&c| mesh.cells()[c].map_nodes(|n| index[n])).collect();
+    let select = |fields: &[Field], entries: &[usize]| -> Vec<Field> {
+        fields
+            .iter()
+            .map(|f| {
+                let values = entries.iter().flat_map(|&e| f.entry(e).iter().copied()).collect();
+                Field::new(f.name.clone(), f.components, values)
+            })
+            .collect()
+    };
+    let piece = seam::VolumeMesh::new(points, piece_cells).context("a piece of a body's mesh")?;
+    Ok((piece, select(point, &used), select(cell, cells)))
+}
+
 /// The output files of a case.
 struct OutputNames {
+    /// Per body: `<body>.vtu`, or `<body>.pvtu` when written in pieces.
     bodies: Vec<PathBuf>,
+    /// Per body: its pieces `<body>_<r>.vtu` (none for a `.vtu`).
+    pieces: Vec<Vec<PathBuf>>,
     interfaces: Vec<PathBuf>,
     summary: PathBuf,
 }
 
 impl OutputNames {
-    fn new(case: &Case, dir: &Path) -> anyhow::Result<OutputNames> {
-        let bodies = case.bodies.iter().map(|b| dir.join(format!("{}.vtu", file_part(&b.name)))).collect();
+    fn new(case: &Case, dir: &Path, pieces: usize) -> anyhow::Result<OutputNames> {
+        let extension = if pieces > 1 { "pvtu" } else { "vtu" };
+        let bodies =
+            case.bodies.iter().map(|b| dir.join(format!("{}.{extension}", file_part(&b.name)))).collect();
+        let pieces = case
+            .bodies
+            .iter()
+            .map(|b| match pieces {
+                0 | 1 => Vec::new(),
+                n => (0..n).map(|r| dir.join(format!("{}_{r}.vtu", file_part(&b.name)))).collect(),
+            })
+            .collect();
         let interfaces = case
             .interfaces
             .iter()
@@ -682,7 +760,7 @@ impl OutputNames {
                 Ok(dir.join(format!("{}_{}_interface.vtu", file_part(&s.body), file_part(&s.surface))))
             })
             .collect::<anyhow::Result<_>>()?;
-        let names = OutputNames { bodies, interfaces, summary: dir.join("summary.json") };
+        let names = OutputNames { bodies, pieces, interfaces, summary: dir.join("summary.json") };
         let mut seen = BTreeSet::new();
         for path in names.all() {
             if !seen.insert(path.clone()) {
@@ -696,11 +774,17 @@ impl OutputNames {
     }
 
     fn all(&self) -> Vec<PathBuf> {
-        let mut all = self.bodies.clone();
+        let mut all: Vec<PathBuf> = self.pieces.iter().flatten().cloned().collect();
+        all.extend(self.bodies.iter().cloned());
         all.extend(self.interfaces.iter().cloned());
         all.push(self.summary.clone());
         all
     }
+}
+
+/// The last component of `path`, as text.
+fn file_name(path: &Path) -> String {
+    path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default()
 }
 
 /// `name` with every character other than a letter, digit, `-`, `_` or `.`
@@ -1023,7 +1107,6 @@ fn summary(
     seconds: Seconds,
 ) -> anyhow::Result<Summary> {
     let loads = problem.loads_and_supports().map_err(|e| anyhow!("{}: {e}", path.display()))?;
-    let file_name = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let coupled = &problem.interfaces;
     let mut applied_load = [0.0; 3];
     let bodies = problem
@@ -1215,7 +1298,7 @@ mod tests {
 
     #[test]
     fn bad_options_and_cases_fail_in_one_line_before_any_work() {
-        let rtol = SolveOptions { solver: LinearSolver::Pcg, rtol: 2.0 };
+        let rtol = SolveOptions { solver: LinearSolver::Pcg, rtol: 2.0, pieces: 1 };
         let e = solve_case(Path::new("nowhere.toml"), &rtol).err().unwrap();
         assert_eq!(e, SolveFailure::Error("rtol 2 must lie in (0, 1)".into()));
         let e = solve_case(Path::new("nowhere.toml"), &SolveOptions::default()).err().unwrap();

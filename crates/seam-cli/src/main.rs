@@ -46,7 +46,7 @@ fn main() -> ExitCode {
         Command::Assemble(a) => assemble::run(&a),
         Command::Transfer(t) => transfer::run(&t),
         Command::Check(c) => check::run(&c),
-        Command::Solve(s) => solve::run(&s),
+        Command::Solve(s) => solve::run(&s, 1),
         Command::Example(e) => example::run(&e),
         Command::Bench(b) => bench::run(&b),
         Command::BenchCase(c) => bench::run_case(&c),
@@ -82,7 +82,7 @@ fn over_ranks(ranks: &ranks::Ranks) -> ExitCode {
         (Command::Solve(s), 0) => {
             seam_fem::petsc::lead_petsc();
             let result = match s.solver {
-                args::SolverArg::Petsc => solve::run(&s),
+                args::SolverArg::Petsc => solve::run(&s, ranks.size()),
                 _ => Err(Failure::Error(anyhow::anyhow!(
                     "on {} MPI ranks `seam solve` needs --solver petsc (the other solvers run on one process)",
                     ranks.size()

@@ -7,8 +7,10 @@ use anyhow::anyhow;
 use seam_case::report::report;
 use seam_case::solve::{LinearSolver, SolveOptions, Solved};
 
-pub fn run(args: &SolveArgs) -> Result<(), Failure> {
-    let solved = solve(args)?;
+/// `pieces`: the pieces of each body's output (the MPI ranks; 1 writes
+/// `<body>.vtu`, more `<body>.pvtu`).
+pub fn run(args: &SolveArgs, pieces: usize) -> Result<(), Failure> {
+    let solved = solve(args, pieces)?;
     println!("seam solve {} → {}", args.case.display(), solved.out_dir.display());
     for line in report(&solved) {
         println!("  {line}");
@@ -18,7 +20,7 @@ pub fn run(args: &SolveArgs) -> Result<(), Failure> {
 
 /// Reads, checks, solves and writes the case ([`seam_case::solve::solve_case_to_output`])
 /// on `--threads` worker threads.
-pub fn solve(args: &SolveArgs) -> Result<Solved, Failure> {
+pub fn solve(args: &SolveArgs, pieces: usize) -> Result<Solved, Failure> {
     if !(args.rtol > 0.0 && args.rtol < 1.0) {
         return Err(anyhow!("--rtol {} must lie in (0, 1)", args.rtol).into());
     }
@@ -29,6 +31,7 @@ pub fn solve(args: &SolveArgs) -> Result<Solved, Failure> {
             SolverArg::Petsc => LinearSolver::Petsc,
         },
         rtol: args.rtol,
+        pieces,
     };
     match (args.solver, &args.petsc_options) {
         (SolverArg::Petsc, options) => seam_fem::petsc::initialize_petsc(options.as_deref().unwrap_or(""))

@@ -162,19 +162,49 @@ fn solve_on(dir: &Path, ranks: Option<usize>, args: &[&str], to: &str) -> serde_
     json(&dir.join(to).join("summary.json"))
 }
 
-/// The largest difference of the bodies' displacements in `dir/a` and
-/// `dir/b`, relative to the largest displacement.
-fn difference(dir: &Path, a: &str, b: &str) -> f64 {
+/// A body's output in `dir`: `<body>.vtu` from one process, `<body>.pvtu`
+/// with its `ranks` pieces `<body>_<r>.vtu` from several (and no `.vtu`).
+fn body_file(dir: &Path, body: &str, ranks: usize) -> std::path::PathBuf {
+    let pieces: Vec<bool> = (0..ranks.max(2)).map(|r| dir.join(format!("{body}_{r}.vtu")).exists()).collect();
+    let (vtu, pvtu) = (dir.join(format!("{body}.vtu")), dir.join(format!("{body}.pvtu")));
+    match ranks {
+        1 => {
+            assert!(vtu.exists() && !pvtu.exists() && !pieces.contains(&true), "{}", dir.display());
+            vtu
+        }
+        _ => {
+            assert!(pvtu.exists() && !vtu.exists() && !pieces.contains(&false), "{}", dir.display());
+            assert!(!dir.join(format!("{body}_{ranks}.vtu")).exists(), "{ranks} pieces");
+            pvtu
+        }
+    }
+}
+
+/// The largest difference of the bodies' displacements in `dir/a` (one
+/// process) and `dir/b` (`ranks` ranks), point by point (a point on the
+/// boundary of pieces is in each of them), relative to the largest
+/// displacement; the pieces hold every cell once.
+fn difference(dir: &Path, a: &str, (b, ranks): (&str, usize)) -> f64 {
     ["lower", "upper"]
         .iter()
         .map(|body| {
-            let file = format!("{body}.vtu");
-            let ((_, u), (_, v)) = (
-                vtu_field(&dir.join(a).join(&file), "displacement", false),
-                vtu_field(&dir.join(b).join(&file), "displacement", false),
+            let ((x, u), (y, v)) = (
+                vtu_field(&body_file(&dir.join(a), body, 1), "displacement", false),
+                vtu_field(&body_file(&dir.join(b), body, ranks), "displacement", false),
             );
+            let cells = |d: &str, n| vtu_field(&body_file(&dir.join(d), body, n), "von_mises", true).1.len();
+            assert_eq!(cells(a, 1), cells(b, ranks), "{body}: the pieces hold every cell once");
+            let index: std::collections::HashMap<[u64; 3], usize> =
+                x.iter().enumerate().map(|(i, p)| (p.map(f64::to_bits), i)).collect();
             let scale = u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            u.iter().zip(&v).fold(0.0f64, |m, (x, y)| m.max((x - y).abs())) / scale
+            let mut seen = vec![false; x.len()];
+            let e = y.iter().enumerate().fold(0.0f64, |m, (j, p)| {
+                let i = index[&p.map(f64::to_bits)];
+                seen[i] = true;
+                (0..3).fold(m, |m, k| m.max((u[3 * i + k] - v[3 * j + k]).abs()))
+            });
+            assert!(seen.iter().all(|&s| s), "{body}: every point in a piece");
+            e / scale
         })
         .fold(0.0, f64::max)
 }
@@ -229,15 +259,14 @@ fn ranks_solve_the_glued_and_contact_patch_tests_exactly() {
                 assert!(reason.as_str().unwrap().starts_with("CONVERGED"), "{what}, {n} ranks: {s}");
             }
             for body in ["lower", "upper"] {
-                let (points, u) =
-                    vtu_field(&dir.join(&to).join(format!("{body}.vtu")), "displacement", false);
+                let (points, u) = vtu_field(&body_file(&dir.join(&to), body, n), "displacement", false);
                 for (x, u) in points.iter().zip(u.chunks(3)) {
                     let exact = [NU * P * x[0] / E, NU * P * x[1] / E, -P * x[2] / E];
                     let e = (0..3).fold(0.0f64, |m, k| m.max((u[k] - exact[k]).abs()));
                     assert!(e < 1e-12 * P / E, "{what}, {n} ranks, {body} at {x:?}: {u:?} vs {exact:?}");
                 }
             }
-            let e = difference(dir, "one", &to);
+            let e = difference(dir, "one", (&to, n));
             assert!(e <= 1e-10, "{what}, {n} ranks: {e:.1e} from one process");
             if let Some(c) = s.get("contact") {
                 assert_eq!(c["active_points"], one["contact"]["active_points"], "{what}");
@@ -266,7 +295,7 @@ fn ranks_solve_warped_glue_as_one_process_does() {
             let s = solve_on(dir, Some(n), &rtol, &to);
             assert_eq!(s["petsc"]["pc_type"], one["petsc"]["pc_type"], "{multiplier}");
             assert_eq!(s["petsc"]["reasons"][0], "CONVERGED_RTOL", "{multiplier}, {n} ranks: {s}");
-            let e = difference(dir, "one", &to);
+            let e = difference(dir, "one", (&to, n));
             assert!(e <= 1e-8, "{multiplier}, {n} ranks: {e:.1e} from one process");
         }
     }

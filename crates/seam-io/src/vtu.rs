@@ -226,6 +226,25 @@ pub fn write_volume_vtu_file(
     write_file(path.as_ref(), write::volume_bytes(mesh, point_data, cell_data))
 }
 
+/// Writes a parallel VTU file (`.pvtu`, VTK's `PUnstructuredGrid`, what
+/// ParaView opens as one data set): the point and cell fields every piece
+/// holds (their names and components; the values are not read) and the
+/// pieces' VTU files, named relative to the `.pvtu` file's directory, in
+/// order. The pieces are written separately ([`write_volume_vtu_file`],
+/// [`write_vtu_file`]), with the same fields.
+///
+/// # Errors
+/// [`VtuErrorKind::UnsupportedComponents`], [`VtuErrorKind::BadFieldName`]
+/// as [`write_vtu`]; [`VtuErrorKind::Io`], with the path.
+pub fn write_pvtu_file(
+    path: impl AsRef<Path>,
+    pieces: &[String],
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<(), VtuError> {
+    write_file(path.as_ref(), write::parallel_bytes(pieces, point_data, cell_data))
+}
+
 /// Reads a VTU file; see the [module docs](self) for what is read.
 ///
 /// # Errors

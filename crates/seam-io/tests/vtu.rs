@@ -1432,3 +1432,40 @@ fn round_trip_of_second_order_faces_is_bit_exact() {
     let read = read_vtu(bytes.as_slice()).unwrap();
     assert_identical(&read, &mesh, &point_data, &cell_data);
 }
+
+#[test]
+fn a_parallel_file_declares_the_pieces_fields_and_names_its_pieces() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = mixed_mesh();
+    let (point, cell) = mixed_fields(&mesh);
+    let pieces = ["a_0.vtu".to_string(), "a_1.vtu".to_string()];
+    for piece in &pieces {
+        write_vtu_file(dir.path().join(piece), &mesh, &point, &cell).unwrap();
+    }
+    let path = dir.path().join("a.pvtu");
+    seam_io::write_pvtu_file(&path, &pieces, &point, &cell).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("<VTKFile type=\"PUnstructuredGrid\"") && text.contains("GhostLevel=\"0\""), "{text}");
+    for (element, fields) in [("PPointData", &point), ("PCellData", &cell)] {
+        let start = text.find(&format!("<{element}")).unwrap();
+        let block = &text[start..text.find(&format!("</{element}>")).unwrap()];
+        assert_eq!(block.matches("<PDataArray").count(), fields.len(), "{block}");
+        for f in fields.iter() {
+            let components = match f.components {
+                1 => String::new(),
+                c => format!(" NumberOfComponents=\"{c}\""),
+            };
+            assert!(block.contains(&format!("Name=\"{}\"{components}/>", f.name)), "{}: {block}", f.name);
+        }
+    }
+    assert!(text.contains("<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/></PPoints>"));
+    let sources: Vec<&str> = text.match_indices("<Piece Source=\"").map(|(i, _)| &text[i + 15..i + 22]).collect();
+    assert_eq!(sources, ["a_0.vtu", "a_1.vtu"]);
+    // Not a serial file: the reader says so; a field named twice is refused.
+    let e = read_vtu_file(&path).unwrap_err();
+    assert!(e.to_string().contains("PUnstructuredGrid"), "{e}");
+    let twice = [point[0].clone(), point[0].clone()];
+    let e = seam_io::write_pvtu_file(dir.path().join("b.pvtu"), &pieces, &twice, &[]).unwrap_err();
+    assert!(matches!(e.kind(), VtuErrorKind::BadFieldName { .. }), "{e}");
+    assert!(!dir.path().join("b.pvtu").exists());
+}

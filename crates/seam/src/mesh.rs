@@ -439,6 +439,27 @@ impl Cell {
         }
     }
 
+    /// The same cell with node `n` replaced by `map(n)` (a renumbering of the
+    /// points).
+    pub fn map_nodes(&self, map: impl Fn(usize) -> usize) -> Cell {
+        let mut cell = *self;
+        let nodes: &mut [usize] = match &mut cell {
+            Cell::Tet4(n) => n,
+            Cell::Hex8(n) => n,
+            Cell::Prism6(n) => n,
+            Cell::Pyramid5(n) => n,
+            Cell::Tet10(n) => n,
+            Cell::Hex20(n) => n,
+            Cell::Hex27(n) => n,
+            Cell::Prism15(n) => n,
+            Cell::Prism18(n) => n,
+            Cell::Pyramid13(n) => n,
+            Cell::Pyramid14(n) => n,
+        };
+        nodes.iter_mut().for_each(|n| *n = map(*n));
+        cell
+    }
+
     /// Number of corners (4, 5, 6 or 8).
     pub fn n_corners(&self) -> usize {
         match self {

@@ -42,23 +42,33 @@ pub fn write_block(
     seam_io::write_volume_msh_file(path, &mesh, "body", &refs).unwrap();
 }
 
-/// Points and the named point (or cell) field of a VTU file, through vtkio.
+/// Points and the named point (or cell) field of a VTU file, or of every
+/// piece of a parallel one (`.pvtu`) one after the other, through vtkio.
 #[allow(dead_code)] // not every test crate reads VTU files
 pub fn vtu_field(path: &Path, name: &str, cell: bool) -> (Vec<[f64; 3]>, Vec<f64>) {
     use vtkio::model::{Attribute, DataSet, Piece};
-    let vtk = vtkio::Vtk::import(path).unwrap();
+    let mut vtk = vtkio::Vtk::import(path).unwrap();
+    vtk.load_all_pieces().unwrap_or_else(|e| panic!("{}: {e:?}", path.display()));
     let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else { panic!("not an unstructured grid") };
-    let Piece::Inline(piece) = pieces.into_iter().next().unwrap() else { panic!("not inline") };
-    let points: Vec<f64> = piece.points.cast_into().unwrap();
-    let attributes = if cell { &piece.data.cell } else { &piece.data.point };
-    let values = attributes
-        .iter()
-        .find_map(|a| match a {
-            Attribute::DataArray(d) if d.name == name => Some(d.data.cast_into::<f64>().unwrap()),
-            _ => None,
-        })
-        .unwrap_or_else(|| panic!("{} has no field {name}", path.display()));
-    (points.chunks(3).map(|c| [c[0], c[1], c[2]]).collect(), values)
+    let (mut points, mut values) = (Vec::new(), Vec::new());
+    for piece in pieces {
+        let Piece::Inline(piece) = piece else { panic!("not inline") };
+        let xyz: Vec<f64> = piece.points.cast_into().unwrap();
+        points.extend(xyz.chunks(3).map(|c| [c[0], c[1], c[2]]));
+        let attributes = if cell { &piece.data.cell } else { &piece.data.point };
+        values.extend(
+            attributes
+                .iter()
+                .find_map(|a| match a {
+                    Attribute::DataArray(d) if d.name == name => {
+                        Some(d.data.clone().cast_into::<f64>().unwrap())
+                    }
+                    _ => None,
+                })
+                .unwrap_or_else(|| panic!("{} has no field {name}", path.display())),
+        );
+    }
+    (points, values)
 }
 
 /// A case file's text for two blocks, "lower" (lower.msh) and "upper"

@@ -161,6 +161,56 @@ fn grid_bytes(
     Ok(out.into_bytes())
 }
 
+/// A parallel file (`.pvtu`, VTK's `PUnstructuredGrid`): the fields that
+/// every piece holds (names and components) and the pieces' file names.
+pub(super) fn parallel_bytes(
+    pieces: &[String],
+    point_data: &[Field],
+    cell_data: &[Field],
+) -> Result<Vec<u8>, VtuError> {
+    for (fields, on_cells) in [(point_data, false), (cell_data, true)] {
+        let declared: Vec<Field> =
+            fields.iter().map(|f| Field::new(f.name.clone(), f.components, Vec::new())).collect();
+        check_fields(&declared, 0, on_cells)?;
+    }
+    let mut out = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" \
+         byte_order=\"LittleEndian\" header_type=\"UInt64\"><PUnstructuredGrid GhostLevel=\"0\">\n",
+    );
+    for (element, fields) in [("PPointData", point_data), ("PCellData", cell_data)] {
+        if fields.is_empty() {
+            continue;
+        }
+        out.push_str(&format!("<{element}{}>\n", active_attributes(fields)));
+        for field in fields {
+            out.push_str(&format!("<PDataArray type=\"Float64\" Name=\"{}\"", escape(&field.name)));
+            if field.components != 1 {
+                out.push_str(&format!(" NumberOfComponents=\"{}\"", field.components));
+            }
+            out.push_str("/>\n");
+        }
+        out.push_str(&format!("</{element}>\n"));
+    }
+    out.push_str("<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/></PPoints>\n");
+    for piece in pieces {
+        out.push_str(&format!("<Piece Source=\"{}\"/>\n", escape(piece)));
+    }
+    out.push_str("</PUnstructuredGrid></VTKFile>\n");
+    Ok(out.into_bytes())
+}
+
+/// ` Scalars="…" Vectors="…"`: the first 1-component field as the active
+/// scalars, the first 3-component one as the active vectors.
+fn active_attributes(fields: &[Field]) -> String {
+    [("Scalars", 1), ("Vectors", 3)]
+        .iter()
+        .filter_map(|&(attribute, components)| {
+            let field = fields.iter().find(|f| f.components == components)?;
+            Some(format!(" {attribute}=\"{}\"", escape(&field.name)))
+        })
+        .collect()
+}
+
 /// `<PointData>` or `<CellData>` (nothing without fields), with the first
 /// 1-component field as the active scalars, the first 3-component one as the
 /// active vectors.
@@ -168,14 +218,7 @@ fn attribute_data(out: &mut String, element: &str, fields: &[Field]) {
     if fields.is_empty() {
         return;
     }
-    out.push('<');
-    out.push_str(element);
-    for (attribute, components) in [("Scalars", 1), ("Vectors", 3)] {
-        if let Some(field) = fields.iter().find(|f| f.components == components) {
-            out.push_str(&format!(" {attribute}=\"{}\"", escape(&field.name)));
-        }
-    }
-    out.push('>');
+    out.push_str(&format!("<{element}{}>", active_attributes(fields)));
     for field in fields {
         data_array(out, &field.name, field.components, &Values::Float64(&field.values));
     }
