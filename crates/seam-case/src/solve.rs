@@ -15,7 +15,12 @@
 //! - `<dir>/<body>.vtu` per body: point data `displacement` (3), nodal
 //!   `stress` (6, Voigt xx yy zz yz xz xy; volume-weighted average of the
 //!   cells around the point) and `von_mises`; cell data `stress` (6, at the
-//!   cell centre) and `von_mises`.
+//!   cell centre) and `von_mises`. Solved over N > 1 MPI ranks
+//!   ([`SolveOptions::pieces`]): `<dir>/<body>.pvtu` instead, VTK's parallel
+//!   file, and its N pieces `<dir>/<body>_<r>.vtu` (r = 0…N−1) with the same
+//!   fields, the cells cut into N pieces of nearly equal counts by recursive
+//!   coordinate bisection of their centres (a point on the boundary of
+//!   pieces is in each of them).
 //! - `<dir>/<slave body>_<surface>_interface.vtu` per interface: the slave
 //!   surface (its own points only) with point data `traction` (3, force per
 //!   area exerted by the master on the slave, −λ), `normal_traction` (t·n with
