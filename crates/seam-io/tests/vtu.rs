@@ -1445,7 +1445,10 @@ fn a_parallel_file_declares_the_pieces_fields_and_names_its_pieces() {
     let path = dir.path().join("a.pvtu");
     seam_io::write_pvtu_file(&path, &pieces, &point, &cell).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
-    assert!(text.contains("<VTKFile type=\"PUnstructuredGrid\"") && text.contains("GhostLevel=\"0\""), "{text}");
+    assert!(
+        text.contains("<VTKFile type=\"PUnstructuredGrid\"") && text.contains("GhostLevel=\"0\""),
+        "{text}"
+    );
     for (element, fields) in [("PPointData", &point), ("PCellData", &cell)] {
         let start = text.find(&format!("<{element}")).unwrap();
         let block = &text[start..text.find(&format!("</{element}>")).unwrap()];
@@ -1459,7 +1462,8 @@ fn a_parallel_file_declares_the_pieces_fields_and_names_its_pieces() {
         }
     }
     assert!(text.contains("<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/></PPoints>"));
-    let sources: Vec<&str> = text.match_indices("<Piece Source=\"").map(|(i, _)| &text[i + 15..i + 22]).collect();
+    let sources: Vec<&str> =
+        text.match_indices("<Piece Source=\"").map(|(i, _)| &text[i + 15..i + 22]).collect();
     assert_eq!(sources, ["a_0.vtu", "a_1.vtu"]);
     // Not a serial file: the reader says so; a field named twice is refused.
     let e = read_vtu_file(&path).unwrap_err();
