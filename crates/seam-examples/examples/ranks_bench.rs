@@ -7,6 +7,7 @@
 //! ```text
 //! cargo build --release -p seam-cli --features mpi
 //! cargo run --release -p seam-examples --example ranks_bench -- 1000000,4000000 1,2,4
+//! cargo run --release -p seam-examples --example ranks_bench -- 4000000 none   # the partition alone
 //! ```
 //!
 //! Ghosts: the master faces a rank receives beyond its share, r − M·s/S for a
@@ -21,7 +22,8 @@ use std::time::Instant;
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     let list = |i: usize, default: &str| -> Vec<usize> {
-        args.get(i).map_or(default, String::as_str).split(',').map(|s| s.parse().expect("a number")).collect()
+        let text = args.get(i).map_or(default, String::as_str);
+        text.split(',').filter(|s| *s != "none").map(|s| s.parse().expect("a number")).collect()
     };
     let (sizes, ranks) = (list(1, "1000000"), list(2, "1,2,4"));
     let seam = std::env::var("SEAM").unwrap_or_else(|_| "target/release/seam".into());
@@ -30,7 +32,7 @@ fn main() -> anyhow::Result<()> {
     let dir = std::env::var("SEAM_BENCH_DIR").map_or(tmp.path().to_path_buf(), std::path::PathBuf::from);
     println!("| slave faces | ranks | total s | read s | search s | assemble s | write s | rank seconds | ghost master faces (max share) | bytes exchanged | peak MB per rank |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    for &faces in &sizes {
+    for &faces in sizes.iter().filter(|_| !ranks.is_empty()) {
         let files = seam_examples::transfer_bench::write_problem(faces, &dir)?;
         for &n in &ranks {
             let out = dir.join(format!("out{n}"));

@@ -2,7 +2,8 @@
 //! `seam solve --solver petsc` on the warped-glue case (h_s/h_m = 4, rtol
 //! 10⁻⁸, one thread per rank) by one process and under `mpirun -np N`:
 //! seconds per phase (rank 0's own work, PETSc's matrix, setup and solve,
-//! stresses and output) and the peak memory of each rank.
+//! stresses and output) and the peak memory of each rank, largest (rank 0)
+//! first.
 //!
 //! ```text
 //! cargo build --release -p seam-cli --features mpi
@@ -62,11 +63,15 @@ fn main() -> anyhow::Result<()> {
                     .output()?;
                 let stderr = String::from_utf8_lossy(&o.stderr);
                 anyhow::ensure!(o.status.success(), "{n} ranks: {stderr}");
-                let peaks: Vec<String> = stderr
+                // The ranks' lines come in any order: largest first (rank 0,
+                // which holds the whole problem).
+                let mut peaks: Vec<f64> = stderr
                     .lines()
                     .filter_map(|l| l.strip_prefix("rank-peak-kb "))
-                    .map(|kb| format!("{:.0}", kb.trim().parse::<f64>().unwrap_or(0.0) / 1024.0))
+                    .map(|kb| kb.trim().parse::<f64>().unwrap_or(0.0) / 1024.0)
                     .collect();
+                peaks.sort_by(|a, b| b.total_cmp(a));
+                let peaks: Vec<String> = peaks.iter().map(|p| format!("{p:.0}")).collect();
                 let s: serde_json::Value =
                     serde_json::from_str(&std::fs::read_to_string(case_dir.join("out/summary.json"))?)?;
                 let sec = |k: &str| s["seconds"][k].as_f64().unwrap_or(0.0);

@@ -77,7 +77,7 @@ pub struct PetscSummary {
     /// Seconds of PETSc's solves.
     pub solve_seconds: f64,
     /// The MPI ranks PETSc's systems were distributed over (1: one process;
-    /// see [`lead_petsc`]).
+    /// see `lead_petsc`, feature `petsc`).
     pub ranks: usize,
 }
 

@@ -65,6 +65,8 @@ typedef struct {
 
 /* This process leads ranks that follow (rank 0 under mpirun, N > 1). */
 static int leading = 0;
+/* This process follows rank 0 (seam_petsc_follow). */
+static int following = 0;
 /* The followers have been told to exit. */
 static int released = 0;
 /* The leader's next system id. */
@@ -149,11 +151,13 @@ static void broadcast(command *c)
   (void)MPI_Wait(&request, MPI_STATUS_IGNORE);
 }
 
-/* Whether every rank succeeded (code 0 here and everywhere). */
+/* Whether every rank succeeded (code 0 here and everywhere; only here
+ * when this process neither leads nor follows). */
 static int agreed(int code)
 {
   int failed = code != 0, any = failed;
-  if (world_size() > 1) MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  if ((leading || following) && world_size() > 1)
+    (void)MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   return !any;
 }
 
@@ -440,6 +444,16 @@ static int create_here(const command *c, PetscInt rstart, PetscInt m, const Pets
       }
     }
   }
+  {
+    /* One process: GAMG's Galerkin products PᵀAP by the triple product of
+     * Pᵀ, A and P ("rap") unless the options say otherwise: 1.7× faster
+     * setups than the default on the dual-reduced glue systems, whose
+     * interface rows are dense (BENCHMARKS.md). */
+    PetscBool seqaij = PETSC_FALSE, set = PETSC_FALSE;
+    TRY(PetscObjectTypeCompare((PetscObject)s->A, MATSEQAIJ, &seqaij));
+    TRY(PetscOptionsHasName(NULL, NULL, "-matptap_via", &set));
+    if (seqaij && !set) TRY(PetscOptionsSetValue(NULL, "-matptap_via", "rap"));
+  }
   TRY(KSPSetTolerances(s->ksp, c->rtol, PETSC_DEFAULT, PETSC_DEFAULT, c->max_it));
   TRY(KSPSetFromOptions(s->ksp));
   s->setup_seconds = now() - t0; /* KSPSetUp follows at the first solve */
@@ -627,7 +641,14 @@ int seam_petsc_system_solve(seam_petsc_system *s, const PetscScalar *b, PetscSca
 
 void seam_petsc_system_destroy(seam_petsc_system *s)
 {
+  PetscBool finalized = PETSC_FALSE;
   if (!s) return;
+  PetscFinalized(&finalized);
+  if (finalized) { /* PETSc's objects went with it; so did the followers */
+    free(s->ranges);
+    free(s);
+    return;
+  }
   if (distributed()) {
     command c;
     memset(&c, 0, sizeof(c));
@@ -666,11 +687,14 @@ static seam_petsc_system *find(const systems *all, int id)
  * carries out the leader's calls until the leader finalises. Waits for each
  * command by testing every 0.2 ms, not in MPI's blocking wait, which spins:
  * the leader may compute for long between calls. Returns 0, or an error
- * code when a command failed here (the leader has been told). */
+ * code when a command failed here (the leader has been told). A buffer for
+ * the leader's data that cannot be allocated aborts the MPI job (the leader
+ * would wait for this rank forever otherwise). */
 int seam_petsc_follow(char *err, size_t errlen)
 {
   systems all = {NULL, 0};
   int     failed = 0;
+  following = 1;
   for (;;) {
     command     c;
     MPI_Request request;
