@@ -6,8 +6,8 @@
 //! `mpirun -np N seam solve --solver petsc`: for N = 1…3 the glued (dual and
 //! standard multipliers) and contact patch tests are exact with MUMPS, and
 //! the warped-glue example gives the single-process solution to the solver's
-//! tolerance with the default GAMG solvers; a bad mesh or another solver
-//! stops every rank with one line.
+//! tolerance with the default GAMG solvers; a bad mesh, another solver or a
+//! solve that does not converge stops every rank with one line.
 
 mod common;
 
@@ -302,7 +302,7 @@ fn ranks_solve_warped_glue_as_one_process_does() {
 }
 
 #[test]
-fn a_bad_mesh_or_another_solver_stops_every_rank_of_a_solve() {
+fn a_bad_mesh_another_solver_or_a_failed_solve_stops_every_rank() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     patch_stack(dir, "kind = \"glue\"");
@@ -323,6 +323,15 @@ fn a_bad_mesh_or_another_solver_stops_every_rank_of_a_solve() {
             assert!(!dir.join("out").exists(), "nothing written");
         }
     }
+    // A solve that stops without converging, on every rank.
+    std::fs::write(dir.join("lower.msh"), &good).unwrap();
+    let capped =
+        ["solve", "case.toml", "--solver", "petsc", "--petsc-options", "-pc_type none -ksp_max_it 1"];
+    let o = mpirun(2, &capped, dir);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let lines: Vec<String> = stderr(&o).lines().filter(|l| l.starts_with("seam")).map(String::from).collect();
+    assert!(lines.len() == 1 && lines[0].contains("DIVERGED_ITS"), "{lines:?}");
+    assert!(!dir.join("out").exists(), "nothing written");
 }
 
 #[test]
