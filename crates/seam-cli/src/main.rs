@@ -62,8 +62,9 @@ fn main() -> ExitCode {
 }
 
 /// Under `mpirun -np N` with N > 1: `assemble` over the ranks ([`ranks`]),
-/// and `solve --solver petsc` with PETSc's systems over them (rank 0 runs the
-/// pipeline and leads, the others follow its PETSc calls); every other
+/// and `solve --solver petsc` with PETSc's systems and the interfaces'
+/// operators over them (rank 0 runs the pipeline and leads, the others follow
+/// its PETSc calls and assemble their parts of each operator); every other
 /// command is refused. Only rank 0 speaks.
 #[cfg(feature = "mpi")]
 fn over_ranks(ranks: &ranks::Ranks) -> ExitCode {
@@ -81,6 +82,7 @@ fn over_ranks(ranks: &ranks::Ranks) -> ExitCode {
         },
         (Command::Solve(s), 0) => {
             seam_fem::petsc::lead_petsc();
+            ranks::operators_over_ranks();
             let result = match s.solver {
                 args::SolverArg::Petsc => solve::run(&s, ranks.size()),
                 _ => Err(Failure::Error(anyhow::anyhow!(
@@ -92,8 +94,10 @@ fn over_ranks(ranks: &ranks::Ranks) -> ExitCode {
             seam_fem::petsc::finalize_petsc(); // releases the other ranks
             code
         }
-        (Command::Solve(_), _) => {
-            let followed = seam_fem::petsc::follow_petsc();
+        (Command::Solve(s), _) => {
+            // Rank 0 checks the thread count; a bad one is its error.
+            let _ = assemble::global_pool(s.threads);
+            let followed = ranks.follow();
             seam_fem::petsc::finalize_petsc();
             if followed.is_ok() {
                 ExitCode::SUCCESS

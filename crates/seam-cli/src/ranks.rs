@@ -6,7 +6,9 @@
 //! region (a rendezvous by boxes); every rank assembles its faces' blocks
 //! (rank 0 too) and sends them back; rank 0 sums the rows in face order and
 //! writes the files: the same bytes as one process. `seam solve --solver
-//! petsc` runs over the ranks by PETSc (`main`); any other command under
+//! petsc` runs its PETSc systems over the ranks (rank 0 leads, the others
+//! follow) and its interfaces' operators as `assemble` does
+//! ([`operators_over_ranks`], [`Ranks::follow`]); any other command under
 //! N > 1 ranks is refused.
 //!
 //! Messages are byte arrays (a u64 length, then chunks of at most 1 GiB, so
@@ -18,7 +20,7 @@
 use mpi::topology::{Communicator, SimpleCommunicator};
 use mpi::traits::{Destination, Source};
 use seam::parts::{assemble_here, assemble_parts, split, PartBlocks, PartJob};
-use seam::{FaceTree, Mortar, MortarOptions, SurfaceMesh};
+use seam::{FaceTree, Mortar, MortarError, MortarOptions, SurfaceMesh};
 use seam_case::assemble::{Assembler, Progress, RankReport};
 use std::cell::Cell;
 use std::time::Instant;
@@ -54,6 +56,23 @@ impl Ranks {
         self.world.rank() as usize
     }
 
+    /// A rank other than 0 of `mpirun -np N seam solve`: follows rank 0's
+    /// PETSc calls, and assembles its part of each interface's operator when
+    /// rank 0 yields for it ([`operators_over_ranks`]), until rank 0 ends.
+    /// `Err` when a PETSc call failed here (rank 0 has failed too).
+    pub fn follow(&self) -> Result<(), ()> {
+        loop {
+            match seam_fem::petsc::follow_petsc() {
+                Ok(seam_fem::petsc::Followed::Released) => return Ok(()),
+                Ok(seam_fem::petsc::Followed::Yielded) => {
+                    // A part that cannot be had: rank 0 knows it and fails.
+                    let _ = self.work();
+                }
+                Err(_) => return Err(()),
+            }
+        }
+    }
+
     /// Rank 0's assembler: parts to the other ranks, blocks back.
     pub fn assembler(&self) -> OverRanks<'_> {
         OverRanks { world: &self.world, sent: Cell::new(false) }
@@ -81,6 +100,29 @@ impl Ranks {
         root.send(&seconds);
         Ok(())
     }
+}
+
+/// Rank 0 of `mpirun -np N seam solve`: every interface's operator is
+/// assembled over the ranks ([`OverRanks`], the same B and D bit for bit),
+/// the other ranks handed over by PETSc's followers for it
+/// ([`Ranks::follow`]).
+pub fn operators_over_ranks() {
+    let over_ranks = |master: &SurfaceMesh, slave: &SurfaceMesh, options: &MortarOptions| {
+        seam_fem::petsc::yield_petsc();
+        // MPI is initialised for the whole run (`main`); this thread is the
+        // only one calling it now (interfaces are assembled one at a time).
+        let world = SimpleCommunicator::world();
+        let assembler = OverRanks { world: &world, sent: Cell::new(false) };
+        let tree = FaceTree::new(master);
+        assembler.assemble(master, &tree, slave, options, &()).map(|(mortar, _)| mortar).map_err(|e| {
+            match e.downcast::<MortarError>() {
+                Ok(e) => e,
+                Err(e) => MortarError::InvalidOption(format!("{e:#}")),
+            }
+        })
+    };
+    // Set once, by main, before any solve.
+    let _ = seam_fem::set_operator_assembler(Box::new(over_ranks));
 }
 
 /// Rank 0's side of [`Ranks::work`] ([`Assembler`]).

@@ -255,6 +255,9 @@ fn ranks_solve_the_glued_and_contact_patch_tests_exactly() {
             let s = solve_on(dir, Some(n), &mumps, &to);
             assert_eq!(s.get("ranks").and_then(|r| r.as_u64()), (n > 1).then_some(n as u64), "{what}");
             assert_eq!(s["dofs"], one["dofs"], "{what}");
+            // The interface's operator, assembled over the ranks: one
+            // process's statistics, bit for bit.
+            assert_eq!(s["interfaces"][0]["mortar"], one["interfaces"][0]["mortar"], "{what}, {n} ranks");
             for reason in s["petsc"]["reasons"].as_array().unwrap() {
                 assert!(reason.as_str().unwrap().starts_with("CONVERGED"), "{what}, {n} ranks: {s}");
             }
@@ -294,6 +297,8 @@ fn ranks_solve_warped_glue_as_one_process_does() {
             let to = format!("np{n}");
             let s = solve_on(dir, Some(n), &rtol, &to);
             assert_eq!(s["petsc"]["pc_type"], one["petsc"]["pc_type"], "{multiplier}");
+            let mortar = |s: &serde_json::Value| s["interfaces"][0]["mortar"].clone();
+            assert_eq!(mortar(&s), mortar(&one), "{multiplier}, {n} ranks: the operator over the ranks");
             assert_eq!(s["petsc"]["reasons"][0], "CONVERGED_RTOL", "{multiplier}, {n} ranks: {s}");
             let e = difference(dir, "one", (&to, n));
             assert!(e <= 1e-8, "{multiplier}, {n} ranks: {e:.1e} from one process");

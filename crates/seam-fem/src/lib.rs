@@ -64,7 +64,9 @@ pub use assembly::{body_force, cell_volumes, rigid_body_modes, stiffness, tracti
 pub use contact::{ActiveSetStep, Kkt};
 pub use element::{ElementKind, VolumeRule};
 pub use material::{Material, MaterialError};
-pub use multibody::{Body, Coupling, Interface, ProblemError, Solver, Timings};
+pub use multibody::{
+    set_operator_assembler, Body, Coupling, Interface, OperatorAssembler, ProblemError, Solver, Timings,
+};
 pub use problem::{solve, Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
 pub use solution::{
     solve_coupled, ContactFields, ContactReport, InterfaceSolution, Report, Solution, SolveOptions,

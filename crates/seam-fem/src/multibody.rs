@@ -14,7 +14,41 @@ use crate::petsc::PetscOptions;
 use crate::solve::{Dirichlet, SolveError};
 use crate::{stiffness, AssemblyError};
 use seam::{BasisTransformation, CsrMatrix, Mortar, MortarError, MortarOptions, SurfaceMesh, VolumeMesh};
+use std::sync::OnceLock;
 use std::time::Instant;
+
+/// An assembler of an interface's operator (B, D; A1–D5) from the master
+/// surface, the slave surface and the options, as [`seam::assemble`].
+pub type OperatorAssembler =
+    dyn Fn(&SurfaceMesh, &SurfaceMesh, &MortarOptions) -> Result<Mortar, MortarError> + Send + Sync;
+
+/// The assembler the solves of this process use, when a program set one.
+static OPERATOR: OnceLock<Box<OperatorAssembler>> = OnceLock::new();
+
+/// Makes every later solve of this process assemble its interfaces' operators
+/// with `assembler` instead of [`seam::assemble`] (the binary under MPI: over
+/// the ranks, with the same B and D bit for bit). Interfaces are assembled
+/// one after the other, never concurrently. Once per process: a second call
+/// returns `assembler` back.
+///
+/// # Errors
+/// An assembler was already set: `assembler` itself.
+pub fn set_operator_assembler(assembler: Box<OperatorAssembler>) -> Result<(), Box<OperatorAssembler>> {
+    OPERATOR.set(assembler)
+}
+
+/// An interface's operator, by the assembler set for this process or by
+/// [`seam::assemble`].
+fn assemble_operator(
+    master: &SurfaceMesh,
+    slave: &SurfaceMesh,
+    options: &MortarOptions,
+) -> Result<Mortar, MortarError> {
+    match OPERATOR.get() {
+        Some(assemble) => assemble(master, slave, options),
+        None => seam::assemble(master, slave, options),
+    }
+}
 
 /// One linear-elastic body.
 #[derive(Clone, Debug)]
@@ -239,7 +273,7 @@ pub(crate) fn assemble_system(
                 Coupling::Contact => MortarOptions { transformation: BasisTransformation::All, ..f.options },
                 Coupling::Glue => f.options,
             };
-            seam::assemble(f.master_surface, f.slave_surface, &options)
+            assemble_operator(f.master_surface, f.slave_surface, &options)
                 .map_err(|source| ProblemError::Mortar { interface: i, source })
         })
         .collect::<Result<Vec<_>, _>>()?;

@@ -98,6 +98,10 @@ pub fn initialize_petsc(options: &str) -> Result<(), SolveError> {
     }
 }
 
+/// Why [`follow_petsc`] returned.
+#[cfg(feature = "petsc")]
+pub use seam_petsc::Followed;
+
 /// Makes this process, rank 0 of an MPI run, lead the other ranks, which
 /// call [`follow_petsc`]: every PETSc solve of this process then runs on all
 /// ranks, each holding a block of the system's rows. Returns the number of
@@ -109,13 +113,21 @@ pub fn lead_petsc() -> usize {
 
 /// A rank other than 0 of an MPI run whose rank 0 leads ([`lead_petsc`]):
 /// takes its part in every PETSc call of the leader until the leader
-/// finalises; then call [`finalize_petsc`].
+/// finalises (then call [`finalize_petsc`]) or yields, for the program's own
+/// work.
 ///
 /// # Errors
 /// [`SolveError::Petsc`]: a call failed on this rank (the leader failed too).
 #[cfg(feature = "petsc")]
-pub fn follow_petsc() -> Result<(), SolveError> {
+pub fn follow_petsc() -> Result<seam_petsc::Followed, SolveError> {
     seam_petsc::follow().map_err(|e| SolveError::Petsc(e.0))
+}
+
+/// The leader hands its followers back to their program between PETSc
+/// calls ([`follow_petsc`] returns `Yielded` there).
+#[cfg(feature = "petsc")]
+pub fn yield_petsc() {
+    seam_petsc::yield_followers()
 }
 
 /// Finalises PETSc if it was initialised (a program that finalises MPI

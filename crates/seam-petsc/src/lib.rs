@@ -76,7 +76,8 @@ mod ffi {
         pub fn seam_petsc_petscint_size() -> c_int;
         pub fn seam_petsc_finalize();
         pub fn seam_petsc_lead() -> c_int;
-        pub fn seam_petsc_follow(err: *mut c_char, errlen: usize) -> c_int;
+        pub fn seam_petsc_follow(failed: *mut c_int, err: *mut c_char, errlen: usize) -> c_int;
+        pub fn seam_petsc_yield();
         pub fn seam_petsc_system_create(
             n: PetscInt,
             n_first: PetscInt,
@@ -171,24 +172,46 @@ pub fn lead() -> usize {
     size.max(1) as usize
 }
 
+/// Why [`follow`] returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Followed {
+    /// The leader finalised: call [`finalize`] and end.
+    Released,
+    /// The leader [`yield_followers`]: do the leader's other work (the
+    /// program's own protocol), then follow again.
+    Yielded,
+}
+
 /// A rank other than 0 of an MPI run whose rank 0 [`lead`]s: carries out the
 /// leader's calls (PETSc's initialisation, building and solving its systems
-/// on this rank's rows) until the leader finalises; then call [`finalize`].
+/// on this rank's rows) until the leader finalises or yields.
 ///
 /// # Errors
-/// A call failed on this rank (the leader has been told, and has failed
-/// with its own message): PETSc's message.
-pub fn follow() -> Result<(), PetscError> {
+/// On release, when a call failed on this rank (the leader has been told,
+/// and has failed with its own message): PETSc's message.
+pub fn follow() -> Result<Followed, PetscError> {
     let mut err = [0 as c_char; ERR_LEN];
-    // SAFETY: err has ERR_LEN bytes. The loop only returns when the leader
-    // releases this rank; no other thread of this process calls PETSc
-    // meanwhile (a follower does nothing else), so the lock is not taken:
-    // the shim's PETSc calls are all on this thread.
-    let code = unsafe { ffi::seam_petsc_follow(err.as_mut_ptr(), ERR_LEN) };
-    match code {
-        0 => Ok(()),
-        _ => Err(error_text(&err, code)),
+    let mut failed: c_int = 0;
+    // SAFETY: failed is a valid int, err has ERR_LEN bytes. The loop returns
+    // when the leader releases or yields; no other thread of this process
+    // calls PETSc meanwhile (a follower does nothing else), so the lock is
+    // not taken: the shim's PETSc calls are all on this thread.
+    let code = unsafe { ffi::seam_petsc_follow(&mut failed, err.as_mut_ptr(), ERR_LEN) };
+    match (code, failed) {
+        (1, _) => Ok(Followed::Yielded),
+        (_, 0) => Ok(Followed::Released),
+        (_, failed) => Err(error_text(&err, failed)),
     }
+}
+
+/// The leader hands its followers back to their program ([`follow`] returns
+/// [`Followed::Yielded`]), for work of the program's own between PETSc
+/// calls; nothing when this process does not lead.
+pub fn yield_followers() {
+    let _guard = lock();
+    // SAFETY: no argument; a broadcast to the followers when this process
+    // leads, under the lock that every other PETSc call takes.
+    unsafe { ffi::seam_petsc_yield() }
 }
 
 /// Initialises PETSc on the first call (with `options`, a string of PETSc

@@ -53,7 +53,7 @@ typedef struct {
 
 /* What the leader broadcasts before each call (all ranks run one binary:
  * the layout is the same everywhere). */
-enum { CMD_INIT = 1, CMD_CREATE, CMD_SOLVE, CMD_DESTROY, CMD_EXIT };
+enum { CMD_INIT = 1, CMD_CREATE, CMD_SOLVE, CMD_DESTROY, CMD_EXIT, CMD_YIELD };
 typedef struct {
   int cmd, id;
   PetscInt n, n_first, bs, n_modes, max_it;
@@ -683,17 +683,32 @@ static seam_petsc_system *find(const systems *all, int id)
   return id >= 0 && (size_t)id < all->len ? all->at[id] : NULL;
 }
 
-/* A follower (a rank other than 0, whose rank 0 called seam_petsc_lead):
- * carries out the leader's calls until the leader finalises. Waits for each
- * command by testing every 0.2 ms, not in MPI's blocking wait, which spins:
- * the leader may compute for long between calls. Returns 0, or an error
- * code when a command failed here (the leader has been told). A buffer for
- * the leader's data that cannot be allocated aborts the MPI job (the leader
- * would wait for this rank forever otherwise). */
-int seam_petsc_follow(char *err, size_t errlen)
+/* The leader hands its followers back to their caller for other work
+ * (seam_petsc_follow returns 1 there); they come back by following again. */
+void seam_petsc_yield(void)
 {
-  systems all = {NULL, 0};
-  int     failed = 0;
+  if (distributed() && !released) {
+    command c;
+    memset(&c, 0, sizeof(c));
+    c.cmd = CMD_YIELD;
+    broadcast(&c);
+  }
+}
+
+/* A follower's systems, kept between its calls of seam_petsc_follow. */
+static systems all = {NULL, 0};
+
+/* A follower (a rank other than 0, whose rank 0 called seam_petsc_lead):
+ * carries out the leader's calls until the leader finalises (returns 0) or
+ * yields (returns 1: the caller does the leader's other work, then follows
+ * again). Waits for each command by testing every 0.2 ms, not in MPI's
+ * blocking wait, which spins: the leader may compute for long between
+ * calls. *failed is the last error code of a command that failed here (the
+ * leader has been told), else 0. A buffer for the leader's data that cannot
+ * be allocated aborts the MPI job (the leader would wait for this rank
+ * forever otherwise). */
+int seam_petsc_follow(int *failed, char *err, size_t errlen)
+{
   following = 1;
   for (;;) {
     command     c;
@@ -704,7 +719,12 @@ int seam_petsc_follow(char *err, size_t errlen)
       struct timespec pause = {0, 200000};
       nanosleep(&pause, NULL);
     }
-    if (c.cmd == CMD_EXIT) break;
+    if (c.cmd == CMD_EXIT) {
+      free(all.at);
+      all.at = NULL, all.len = 0;
+      return 0;
+    }
+    if (c.cmd == CMD_YIELD) return 1;
     if (c.cmd == CMD_INIT) {
       /* PETSc keeps pointers into argv: the words stay for the process. */
       char  *packed = (char *)malloc((size_t)c.bytes);
@@ -767,8 +787,6 @@ int seam_petsc_follow(char *err, size_t errlen)
       if (s) all.at[c.id] = NULL;
       destroy_here(s);
     }
-    if (code) failed = code;
+    if (code) *failed = code;
   }
-  free(all.at);
-  return failed;
 }
