@@ -697,10 +697,9 @@ impl Solved {
     }
 }
 
-/// The point (rank 0 of a cell's nodes' mean) of a cell: where the
-/// partition into pieces places it.
+/// The mean of a cell's corners: where the partition into pieces places it.
 fn centre(points: &[Point3], cell: &seam::Cell) -> Point3 {
-    let corners = &cell.nodes()[..cell.n_corners()];
+    let corners = cell.corner_nodes();
     let sum = corners
         .iter()
         .fold([0.0; 3], |s, &n| [s[0] + points[n][0], s[1] + points[n][1], s[2] + points[n][2]]);

@@ -421,42 +421,37 @@ impl HigherOrderNodes {
     }
 }
 
+/// `$body` with `$n` bound to the node array of whichever variant `$cell`
+/// (a `Cell`, `&Cell` or `&mut Cell`) is.
+macro_rules! cell_nodes {
+    ($cell:expr, $n:ident => $body:expr) => {
+        match $cell {
+            Cell::Tet4($n) => $body,
+            Cell::Hex8($n) => $body,
+            Cell::Prism6($n) => $body,
+            Cell::Pyramid5($n) => $body,
+            Cell::Tet10($n) => $body,
+            Cell::Hex20($n) => $body,
+            Cell::Hex27($n) => $body,
+            Cell::Prism15($n) => $body,
+            Cell::Prism18($n) => $body,
+            Cell::Pyramid13($n) => $body,
+            Cell::Pyramid14($n) => $body,
+        }
+    };
+}
+
 impl Cell {
     /// All node indices in Gmsh order.
     pub fn nodes(&self) -> &[usize] {
-        match self {
-            Cell::Tet4(n) => n,
-            Cell::Hex8(n) => n,
-            Cell::Prism6(n) => n,
-            Cell::Pyramid5(n) => n,
-            Cell::Tet10(n) => n,
-            Cell::Hex20(n) => n,
-            Cell::Hex27(n) => n,
-            Cell::Prism15(n) => n,
-            Cell::Prism18(n) => n,
-            Cell::Pyramid13(n) => n,
-            Cell::Pyramid14(n) => n,
-        }
+        cell_nodes!(self, n => n)
     }
 
     /// The same cell with node `n` replaced by `map(n)` (a renumbering of the
     /// points).
     pub fn map_nodes(&self, map: impl Fn(usize) -> usize) -> Cell {
         let mut cell = *self;
-        let nodes: &mut [usize] = match &mut cell {
-            Cell::Tet4(n) => n,
-            Cell::Hex8(n) => n,
-            Cell::Prism6(n) => n,
-            Cell::Pyramid5(n) => n,
-            Cell::Tet10(n) => n,
-            Cell::Hex20(n) => n,
-            Cell::Hex27(n) => n,
-            Cell::Prism15(n) => n,
-            Cell::Prism18(n) => n,
-            Cell::Pyramid13(n) => n,
-            Cell::Pyramid14(n) => n,
-        };
-        nodes.iter_mut().for_each(|n| *n = map(*n));
+        cell_nodes!(&mut cell, n => n.iter_mut().for_each(|n| *n = map(*n)));
         cell
     }
 
