@@ -670,13 +670,15 @@ impl Solved {
             }
             let centres: Vec<Point3> =
                 body.mesh.cells().iter().map(|c| centre(body.mesh.points(), c)).collect();
-            let part = seam::parts::bisect(&centres, names.pieces[b].len());
-            for (r, path) in names.pieces[b].iter().enumerate() {
-                let cells: Vec<usize> = (0..part.len()).filter(|&c| part[c] == r).collect();
-                let (mesh, point, cell) = piece(&body.mesh, &cells, point, cell)?;
+            let mut cells_of = vec![Vec::new(); names.pieces[b].len()];
+            for (c, r) in seam::parts::bisect(&centres, cells_of.len()).into_iter().enumerate() {
+                cells_of[r].push(c);
+            }
+            for (path, cells) in names.pieces[b].iter().zip(&cells_of) {
+                let (mesh, point, cell) = piece(&body.mesh, cells, point, cell)?;
                 out.write(path, |p| write(p, &mesh, &point, &cell))?;
             }
-            let sources: Vec<String> = names.pieces[b].iter().map(|p| file_name(p)).collect::<Vec<_>>();
+            let sources: Vec<String> = names.pieces[b].iter().map(|p| file_name(p)).collect();
             out.write(&names.bodies[b], |p| {
                 seam_io::write_pvtu_file(p, &sources, point, cell).map_err(std::io::Error::other)
             })?;
