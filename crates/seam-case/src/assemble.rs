@@ -86,7 +86,8 @@ pub struct Summary {
     pub multiplier: String,
     /// The slave basis D and B are written in: "lagrange" (nodal), or for
     /// dual multipliers on slave surfaces with Tri6 or Quad8 faces "transformed": λ̃ = Q λ
-    /// (Popp et al. 2012, α = `seam::BASIS_ALPHA`), Q in `Q.mtx`, and the
+    /// (Popp et al. 2012, α = `seam::BASIS_ALPHA`, or `seam::TRI6_ALPHA` on
+    /// surfaces of Tri6 faces), Q in `Q.mtx`, and the
     /// nodal transfer T = Qᵀ D⁻¹ B in `T.mtx`.
     pub slave_basis: &'static str,
     /// The quadrature degree of warped quads, or "per face".

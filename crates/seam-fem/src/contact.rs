@@ -34,7 +34,8 @@
 //! # Second-order slave faces (Popp, Wohlmuth, Gee & Wall 2012)
 //! Dual multipliers on Tri6, Quad8 and Quad9 slave faces live in the
 //! transformed basis λ̃ = Q λ ([`Mortar::basis`]; corner: λ_c + α Σ λ_e over
-//! its edge nodes, edge node: (1 − 2α) λ_e, Quad9 centre unchanged; contact
+//! its edge nodes, edge node: (1 − 2α) λ_e, Quad9 centre unchanged; α is
+//! [`seam::BASIS_ALPHA`], or [`seam::TRI6_ALPHA`] on surfaces of Tri6 faces; contact
 //! interfaces are assembled with [`seam::BasisTransformation::All`], so Quad9
 //! slave surfaces are transformed too, unlike glued ones), in which
 //! D is diagonal and positive and row p of B belongs to the dual function ψ_p,

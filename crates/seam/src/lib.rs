@@ -73,7 +73,7 @@ pub use mortar::{
     assemble, assemble_with_tree, face_integrals, face_quality, master_side, nodal_areas, nodal_normals,
     normal_gaps, normal_gaps_from, orientation_conflicts, warped_quad_degree, BasisTransformation,
     FaceQuality, FaceStats, Facing, MasterSide, MaxGap, Mortar, MortarError, MortarOptions, MortarSummary,
-    Multiplier, Segment, Transfer, BASIS_ALPHA, COVERED_FRACTION, WARPED_RTOL,
+    Multiplier, Segment, Transfer, BASIS_ALPHA, COVERED_FRACTION, TRI6_ALPHA, WARPED_RTOL,
 };
 pub use quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};
 pub use search::{face_box, swept_box, FaceTree};

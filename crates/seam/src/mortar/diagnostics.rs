@@ -140,8 +140,9 @@ pub fn master_side(mortar: &Mortar, slave: &SurfaceMesh, master: &SurfaceMesh) -
     let mut a = b.transpose_mul_vec(&vec![1.0; b.nrows], 1);
     let mut c = b.transpose_mul_vec(&xs, 3);
     let mut m = nodal_areas(master);
-    if super::multiplier::transforms(master, super::BasisTransformation::Needed) {
-        let q = basis_transformation(master);
+    if let Some(alpha) = super::multiplier::transformation_weight(master, super::BasisTransformation::Needed)
+    {
+        let q = basis_transformation(master, alpha);
         (a, c, m) = (q.mul_vec(&a, 1), q.mul_vec(&c, 3), q.mul_vec(&m, 1));
     }
     let used = master.used_points();

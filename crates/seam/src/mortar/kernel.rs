@@ -167,9 +167,9 @@ pub(super) struct Kernel<'a> {
     /// The master surface has second-order faces: every pair takes the
     /// general path of [`isoparametric`].
     curved_master: bool,
-    /// The slave's second-order faces get the basis transformation
-    /// ([`super::BASIS_ALPHA`]).
-    transform: bool,
+    /// The weight α of the basis transformation of the slave's second-order
+    /// faces, if they get one ([`super::BASIS_ALPHA`]).
+    transform: Option<f64>,
 }
 
 /// Buffers reused from face to face (one per chunk of faces, never per pair).
@@ -255,7 +255,7 @@ impl<'a> Kernel<'a> {
         tree: &'a FaceTree,
         slave: &'a SurfaceMesh,
         options: &'a MortarOptions,
-        transform: bool,
+        transform: Option<f64>,
     ) -> Self {
         Kernel {
             master,

@@ -29,7 +29,7 @@ pub use diagnostics::{
     face_quality, master_side, nodal_areas, nodal_normals, normal_gaps, normal_gaps_from,
     orientation_conflicts, FaceQuality, MasterSide,
 };
-pub use multiplier::BASIS_ALPHA;
+pub use multiplier::{BASIS_ALPHA, TRI6_ALPHA};
 pub use transfer::Transfer;
 
 use crate::element::FaceElement;
@@ -164,7 +164,7 @@ pub struct MortarOptions {
 }
 
 /// Which second-order slave surfaces get the basis transformation of dual
-/// multipliers ([`BASIS_ALPHA`]).
+/// multipliers ([`BASIS_ALPHA`]; [`TRI6_ALPHA`] on surfaces of Tri6 faces).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum BasisTransformation {
     /// Surfaces with Tri6 or Quad8 faces, whose corner functions have no
@@ -430,7 +430,7 @@ pub fn assemble_with_tree(
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Mortar, MortarError> {
     check_inputs(master, slave, options)?;
-    let transform = multiplier::transforms(slave, options.transformation);
+    let transform = multiplier::transformation_weight(slave, options.transformation);
     let blocks = face_blocks(master, tree, slave, options, transform, progress);
     into_operator(master, tree, slave, options, blocks)
 }
@@ -445,7 +445,7 @@ fn face_blocks(
     tree: &FaceTree,
     slave: &SurfaceMesh,
     options: &MortarOptions,
-    transform: bool,
+    transform: Option<f64>,
     progress: &(dyn Fn(usize) + Sync),
 ) -> ChunkedBlocks {
     let kernel = Kernel::new(master, tree, slave, options, transform);
@@ -473,7 +473,7 @@ fn face_blocks_of(
     tree: &FaceTree,
     slave: &SurfaceMesh,
     options: &MortarOptions,
-    transform: bool,
+    transform: Option<f64>,
     faces: &[usize],
 ) -> Vec<Blocks> {
     let kernel = Kernel::new(master, tree, slave, options, transform);

@@ -189,8 +189,8 @@ impl SubSurface {
 #[derive(Clone, Debug, PartialEq)]
 pub struct PartJob {
     options: MortarOptions,
-    /// Whether the *whole* slave surface gets the basis transformation.
-    transform: bool,
+    /// The weight of the basis transformation of the *whole* slave surface, if any.
+    transform: Option<f64>,
     /// `None` when the part has no slave faces.
     faces: Option<(SubSurface, SubSurface)>,
 }
@@ -198,7 +198,7 @@ pub struct PartJob {
 impl PartJob {
     /// The job of `part` of the surfaces.
     pub fn new(master: &SurfaceMesh, slave: &SurfaceMesh, options: &MortarOptions, part: &Part) -> PartJob {
-        let transform = multiplier::transforms(slave, options.transformation);
+        let transform = multiplier::transformation_weight(slave, options.transformation);
         // A region that no master face meets still gets one (which its faces'
         // own searches do not return): the kernel needs a surface to search.
         let ghosts = match part.master_faces.is_empty() {
@@ -248,7 +248,8 @@ impl PartJob {
         w.usize(o.warped_quad_degree.map_or(0, |d| d + 1));
         w.u64(u64::from(o.record_segments));
         w.u64(o.transformation as u64);
-        w.u64(u64::from(self.transform));
+        w.u64(u64::from(self.transform.is_some()));
+        w.f64(self.transform.unwrap_or(0.0));
         w.u64(u64::from(self.faces.is_some()));
         if let Some((master, slave)) = &self.faces {
             master.encode(&mut w);
@@ -276,7 +277,8 @@ impl PartJob {
         let record_segments = pick(r.u64()?, 2)? == 1;
         let transformation =
             [BasisTransformation::Needed, BasisTransformation::All][pick(r.u64()?, 2)? as usize];
-        let transform = pick(r.u64()?, 2)? == 1;
+        let transform = (pick(r.u64()?, 2)?, r.f64()?);
+        let transform = (transform.0 == 1).then_some(transform.1);
         let faces = match pick(r.u64()?, 2)? {
             1 => Some((SubSurface::decode(&mut r)?, SubSurface::decode(&mut r)?)),
             _ => None,
@@ -305,7 +307,7 @@ pub fn assemble_here(
     options: &MortarOptions,
     part: &Part,
 ) -> PartBlocks {
-    let transform = multiplier::transforms(slave, options.transformation);
+    let transform = multiplier::transformation_weight(slave, options.transformation);
     let blocks = face_blocks_of(master, tree, slave, options, transform, &part.slave_faces);
     PartBlocks { faces: part.slave_faces.clone(), blocks }
 }

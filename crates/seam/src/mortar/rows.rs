@@ -7,7 +7,7 @@
 //! spread over threads (I7).
 
 use super::isoparametric::MAX_NODES;
-use super::multiplier::{transformation_row, transforms, FaceMeasures};
+use super::multiplier::{transformation_row, transformation_weight, FaceMeasures};
 use super::BasisTransformation;
 use super::{FaceStats, Mortar, MortarSummary, Multiplier, Segment, COVERED_FRACTION};
 use crate::curved::CurvedKind;
@@ -314,8 +314,9 @@ pub(super) fn into_mortar(
     let node_coverage = node_coverage(slave, &blocks);
     let on_surface = slave.used_points();
     let mut covered: Vec<bool> = node_coverage.iter().map(|&c| c > COVERED_FRACTION).collect();
-    let basis = (multiplier == Multiplier::Dual && transforms(slave, transformation))
-        .then(|| basis_transformation(slave));
+    let basis = transformation_weight(slave, transformation)
+        .filter(|_| multiplier == Multiplier::Dual)
+        .map(|alpha| basis_transformation(slave, alpha));
     if let Some(q) = &basis {
         // T = Qᵀ D⁻¹ B mixes the rows of the λ̃ around a node: it is covered
         // only when all of them are.
@@ -349,17 +350,17 @@ fn node_coverage(slave: &SurfaceMesh, blocks: &ChunkedBlocks) -> Vec<f64> {
     covered.iter().zip(&full).map(|(&c, &f)| if f > 0.0 { c / f } else { 0.0 }).collect()
 }
 
-/// The global basis transformation λ̃ = Q λ of a surface's second-order faces
-/// (`multiplier::BASIS_ALPHA`): rows are the transformed functions, the union
-/// of the faces' Q_e (which agree on shared nodes).
-pub(super) fn basis_transformation(slave: &SurfaceMesh) -> CsrMatrix {
+/// The global basis transformation λ̃ = Q λ of weight `alpha` of a surface's
+/// second-order faces (`multiplier::BASIS_ALPHA`): rows are the transformed
+/// functions, the union of the faces' Q_e (which agree on shared nodes).
+pub(super) fn basis_transformation(slave: &SurfaceMesh, alpha: f64) -> CsrMatrix {
     let n = slave.n_points();
     let mut entries: Vec<(usize, usize, f64)> = Vec::new();
     for face in slave.faces() {
         let kind = CurvedKind::of(face);
         let nodes = face.nodes();
         for p in 0..nodes.len() {
-            entries.extend(transformation_row(kind, true, p).map(|(c, v)| (nodes[p], nodes[c], v)));
+            entries.extend(transformation_row(kind, Some(alpha), p).map(|(c, v)| (nodes[p], nodes[c], v)));
         }
     }
     entries.sort_by_key(|e| (e.0, e.1));
