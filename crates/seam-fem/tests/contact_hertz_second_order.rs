@@ -79,6 +79,28 @@
 //! (`LumpedNotPositive` on partly covered faces at the edge of the indenter):
 //! dual is the default there.
 //!
+//! **Curved slaves** (`Hertz::curved_slave`: the indenter's sphere is the
+//! slave side, its cells 1.3 times finer than the block's; the second half
+//! of the study below, n counting the block's cells; the n = 6 rows once by
+//! hand): p₀ error, and in brackets the weighted mean of p_H at the pole and
+//! the profile error.
+//!
+//! | cells | n | dofs | α = 1/5 | α = 1/8 (`TRI6_ALPHA`) |
+//! |---|---|---|---|---|
+//! | Tet10 | 2 | 43 320 | −13.03 % (profile 0.130) | −24.29 % (0.243) |
+//! | Tet10 | 4 | 136 590 | −4.48 % (mean −0.89 %, 0.114) | −7.32 % (mean +0.04 %, 0.086) |
+//! | Tet10 | 6 | 287 934 | −1.37 % (mean −0.35 %, 0.101) | −2.25 % (mean +0.01 %, 0.051) |
+//! | Hex27 | 2 | 43 320 | −0.74 % | (no Tri6) |
+//! | Hex27 | 4 | 136 590 | −0.14 % | |
+//! | Tet4 | 4 / 8 | 18 945 / 61 050 | +1.29 % / −3.85 % | |
+//! | Hex8 | 4 / 8 | 18 945 / 61 050 | −0.09 % / −0.67 % | |
+//!
+//! On the curved Tri6 slave the pole coefficient is well below the exact
+//! multiplier's weighted mean (−7.4 % of p₀ at n = 4 with α = 1/8, −3.6 %
+//! with α = 1/5), and α = 1/8 reads the pole worse while its profile along
+//! the axes is better: an open defect of Tet10 contact on curved slave
+//! surfaces, not explained yet.
+//!
 //! The Tet10 deficit (measured with α = 1/5) is not the Kuhn split of
 //! `BlockKind::Tet` (the same in every grid cell, so the pole lies in 2 of its cell's 6 tets and the
 //! top-face diagonal runs through it). Measured with the split's orientation
@@ -118,11 +140,12 @@ fn scene(n: usize, cells: BlockKind, second_order: bool) -> Hertz {
 
 /// Solves first order with n fine cells and second order with n/2; prints
 /// the other pole readings of each (`PoleReadings`).
-fn compare(n: usize, cells: BlockKind) -> (Measured, Measured) {
+fn compare(n: usize, cells: BlockKind, curved_slave: bool) -> (Measured, Measured) {
     let solved = [(n, false), (n / 2, true)].map(|(n, second_order)| {
         let order = if second_order { "second" } else { "first" };
-        let p = scene(n, cells, second_order);
-        let (m, problem, s) = solve_scene(&format!("{cells:?} {order} order, n = {n}"), &p);
+        let p = Hertz { curved_slave, ..scene(n, cells, second_order) };
+        let slave = if curved_slave { ", the sphere as slave" } else { "" };
+        let (m, problem, s) = solve_scene(&format!("{cells:?} {order} order, n = {n}{slave}"), &p);
         let pole = pole_readings(&p, &problem, &s);
         let projection = pole.projection.map_or("singular M".into(), |e| format!("{:+.2} %", 100.0 * e));
         println!(
@@ -167,13 +190,34 @@ fn tet10_is_closer_to_p0_than_tet4_with_fewer_unknowns() {
     second_order_wins(BlockKind::Tet, 0.01);
 }
 
+/// Curved second-order slave faces: the indenter's sphere as the slave
+/// side (`Hertz::curved_slave`), Tri6 (Tet10) and Quad9 (Hex27) faces 1.3
+/// times finer than the block's at n = 2. Both: KKT and force balance (in
+/// `solve`), a within one slave element. Hex27: p₀ within 1 % (−0.74 %).
+/// Tet10 reads p₀ far too low on this curved slave (−24.3 %; the module
+/// doc's last table): not asserted, an open defect.
+#[test]
+fn curved_second_order_slaves() {
+    for cells in [BlockKind::Tet, BlockKind::Hex] {
+        let p = Hertz { curved_slave: true, ..scene(2, cells, true) };
+        let m = solve(&format!("{cells:?} second order, n = 2, the sphere as slave"), &p);
+        let h = m.h / p.master_ratio;
+        assert!((m.a - m.a_exact).abs() <= h * (1.0 + 1e-9), "{cells:?}: a {} against {}", m.a, m.a_exact);
+        if cells == BlockKind::Hex {
+            assert!(m.p0_error().abs() <= 0.01, "p0 error {:+.3e}", m.p0_error());
+        }
+    }
+}
+
 /// The study behind the table of the module doc.
 #[test]
 #[ignore = "a study: cargo test --release -p seam-fem --test contact_hertz_second_order -- --ignored --nocapture"]
 fn hertz_second_order_study() {
-    for cells in [BlockKind::Hex, BlockKind::Tet] {
-        for n in [4, 8] {
-            compare(n, cells);
+    for curved_slave in [false, true] {
+        for cells in [BlockKind::Hex, BlockKind::Tet] {
+            for n in [4, 8] {
+                compare(n, cells, curved_slave);
+            }
         }
     }
 }

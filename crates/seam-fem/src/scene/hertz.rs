@@ -36,6 +36,10 @@ pub struct Hertz {
     /// placed by its map (so the nodes of its spherical face lie on the
     /// sphere).
     pub second_order: bool,
+    /// The indenter's spherical face is the slave side (the pressure lives on
+    /// the curved face, whose nodal normals approximate the sphere's) instead
+    /// of the block's flat top; `fine_cells` still counts the block's cells.
+    pub curved_slave: bool,
 }
 
 impl Default for Hertz {
@@ -53,6 +57,7 @@ impl Default for Hertz {
             multiplier: Multiplier::Lumped,
             cells: BlockKind::Hex,
             second_order: false,
+            curved_slave: false,
         }
     }
 }
@@ -100,8 +105,8 @@ impl Hertz {
         1.5 * self.contact_radius / self.fine_cells as f64
     }
 
-    /// The spherical face z = R − √(R² − x² − y²).
-    fn sphere(&self, x: f64, y: f64) -> f64 {
+    /// The indenter's spherical face, z = R − √(R² − x² − y²).
+    pub fn sphere(&self, x: f64, y: f64) -> f64 {
         self.radius - (self.radius.powi(2) - x * x - y * y).sqrt()
     }
 }
@@ -203,7 +208,7 @@ const SIDES: [(&str, Side); 4] =
 ///   geometrically coarser beyond; the meshes do not match.
 ///
 /// The block's top is the slave side: its normals are exact, and the contact
-/// pressure lives on it.
+/// pressure lives on it (the indenter's face with [`Hertz::curved_slave`]).
 ///
 /// # Errors
 /// [`MeshError`] only for degenerate parameters.
@@ -256,8 +261,8 @@ pub fn hertz(p: &Hertz) -> Result<Problem, MeshError> {
     Ok(Problem {
         bodies,
         interfaces: vec![ProblemInterface {
-            master: id(indenter, bottom),
-            slave: id(slab, top),
+            master: if p.curved_slave { id(slab, top) } else { id(indenter, bottom) },
+            slave: if p.curved_slave { id(indenter, bottom) } else { id(slab, top) },
             options,
             kind: Coupling::Contact,
         }],

@@ -32,9 +32,12 @@ impl Measured {
 /// p₀ at the pole, a from the outermost active node on y = 0 and x = 0, and
 /// the largest |p − p_Hertz| / p₀ over slave nodes on the axes.
 pub fn measure(p: &Hertz, problem: &Problem, s: &Solution) -> Measured {
-    let points = problem.bodies[1].mesh.points();
+    let points = slave_points(problem);
     let i = s.interfaces[0].contact.as_ref().expect("a contact interface");
-    let on_axis = |q: usize| points[q][2].abs() < 1e-12 && (points[q][0] == 0.0 || points[q][1] == 0.0);
+    let on_axis = |q: usize| {
+        let surface = if p.curved_slave { p.sphere(points[q][0], points[q][1]) } else { 0.0 };
+        (points[q][2] - surface).abs() < 1e-12 && (points[q][0] == 0.0 || points[q][1] == 0.0)
+    };
     let r = |q: usize| points[q][0].hypot(points[q][1]);
     let pole = (0..points.len()).find(|&q| on_axis(q) && r(q) == 0.0).expect("a node at the pole");
     let a = (0..points.len()).filter(|&q| on_axis(q) && i.active[q]).map(r).fold(0.0, f64::max);
@@ -52,6 +55,11 @@ pub fn measure(p: &Hertz, problem: &Problem, s: &Solution) -> Measured {
         profile,
         dofs: s.report.dofs,
     }
+}
+
+/// The points of the contact's slave body.
+fn slave_points(problem: &Problem) -> &[seam::Point3] {
+    problem.bodies[problem.interfaces[0].slave.body].mesh.points()
 }
 
 /// Two other readings at the pole of a dual-multiplier solve, relative to
@@ -81,7 +89,7 @@ pub fn pole_readings(p: &Hertz, problem: &Problem, s: &Solution) -> PoleReadings
     let dual = &s.interfaces[0].mortar;
     assert_eq!(dual.multiplier, Multiplier::Dual);
     let i = s.interfaces[0].contact.as_ref().expect("a contact interface");
-    let points = problem.bodies[1].mesh.points();
+    let points = slave_points(problem);
     let r = |q: usize| points[q][0].hypot(points[q][1]);
     let pole = (0..points.len()).find(|&q| dual.on_surface[q] && r(q) == 0.0).expect("a node at the pole");
     let relative = |v: f64| v / p.peak_pressure() - 1.0;
@@ -123,7 +131,8 @@ pub fn solve_scene_with(label: &str, p: &Hertz, options: &SolveOptions) -> (Meas
     let problem = hertz(p).unwrap();
     let s = problem.solve(options).unwrap();
     let (report, contact) = (&s.report, s.report.contact.as_ref().expect("a contact report"));
-    let force = -s.interfaces[0].force[2];
+    // The master's force on the slave: down on the block, up on the indenter.
+    let force = if p.curved_slave { 1.0 } else { -1.0 } * s.interfaces[0].force[2];
     let force_error = (force / (p.force() / 4.0) - 1.0).abs();
     let m = measure(p, &problem, &s);
     let t = &report.seconds;
