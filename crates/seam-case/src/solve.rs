@@ -242,6 +242,10 @@ pub struct StepSummary {
     pub removed: usize,
     /// PCG iterations (0 for a direct solve).
     pub linear_iterations: usize,
+    /// Solved to the requested tolerance (`--rtol`): every direct step; an
+    /// iterative solver's steps solve to √rtol until the active set stops
+    /// changing, and from there to rtol.
+    pub full_tolerance: bool,
 }
 
 /// The relative KKT residuals of the contact solution.
@@ -1241,6 +1245,7 @@ fn contact_summary(
             added: s.added,
             removed: s.removed,
             linear_iterations: s.linear_iterations,
+            full_tolerance: s.full_tolerance,
         })
         .collect();
     let k = &r.kkt;

@@ -100,12 +100,18 @@
 //!   recovers u. Suits |W| up to a few thousand points.
 //! - [`Solver::Pcg`]: every step solves the whole system by PCG, warm-started
 //!   from the previous step.
+//!
+//! Iterative solvers (PCG, PETSc) solve the steps to √rtol while the active
+//! set changes and to rtol from the first step that leaves it unchanged
+//! (`active_set_method`; [`ActiveSetStep::full_tolerance`]): one step more
+//! than exact solves, about half the iterations (Hertz at 376k unknowns with
+//! GAMG: 2 679 → 1 162).
 
 use crate::constraints::{free_dofs, matrix_free, saddle_point, triple_product};
 use crate::constraints::{Constraints, Elimination, Row, NONE};
 use crate::multibody::{Body, Coupling, Interface, ProblemError, Solver, System, Timings};
-use crate::pcg::solve_pcg_from;
-use crate::petsc::{rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, PetscSummary};
+use crate::pcg::{solve_pcg_from, PcgOptions};
+use crate::petsc::{rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, PetscOptions, PetscSummary};
 use crate::solution::{ContactFields, InterfaceSolution, SolveOptions};
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
@@ -127,6 +133,10 @@ pub struct ActiveSetStep {
     pub removed: usize,
     /// PCG iterations of the step (0 for a direct solve).
     pub linear_iterations: usize,
+    /// Solved to the requested tolerance: every direct step; of an iterative
+    /// solver's, those from the first that leaves the active set unchanged
+    /// (the earlier ones solve to √rtol, `active_set_method`).
+    pub full_tolerance: bool,
 }
 
 /// How well the solution meets the discrete KKT conditions, each relative.
@@ -464,12 +474,17 @@ fn rotated_steps(
             })?;
             seconds.factorization += clock.elapsed().as_secs_f64();
             let clock = Instant::now();
-            let (active, w, mu, steps) =
-                active_set_method(&points, active, scale, options.max_active_set_steps, |active, step| {
+            let (active, w, mu, steps) = active_set_method(
+                &points,
+                active,
+                scale,
+                (options.max_active_set_steps, false),
+                |active, step, _| {
                     let n_active = active.iter().filter(|&&on| on).count();
                     let (w, mu) = condensed.step(&points, active).ok_or_else(|| singular(step, n_active))?;
                     Ok((w, mu, 0))
-                })?;
+                },
+            )?;
             seconds.solve += clock.elapsed().as_secs_f64();
             let clock = Instant::now();
             let x = condensed.expand(&a, &points, &w);
@@ -486,8 +501,12 @@ fn rotated_steps(
                 rigid_body_modes_in(&system.points, retained, Some(&p))
             });
             let mut previous: Option<Vec<f64>> = None;
-            let (active, _, mu, steps) =
-                active_set_method(&points, active, scale, options.max_active_set_steps, |active, step| {
+            let (active, _, mu, steps) = active_set_method(
+                &points,
+                active,
+                scale,
+                (options.max_active_set_steps, true),
+                |active, step, tight| {
                     let mut fixed = prescribed.clone();
                     for c in points.iter().zip(active).filter(|(_, &on)| on).map(|(c, _)| c) {
                         fixed.fix_dof(c.first_dof, c.gap);
@@ -498,10 +517,12 @@ fn rotated_steps(
                     let solved = match (options.solver, &modes) {
                         (Solver::Petsc(o), Some(modes)) => {
                             let summary = petsc.get_or_insert_with(PetscSummary::default);
+                            let o = PetscOptions { rtol: step_rtol(o.rtol, tight), ..o };
                             solve_petsc_from(Cow::Borrowed(&a), &b, &fixed, modes, &o, start, summary)
                                 .map(|x| (x, summary.solves.last().map_or(0, |s| s.iterations)))
                         }
                         (Solver::Pcg(o), _) => {
+                            let o = PcgOptions { rtol: step_rtol(o.rtol, tight), ..o };
                             solve_pcg_from(&a, &b, &fixed, &o, start).map(|(x, r)| (x, r.iterations))
                         }
                         _ => unreachable!("an iterative solver"),
@@ -515,7 +536,8 @@ fn rotated_steps(
                     let w = points.iter().map(|c| x[c.first_dof]).collect();
                     previous = Some(x);
                     Ok((w, mu, iterations))
-                })?;
+                },
+            )?;
             seconds.factorization += clock.elapsed().as_secs_f64();
             (previous.expect("at least one step"), active, mu, steps)
         }
@@ -573,10 +595,15 @@ fn saddle_steps(
     };
     let mut last: Option<(Vec<f64>, Vec<f64>)> = None;
     let mut petsc: Option<PetscSummary> = None;
+    let iterative = !matches!(options.solver, Solver::Direct);
     let modes =
         matches!(options.solver, Solver::Petsc(_)).then(|| rigid_body_modes_in(&system.points, None, None));
-    let (active, w, mu, steps) =
-        active_set_method(&points, active, scale, options.max_active_set_steps, |active, step| {
+    let (active, w, mu, steps) = active_set_method(
+        &points,
+        active,
+        scale,
+        (options.max_active_set_steps, iterative),
+        |active, step, tight| {
             let mut c = constraints.clone();
             for point in points.iter().zip(active).filter(|(_, &on)| on).map(|(p, _)| p) {
                 let n = point.frame[0];
@@ -603,8 +630,12 @@ fn saddle_steps(
             let n_active = c.rows.len() - n_glue;
             let solved = match &options.solver {
                 Solver::Direct => saddle_point(k, f, dirichlet, &c, seconds),
-                Solver::Pcg(pcg) => matrix_free(k, f, dirichlet, &c, pcg, seconds),
+                Solver::Pcg(pcg) => {
+                    let pcg = PcgOptions { rtol: step_rtol(pcg.rtol, tight), ..*pcg };
+                    matrix_free(k, f, dirichlet, &c, &pcg, seconds)
+                }
                 Solver::Petsc(o) => {
+                    let o = &PetscOptions { rtol: step_rtol(o.rtol, tight), ..*o };
                     // From the previous step: u, and the glued rows' λ (the
                     // contact rows change with the active set).
                     let start = last.as_ref().map(|(u, lambda)| {
@@ -635,7 +666,8 @@ fn saddle_steps(
             last = Some((u, nu[..n_glue].to_vec()));
             let linear_iterations = if matches!(options.solver, Solver::Direct) { 0 } else { iterations };
             Ok((w, mu, linear_iterations))
-        })?;
+        },
+    )?;
     let clock = Instant::now();
     let (u, lambda) = last.expect("at least one step");
     // KKT with the glued reactions C_gᵀλ moved to the load side.
@@ -961,32 +993,59 @@ fn rotated_dirichlet(n: usize, dirichlet: &Dirichlet, points: &[ContactPoint]) -
 }
 
 /// The primal-dual active set iteration (module doc) around `step`, which
-/// returns, for an active set and the step number, (w, μ, linear
-/// iterations) per contact point. Returns the final active set, w, μ and the
-/// steps.
+/// returns, for an active set, the step number and whether the linear solve
+/// must meet its full tolerance, (w, μ, linear iterations) per contact
+/// point. Returns the final active set, w, μ and the steps.
+///
+/// When `inexact` (iterative solvers), the steps solve to a looser tolerance
+/// ([`step_rtol`]) while the active set still changes: their solutions only
+/// decide the next active set, which they decide the same way up to the
+/// points on the verge of changing. Once a loose step leaves the active set
+/// as it was, the same set is solved again to the full tolerance, and every
+/// step after it too, so the result is that of exact steps (Hüeber and
+/// Wohlmuth's iteration with inexact inner solves, an inexact semismooth
+/// Newton method).
 #[allow(clippy::type_complexity)]
 fn active_set_method(
     points: &[ContactPoint],
     mut active: Vec<bool>,
     scale: f64,
-    max_iterations: usize,
-    mut step: impl FnMut(&[bool], usize) -> Result<(Vec<f64>, Vec<f64>, usize), ProblemError>,
+    (max_iterations, inexact): (usize, bool),
+    mut step: impl FnMut(&[bool], usize, bool) -> Result<(Vec<f64>, Vec<f64>, usize), ProblemError>,
 ) -> Result<(Vec<bool>, Vec<f64>, Vec<f64>, Vec<ActiveSetStep>), ProblemError> {
     let mut steps = Vec::new();
+    let mut tight = !inexact;
     loop {
         let n_active = active.iter().filter(|&&on| on).count();
-        let (w, mu, linear_iterations) = step(&active, steps.len() + 1)?;
+        let (w, mu, linear_iterations) = step(&active, steps.len() + 1, tight)?;
         let next = next_active_set(points, &active, &w, &mu, scale);
         let added = next.iter().zip(&active).filter(|(&n, &o)| n && !o).count();
         let removed = next.iter().zip(&active).filter(|(&n, &o)| !n && o).count();
-        steps.push(ActiveSetStep { active: n_active, added, removed, linear_iterations });
-        if added + removed == 0 {
+        steps.push(ActiveSetStep {
+            active: n_active,
+            added,
+            removed,
+            linear_iterations,
+            full_tolerance: tight,
+        });
+        if added + removed == 0 && tight {
             return Ok((active, w, mu, steps));
         }
         if steps.len() >= max_iterations {
             return Err(ProblemError::ActiveSetNotSettled { steps: steps.len(), added, removed });
         }
+        tight |= added + removed == 0;
         active = next;
+    }
+}
+
+/// The relative tolerance of an active-set step ([`active_set_method`]):
+/// `rtol` when `tight`, else √rtol (10⁻⁴ for rtol 10⁻⁸).
+fn step_rtol(rtol: f64, tight: bool) -> f64 {
+    if tight {
+        rtol
+    } else {
+        rtol.sqrt().max(rtol)
     }
 }
 

@@ -140,9 +140,18 @@ fn the_iteration_cap_stops_with_a_clear_message() {
     // Direct (condensed on the contact normals) and PCG (full system per step) agree.
     let pcg = Solver::Pcg(PcgOptions { rtol: 1e-13, ..Default::default() });
     let other = problem.solve(&SolveOptions { solver: pcg, ..Default::default() }).unwrap();
-    assert_eq!(
-        other.report.contact.as_ref().expect("contact").steps.len(),
-        solved.report.contact.as_ref().expect("contact").steps.len()
+    let steps = |s: &seam_fem::Solution| s.report.contact.as_ref().expect("contact").steps.clone();
+    let (direct, iterative) = (steps(&solved), steps(&other));
+    println!("direct {direct:?}\niterative {iterative:?}");
+    assert_eq!(iterative.len(), direct.len() + 1, "one more step: the last active set at the full tolerance");
+    for (d, i) in direct.iter().zip(&iterative) {
+        assert_eq!((d.active, d.added, d.removed), (i.active, i.added, i.removed), "the same active sets");
+    }
+    let last = iterative.last().unwrap();
+    assert!(last.full_tolerance && (last.added, last.removed) == (0, 0));
+    assert!(
+        iterative[..direct.len()].iter().all(|s| !s.full_tolerance)
+            && direct.iter().all(|s| s.full_tolerance)
     );
     let (a, b) = (
         &solved.interfaces[0].contact.as_ref().expect("contact").pressure,
