@@ -243,7 +243,7 @@ pub struct StepSummary {
     /// PCG iterations (0 for a direct solve).
     pub linear_iterations: usize,
     /// Solved to the requested tolerance (`--rtol`): every direct step; an
-    /// iterative solver's steps solve to √rtol until the active set stops
+    /// iterative solver's steps solve to 10⁻² until the active set stops
     /// changing, and from there to rtol.
     pub full_tolerance: bool,
 }
