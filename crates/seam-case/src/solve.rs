@@ -243,8 +243,8 @@ pub struct StepSummary {
     /// PCG iterations (0 for a direct solve).
     pub linear_iterations: usize,
     /// Solved to the requested tolerance (`--rtol`): every direct step; an
-    /// iterative solver's steps solve to 10⁻² until the active set stops
-    /// changing, and from there to rtol.
+    /// iterative solver's steps solve to 10⁻³ until a solution leaves the
+    /// active set unchanged, and that step and the later ones to rtol.
     pub full_tolerance: bool,
 }
 

@@ -143,12 +143,15 @@ fn the_iteration_cap_stops_with_a_clear_message() {
     let steps = |s: &seam_fem::Solution| s.report.contact.as_ref().expect("contact").steps.clone();
     let (direct, iterative) = (steps(&solved), steps(&other));
     println!("direct {direct:?}\niterative {iterative:?}");
-    // PCG's steps solve to 1e-2 until the active set settles (their path may
-    // differ near the verge), then to rtol: the same final active set.
+    // PCG's steps solve to 1e-3 until the active set settles (their path may
+    // differ near the verge), the last one then to rtol: the same final set.
     let (d, i) = (direct.last().unwrap(), iterative.last().unwrap());
     assert_eq!((d.active, d.added, d.removed), (i.active, i.added, i.removed), "the same final active set");
     assert!(i.full_tolerance && direct.iter().all(|s| s.full_tolerance));
-    assert!(iterative.iter().any(|s| !s.full_tolerance) && iterative.len() <= direct.len() + 2, "{iterative:?}");
+    assert!(
+        iterative.iter().any(|s| !s.full_tolerance) && iterative.len() <= direct.len() + 1,
+        "{iterative:?}"
+    );
     let (a, b) = (
         &solved.interfaces[0].contact.as_ref().expect("contact").pressure,
         &other.interfaces[0].contact.as_ref().expect("contact").pressure,
