@@ -1060,7 +1060,8 @@ fn step_rtol(rtol: f64, tight: bool) -> f64 {
 /// The relative tolerance of the active-set steps before the active set
 /// settles: solutions to 0.1 % decide the next active set as exact ones do
 /// but for points on the verge of changing. Measured with GAMG (rtol 10⁻¹⁰;
-/// steps and KSP iterations) on Hertz n = 10 and bulging contact n = 24:
+/// steps, the settling one counted twice, and KSP iterations) on Hertz n =
+/// 10 and bulging contact n = 24:
 /// exact steps 11 and 1 349, 5 and 224; 10⁻⁵ 12 and 714, 6 and 106; 10⁻³ 12
 /// and 476, 7 and 101; 10⁻² 13 and 440, 6 and 132; 5·10⁻² 14 and 1 018, 6
 /// and 172 (the active set wanders).
