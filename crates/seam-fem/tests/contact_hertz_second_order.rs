@@ -99,7 +99,12 @@
 //! multiplier's weighted mean (−7.4 % of p₀ at n = 4 with α = 1/8, −3.6 %
 //! with α = 1/5), and α = 1/8 reads the pole worse while its profile along
 //! the axes is better: an open defect of Tet10 contact on curved slave
-//! surfaces, not explained yet.
+//! surfaces, not explained yet. It does converge, and fast: −24.3, −7.3 and
+//! −2.25 % at n = 2, 4 and 6 are rates 1.7 and 2.9, a large error constant
+//! rather than a wrong limit. Tetrahedra on the curved slave are slow at
+//! first order too (`curved_slave_first_order_refinement_study`): Tet4 reads
+//! +1.29, −3.85, −2.46 and −1.81 % at n = 4, 8, 12 and 16 (rate 1.1 from n =
+//! 8: like h), Hex8 −0.09, −0.67, −0.53 and −0.28 %.
 //!
 //! The Tet10 deficit (measured with α = 1/5) is not the Kuhn split of
 //! `BlockKind::Tet` (the same in every grid cell, so the pole lies in 2 of its cell's 6 tets and the
@@ -218,6 +223,24 @@ fn hertz_second_order_study() {
             for n in [4, 8] {
                 compare(n, cells, curved_slave);
             }
+        }
+    }
+}
+
+/// First order on the curved slave under refinement: the study behind the
+/// module doc's rates there (Tet4 converges like h, Tet10 faster).
+#[test]
+#[ignore = "a study: cargo test --release -p seam-fem --test contact_hertz_second_order -- --ignored curved_slave_first_order --nocapture"]
+fn curved_slave_first_order_refinement_study() {
+    for n in [4, 8, 12, 16] {
+        for cells in [BlockKind::Tet, BlockKind::Hex] {
+            let p = Hertz { curved_slave: true, ..scene(n, cells, false) };
+            let m = solve(&format!("{cells:?} first order, n = {n}, the sphere as slave"), &p);
+            println!(
+                "{cells:?} first order, n = {n}, {} unknowns: p0 error {:+.2} %",
+                m.dofs,
+                100.0 * m.p0_error()
+            );
         }
     }
 }
