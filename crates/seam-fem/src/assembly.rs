@@ -236,27 +236,75 @@ pub(crate) fn point_cells(mesh: &VolumeMesh) -> (Vec<usize>, Vec<(usize, usize)>
 /// # Performance
 /// Parallel over cells, then over points; deterministic (module doc).
 pub fn stiffness(mesh: &VolumeMesh, material: &Material) -> Result<CsrMatrix, AssemblyError> {
-    let blocks = per_cell(mesh, |kind, x| element_stiffness(kind, x, material))?;
-    let (offsets, around) = point_cells(mesh);
     let cells = mesh.cells();
-    let n = mesh.points().len();
-    // Per point p: the neighbouring points (sorted) and the 3 rows of p.
-    let rows: Vec<(Vec<usize>, Vec<f64>)> = (0..n)
+    // The element matrices in one buffer, cell c's (3 n_c)² entries from start[c]:
+    // a few large blocks that go back to the system when freed, where one
+    // allocation per cell or per point would stay with the allocator.
+    let mut start = Vec::with_capacity(cells.len() + 1);
+    start.push(0);
+    for cell in cells {
+        start.push(start[start.len() - 1] + (3 * cell.nodes().len()).pow(2));
+    }
+    let mut blocks = vec![0.0; start[cells.len()]];
+    let ok: Vec<bool> = split_mut(&mut blocks, &start)
         .into_par_iter()
-        .map(|p| {
-            let adjacent = &around[offsets[p]..offsets[p + 1]];
-            let mut neighbours: Vec<usize> =
-                adjacent.iter().flat_map(|&(c, _)| cells[c].nodes().iter().copied()).collect();
-            neighbours.sort_unstable();
-            neighbours.dedup();
-            let width = 3 * neighbours.len();
-            let mut vals = vec![0.0; 3 * width];
-            for &(c, li) in adjacent {
+        .enumerate()
+        .map(|(c, out)| {
+            let (x, kind) = corners(mesh, c);
+            element_stiffness(kind, &x[..kind.n_nodes()], material).map(|k| out.copy_from_slice(&k)).is_some()
+        })
+        .collect();
+    if let Some(cell) = ok.iter().position(|&ok| !ok) {
+        return Err(AssemblyError::DegenerateCell { cell });
+    }
+    drop(ok);
+    let (offsets, around) = point_cells(mesh);
+    let n = mesh.points().len();
+    // The neighbouring points of p (sorted, each once) in `nb`.
+    let neighbours = |p: usize, nb: &mut Vec<usize>| {
+        nb.clear();
+        nb.extend(
+            around[offsets[p]..offsets[p + 1]].iter().flat_map(|&(c, _)| cells[c].nodes().iter().copied()),
+        );
+        nb.sort_unstable();
+        nb.dedup();
+    };
+    let widths: Vec<usize> = (0..n)
+        .into_par_iter()
+        .map_init(Vec::new, |nb, p| {
+            neighbours(p, nb);
+            3 * nb.len()
+        })
+        .collect();
+    // Point p's three rows, each `widths[p]` long, are consecutive.
+    let mut indptr = Vec::with_capacity(3 * n + 1);
+    indptr.push(0);
+    for w in widths {
+        for _ in 0..3 {
+            indptr.push(indptr[indptr.len() - 1] + w);
+        }
+    }
+    let nnz = indptr[3 * n];
+    let (mut indices, mut values) = (vec![0; nnz], vec![0.0; nnz]);
+    let point_start: Vec<usize> = indptr.iter().step_by(3).copied().collect();
+    split_mut(&mut indices, &point_start)
+        .into_par_iter()
+        .zip(split_mut(&mut values, &point_start))
+        .enumerate()
+        .for_each_init(Vec::new, |nb, (p, (cols, vals))| {
+            neighbours(p, nb);
+            let width = 3 * nb.len();
+            for row in cols.chunks_mut(width) {
+                for (q, &j) in nb.iter().enumerate() {
+                    row[3 * q..3 * q + 3].copy_from_slice(&[3 * j, 3 * j + 1, 3 * j + 2]);
+                }
+            }
+            for &(c, li) in &around[offsets[p]..offsets[p + 1]] {
                 let nodes = cells[c].nodes();
                 let nd = 3 * nodes.len();
-                let block = &blocks[c];
+                let block = &blocks[start[c]..start[c + 1]];
                 for (lj, q) in nodes.iter().enumerate() {
-                    let col = 3 * neighbours.binary_search(q).expect("a cell's nodes are neighbours");
+                    let col = 3 * nb.binary_search(q).expect("a cell's nodes are neighbours");
                     for a in 0..3 {
                         let src = &block[(3 * li + a) * nd + 3 * lj..][..3];
                         let dst = &mut vals[a * width + col..][..3];
@@ -266,27 +314,20 @@ pub fn stiffness(mesh: &VolumeMesh, material: &Material) -> Result<CsrMatrix, As
                     }
                 }
             }
-            (neighbours, vals)
+        });
+    Ok(CsrMatrix { nrows: 3 * n, ncols: 3 * n, indptr, indices, values })
+}
+
+/// `data` cut at the offsets `at` (increasing, from 0 to at most its length):
+/// piece i is data[at[i]..at[i + 1]].
+pub(crate) fn split_mut<'a, T>(mut data: &'a mut [T], at: &[usize]) -> Vec<&'a mut [T]> {
+    at.windows(2)
+        .map(|w| {
+            let (piece, rest) = std::mem::take(&mut data).split_at_mut(w[1] - w[0]);
+            data = rest;
+            piece
         })
-        .collect();
-    let nnz: usize = rows.iter().map(|(nb, _)| 9 * nb.len()).sum();
-    let mut k = CsrMatrix {
-        nrows: 3 * n,
-        ncols: 3 * n,
-        indptr: Vec::with_capacity(3 * n + 1),
-        indices: Vec::with_capacity(nnz),
-        values: Vec::with_capacity(nnz),
-    };
-    k.indptr.push(0);
-    for (neighbours, vals) in &rows {
-        let width = 3 * neighbours.len();
-        for a in 0..3 {
-            k.indices.extend(neighbours.iter().flat_map(|&q| [3 * q, 3 * q + 1, 3 * q + 2]));
-            k.values.extend_from_slice(&vals[a * width..(a + 1) * width]);
-            k.indptr.push(k.indices.len());
-        }
-    }
-    Ok(k)
+        .collect()
 }
 
 /// Body-force load f_{3i+a} = ∫_Ω N_i b_a(x) dV, with [`ElementKind::rule`] of

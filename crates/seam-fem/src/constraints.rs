@@ -9,10 +9,11 @@
 //!   tractions stay in the multiplier space.
 //! - Elimination: each row eliminates its own slave dof, C = [C_S C_R],
 //!   u = P u_R with P = [I; −C_S⁻¹C_R] ([`prolongation`] when C_S is
-//!   diagonal, [`triple_product`] for PᵀKP).
+//!   diagonal, [`triple_product`] for PᵀKP, row by row).
 //! - [`saddle_point`]: [K Cᵀ; C 0] by sparse LDLᵀ with iterative refinement.
 //! - [`matrix_free`]: PCG on PᵀKP for any C_S, one sparse LU of C_S.
 
+use crate::assembly::split_mut;
 use crate::multibody::{Coupling, Interface, ProblemError, Timings};
 use crate::pcg::{par_mul, pcg, BlockJacobi, PcgOptions};
 use crate::saddle::solve_saddle;
@@ -20,6 +21,7 @@ use crate::solve::{Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Mat, Par};
+use rayon::prelude::*;
 use seam::{CsrMatrix, Mortar, SurfaceMesh};
 use std::time::Instant;
 
@@ -291,24 +293,78 @@ pub(crate) fn gram(c: &CsrMatrix) -> CsrMatrix {
     from_transposed(a)
 }
 
-/// PᵀKP for a symmetric K, by two sparse products (faer, sorted output).
+/// PᵀKP row by row (Gustavson): row i is Σ_k P_ki Σ_l K_kl P_l·, summed in a
+/// dense accumulator, its columns then sorted. No intermediate KP is formed,
+/// so the product needs K, P and the result only. Each row is summed by one
+/// thread in a fixed order, so the result does not depend on the threads.
 pub(crate) fn triple_product(p: &CsrMatrix, k: &CsrMatrix) -> CsrMatrix {
-    let par = Par::rayon(0);
-    // As CSC: view(P) = Pᵀ, view(K) = K, so Pᵀ·K is (KP)ᵀ, i.e. KP in CSR.
-    let kp =
-        faer::sparse::linalg::matmul::sparse_sparse_matmul(transposed_view(p), transposed_view(k), 1.0, par)
-            .expect("sparse product fits in memory");
-    let kp = from_transposed(kp);
-    // (KP)ᵀ P as CSC is PᵀKP in CSR: view(KP) = (KP)ᵀ = PᵀK; P as CSC needs a transpose.
-    let pt = p.transpose();
-    let a = faer::sparse::linalg::matmul::sparse_sparse_matmul(
-        transposed_view(&kp),
-        transposed_view(&pt),
-        1.0,
-        par,
-    )
-    .expect("sparse product fits in memory");
-    from_transposed(a)
+    let (pt, n) = (p.transpose(), p.ncols);
+    // Row blocks, a few per thread, each with its own accumulator of n entries.
+    let blocks = 4 * rayon::current_num_threads();
+    let ranges: Vec<_> = (0..blocks).map(|b| b * n / blocks..(b + 1) * n / blocks).collect();
+    // Row i's columns, each once, in `cols` (`seen[j]` = i marks j).
+    let pattern = |i: usize, seen: &mut [usize], cols: &mut Vec<usize>| {
+        cols.clear();
+        for &r in pt.row(i).0 {
+            for &l in k.row(r).0 {
+                for &j in p.row(l).0 {
+                    if seen[j] != i {
+                        seen[j] = i;
+                        cols.push(j);
+                    }
+                }
+            }
+        }
+    };
+    let counts: Vec<Vec<usize>> = ranges
+        .par_iter()
+        .map(|rows| {
+            let (mut seen, mut cols) = (vec![usize::MAX; n], Vec::new());
+            rows.clone()
+                .map(|i| {
+                    pattern(i, &mut seen, &mut cols);
+                    cols.len()
+                })
+                .collect()
+        })
+        .collect();
+    let mut indptr = Vec::with_capacity(n + 1);
+    indptr.push(0);
+    for c in counts.iter().flatten() {
+        indptr.push(indptr.last().copied().unwrap_or(0) + c);
+    }
+    drop(counts);
+    let nnz = indptr[n];
+    let (mut indices, mut values) = (vec![0; nnz], vec![0.0; nnz]);
+    // Each block's slice of the result.
+    let at: Vec<usize> = ranges.iter().map(|r| indptr[r.start]).chain([nnz]).collect();
+    let parts: Vec<_> =
+        ranges.into_iter().zip(split_mut(&mut indices, &at)).zip(split_mut(&mut values, &at)).collect();
+    parts.into_par_iter().for_each(|((rows, out_i), out_v)| {
+        let (mut seen, mut cols, mut sum) = (vec![usize::MAX; n], Vec::new(), vec![0.0; n]);
+        let base = indptr[rows.start];
+        for i in rows {
+            pattern(i, &mut seen, &mut cols);
+            cols.sort_unstable();
+            let (pc, pv) = pt.row(i);
+            for (&r, &pri) in pc.iter().zip(pv) {
+                let (kc, kv) = k.row(r);
+                for (&l, &krl) in kc.iter().zip(kv) {
+                    let (jc, jv) = p.row(l);
+                    let a = pri * krl;
+                    for (&j, &plj) in jc.iter().zip(jv) {
+                        sum[j] += a * plj;
+                    }
+                }
+            }
+            let at = indptr[i] - base;
+            for (q, &j) in cols.iter().enumerate() {
+                out_i[at + q] = j;
+                out_v[at + q] = std::mem::take(&mut sum[j]);
+            }
+        }
+    });
+    CsrMatrix { nrows: n, ncols: n, indptr, indices, values }
 }
 
 /// The saddle point over the free dofs F (standard multipliers, or dual and
@@ -636,5 +692,69 @@ impl Elimination {
         let indices = p.indices.iter().map(|&r| dof_of[r]).collect();
         let p = CsrMatrix { nrows: n, ncols: n, indptr: p.indptr, indices, values: p.values };
         Ok(Elimination { k: triple_product(&p, k), f: p.transpose_mul_vec(f, 1), p, retained })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sparse n × m matrix with about `fill` of its entries set (a fixed
+    /// pseudo-random pattern and values).
+    fn sparse(n: usize, m: usize, fill: f64, seed: u64) -> CsrMatrix {
+        let mut state = seed;
+        let mut next = move || {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut a = CsrMatrix::zeros(0, m);
+        for _ in 0..n {
+            for j in 0..m {
+                if next() < fill {
+                    a.indices.push(j);
+                    a.values.push(next() - 0.5);
+                }
+            }
+            a.indptr.push(a.indices.len());
+            a.nrows += 1;
+        }
+        a
+    }
+
+    fn dense(a: &CsrMatrix) -> Vec<Vec<f64>> {
+        let mut d = vec![vec![0.0; a.ncols]; a.nrows];
+        for (i, row) in d.iter_mut().enumerate() {
+            let (cols, vals) = a.row(i);
+            cols.iter().zip(vals).for_each(|(&j, &v)| row[j] = v);
+        }
+        d
+    }
+
+    /// PᵀKP row by row against the dense product, for a square and a
+    /// rectangular P with empty rows and columns; sorted rows, and the same
+    /// bits on one thread as on several.
+    #[test]
+    fn triple_product_is_pt_k_p() {
+        for (n, m, seed) in [(40, 40, 1), (37, 23, 2), (5, 9, 3)] {
+            let (k, p) = (sparse(n, n, 0.2, seed), sparse(n, m, 0.08, seed + 10));
+            let a = triple_product(&p, &k);
+            let (dk, dp) = (dense(&k), dense(&p));
+            assert_eq!((a.nrows, a.ncols), (m, m));
+            for (i, row) in dense(&a).iter().enumerate() {
+                let cols = a.row(i).0;
+                assert!(cols.windows(2).all(|w| w[0] < w[1]), "row {i} sorted, each column once");
+                for (j, &v) in row.iter().enumerate() {
+                    let exact: f64 = (0..n)
+                        .flat_map(|r| (0..n).map(move |l| (r, l)))
+                        .map(|(r, l)| dp[r][i] * dk[r][l] * dp[l][j])
+                        .sum();
+                    assert!((v - exact).abs() < 1e-13, "({i}, {j}): {v} against {exact}");
+                }
+            }
+            let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+            let serial = one.install(|| triple_product(&p, &k));
+            assert_eq!((serial.indptr, serial.indices), (a.indptr, a.indices));
+            assert!(serial.values.iter().zip(&a.values).all(|(x, y)| x.to_bits() == y.to_bits()));
+        }
     }
 }

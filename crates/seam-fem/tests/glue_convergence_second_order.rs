@@ -72,11 +72,12 @@
 //! 22 % above at n = 2…8. With a master three times finer they are 35 %
 //! above at n = 8 and the fitted H1 / energy rates are 1.81 / 1.79 (1.66 /
 //! 1.66 at α = 1/5; α = 0.1 and 0.15 give 1.82 / 1.79 and 1.77 / 1.76), so
-//! that test asserts 1.75. The cause is the edge functions, which no α
-//! moves: λ̃_e = (1 − 2α) λ_e has its centroid a fifth of the way from its
-//! edge to the opposite vertex on each side, so the dual space contains the
-//! constants but not the linear functions (a local transformation cannot
-//! fix that: λ̃_e may only be a multiple of λ_e to keep its support).
+//! that test asserts H1 ≥ 1.8 (the target) and energy ≥ 1.75. The cause is
+//! the edge functions, which no α moves: λ̃_e = (1 − 2α) λ_e has its centroid
+//! a fifth of the way from its edge to the opposite vertex on each side, so
+//! the dual space contains the constants but not the linear functions (a
+//! local transformation cannot fix that: λ̃_e may only be a multiple of λ_e
+//! to keep its support).
 mod common;
 
 use common::manufactured::{exact, gradient, load, stress};
@@ -176,11 +177,12 @@ impl Study {
     /// asserts the fitted rates: L2 ≥ 2.8, H1 and energy ≥ 1.8, and the largest
     /// gap or overlap ≥ 2.8 (O(h³) geometry error).
     fn converges(&self, ns: &[usize]) {
-        self.converges_at(ns, 2.8, 1.8);
+        self.converges_at(ns, 2.8, 1.8, 1.8);
     }
 
-    /// [`Study::converges`] with the L2 and H1 (energy) rates `l2` and `h1`.
-    fn converges_at(&self, ns: &[usize], l2: f64, h1: f64) {
+    /// [`Study::converges`] with the L2, H1 and energy rates `l2`, `h1` and
+    /// `energy`.
+    fn converges_at(&self, ns: &[usize], l2: f64, h1: f64, energy: f64) {
         let what =
             format!("{:?}|{:?}, h_s/h_m {}, {:?}", self.master, self.slave, self.ratio, self.multiplier);
         let mut table = format!("{what}:\n  n_s n_m  h_s    gap/overlap  relative errors L2 / H1 / energy\n");
@@ -205,7 +207,8 @@ impl Study {
         let rg = rate(|l| l.gap);
         println!("{table}  fitted rates: L2 {r0:.3}  H1 {r1:.3}  energy {re:.3}  (gap/overlap {rg:.3})");
         assert!(r0 >= l2, "{what}: L2 rate {r0:.3} < {l2}");
-        assert!(r1 >= h1 && re >= h1, "{what}: H1 / energy rates {r1:.3} / {re:.3} < {h1}");
+        assert!(r1 >= h1, "{what}: H1 rate {r1:.3} < {h1}");
+        assert!(re >= energy, "{what}: energy rate {re:.3} < {energy}");
         assert!(rg >= 2.8, "{what}: the gaps fall like h^{rg:.3}, not O(h³)");
     }
 }
@@ -267,7 +270,7 @@ fn dual_hex20_master() {
 /// not the target (standard multipliers meet it on Quad8 slaves).
 #[test]
 fn dual_hex20_slave_converges_like_h_three_halves() {
-    equal(Hex27, Hex20, Dual).converges_at(&HEX20_LEVELS, 2.4, 1.4);
+    equal(Hex27, Hex20, Dual).converges_at(&HEX20_LEVELS, 2.4, 1.4, 1.4);
 }
 
 /// Tet10 bodies (six per grid cell, Tri6 interface faces), standard and
@@ -309,10 +312,10 @@ fn interpolant_converges_at_third_and_second_order() {
 
 /// Tet10 bodies with a master three times finer. Standard multipliers meet
 /// the target; dual ones, whose Tri6 edge functions keep the linear functions
-/// out of the dual space (module doc), are asserted at the rates they have
-/// (H1 1.81, energy 1.79).
+/// out of the dual space (module doc), meet it in L2 and H1 (2.92, 1.81), and
+/// their energy rate, 1.79, is asserted at the rate it has.
 #[test]
 fn tet10_master_three_times_finer() {
     three(Tet10, Tet10, Standard).converges(&THREE_LEVELS);
-    three(Tet10, Tet10, Dual).converges_at(&THREE_LEVELS, 2.8, 1.75);
+    three(Tet10, Tet10, Dual).converges_at(&THREE_LEVELS, 2.8, 1.8, 1.75);
 }
