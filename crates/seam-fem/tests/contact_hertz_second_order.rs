@@ -228,19 +228,27 @@ fn hertz_second_order_study() {
 }
 
 /// First order on the curved slave under refinement: the study behind the
-/// module doc's rates there (Tet4 converges like h, Tet10 faster).
+/// module doc's rates there (Tet4 converges like h, Tet10 faster). Ignored
+/// for its cost (about 4 minutes in release), not for a failure: each solve
+/// asserts KKT and force balance, and the study asserts the readings it
+/// documents: Hex8 within 1 % of p₀ at every n, Tet4's error falling from
+/// n = 8 on and below 2 % at n = 16.
 #[test]
 #[ignore = "a study: cargo test --release -p seam-fem --test contact_hertz_second_order -- --ignored curved_slave_first_order --nocapture"]
 fn curved_slave_first_order_refinement_study() {
+    let mut tet = Vec::new();
     for n in [4, 8, 12, 16] {
         for cells in [BlockKind::Tet, BlockKind::Hex] {
             let p = Hertz { curved_slave: true, ..scene(n, cells, false) };
             let m = solve(&format!("{cells:?} first order, n = {n}, the sphere as slave"), &p);
-            println!(
-                "{cells:?} first order, n = {n}, {} unknowns: p0 error {:+.2} %",
-                m.dofs,
-                100.0 * m.p0_error()
-            );
+            let e = m.p0_error();
+            println!("{cells:?} first order, n = {n}, {} unknowns: p0 error {:+.2} %", m.dofs, 100.0 * e);
+            match cells {
+                BlockKind::Tet => tet.push(e.abs()),
+                _ => assert!(e.abs() < 0.01, "Hex8, n = {n}: p0 error {:+.2} %", 100.0 * e),
+            }
         }
     }
+    assert!(tet[1] > tet[2] && tet[2] > tet[3], "Tet4 from n = 8: |p0 error| {tet:?} does not fall");
+    assert!(tet[3] < 0.02, "Tet4, n = 16: |p0 error| {:.2} %", 100.0 * tet[3]);
 }
