@@ -237,27 +237,11 @@ pub(crate) fn point_cells(mesh: &VolumeMesh) -> (Vec<usize>, Vec<(usize, usize)>
 /// Parallel over cells, then over points; deterministic (module doc).
 pub fn stiffness(mesh: &VolumeMesh, material: &Material) -> Result<CsrMatrix, AssemblyError> {
     let cells = mesh.cells();
-    // The element matrices in one buffer, cell c's (3 n_c)² entries from start[c]:
-    // a few large blocks that go back to the system when freed, where one
-    // allocation per cell or per point would stay with the allocator.
-    let mut start = Vec::with_capacity(cells.len() + 1);
-    start.push(0);
-    for cell in cells {
-        start.push(start[start.len() - 1] + (3 * cell.nodes().len()).pow(2));
-    }
-    let mut blocks = vec![0.0; start[cells.len()]];
-    let ok: Vec<bool> = split_mut(&mut blocks, &start)
-        .into_par_iter()
-        .enumerate()
-        .map(|(c, out)| {
-            let (x, kind) = corners(mesh, c);
-            element_stiffness(kind, &x[..kind.n_nodes()], material).map(|k| out.copy_from_slice(&k)).is_some()
-        })
-        .collect();
-    if let Some(cell) = ok.iter().position(|&ok| !ok) {
-        return Err(AssemblyError::DegenerateCell { cell });
-    }
-    drop(ok);
+    let (start, blocks) = cell_blocks(
+        mesh,
+        |nodes| (3 * nodes).pow(2),
+        |kind, x, _, out| element_stiffness(kind, x, material).map(|k| out.copy_from_slice(&k)).is_some(),
+    )?;
     let (offsets, around) = point_cells(mesh);
     let n = mesh.points().len();
     // The neighbouring points of p (sorted, each once) in `nb`.
@@ -316,6 +300,78 @@ pub fn stiffness(mesh: &VolumeMesh, material: &Material) -> Result<CsrMatrix, As
             }
         });
     Ok(CsrMatrix { nrows: 3 * n, ncols: 3 * n, indptr, indices, values })
+}
+
+/// K u without K: Σ_e K^e u_e, each cell's product formed on its own (in
+/// parallel), each point's entries summed over its cells in increasing cell
+/// order (deterministic, module doc). What a solve needs of K after K has
+/// gone to make room for the solver (the residual, the multipliers).
+///
+/// # Errors
+/// [`AssemblyError::DegenerateCell`] for the first degenerate or tangled cell.
+pub fn stiffness_times(mesh: &VolumeMesh, material: &Material, u: &[f64]) -> Result<Vec<f64>, AssemblyError> {
+    let (cells, n) = (mesh.cells(), mesh.points().len());
+    assert_eq!(u.len(), 3 * n, "u has 3 entries per point");
+    let (start, products) = cell_blocks(
+        mesh,
+        |nodes| 3 * nodes,
+        |kind, x, c, out| {
+            let Some(k) = element_stiffness(kind, x, material) else { return false };
+            let nodes = cells[c].nodes();
+            for (row, y) in k.chunks_exact(out.len()).zip(out.iter_mut()) {
+                *y = nodes
+                    .iter()
+                    .enumerate()
+                    .map(|(j, &q)| (0..3).map(|b| row[3 * j + b] * u[3 * q + b]).sum::<f64>())
+                    .sum();
+            }
+            true
+        },
+    )?;
+    let (offsets, around) = point_cells(mesh);
+    let mut ku = vec![0.0; 3 * n];
+    ku.par_chunks_mut(3).enumerate().for_each(|(p, out)| {
+        for &(c, l) in &around[offsets[p]..offsets[p + 1]] {
+            for a in 0..3 {
+                out[a] += products[start[c] + 3 * l + a];
+            }
+        }
+    });
+    Ok(ku)
+}
+
+/// One block of `len(n_nodes)` entries per cell in one buffer (cell c's from
+/// start[c]), filled in parallel by `fill(kind, nodes' coordinates, cell,
+/// block)`, which returns false for a degenerate cell: a few large
+/// allocations, which go back to the system when freed, where one per cell
+/// would stay with the allocator.
+///
+/// # Errors
+/// [`AssemblyError::DegenerateCell`] for the first (lowest) failing cell.
+fn cell_blocks(
+    mesh: &VolumeMesh,
+    len: impl Fn(usize) -> usize,
+    fill: impl Fn(ElementKind, &[Point3], usize, &mut [f64]) -> bool + Sync,
+) -> Result<(Vec<usize>, Vec<f64>), AssemblyError> {
+    let cells = mesh.cells();
+    let mut start = Vec::with_capacity(cells.len() + 1);
+    start.push(0);
+    for cell in cells {
+        start.push(start[start.len() - 1] + len(cell.nodes().len()));
+    }
+    let mut blocks = vec![0.0; start[cells.len()]];
+    let ok: Vec<bool> = split_mut(&mut blocks, &start)
+        .into_par_iter()
+        .enumerate()
+        .map(|(c, out)| {
+            let (x, kind) = corners(mesh, c);
+            fill(kind, &x[..kind.n_nodes()], c, out)
+        })
+        .collect();
+    match ok.iter().position(|&ok| !ok) {
+        Some(cell) => Err(AssemblyError::DegenerateCell { cell }),
+        None => Ok((start, blocks)),
+    }
 }
 
 /// `data` cut at the offsets `at` (increasing, from 0 to at most its length):

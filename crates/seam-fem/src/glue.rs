@@ -53,7 +53,7 @@
 
 use crate::constraints::{free_dofs, matrix_free, prolongation, saddle_point, triple_product};
 use crate::constraints::{Constraints, Elimination, Solved};
-use crate::multibody::{ProblemError, Solver, System, Timings};
+use crate::multibody::{Body, ProblemError, Solver, System, Timings};
 use crate::petsc::{rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, PetscOptions, PetscSummary};
 use crate::solution::InterfaceSolution;
 use crate::solve::{solve, Dirichlet};
@@ -72,56 +72,94 @@ pub(crate) struct Glued {
     pub petsc: Option<PetscSummary>,
 }
 
-/// Solves the glued problem (module doc): `system` with the constraints of
-/// its glued interfaces.
+/// Solves the glued problem (module doc): `system` (of `bodies`) with the
+/// constraints of its glued interfaces. The PETSc solver of the reduced
+/// system takes K out of `system` (module doc of [`crate::petsc`]).
 pub(crate) fn solve_glued(
-    system: &System,
+    bodies: &[Body],
+    system: &mut System,
     constraints: &Constraints,
     solver: Solver,
     seconds: &mut Timings,
 ) -> Result<Glued, ProblemError> {
-    let System { k, f, dirichlet, .. } = system;
+    let free = free_dofs(&system.k, &system.dirichlet);
     let diagonal = constraints.eliminated_block_is_diagonal();
     let mut petsc = None;
-    let (u, lambda, method, iterations) = match solver {
-        Solver::Direct if diagonal && !constraints.elimination_fills_in(k) => {
-            eliminated(k, f, dirichlet, constraints, seconds)?
-        }
-        Solver::Direct => saddle_point(k, f, dirichlet, constraints, seconds)?,
-        Solver::Pcg(options) => matrix_free(k, f, dirichlet, constraints, &options, seconds)?,
-        Solver::Petsc(options) => {
-            let summary = petsc.insert(PetscSummary::default());
-            match diagonal {
-                true => reduced_petsc(system, constraints, &options, seconds, summary)?,
-                false => saddle_petsc(system, constraints, &options, seconds, summary)?,
+    let with_lambda = |(u, lambda, method, iterations): Solved| (u, Some(lambda), method, iterations);
+    let (u, lambda, method, iterations) = {
+        let System { k, f, dirichlet, .. } = &*system;
+        match solver {
+            Solver::Direct if diagonal && !constraints.elimination_fills_in(k) => {
+                eliminated(k, f, dirichlet, constraints, seconds)?
+            }
+            Solver::Direct => with_lambda(saddle_point(k, f, dirichlet, constraints, seconds)?),
+            Solver::Pcg(options) => {
+                with_lambda(matrix_free(k, f, dirichlet, constraints, &options, seconds)?)
+            }
+            Solver::Petsc(options) => {
+                let summary = petsc.insert(PetscSummary::default());
+                match diagonal {
+                    true => reduced_petsc(system, constraints, &options, seconds, summary)?,
+                    false => with_lambda(saddle_petsc(system, constraints, &options, seconds, summary)?),
+                }
             }
         }
     };
-    let residual = residual(k, f, dirichlet, constraints, &u, &lambda);
+    let clock = Instant::now();
+    let ku = stiffness_times(bodies, system, &u)?;
+    let lambda = lambda.unwrap_or_else(|| eliminated_multipliers(&ku, &system.f, constraints));
+    let residual = residual(&ku, &free, &system.f, constraints, &u, &lambda);
+    seconds.solve += clock.elapsed().as_secs_f64();
     Ok(Glued { u, lambda, method, iterations, residual, petsc })
+}
+
+/// u and the method of an eliminated solve, whose multipliers follow from
+/// K u ([`eliminated_multipliers`]), or of a solve that gives them.
+type Eliminated = (Vec<f64>, Option<Vec<f64>>, &'static str, usize);
+
+/// K u: by K, or cell by cell ([`crate::assembly::stiffness_times`]) once
+/// K has gone to make room for PETSc ([`reduced_petsc`]).
+fn stiffness_times(bodies: &[Body], system: &System, u: &[f64]) -> Result<Vec<f64>, ProblemError> {
+    if system.k.nrows == u.len() {
+        return Ok(system.k.mul_vec(u, 1));
+    }
+    let mut ku = Vec::with_capacity(u.len());
+    for (b, body) in bodies.iter().enumerate() {
+        let u = &u[system.offsets[b]..system.offsets[b + 1]];
+        let part = crate::assembly::stiffness_times(body.mesh, &body.material, u)
+            .map_err(|source| ProblemError::Assembly { body: b, source })?;
+        ku.extend(part);
+    }
+    Ok(ku)
 }
 
 /// Diagonal C_S (dual, lumped): u = P_g y with P_gᵀKP_g y = P_gᵀf assembled
 /// in the numbering of all dofs and solved by PETSc, the rigid-body modes of
-/// the points (zero at eliminated dofs) as near-nullspace.
+/// the points (zero at eliminated dofs) as near-nullspace. K leaves `system`
+/// once reduced: PETSc's matrix and multigrid hierarchy take its place
+/// (at 433k unknowns K is a quarter of the peak).
 fn reduced_petsc(
-    system: &System,
+    system: &mut System,
     constraints: &Constraints,
     options: &PetscOptions,
     seconds: &mut Timings,
     summary: &mut PetscSummary,
-) -> Result<Solved, ProblemError> {
-    let System { k, f, dirichlet, .. } = system;
+) -> Result<Eliminated, ProblemError> {
+    let k = std::mem::replace(&mut system.k, CsrMatrix::zeros(0, 0));
+    let System { f, dirichlet, .. } = &*system;
     let clock = Instant::now();
     let elimination = match constraints.rows.is_empty() {
         true => None,
-        false => Some(Elimination::new(constraints, k, f)?),
+        false => Some(Elimination::new(constraints, &k, f)?),
     };
     let modes = rigid_body_modes_in(&system.points, elimination.as_ref().map(|e| &e.retained[..]), None);
     // The reduced matrix goes to PETSc, which keeps the only copy while it solves.
     let (a, g, p) = match elimination {
-        Some(e) => (Cow::Owned(e.k), Cow::Owned(e.f), Some(e.p)),
-        None => (Cow::Borrowed(k), Cow::Borrowed(&f[..]), None),
+        Some(e) => {
+            drop(k);
+            (Cow::Owned(e.k), Cow::Owned(e.f), Some(e.p))
+        }
+        None => (Cow::Owned(k), Cow::Borrowed(&f[..]), None),
     };
     seconds.setup += clock.elapsed().as_secs_f64();
 
@@ -134,10 +172,9 @@ fn reduced_petsc(
         Some(p) => p.mul_vec(&y, 1),
         None => y,
     };
-    let lambda = eliminated_multipliers(k, f, constraints, &u);
     seconds.solve += clock.elapsed().as_secs_f64();
     let iterations = summary.solves.iter().map(|s| s.iterations).sum();
-    Ok((u, lambda, "PETSc KSP on the reduced system (u_s = T u_m)", iterations))
+    Ok((u, None, "PETSc KSP on the reduced system (u_s = T u_m)", iterations))
 }
 
 /// Standard multipliers (or crosspoints): the saddle point by PETSc
@@ -164,8 +201,7 @@ fn saddle_petsc(
 
 /// λ_r = (f − Ku)_{dof r} / C_{r, dof r}: the slave rows of the saddle point
 /// when C_S is diagonal.
-fn eliminated_multipliers(k: &CsrMatrix, f: &[f64], constraints: &Constraints, u: &[f64]) -> Vec<f64> {
-    let ku = k.mul_vec(u, 1);
+fn eliminated_multipliers(ku: &[f64], f: &[f64], constraints: &Constraints) -> Vec<f64> {
     constraints
         .rows
         .iter()
@@ -182,7 +218,7 @@ fn eliminated(
     dirichlet: &Dirichlet,
     constraints: &Constraints,
     seconds: &mut Timings,
-) -> Result<Solved, ProblemError> {
+) -> Result<Eliminated, ProblemError> {
     let clock = Instant::now();
     let (p, retained) = prolongation(constraints);
     let a = triple_product(&p, k);
@@ -199,25 +235,23 @@ fn eliminated(
 
     let clock = Instant::now();
     let u = p.mul_vec(&u_r, 1);
-    let lambda = eliminated_multipliers(k, f, constraints, &u);
     seconds.solve += clock.elapsed().as_secs_f64();
-    Ok((u, lambda, "reduced Cholesky (u_s = T u_m)", 0))
+    Ok((u, None, "reduced Cholesky (u_s = T u_m)", 0))
 }
 
-/// max(‖(f − Ku − Cᵀλ)_F‖ / ‖f_F‖, ‖Cu‖ / (‖C‖ ‖u‖)) in the max norm, F the free dofs.
+/// max(‖(f − Ku − Cᵀλ)_F‖ / ‖f_F‖, ‖Cu‖ / (‖C‖ ‖u‖)) in the max norm, F the
+/// `free` dofs.
 fn residual(
-    k: &CsrMatrix,
+    ku: &[f64],
+    free: &[bool],
     f: &[f64],
-    dirichlet: &Dirichlet,
     constraints: &Constraints,
     u: &[f64],
     lambda: &[f64],
 ) -> f64 {
-    let ku = k.mul_vec(u, 1);
     let ctl = constraints.c.transpose_mul_vec(lambda, 1);
-    let free = free_dofs(k, dirichlet);
     let (mut r, mut scale) = (0.0f64, 0.0f64);
-    for i in (0..k.nrows).filter(|&i| free[i]) {
+    for i in (0..ku.len()).filter(|&i| free[i]) {
         r = r.max((f[i] - ku[i] - ctl[i]).abs());
         scale = scale.max(f[i].abs()).max(ku[i].abs());
     }

@@ -60,7 +60,9 @@ pub mod solution;
 pub mod solve;
 pub mod stress;
 
-pub use assembly::{body_force, cell_volumes, rigid_body_modes, stiffness, traction, AssemblyError};
+pub use assembly::{
+    body_force, cell_volumes, rigid_body_modes, stiffness, stiffness_times, traction, AssemblyError,
+};
 pub use contact::{ActiveSetStep, Kkt};
 pub use element::{ElementKind, VolumeRule};
 pub use material::{Material, MaterialError};

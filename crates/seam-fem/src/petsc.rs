@@ -20,6 +20,10 @@
 //! dofs that the reduction eliminated (empty rows), become identity rows
 //! with zero right-hand side, so that the point blocks stay whole.
 //! Successive solves of a contact problem start from the previous solution.
+//! A glued system reduced for PETSc gives up K once PᵀKP is formed: PETSc's
+//! matrix and multigrid hierarchy take its place, and the K u that the
+//! multipliers and the residual need afterwards is formed cell by cell
+//! ([`crate::assembly::stiffness_times`]).
 //!
 //! Built without the feature, every PETSc solve fails with
 //! [`SolveError::PetscUnavailable`].

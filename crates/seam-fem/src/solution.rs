@@ -206,7 +206,7 @@ pub fn solve_coupled(
             (u, lambda, s.method, s.steps.len(), s.kkt.max(), Some(report), s.petsc.take())
         }
         None => {
-            let g = solve_glued(&system, &constraints, options.solver, &mut seconds)?;
+            let g = solve_glued(bodies, &mut system, &constraints, options.solver, &mut seconds)?;
             (g.u, g.lambda, g.method, g.iterations, g.residual, None, g.petsc)
         }
     };
