@@ -109,7 +109,7 @@
 
 use crate::constraints::{free_dofs, matrix_free, saddle_point, triple_product};
 use crate::constraints::{Constraints, Elimination, Row, NONE};
-use crate::multibody::{Body, Coupling, Interface, ProblemError, Solver, System, Timings};
+use crate::multibody::{bodies_stiffness, Body, Coupling, Interface, ProblemError, Solver, System, Timings};
 use crate::pcg::{solve_pcg_from, PcgOptions};
 use crate::petsc::{rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, PetscOptions, PetscSummary};
 use crate::solution::{ContactFields, InterfaceSolution, SolveOptions};
@@ -204,12 +204,21 @@ pub(crate) fn solve_contact(
     let basis = SlaveBasis::new(bodies, interfaces, system)?;
     seconds.setup += clock.elapsed().as_secs_f64();
     let Some(basis) = basis else {
-        return active_set_steps(bodies, interfaces, options, system, constraints, seconds);
+        return active_set_steps(
+            bodies,
+            interfaces,
+            options,
+            (system, &|| bodies_stiffness(bodies)),
+            constraints,
+            seconds,
+        );
     };
-    // The same solve in ũ (module doc): K̃ = P_bᵀ K P_b, f̃ = P_bᵀ f, C̃ = C P_b.
+    // The same solve in ũ (module doc): K̃ = P_bᵀ K P_b, f̃ = P_bᵀ f, C̃ = C P_b;
+    // K itself is not needed any more (K̃ is formed again from the bodies).
     let clock = Instant::now();
-    let transformed = System {
-        k: triple_product(&basis.p, &system.k),
+    let reform = || Ok(triple_product(&basis.p, &bodies_stiffness(bodies)?));
+    let mut transformed = System {
+        k: triple_product(&basis.p, &std::mem::replace(&mut system.k, CsrMatrix::zeros(0, 0))),
         f: basis.p.transpose_mul_vec(&system.f, 1),
         dirichlet: basis.dirichlet.clone(),
         offsets: system.offsets.clone(),
@@ -219,7 +228,7 @@ pub(crate) fn solve_contact(
     let mut glued = constraints.clone();
     glued.c = basis.times(&constraints.c);
     seconds.setup += clock.elapsed().as_secs_f64();
-    let steps = active_set_steps(bodies, interfaces, options, &transformed, &glued, seconds);
+    let steps = active_set_steps(bodies, interfaces, options, (&mut transformed, &reform), &glued, seconds);
     (system.mortars, system.points) = (transformed.mortars, transformed.points);
     let mut steps = steps?;
     steps.u = basis.p.mul_vec(&steps.u, 1);
@@ -232,13 +241,13 @@ fn active_set_steps(
     bodies: &[Body],
     interfaces: &[Interface],
     options: &SolveOptions,
-    system: &System,
+    (system, reform): (&mut System, &dyn Fn() -> Result<CsrMatrix, ProblemError>),
     constraints: &Constraints,
     seconds: &mut Timings,
 ) -> Result<Steps, ProblemError> {
     let eliminated = constraints.rows.is_empty() || constraints.eliminated_block_is_diagonal();
     if eliminated {
-        rotated_steps(bodies, interfaces, options, system, constraints, seconds)
+        rotated_steps(bodies, interfaces, options, (system, reform), constraints, seconds)
     } else {
         saddle_steps(bodies, interfaces, options, system, constraints, seconds)
     }
@@ -434,28 +443,34 @@ fn singular(step: usize, active: usize) -> ProblemError {
 }
 
 /// The active set on the system rotated into nodal frames, glued interfaces
-/// (dual, lumped) eliminated first (module doc).
+/// (dual, lumped) eliminated first (module doc). The iterative solvers run
+/// their steps without `system`'s K, which `reform` forms again for the KKT
+/// check and the glued multipliers: K would otherwise sit beside the
+/// rotated system and the solver's own matrix (PETSc's, and its multigrid
+/// hierarchy) through every step.
 fn rotated_steps(
     bodies: &[Body],
     interfaces: &[Interface],
     options: &SolveOptions,
-    system: &System,
+    (system, reform): (&mut System, &dyn Fn() -> Result<CsrMatrix, ProblemError>),
     constraints: &Constraints,
     seconds: &mut Timings,
 ) -> Result<Steps, ProblemError> {
-    let (k, f, dirichlet, offsets) = (&system.k, &system.f, &system.dirichlet, &system.offsets);
+    let (f, dirichlet, offsets) = (&system.f, &system.dirichlet, &system.offsets);
     let clock = Instant::now();
-    let glued = if constraints.rows.is_empty() { None } else { Some(Elimination::new(constraints, k, f)?) };
+    let glued =
+        if constraints.rows.is_empty() { None } else { Some(Elimination::new(constraints, &system.k, f)?) };
     let (k, f) = match &glued {
         Some(g) => (&g.k, &g.f[..]),
-        None => (k, &f[..]),
+        None => (&system.k, &f[..]),
     };
+    let n = k.nrows;
     let p_g = glued.as_ref().map(|g| &g.p);
     let points = contact_points(bodies, interfaces, &system.mortars, offsets, dirichlet, p_g)?;
-    let p = rotation(k.nrows, &points);
+    let p = rotation(n, &points);
     let a = triple_product(&p, k);
     let b = p.transpose_mul_vec(f, 1);
-    let prescribed = rotated_dirichlet(k.nrows, dirichlet, &points);
+    let prescribed = rotated_dirichlet(n, dirichlet, &points);
     seconds.setup += clock.elapsed().as_secs_f64();
 
     let scale = length_scale(bodies);
@@ -494,9 +509,10 @@ fn rotated_steps(
         }
         Solver::Pcg(_) | Solver::Petsc(_) => {
             let clock = Instant::now();
-            // PETSc's near-nullspace: the rigid-body modes in the unknowns x
-            // (u = P_g P x), zero at eliminated dofs and rotated into the
-            // nodal frames at contact points.
+            system.k = CsrMatrix::zeros(0, 0); // formed again after the steps
+                                               // PETSc's near-nullspace: the rigid-body modes in the unknowns x
+                                               // (u = P_g P x), zero at eliminated dofs and rotated into the
+                                               // nodal frames at contact points.
             let modes = matches!(options.solver, Solver::Petsc(_)).then(|| {
                 let retained = glued.as_ref().map(|g| &g.retained[..]);
                 rigid_body_modes_in(&system.points, retained, Some(&p))
@@ -544,9 +560,18 @@ fn rotated_steps(
         }
     };
 
+    if system.k.nrows != system.f.len() {
+        let clock = Instant::now();
+        system.k = reform()?;
+        seconds.assembly += clock.elapsed().as_secs_f64();
+    }
     let clock = Instant::now();
+    let (k, f) = match &glued {
+        Some(g) => (&g.k, &g.f[..]),
+        None => (&system.k, &system.f[..]),
+    };
     let y = p.mul_vec(&x, 1);
-    let kkt = kkt(k, f, dirichlet, &points, (&y, &x), &mu);
+    let kkt = kkt(k, f, &system.dirichlet, &points, (&y, &x), &mu);
     let u = match &glued {
         Some(g) => g.p.mul_vec(&y, 1),
         None => y,
@@ -1322,7 +1347,7 @@ pub(crate) fn add_contact_fields(out: &mut [InterfaceSolution], steps: &Steps) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::multibody::assemble_system;
+    use crate::multibody::{assemble_system, bodies_stiffness};
     use crate::scene::{bulging_contact, BulgingContact};
 
     /// The saddle point per step (used with glued interfaces that do not
@@ -1337,9 +1362,12 @@ mod tests {
         let (bodies, interfaces) = (problem.solver_bodies(&prepared), problem.coupled());
         let options = SolveOptions::default();
         let mut seconds = Timings::default();
-        let system = assemble_system(&bodies, &interfaces, &mut seconds).unwrap();
+        let mut system = assemble_system(&bodies, &interfaces, &mut seconds).unwrap();
         let constraints = Constraints::new(&interfaces, &system.mortars, &system.offsets, &system.dirichlet);
-        let a = rotated_steps(&bodies, &interfaces, &options, &system, &constraints, &mut seconds).unwrap();
+        let reform = || bodies_stiffness(&bodies);
+        let a =
+            rotated_steps(&bodies, &interfaces, &options, (&mut system, &reform), &constraints, &mut seconds)
+                .unwrap();
         let b = saddle_steps(&bodies, &interfaces, &options, &system, &constraints, &mut seconds).unwrap();
         assert!(a.steps.len() >= 2, "{:?}", a.steps);
         assert_eq!(a.steps, b.steps);

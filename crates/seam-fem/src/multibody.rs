@@ -253,13 +253,7 @@ pub(crate) fn assemble_system(
     seconds: &mut Timings,
 ) -> Result<System, ProblemError> {
     let clock = Instant::now();
-    let stiffnesses = bodies
-        .iter()
-        .enumerate()
-        .map(|(b, body)| {
-            stiffness(body.mesh, &body.material).map_err(|source| ProblemError::Assembly { body: b, source })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let k = bodies_stiffness(bodies)?;
     seconds.assembly = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
@@ -282,8 +276,6 @@ pub(crate) fn assemble_system(
     let clock = Instant::now();
     let offsets = dof_offsets(bodies);
     let n = *offsets.last().expect("at least the leading zero");
-    let k = block_diagonal(&stiffnesses, n);
-    drop(stiffnesses);
     let mut f = vec![0.0; n];
     let mut dirichlet = Dirichlet::new();
     for (b, body) in bodies.iter().enumerate() {
@@ -339,6 +331,24 @@ pub(crate) fn dof_offsets(bodies: &[Body]) -> Vec<usize> {
         offsets.push(offsets.last().unwrap() + 3 * body.mesh.points().len());
     }
     offsets
+}
+
+/// diag(K_1, …, K_N), the bodies' stiffness matrices as one matrix in the
+/// numbering of [`dof_offsets`] (what [`System::k`] holds; a solve that gives
+/// K up while it runs forms it again by this).
+///
+/// # Errors
+/// [`ProblemError::Assembly`] for a body with a degenerate cell.
+pub(crate) fn bodies_stiffness(bodies: &[Body]) -> Result<CsrMatrix, ProblemError> {
+    let stiffnesses = bodies
+        .iter()
+        .enumerate()
+        .map(|(b, body)| {
+            stiffness(body.mesh, &body.material).map_err(|source| ProblemError::Assembly { body: b, source })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let n = *dof_offsets(bodies).last().expect("at least the leading zero");
+    Ok(block_diagonal(&stiffnesses, n))
 }
 
 /// diag(K_1, …, K_N) as one n × n matrix.
