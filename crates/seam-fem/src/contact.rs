@@ -509,10 +509,11 @@ fn rotated_steps(
         }
         Solver::Pcg(_) | Solver::Petsc(_) => {
             let clock = Instant::now();
-            system.k = CsrMatrix::zeros(0, 0); // formed again after the steps
-                                               // PETSc's near-nullspace: the rigid-body modes in the unknowns x
-                                               // (u = P_g P x), zero at eliminated dofs and rotated into the
-                                               // nodal frames at contact points.
+            // K goes for the steps (formed again after them). PETSc's
+            // near-nullspace: the rigid-body modes in the unknowns x
+            // (u = P_g P x), zero at eliminated dofs and rotated into the
+            // nodal frames at contact points.
+            system.k = CsrMatrix::zeros(0, 0);
             let modes = matches!(options.solver, Solver::Petsc(_)).then(|| {
                 let retained = glued.as_ref().map(|g| &g.retained[..]);
                 rigid_body_modes_in(&system.points, retained, Some(&p))
