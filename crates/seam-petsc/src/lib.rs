@@ -76,7 +76,44 @@ mod ffi {
         pub fn seam_petsc_petscint_size() -> c_int;
         pub fn seam_petsc_finalize();
         pub fn seam_petsc_lead() -> c_int;
-        pub fn seam_petsc_follow(failed: *mut c_int, err: *mut c_char, errlen: usize) -> c_int;
+        pub fn seam_petsc_follow(
+            failed: *mut c_int,
+            job: *mut *mut u8,
+            job_len: *mut usize,
+            err: *mut c_char,
+            errlen: usize,
+        ) -> c_int;
+        pub fn seam_petsc_send_jobs(parts: *const *const u8, lens: *const usize);
+        pub fn seam_petsc_reply(bytes: *const u8, len: usize);
+        pub fn seam_petsc_receive_reply(rank: c_int, len: *mut usize) -> *mut u8;
+        pub fn seam_petsc_release_bytes(bytes: *mut u8);
+        pub fn seam_petsc_stage(
+            count: usize,
+            i: *mut *mut PetscInt,
+            j: *mut *mut PetscInt,
+            v: *mut *mut f64,
+        ) -> c_int;
+        pub fn seam_petsc_system_create_reduced(
+            n: PetscInt,
+            bs: PetscInt,
+            ranges: *const PetscInt,
+            qptr: *const PetscInt,
+            qcols: *const PetscInt,
+            qvals: *const f64,
+            inactive: *const c_char,
+            f: *const f64,
+            w: *const f64,
+            modes: *const f64,
+            n_modes: PetscInt,
+            ksp_type: *const c_char,
+            pc_type: *const c_char,
+            rtol: f64,
+            max_it: PetscInt,
+            b: *mut f64,
+            out: *mut *mut RawSystem,
+            err: *mut c_char,
+            errlen: usize,
+        ) -> c_int;
         pub fn seam_petsc_yield();
         pub fn seam_petsc_system_create(
             n: PetscInt,
@@ -112,7 +149,7 @@ mod ffi {
 use ffi::PetscInt;
 
 /// The one lock around every call into PETSc (not thread-safe).
-static PETSC: Mutex<State> = Mutex::new(State { initialised: false, leading: false });
+static PETSC: Mutex<State> = Mutex::new(State { initialised: false, leading: false, ranks: 1 });
 
 /// PETSc in this process.
 struct State {
@@ -120,6 +157,8 @@ struct State {
     initialised: bool,
     /// This process leads the other MPI ranks ([`lead`]).
     leading: bool,
+    /// The ranks it leads, itself included (1 when it does not lead).
+    ranks: usize,
 }
 
 /// A PETSc failure, as one line.
@@ -169,17 +208,27 @@ pub fn lead() -> usize {
     // the caller, or the shim reports one process).
     let size = unsafe { ffi::seam_petsc_lead() };
     state.leading = true;
-    size.max(1) as usize
+    state.ranks = size.max(1) as usize;
+    state.ranks
+}
+
+/// The ranks this process's systems are distributed over: those it
+/// [`lead`]s, itself included; 1 when it does not lead.
+pub fn ranks() -> usize {
+    lock().ranks
 }
 
 /// Why [`follow`] returned.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Followed {
     /// The leader finalised: call [`finalize`] and end.
     Released,
     /// The leader [`yield_followers`]: do the leader's other work (the
     /// program's own protocol), then follow again.
     Yielded,
+    /// The leader sent this rank a job ([`send_jobs`]): do it, answer it
+    /// ([`reply`]), then follow again.
+    Job(Vec<u8>),
 }
 
 /// A rank other than 0 of an MPI run whose rank 0 [`lead`]s: carries out the
@@ -192,12 +241,16 @@ pub enum Followed {
 pub fn follow() -> Result<Followed, PetscError> {
     let mut err = [0 as c_char; ERR_LEN];
     let mut failed: c_int = 0;
-    // SAFETY: failed is a valid int, err has ERR_LEN bytes. The loop returns
-    // when the leader releases or yields; no other thread of this process
-    // calls PETSc meanwhile (a follower does nothing else), so the lock is
-    // not taken: the shim's PETSc calls are all on this thread.
-    let code = unsafe { ffi::seam_petsc_follow(&mut failed, err.as_mut_ptr(), ERR_LEN) };
+    let (mut job, mut job_len) = (std::ptr::null_mut(), 0usize);
+    // SAFETY: failed is a valid int, job and job_len valid pointers, err has
+    // ERR_LEN bytes. The loop returns when the leader releases, yields or
+    // sends a job; no other thread of this process calls PETSc meanwhile (a
+    // follower does nothing else), so the lock is not taken: the shim's
+    // PETSc calls are all on this thread.
+    let code =
+        unsafe { ffi::seam_petsc_follow(&mut failed, &mut job, &mut job_len, err.as_mut_ptr(), ERR_LEN) };
     match (code, failed) {
+        (2, _) => Ok(Followed::Job(take_bytes(job, job_len))),
         (1, _) => Ok(Followed::Yielded),
         (_, 0) => Ok(Followed::Released),
         (_, failed) => Err(error_text(&err, failed)),
@@ -212,6 +265,91 @@ pub fn yield_followers() {
     // SAFETY: no argument; a broadcast to the followers when this process
     // leads, under the lock that every other PETSc call takes.
     unsafe { ffi::seam_petsc_yield() }
+}
+
+/// Copies a buffer of the shim (`len` bytes, NULL when empty) and releases it.
+fn take_bytes(bytes: *mut u8, len: usize) -> Vec<u8> {
+    if bytes.is_null() {
+        return Vec::new();
+    }
+    // SAFETY: the shim allocated `bytes` with room for `len` bytes, all
+    // received; it is released exactly once, here, after the copy.
+    unsafe {
+        let copy = std::slice::from_raw_parts(bytes, len).to_vec();
+        ffi::seam_petsc_release_bytes(bytes);
+        copy
+    }
+}
+
+/// The leader sends rank r the job `parts[r − 1]` (bytes of the program's
+/// own protocol), for every rank it leads: their [`follow`] returns
+/// [`Followed::Job`]; their answers come by [`receive_reply`]. Nothing when
+/// this process does not lead other ranks.
+///
+/// # Panics
+/// When `parts` has not one entry per other rank.
+pub fn send_jobs(parts: &[Vec<u8>]) {
+    let state = lock();
+    if state.ranks <= 1 {
+        return;
+    }
+    assert_eq!(parts.len(), state.ranks - 1, "one job per other rank");
+    let pointers: Vec<*const u8> = parts.iter().map(|p| p.as_ptr()).collect();
+    let lens: Vec<usize> = parts.iter().map(Vec::len).collect();
+    // SAFETY: one pointer and length per other rank, each valid for its
+    // length during the call (the shim sends them before returning); under
+    // the lock that every other PETSc call takes.
+    unsafe { ffi::seam_petsc_send_jobs(pointers.as_ptr(), lens.as_ptr()) }
+}
+
+/// A follower answers the job that [`follow`] returned.
+pub fn reply(bytes: &[u8]) {
+    let _guard = lock();
+    // SAFETY: bytes is valid for its length during the call (sent before
+    // the shim returns).
+    unsafe { ffi::seam_petsc_reply(bytes.as_ptr(), bytes.len()) }
+}
+
+/// The leader: rank `rank`'s answer to its job ([`send_jobs`]), waited for.
+pub fn receive_reply(rank: usize) -> Vec<u8> {
+    let _guard = lock();
+    let mut len = 0usize;
+    // SAFETY: len is a valid pointer; the shim returns a buffer of len bytes
+    // that take_bytes copies and releases. The leader receives only from
+    // ranks it sent a job to, which answer once.
+    let bytes = unsafe { ffi::seam_petsc_receive_reply(rank as c_int, &mut len) };
+    take_bytes(bytes, len)
+}
+
+/// Stages this rank's part of a matrix assembled where its cells are
+/// ([`System::reduced`]): `count` entries (row, column, value; global
+/// indices, any rows, repeated entries summed) that `fill` writes. Replaces
+/// what was staged before.
+///
+/// # Errors
+/// Out of memory.
+pub fn stage(
+    count: usize,
+    fill: impl FnOnce(&mut [Index], &mut [Index], &mut [f64]),
+) -> Result<(), PetscError> {
+    let _guard = lock();
+    let (mut i, mut j, mut v) = (std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null_mut());
+    // SAFETY: valid out-pointers; on success the shim points them at arrays
+    // of count + 1 entries that it owns until the next stage or system.
+    if unsafe { ffi::seam_petsc_stage(count, &mut i, &mut j, &mut v) } != 0 {
+        return Err(PetscError(format!("out of memory staging {count} matrix entries")));
+    }
+    // SAFETY: the three arrays were just allocated with room for count
+    // entries, are distinct, and nothing else touches them until the shim
+    // consumes them in a later call (made under the lock, after this one).
+    unsafe {
+        fill(
+            std::slice::from_raw_parts_mut(i, count),
+            std::slice::from_raw_parts_mut(j, count),
+            std::slice::from_raw_parts_mut(v, count),
+        )
+    };
+    Ok(())
 }
 
 /// Initialises PETSc on the first call (with `options`, a string of PETSc
@@ -392,6 +530,26 @@ pub struct Csr<'a> {
     pub values: &'a [f64],
 }
 
+/// What [`System::reduced`] reduces: K u = f by u = Q y + w.
+#[derive(Clone, Copy, Debug)]
+pub struct Reduction<'a> {
+    /// The first row of each rank, then n: rank r holds rows
+    /// [ranges[r], ranges[r + 1]) (multiples of `block_size`), where its
+    /// staged entries of K best lie.
+    pub ranges: &'a [Index],
+    /// Q, n × n.
+    pub q: Csr<'a>,
+    /// Rows and columns left out of QᵀKQ (Q's columns empty there): identity
+    /// rows of A, zero in b.
+    pub inactive: &'a [bool],
+    /// f.
+    pub f: &'a [f64],
+    /// w.
+    pub w: &'a [f64],
+    /// The points' size (3 for elasticity).
+    pub block_size: usize,
+}
+
 /// PETSc's index type (`PetscInt`: 32 bits in Debian's PETSc), in which
 /// matrices are passed without a copy of their indices.
 pub type Index = PetscInt;
@@ -476,6 +634,92 @@ impl System {
         drop(guard);
         match (code, NonNull::new(raw)) {
             (0, Some(raw)) => Ok(System { raw, n }),
+            _ => Err(error_text(&err, code)),
+        }
+    }
+
+    /// The system A y = b of K u = f reduced by u = Q y + w, with K
+    /// assembled from every rank's staged entries ([`stage`]) and never
+    /// whole on one rank: A = QᵀKQ + E and b = Qᵀ(f − K w), zero on the
+    /// rows that `reduction.inactive` marks, E the identity there (Q's
+    /// columns there must be empty). PETSc forms the product (MatPtAP) over
+    /// the ranks, each holding the rows `reduction.ranges` gives it. The
+    /// near-nullspace and `config` as in [`System::new`]. Returns the system
+    /// and b.
+    ///
+    /// # Errors
+    /// As [`System::new`].
+    pub fn reduced(
+        reduction: Reduction<'_>,
+        near_nullspace: &[Vec<f64>],
+        config: &KspConfig,
+    ) -> Result<(System, Vec<f64>), PetscError> {
+        let Reduction { ranges, q, inactive, f, w, block_size } = reduction;
+        let n = q.rowptr.len().saturating_sub(1);
+        let nnz = q.rowptr.last().map_or(0, |&v| v.max(0) as usize);
+        let consistent = !q.rowptr.is_empty()
+            && q.cols.len() == nnz
+            && q.values.len() == nnz
+            && block_size > 0
+            && n % block_size == 0
+            && q.cols.iter().all(|&c| c >= 0 && (c as usize) < n)
+            && q.rowptr.windows(2).all(|w| w[0] <= w[1])
+            && [inactive.len(), f.len(), w.len()] == [n; 3]
+            && ranges.len() == ranks() + 1
+            && ranges.first() == Some(&0)
+            && ranges.last().map(|&r| r as usize) == Some(n)
+            && ranges.windows(2).all(|r| r[0] <= r[1] && r[0] as usize % block_size == 0)
+            && near_nullspace.iter().all(|v| v.len() == n);
+        if !consistent {
+            return Err(PetscError("inconsistent reduction passed to PETSc".into()));
+        }
+        let modes = orthonormal(near_nullspace);
+        let n_modes = modes.len().checked_div(n).unwrap_or(0);
+        let (ksp_type, pc_type) =
+            (CString::new(config.ksp_type.as_str()), CString::new(config.pc_type.as_str()));
+        let (Ok(ksp_type), Ok(pc_type)) = (ksp_type, pc_type) else {
+            return Err(PetscError("KSP and PC types must not contain a NUL character".into()));
+        };
+        let inactive: Vec<c_char> = inactive.iter().map(|&i| c_char::from(i)).collect();
+        let mut b = vec![0.0; n];
+        let guard = lock();
+        if !guard.initialised {
+            return Err(PetscError("PETSc is not initialised".into()));
+        }
+        let mut raw = std::ptr::null_mut();
+        let mut err = [0 as c_char; ERR_LEN];
+        // SAFETY: the arrays have the lengths the shim reads (ranks + 1
+        // ranges, n + 1 offsets, nnz columns and values, n entries of
+        // inactive, f, w and b, n per near-nullspace vector), checked above;
+        // the shim copies them into PETSc objects (b: writes it) before
+        // returning; the strings are NUL-terminated; raw receives a new
+        // system or stays NULL.
+        let code = unsafe {
+            ffi::seam_petsc_system_create_reduced(
+                index(n, "size")?,
+                index(block_size, "block size")?,
+                ranges.as_ptr(),
+                q.rowptr.as_ptr(),
+                q.cols.as_ptr(),
+                q.values.as_ptr(),
+                inactive.as_ptr(),
+                f.as_ptr(),
+                w.as_ptr(),
+                modes.as_ptr(),
+                index(n_modes, "near-nullspace size")?,
+                ksp_type.as_ptr(),
+                pc_type.as_ptr(),
+                config.rtol,
+                index(config.max_iterations, "iteration cap")?,
+                b.as_mut_ptr(),
+                &mut raw,
+                err.as_mut_ptr(),
+                ERR_LEN,
+            )
+        };
+        drop(guard);
+        match (code, NonNull::new(raw)) {
+            (0, Some(raw)) => Ok((System { raw, n }, b)),
             _ => Err(error_text(&err, code)),
         }
     }
@@ -617,5 +861,78 @@ mod tests {
         let mut system = System::new(matrix, Structure::Blocks(1), &[], &capped).unwrap();
         let report = system.solve(&b, &mut x, false).unwrap();
         assert!(!report.converged() && report.reason_name == "DIVERGED_ITS", "{report:?}");
+    }
+
+    /// The reduced system of a 1D Laplacian with both ends prescribed and
+    /// the middle unknown eliminated (u_15 = (u_14 + u_16)/2), K staged in
+    /// pieces: A = QᵀKQ + E and b = Qᵀ(f − K w) as formed densely here.
+    #[test]
+    fn a_reduced_system_is_q_transpose_k_q() {
+        initialize("").unwrap();
+        let n = 30;
+        let (rowptr, cols, values) = laplacian(n);
+        let dense_k = |i: usize, j: usize| {
+            (rowptr[i] as usize..rowptr[i + 1] as usize)
+                .find(|&k| cols[k] as usize == j)
+                .map_or(0.0, |k| values[k])
+        };
+        // Every entry staged in two halves, as two cells sharing it would.
+        let count = 2 * values.len();
+        stage(count, |si, sj, sv| {
+            for i in 0..n {
+                for k in rowptr[i] as usize..rowptr[i + 1] as usize {
+                    for half in 0..2 {
+                        (si[2 * k + half], sj[2 * k + half], sv[2 * k + half]) =
+                            (i as Index, cols[k], values[k] / 2.0);
+                    }
+                }
+            }
+        })
+        .unwrap();
+        let inactive: Vec<bool> = (0..n).map(|i| i == 0 || i == 15 || i == n - 1).collect();
+        // Q: the identity on the active unknowns, row 15 the mean of 14 and 16.
+        let mut q = vec![vec![0.0; n]; n];
+        for i in (0..n).filter(|&i| !inactive[i]) {
+            q[i][i] = 1.0;
+        }
+        (q[15][14], q[15][16]) = (0.5, 0.5);
+        let (mut qptr, mut qcols, mut qvals) = (vec![0], Vec::new(), Vec::new());
+        for row in &q {
+            for (j, &v) in row.iter().enumerate().filter(|(_, &v)| v != 0.0) {
+                qcols.push(j as Index);
+                qvals.push(v);
+            }
+            qptr.push(qcols.len() as Index);
+        }
+        let mut w = vec![0.0; n];
+        (w[0], w[n - 1]) = (1.0, 2.0);
+        let f: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let reduction = Reduction {
+            ranges: &[0, n as Index],
+            q: Csr { rowptr: &qptr, cols: &qcols, values: &qvals },
+            inactive: &inactive,
+            f: &f,
+            w: &w,
+            block_size: 1,
+        };
+        let config = KspConfig { pc_type: "jacobi".into(), rtol: 1e-13, ..KspConfig::default() };
+        let (mut system, b) = System::reduced(reduction, &[], &config).unwrap();
+        // Dense references.
+        let r: Vec<f64> = (0..n).map(|i| f[i] - (0..n).map(|j| dense_k(i, j) * w[j]).sum::<f64>()).collect();
+        let a = |i: usize, j: usize| match inactive[i] || inactive[j] {
+            true => f64::from(u8::from(i == j)),
+            false => (0..n).map(|k| (0..n).map(|l| q[k][i] * dense_k(k, l) * q[l][j]).sum::<f64>()).sum(),
+        };
+        for i in 0..n {
+            let expected = if inactive[i] { 0.0 } else { (0..n).map(|k| q[k][i] * r[k]).sum() };
+            assert!((b[i] - expected).abs() < 1e-14, "b[{i}] = {} against {expected}", b[i]);
+        }
+        let mut y = vec![0.0; n];
+        let report = system.solve(&b, &mut y, false).unwrap();
+        assert!(report.converged(), "{report:?}");
+        for i in 0..n {
+            let ay: f64 = (0..n).map(|j| a(i, j) * y[j]).sum();
+            assert!((ay - b[i]).abs() < 1e-10, "row {i}: (A y) = {ay} against b = {}", b[i]);
+        }
     }
 }

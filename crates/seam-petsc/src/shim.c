@@ -72,7 +72,7 @@ typedef struct {
 
 /* What the leader broadcasts before each call (all ranks run one binary:
  * the layout is the same everywhere). */
-enum { CMD_INIT = 1, CMD_CREATE, CMD_SOLVE, CMD_DESTROY, CMD_EXIT, CMD_YIELD };
+enum { CMD_INIT = 1, CMD_CREATE, CMD_SOLVE, CMD_DESTROY, CMD_EXIT, CMD_YIELD, CMD_JOB, CMD_REDUCED };
 typedef struct {
   int cmd, id;
   PetscInt n, n_first, bs, n_modes, max_it;
@@ -290,10 +290,12 @@ int seam_petsc_petscint_size(void)
 }
 
 /* Rows [rstart, rstart + m) of the n × n matrix (local CSR, 0-based, global
- * sorted columns) as AIJ, or what -mat_type chooses, with block size bs; the
- * columns of the same range are this rank's diagonal block. */
+ * sorted columns) as AIJ, or what -mat_type chooses (from_options), with
+ * block size bs; the columns of the same range are this rank's diagonal
+ * block. */
 static PetscErrorCode build_matrix(PetscInt n, PetscInt rstart, PetscInt m, PetscInt bs, const PetscInt *rowptr,
-                                   const PetscInt *cols, const PetscScalar *vals, int symmetric, Mat *out)
+                                   const PetscInt *cols, const PetscScalar *vals, int symmetric, int from_options,
+                                   Mat *out)
 {
   Mat       A;
   PetscInt *nnz, *onnz, *bnnz, *bonnz, *mark;
@@ -305,7 +307,7 @@ static PetscErrorCode build_matrix(PetscInt n, PetscInt rstart, PetscInt m, Pets
   PetscCall(MatSetSizes(A, m, m, n, n));
   PetscCall(MatSetType(A, MATAIJ));
   PetscCall(MatSetBlockSize(A, bs));
-  PetscCall(MatSetFromOptions(A));
+  if (from_options) PetscCall(MatSetFromOptions(A));
   /* Preallocation for AIJ (entries per row, in the diagonal block and off
    * it) and BAIJ/SBAIJ (blocks per block row); only the calls of the
    * matrix's type take effect. */
@@ -379,12 +381,12 @@ static PetscInt first_part(PetscInt n_first, PetscInt rstart, PetscInt m)
   return end > rstart ? end - rstart : 0;
 }
 
-/* Every rank: the system of the command from this rank's rows (local CSR
- * with global columns) and its part of the near-nullspace vectors (the
- * first-field rows of each, `stride` apart). */
-static int create_here(const command *c, PetscInt rstart, PetscInt m, const PetscInt *rowptr, const PetscInt *cols,
-                       const PetscScalar *vals, const PetscScalar *modes, size_t stride, seam_petsc_system **out,
-                       char *err, size_t errlen)
+/* Every rank: the system of the command on this rank's rows [rstart,
+ * rstart + m) of the matrix A (taken over: destroyed on failure), assembled
+ * for `assembly` seconds before, with its part of the near-nullspace vectors
+ * (the first-field rows of each, `stride` apart) and its KSP. */
+static int configure_here(const command *c, PetscInt rstart, PetscInt m, Mat A, double assembly,
+                          const PetscScalar *modes, size_t stride, seam_petsc_system **out, char *err, size_t errlen)
 {
   PetscErrorCode      code = 0;
   seam_petsc_system  *s = NULL;
@@ -404,16 +406,17 @@ static int create_here(const command *c, PetscInt rstart, PetscInt m, const Pets
   *out = NULL;
   s = (seam_petsc_system *)calloc(1, sizeof(*s));
   if (!s) {
+    MatDestroy(&A);
     snprintf(err, errlen, "out of memory");
     return PETSC_ERR_MEM;
   }
+  s->A = A;
   s->n      = n;
   s->bs     = mat_bs;
   s->rstart = rstart;
   s->m      = m;
   s->id     = c->id;
-  t0        = now();
-  TRY(build_matrix(n, rstart, m, mat_bs, rowptr, cols, vals, c->symmetric, &s->A));
+  t0        = now() - assembly;
   if (c->n_modes > 16) {
     snprintf(err, errlen, "at most 16 near-nullspace vectors, got %d", (int)c->n_modes);
     code = PETSC_ERR_ARG_OUTOFRANGE;
@@ -495,6 +498,25 @@ fail:
   return (int)code;
 }
 
+/* Every rank: the system of the command from this rank's rows (local CSR
+ * with global columns) and its part of the near-nullspace vectors (the
+ * first-field rows of each, `stride` apart). */
+static int create_here(const command *c, PetscInt rstart, PetscInt m, const PetscInt *rowptr, const PetscInt *cols,
+                       const PetscScalar *vals, const PetscScalar *modes, size_t stride, seam_petsc_system **out,
+                       char *err, size_t errlen)
+{
+  Mat            A = NULL;
+  double         t0 = now();
+  PetscErrorCode code = build_matrix(c->n, rstart, m, c->n_first < c->n ? 1 : c->bs, rowptr, cols, vals,
+                                     c->symmetric, 1, &A);
+  *out = NULL;
+  if (code) {
+    message(code, err, errlen);
+    return (int)code;
+  }
+  return configure_here(c, rstart, m, A, now() - t0, modes, stride, out, err, errlen);
+}
+
 static void destroy_here(seam_petsc_system *s)
 {
   if (!s) return;
@@ -565,6 +587,305 @@ int seam_petsc_system_create(PetscInt n, PetscInt n_first, PetscInt bs, const Pe
   }
   (*out)->ranges = ranges;
   return 0;
+}
+
+/* ---- Work of the program's own, handed out by the leader ----
+ *
+ * The leader sends each follower a byte array (seam_petsc_send_jobs); the
+ * follower's seam_petsc_follow returns 2 with it, the follower does the work
+ * and answers with a byte array (seam_petsc_reply), which the leader
+ * collects (seam_petsc_receive_reply) after doing its own part. */
+
+/* Sends parts[r − 1] (lens[r − 1] bytes) to rank r, for every follower. */
+void seam_petsc_send_jobs(const unsigned char *const *parts, const size_t *lens)
+{
+  int size = distributed() ? world_size() : 1;
+  if (size == 1 || released) return;
+  command c;
+  memset(&c, 0, sizeof(c));
+  c.cmd = CMD_JOB;
+  broadcast(&c);
+  for (int r = 1; r < size; r++) {
+    long long len = (long long)lens[r - 1];
+    (void)MPI_Send(&len, 1, MPI_LONG_LONG, r, TAG, MPI_COMM_WORLD);
+    send_array(parts[r - 1], lens[r - 1], MPI_BYTE, 1, r);
+  }
+}
+
+/* A follower answers its job. */
+void seam_petsc_reply(const unsigned char *bytes, size_t len)
+{
+  long long l = (long long)len;
+  (void)MPI_Send(&l, 1, MPI_LONG_LONG, 0, TAG, MPI_COMM_WORLD);
+  send_array(bytes, len, MPI_BYTE, 1, 0);
+}
+
+/* The leader: rank r's answer, in a buffer to release with
+ * seam_petsc_release_bytes (NULL when empty or out of memory: *len says
+ * which). Waits by testing every 0.2 ms, not in MPI's spinning receive. */
+unsigned char *seam_petsc_receive_reply(int r, size_t *len)
+{
+  long long l = 0;
+  int       arrived = 0;
+  for (;;) {
+    (void)MPI_Iprobe(r, TAG, MPI_COMM_WORLD, &arrived, MPI_STATUS_IGNORE);
+    if (arrived) break;
+    struct timespec pause = {0, 200000};
+    nanosleep(&pause, NULL);
+  }
+  (void)MPI_Recv(&l, 1, MPI_LONG_LONG, r, TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  unsigned char *bytes = (unsigned char *)malloc((size_t)l + 1);
+  if (!bytes) MPI_Abort(MPI_COMM_WORLD, 2); /* rank r waits to send */
+  receive_array(bytes, (size_t)l, MPI_BYTE, 1, r);
+  *len = (size_t)l;
+  return bytes;
+}
+
+/* Frees a buffer of this layer (a job, an answer). */
+void seam_petsc_release_bytes(unsigned char *bytes)
+{
+  free(bytes);
+}
+
+/* ---- A stiffness matrix assembled where its cells are ----
+ *
+ * Each rank stages its cells' entries (i, j, value: global indices, any row,
+ * repeated entries summed) before the leader calls
+ * seam_petsc_system_create_reduced; PETSc sums them into the rows' owners
+ * (MatSetPreallocationCOO, MatSetValuesCOO). */
+static PetscInt    *staged_i = NULL, *staged_j = NULL;
+static PetscScalar *staged_v = NULL;
+static size_t       staged = 0;
+
+static void unstage(void)
+{
+  free(staged_i);
+  free(staged_j);
+  free(staged_v);
+  staged_i = staged_j = NULL;
+  staged_v = NULL;
+  staged   = 0;
+}
+
+/* Room for this rank's `count` entries (replacing any staged before):
+ * the caller fills *i, *j, *v. Returns 0, or 1 when out of memory. */
+int seam_petsc_stage(size_t count, PetscInt **i, PetscInt **j, PetscScalar **v)
+{
+  unstage();
+  staged_i = (PetscInt *)malloc((count + 1) * sizeof(PetscInt));
+  staged_j = (PetscInt *)malloc((count + 1) * sizeof(PetscInt));
+  staged_v = (PetscScalar *)malloc((count + 1) * sizeof(PetscScalar));
+  if (!staged_i || !staged_j || !staged_v) {
+    unstage();
+    return 1;
+  }
+  staged = count;
+  *i = staged_i, *j = staged_j, *v = staged_v;
+  return 0;
+}
+
+/* Every rank, rows [r0, r0 + m): the reduced system (seam_petsc_system_
+ * create_reduced) and this rank's rows of its right-hand side in b. */
+static int reduced_here(const command *c, PetscInt r0, PetscInt m, const PetscInt *qptr, const PetscInt *qcols,
+                        const PetscScalar *qvals, const char *inactive, const PetscScalar *f, const PetscScalar *w,
+                        const PetscScalar *modes, PetscScalar *b, seam_petsc_system **out, char *err, size_t errlen)
+{
+  PetscErrorCode code = 0;
+  Mat            K = NULL, Q = NULL, E = NULL, A = NULL;
+  Vec            vf = NULL, vw = NULL, vr = NULL, vb = NULL;
+  PetscInt      *eptr = NULL, *ecols = NULL;
+  PetscScalar   *evals = NULL;
+  const PetscInt n = c->n, bs = c->bs;
+  double         t0 = now();
+
+  *out = NULL;
+  /* K from every rank's staged entries. */
+  TRY(MatCreate(PETSC_COMM_WORLD, &K));
+  TRY(MatSetSizes(K, m, m, n, n));
+  TRY(MatSetType(K, MATAIJ));
+  TRY(MatSetBlockSize(K, bs));
+  TRY(MatSetPreallocationCOO(K, (PetscCount)staged, staged_i, staged_j));
+  TRY(MatSetValuesCOO(K, staged_v, ADD_VALUES));
+  unstage();
+  /* A = QᵀKQ + E, E the identity on the inactive rows. */
+  TRY(build_matrix(n, r0, m, bs, qptr, qcols, qvals, 0, 0, &Q));
+  TRY(MatPtAP(K, Q, MAT_INITIAL_MATRIX, 2.0, &A));
+  eptr  = (PetscInt *)malloc(((size_t)m + 1) * sizeof(PetscInt));
+  ecols = (PetscInt *)malloc(((size_t)m + 1) * sizeof(PetscInt));
+  evals = (PetscScalar *)malloc(((size_t)m + 1) * sizeof(PetscScalar));
+  if (!eptr || !ecols || !evals) {
+    code = PETSC_ERR_MEM;
+    snprintf(err, errlen, "out of memory");
+    goto fail;
+  }
+  eptr[0] = 0;
+  for (PetscInt i = 0; i < m; i++) {
+    eptr[i + 1] = eptr[i];
+    if (inactive[i]) {
+      ecols[eptr[i]] = r0 + i;
+      evals[eptr[i]] = 1.0;
+      eptr[i + 1]++;
+    }
+  }
+  TRY(build_matrix(n, r0, m, bs, eptr, ecols, evals, 1, 0, &E));
+  TRY(MatAXPY(A, 1.0, E, DIFFERENT_NONZERO_PATTERN));
+  TRY(MatDestroy(&E));
+  TRY(MatSetOption(A, MAT_SYMMETRIC, PETSC_TRUE));
+  /* b = Qᵀ(f − K w), zero on the inactive rows. */
+  TRY(VecCreateMPIWithArray(PETSC_COMM_WORLD, bs, m, n, f, &vf));
+  TRY(VecCreateMPIWithArray(PETSC_COMM_WORLD, bs, m, n, w, &vw));
+  TRY(VecCreateMPIWithArray(PETSC_COMM_WORLD, bs, m, n, b, &vb));
+  TRY(VecDuplicate(vf, &vr));
+  TRY(MatMult(K, vw, vr));
+  TRY(VecAYPX(vr, -1.0, vf));
+  TRY(MatMultTranspose(Q, vr, vb));
+  for (PetscInt i = 0; i < m; i++)
+    if (inactive[i]) b[i] = 0.0;
+  MatDestroy(&K);
+  MatDestroy(&Q);
+  VecDestroy(&vf);
+  VecDestroy(&vw);
+  VecDestroy(&vr);
+  VecDestroy(&vb);
+  free(eptr);
+  free(ecols);
+  free(evals);
+  return configure_here(c, r0, m, A, now() - t0, modes, (size_t)m, out, err, errlen);
+fail:
+  unstage();
+  MatDestroy(&K);
+  MatDestroy(&Q);
+  MatDestroy(&E);
+  MatDestroy(&A);
+  VecDestroy(&vf);
+  VecDestroy(&vw);
+  VecDestroy(&vr);
+  VecDestroy(&vb);
+  free(eptr);
+  free(ecols);
+  free(evals);
+  return (int)code;
+}
+
+/* The system A y = b reduced by u = Q y + w from K u = f, with K assembled
+ * from every rank's staged entries (seam_petsc_stage) and never whole on
+ * one rank: A = QᵀKQ + E, b = Qᵀ(f − K w) (zero on the inactive rows), E
+ * the identity on the rows that `inactive` marks (Q's columns there must be
+ * empty). Rank r holds rows [ranges[r], ranges[r + 1]) (multiples of bs),
+ * the leader gives the whole n × n Q (CSR), inactive, f, w and the n_modes
+ * near-nullspace vectors (n entries each), and receives b (n entries); the
+ * KSP is configured as by seam_petsc_system_create. */
+int seam_petsc_system_create_reduced(PetscInt n, PetscInt bs, const PetscInt *ranges, const PetscInt *qptr,
+                                     const PetscInt *qcols, const PetscScalar *qvals, const char *inactive,
+                                     const PetscScalar *f, const PetscScalar *w, const PetscScalar *modes,
+                                     PetscInt n_modes, const char *ksp_type, const char *pc_type, double rtol,
+                                     PetscInt max_it, PetscScalar *b, seam_petsc_system **out, char *err,
+                                     size_t errlen)
+{
+  int       size = distributed() ? world_size() : 1, code;
+  command   c;
+  PetscInt *kept = (PetscInt *)calloc((size_t)size + 1, sizeof(PetscInt));
+  *out = NULL;
+  if (!kept) {
+    snprintf(err, errlen, "out of memory");
+    return PETSC_ERR_MEM;
+  }
+  memcpy(kept, ranges, ((size_t)size + 1) * sizeof(PetscInt));
+  memset(&c, 0, sizeof(c));
+  c.cmd = CMD_REDUCED;
+  c.id = next_id++;
+  c.n = c.n_first = n;
+  c.bs = bs;
+  c.n_modes = n_modes;
+  c.max_it = max_it;
+  c.symmetric = 1;
+  c.rtol = rtol;
+  snprintf(c.ksp_type, sizeof(c.ksp_type), "%s", ksp_type);
+  snprintf(c.pc_type, sizeof(c.pc_type), "%s", pc_type);
+  if (size > 1) {
+    broadcast(&c);
+    (void)MPI_Bcast(kept, (size + 1) * (int)sizeof(PetscInt), MPI_BYTE, 0, MPI_COMM_WORLD);
+    for (int r = 1; r < size; r++) {
+      PetscInt  r0 = kept[r], m = kept[r + 1] - r0;
+      PetscInt *local = (PetscInt *)malloc(((size_t)m + 1) * sizeof(PetscInt));
+      if (!local) MPI_Abort(MPI_COMM_WORLD, 2); /* the followers wait for these rows */
+      for (PetscInt i = 0; i <= m; i++) local[i] = qptr[r0 + i] - qptr[r0];
+      send_array(local, (size_t)m + 1, MPIU_INT, sizeof(PetscInt), r);
+      free(local);
+      send_array(qcols + qptr[r0], (size_t)(qptr[r0 + m] - qptr[r0]), MPIU_INT, sizeof(PetscInt), r);
+      send_array(qvals + qptr[r0], (size_t)(qptr[r0 + m] - qptr[r0]), MPIU_SCALAR, sizeof(PetscScalar), r);
+      send_array(inactive + r0, (size_t)m, MPI_CHAR, 1, r);
+      send_array(f + r0, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), r);
+      send_array(w + r0, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), r);
+      for (PetscInt k = 0; k < n_modes; k++)
+        send_array(modes + (size_t)k * (size_t)n + r0, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), r);
+    }
+  }
+  {
+    /* The leader's rows of the near-nullspace vectors, `m` apart. */
+    PetscInt     m = kept[1];
+    PetscScalar *own = (PetscScalar *)malloc(((size_t)n_modes * (size_t)m + 1) * sizeof(PetscScalar));
+    if (!own) MPI_Abort(MPI_COMM_WORLD, 2);
+    for (PetscInt k = 0; k < n_modes; k++) memcpy(own + (size_t)k * m, modes + (size_t)k * n, (size_t)m * sizeof(PetscScalar));
+    code = reduced_here(&c, 0, m, qptr, qcols, qvals, inactive, f, w, own, b, out, err, errlen);
+    free(own);
+  }
+  for (int r = 1; r < size; r++)
+    receive_array(b + kept[r], (size_t)(kept[r + 1] - kept[r]), MPIU_SCALAR, sizeof(PetscScalar), r);
+  if (!agreed(code)) {
+    if (!code) {
+      snprintf(err, errlen, "PETSc failed on another MPI rank while building the system");
+      code = PETSC_ERR_LIB;
+    }
+    destroy_here(*out);
+    *out = NULL;
+    free(kept);
+    return code;
+  }
+  (*out)->ranges = kept;
+  return 0;
+}
+
+/* A follower's part of seam_petsc_system_create_reduced. */
+static int follow_reduced(const command *c, seam_petsc_system **s, char *err, size_t errlen)
+{
+  int       size = world_size(), rank = world_rank(), code;
+  PetscInt *ranges = (PetscInt *)calloc((size_t)size + 1, sizeof(PetscInt));
+  if (!ranges) MPI_Abort(MPI_COMM_WORLD, 2);
+  (void)MPI_Bcast(ranges, (size + 1) * (int)sizeof(PetscInt), MPI_BYTE, 0, MPI_COMM_WORLD);
+  PetscInt r0 = ranges[rank], m = ranges[rank + 1] - r0;
+  free(ranges);
+  PetscInt *qptr = (PetscInt *)malloc(((size_t)m + 1) * sizeof(PetscInt));
+  if (!qptr) MPI_Abort(MPI_COMM_WORLD, 2);
+  receive_array(qptr, (size_t)m + 1, MPIU_INT, sizeof(PetscInt), 0);
+  size_t       nnz = (size_t)qptr[m];
+  PetscInt    *qcols = (PetscInt *)malloc((nnz + 1) * sizeof(PetscInt));
+  PetscScalar *qvals = (PetscScalar *)malloc((nnz + 1) * sizeof(PetscScalar));
+  char        *inactive = (char *)malloc((size_t)m + 1);
+  PetscScalar *f = (PetscScalar *)malloc(((size_t)m + 1) * sizeof(PetscScalar));
+  PetscScalar *w = (PetscScalar *)malloc(((size_t)m + 1) * sizeof(PetscScalar));
+  PetscScalar *b = (PetscScalar *)malloc(((size_t)m + 1) * sizeof(PetscScalar));
+  PetscScalar *modes = (PetscScalar *)malloc(((size_t)c->n_modes * (size_t)m + 1) * sizeof(PetscScalar));
+  if (!qcols || !qvals || !inactive || !f || !w || !b || !modes) MPI_Abort(MPI_COMM_WORLD, 2);
+  receive_array(qcols, nnz, MPIU_INT, sizeof(PetscInt), 0);
+  receive_array(qvals, nnz, MPIU_SCALAR, sizeof(PetscScalar), 0);
+  receive_array(inactive, (size_t)m, MPI_CHAR, 1, 0);
+  receive_array(f, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), 0);
+  receive_array(w, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), 0);
+  for (PetscInt k = 0; k < c->n_modes; k++)
+    receive_array(modes + (size_t)k * (size_t)m, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), 0);
+  memset(b, 0, ((size_t)m + 1) * sizeof(PetscScalar));
+  code = reduced_here(c, r0, m, qptr, qcols, qvals, inactive, f, w, modes, b, s, err, errlen);
+  send_array(b, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), 0);
+  free(qptr);
+  free(qcols);
+  free(qvals);
+  free(inactive);
+  free(f);
+  free(w);
+  free(b);
+  free(modes);
+  return code;
 }
 
 /* Every rank: solves with this rank's rows of b and x. */
@@ -720,13 +1041,15 @@ static systems all = {NULL, 0};
 /* A follower (a rank other than 0, whose rank 0 called seam_petsc_lead):
  * carries out the leader's calls until the leader finalises (returns 0) or
  * yields (returns 1: the caller does the leader's other work, then follows
- * again). Waits for each command by testing every 0.2 ms, not in MPI's
+ * again) or sends a job (returns 2 with *job, *job_len bytes to release with
+ * seam_petsc_release_bytes: the caller does it, answers with
+ * seam_petsc_reply and follows again). Waits for each command by testing every 0.2 ms, not in MPI's
  * blocking wait, which spins: the leader may compute for long between
  * calls. *failed is the last error code of a command that failed here (the
  * leader has been told), else 0. A buffer for the leader's data that cannot
  * be allocated aborts the MPI job (the leader would wait for this rank
  * forever otherwise). */
-int seam_petsc_follow(int *failed, char *err, size_t errlen)
+int seam_petsc_follow(int *failed, unsigned char **job, size_t *job_len, char *err, size_t errlen)
 {
   following = 1;
   for (;;) {
@@ -744,6 +1067,15 @@ int seam_petsc_follow(int *failed, char *err, size_t errlen)
       return 0;
     }
     if (c.cmd == CMD_YIELD) return 1;
+    if (c.cmd == CMD_JOB) {
+      long long len = 0;
+      (void)MPI_Recv(&len, 1, MPI_LONG_LONG, 0, TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      *job = (unsigned char *)malloc((size_t)len + 1);
+      if (!*job) MPI_Abort(MPI_COMM_WORLD, 2); /* the leader waits for an answer */
+      receive_array(*job, (size_t)len, MPI_BYTE, 1, 0);
+      *job_len = (size_t)len;
+      return 2;
+    }
     if (c.cmd == CMD_INIT) {
       /* PETSc keeps pointers into argv: the words stay for the process. */
       char  *packed = (char *)malloc((size_t)c.bytes);
@@ -779,6 +1111,17 @@ int seam_petsc_follow(int *failed, char *err, size_t errlen)
       free(cols);
       free(vals);
       free(modes);
+      if (!code && !keep(&all, s)) {
+        snprintf(err, errlen, "out of memory");
+        code = PETSC_ERR_MEM;
+      }
+      if (!agreed(code)) {
+        if (s && find(&all, s->id) == s) all.at[s->id] = NULL;
+        destroy_here(s);
+      }
+    } else if (c.cmd == CMD_REDUCED) {
+      seam_petsc_system *s = NULL;
+      code = follow_reduced(&c, &s, err, errlen);
       if (!code && !keep(&all, s)) {
         snprintf(err, errlen, "out of memory");
         code = PETSC_ERR_MEM;
