@@ -7,9 +7,10 @@
 //! (rank 0 too) and sends them back; rank 0 sums the rows in face order and
 //! writes the files: the same bytes as one process. `seam solve --solver
 //! petsc` runs its PETSc systems over the ranks (rank 0 leads, the others
-//! follow) and its interfaces' operators as `assemble` does
-//! ([`operators_over_ranks`], [`Ranks::follow`]); any other command under
-//! N > 1 ranks is refused.
+//! follow), its interfaces' operators as `assemble` does
+//! ([`operators_over_ranks`], [`Ranks::follow`]) and, for glued bodies, the
+//! stiffness of each rank's cells on that rank ([`seam_fem::partition`]);
+//! any other command under N > 1 ranks is refused.
 //!
 //! Messages are byte arrays (a u64 length, then chunks of at most 1 GiB, so
 //! MPI's 32-bit counts are never exceeded). A rank whose part cannot be had
@@ -58,8 +59,9 @@ impl Ranks {
 
     /// A rank other than 0 of `mpirun -np N seam solve`: follows rank 0's
     /// PETSc calls, and assembles its part of each interface's operator when
-    /// rank 0 yields for it ([`operators_over_ranks`]), until rank 0 ends.
-    /// `Err` when a PETSc call failed here (rank 0 has failed too).
+    /// rank 0 yields for it ([`operators_over_ranks`]) and the stiffness of
+    /// the cells rank 0 sends it ([`seam_fem::partition::answer`]), until
+    /// rank 0 ends. `Err` when a PETSc call failed here (rank 0 has failed too).
     pub fn follow(&self) -> Result<(), ()> {
         loop {
             match seam_fem::petsc::follow_petsc() {
@@ -68,6 +70,7 @@ impl Ranks {
                     // A part that cannot be had: rank 0 knows it and fails.
                     let _ = self.work();
                 }
+                Ok(seam_fem::petsc::Followed::Job(cells)) => seam_fem::partition::answer(&cells),
                 Err(_) => return Err(()),
             }
         }

@@ -683,16 +683,23 @@ impl Elimination {
                 .into();
             return Err(ProblemError::BadInterface { interface, what });
         }
-        let (p, retained) = prolongation(constraints);
-        let mut dof_of = vec![0; p.ncols];
-        for (dof, &r) in retained.iter().enumerate().filter(|(_, &r)| r != NONE) {
-            dof_of[r] = dof;
-        }
-        let n = k.nrows;
-        let indices = p.indices.iter().map(|&r| dof_of[r]).collect();
-        let p = CsrMatrix { nrows: n, ncols: n, indptr: p.indptr, indices, values: p.values };
+        let (p, retained) = full_prolongation(constraints);
         Ok(Elimination { k: triple_product(&p, k), f: p.transpose_mul_vec(f, 1), p, retained })
     }
+}
+
+/// P_g of [`Elimination`] (n × n: u = P_g y, y in the numbering of all
+/// dofs, its eliminated entries unused) and, per dof, its retained index or
+/// [`NONE`] if eliminated. C_S must be diagonal.
+pub(crate) fn full_prolongation(constraints: &Constraints) -> (CsrMatrix, Vec<usize>) {
+    let (p, retained) = prolongation(constraints);
+    let mut dof_of = vec![0; p.ncols];
+    for (dof, &r) in retained.iter().enumerate().filter(|(_, &r)| r != NONE) {
+        dof_of[r] = dof;
+    }
+    let n = p.nrows;
+    let indices = p.indices.iter().map(|&r| dof_of[r]).collect();
+    (CsrMatrix { nrows: n, ncols: n, indptr: p.indptr, indices, values: p.values }, retained)
 }
 
 #[cfg(test)]

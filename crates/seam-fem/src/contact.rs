@@ -1363,7 +1363,7 @@ mod tests {
         let (bodies, interfaces) = (problem.solver_bodies(&prepared), problem.coupled());
         let options = SolveOptions::default();
         let mut seconds = Timings::default();
-        let mut system = assemble_system(&bodies, &interfaces, &mut seconds).unwrap();
+        let mut system = assemble_system(&bodies, &interfaces, true, &mut seconds).unwrap();
         let constraints = Constraints::new(&interfaces, &system.mortars, &system.offsets, &system.dirichlet);
         let reform = || bodies_stiffness(&bodies);
         let a =

@@ -44,16 +44,18 @@
 //!   rows, so the point blocks stay whole) for dual and lumped multipliers;
 //!   on the saddle point for standard multipliers (or crosspoints), FGMRES
 //!   with a Schur-complement field-split preconditioner (GAMG on the
-//!   augmented K + γCᵀC).
+//!   augmented K + γCᵀC). Under `mpirun` (dual and lumped multipliers) K
+//!   is assembled on the ranks that own the cells and reduced by PETSc over
+//!   them, never whole on one rank ([`crate::partition`]).
 //!
 //! # Multipliers and tractions
 //! The slave rows of the saddle point read (K u)_S + C_Sᵀ λ = f_S, so
 //! λ = C_S⁻ᵀ (f − K u)_S. −λ is the traction the master exerts on the slave
 //! (force per area); the resultant on the slave is −Σ_p (D λ)_p.
 
-use crate::constraints::{free_dofs, matrix_free, prolongation, saddle_point, triple_product};
-use crate::constraints::{Constraints, Elimination, Solved};
-use crate::multibody::{Body, ProblemError, Solver, System, Timings};
+use crate::constraints::{full_prolongation, matrix_free, prolongation, saddle_point, triple_product};
+use crate::constraints::{Constraints, Elimination, Solved, NONE};
+use crate::multibody::{free_dofs_of, Body, ProblemError, Solver, System, Timings};
 use crate::petsc::{rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, PetscOptions, PetscSummary};
 use crate::solution::InterfaceSolution;
 use crate::solve::{solve, Dirichlet};
@@ -74,15 +76,17 @@ pub(crate) struct Glued {
 
 /// Solves the glued problem (module doc): `system` (of `bodies`) with the
 /// constraints of its glued interfaces. The PETSc solver of the reduced
-/// system takes K out of `system` (module doc of [`crate::petsc`]).
+/// system takes K out of `system` (module doc of [`crate::petsc`]);
+/// `over_ranks`: it runs over MPI ranks, `system` without K, which the
+/// ranks assemble ([`crate::partition`]; C_S diagonal).
 pub(crate) fn solve_glued(
     bodies: &[Body],
     system: &mut System,
     constraints: &Constraints,
-    solver: Solver,
+    (solver, over_ranks): (Solver, bool),
     seconds: &mut Timings,
 ) -> Result<Glued, ProblemError> {
-    let free = free_dofs(&system.k, &system.dirichlet);
+    let free = free_dofs_of(bodies, &system.dirichlet);
     let diagonal = constraints.eliminated_block_is_diagonal();
     let mut petsc = None;
     let with_lambda = |(u, lambda, method, iterations): Solved| (u, Some(lambda), method, iterations);
@@ -95,6 +99,10 @@ pub(crate) fn solve_glued(
             Solver::Direct => with_lambda(saddle_point(k, f, dirichlet, constraints, seconds)?),
             Solver::Pcg(options) => {
                 with_lambda(matrix_free(k, f, dirichlet, constraints, &options, seconds)?)
+            }
+            Solver::Petsc(options) if over_ranks => {
+                let summary = petsc.insert(PetscSummary::default());
+                reduced_over_ranks(bodies, system, constraints, &free, &options, seconds, summary)?
             }
             Solver::Petsc(options) => {
                 let summary = petsc.insert(PetscSummary::default());
@@ -175,6 +183,61 @@ fn reduced_petsc(
     seconds.solve += clock.elapsed().as_secs_f64();
     let iterations = summary.solves.iter().map(|s| s.iterations).sum();
     Ok((u, None, "PETSc KSP on the reduced system (u_s = T u_m)", iterations))
+}
+
+/// Diagonal C_S over MPI ranks ([`crate::partition`]): the ranks assemble
+/// K cell by cell and PETSc forms A = QᵀKQ and b = Qᵀ(f − K w) over them,
+/// Q = P_g without the columns of prescribed, eliminated and unused dofs
+/// (identity rows of A), w = P_g ȳ the prescribed values; u = P_g y.
+fn reduced_over_ranks(
+    bodies: &[Body],
+    system: &System,
+    constraints: &Constraints,
+    free: &[bool],
+    options: &PetscOptions,
+    seconds: &mut Timings,
+    summary: &mut PetscSummary,
+) -> Result<Eliminated, ProblemError> {
+    let clock = Instant::now();
+    let (p, retained) = full_prolongation(constraints);
+    let inactive: Vec<bool> = free.iter().zip(&retained).map(|(&free, &r)| !free || r == NONE).collect();
+    let mut q = CsrMatrix::zeros(0, p.ncols);
+    for i in 0..p.nrows {
+        let (cols, vals) = p.row(i);
+        for (&j, &v) in cols.iter().zip(vals).filter(|(&j, _)| !inactive[j]) {
+            q.indices.push(j);
+            q.values.push(v);
+        }
+        q.indptr.push(q.indices.len());
+        q.nrows += 1;
+    }
+    let mut prescribed = vec![0.0; p.nrows];
+    for (dof, v) in system.dirichlet.iter() {
+        prescribed[dof] = v;
+    }
+    let w = p.mul_vec(&prescribed, 1);
+    let modes = rigid_body_modes_in(&system.points, Some(&retained), None);
+    let ranges = crate::partition::row_ranges(bodies, crate::petsc::petsc_ranks());
+    seconds.setup += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    crate::partition::assemble_over_ranks(bodies, &ranges)?;
+    seconds.assembly += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let mut y = crate::petsc::solve_reduced_over_ranks(
+        &ranges, &q, &inactive, &system.f, &w, &modes, options, summary,
+    )?;
+    seconds.factorization += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    for (dof, v) in system.dirichlet.iter() {
+        y[dof] = v;
+    }
+    let u = p.mul_vec(&y, 1);
+    seconds.solve += clock.elapsed().as_secs_f64();
+    let iterations = summary.solves.iter().map(|s| s.iterations).sum();
+    Ok((u, None, "PETSc KSP on the reduced system (u_s = T u_m), K assembled over the MPI ranks", iterations))
 }
 
 /// Standard multipliers (or crosspoints): the saddle point by PETSc

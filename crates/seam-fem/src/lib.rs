@@ -17,6 +17,7 @@
 //! | Dirichlet conditions, sparse Cholesky solve | [`solve`](mod@solve) |
 //! | bodies, interfaces, one dof numbering, the assembled system | [`multibody`] |
 //! | gluing (paper's first application) | [`glue`] |
+//! | glued bodies over MPI ranks: K where its cells are | [`partition`] |
 //! | frictionless contact, mixed with glue (second application) | [`contact`] |
 //! | one solve and one solution for any mix of glue and contact | [`solution`], [`problem`] |
 //! | cell, nodal and von Mises stresses | [`stress`] |
@@ -53,6 +54,7 @@ pub mod generate;
 pub mod glue;
 pub mod material;
 pub mod multibody;
+pub mod partition;
 pub mod problem;
 pub mod saddle;
 pub mod scene;

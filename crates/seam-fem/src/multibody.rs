@@ -245,15 +245,21 @@ pub(crate) struct System {
     pub points: Vec<seam::Point3>,
 }
 
-/// Assembles K_b per body (timed as `assembly`), the mortar operator per
-/// interface (`mortar`), and joins them into one [`System`] (`setup`).
+/// Assembles K_b per body (timed as `assembly`; `stiffness` false: K is
+/// left empty, 0 × 0, for MPI ranks to assemble, [`crate::partition`]), the
+/// mortar operator per interface (`mortar`), and joins them into one
+/// [`System`] (`setup`).
 pub(crate) fn assemble_system(
     bodies: &[Body],
     interfaces: &[Interface],
+    stiffness: bool,
     seconds: &mut Timings,
 ) -> Result<System, ProblemError> {
     let clock = Instant::now();
-    let k = bodies_stiffness(bodies)?;
+    let k = match stiffness {
+        true => bodies_stiffness(bodies)?,
+        false => CsrMatrix::zeros(0, 0),
+    };
     seconds.assembly = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
@@ -322,6 +328,25 @@ pub(crate) fn check_input(bodies: &[Body], interfaces: &[Interface]) -> Result<(
         }
     }
     Ok(())
+}
+
+/// Per dof of all bodies: whether it is free, neither prescribed nor of a
+/// point that no cell uses (an empty row of K).
+pub(crate) fn free_dofs_of(bodies: &[Body], dirichlet: &Dirichlet) -> Vec<bool> {
+    let mut free = Vec::new();
+    for body in bodies {
+        let base = free.len();
+        free.resize(base + 3 * body.mesh.points().len(), false);
+        for cell in body.mesh.cells() {
+            for &p in cell.nodes() {
+                free[base + 3 * p..base + 3 * p + 3].fill(true);
+            }
+        }
+    }
+    for (dof, _) in dirichlet.iter() {
+        free[dof] = false;
+    }
+    free
 }
 
 /// offsets[b] = first dof of body b; the last entry is the number of dofs.

@@ -102,6 +102,16 @@ pub fn initialize_petsc(options: &str) -> Result<(), SolveError> {
     }
 }
 
+/// The MPI ranks this process's PETSc systems are distributed over: those
+/// it leads ([`lead_petsc`]), itself included; 1 on one process or without
+/// the feature.
+pub fn petsc_ranks() -> usize {
+    #[cfg(feature = "petsc")]
+    return seam_petsc::ranks();
+    #[cfg(not(feature = "petsc"))]
+    1
+}
+
 /// Why [`follow_petsc`] returned.
 #[cfg(feature = "petsc")]
 pub use seam_petsc::Followed;
@@ -408,9 +418,26 @@ fn ksp_solve(
             KspConfig { ksp_type: "fgmres".into(), pc_type: "fieldsplit".into(), symmetric: false, ..base },
         ),
     };
-    let petsc = |e: seam_petsc::PetscError| SolveError::Petsc(e.0);
     let mut system = seam_petsc::System::new(matrix, structure, modes, &config).map_err(petsc)?;
     drop(a); // PETSc has its copy: ours goes before the preconditioner's setup
+    solve_and_report(&mut system, b, x, warm, summary)
+}
+
+#[cfg(feature = "petsc")]
+fn petsc(e: seam_petsc::PetscError) -> SolveError {
+    SolveError::Petsc(e.0)
+}
+
+/// Solves `system` for b from x (when `warm`) and appends the solve to
+/// `summary`.
+#[cfg(feature = "petsc")]
+fn solve_and_report(
+    system: &mut seam_petsc::System,
+    b: &[f64],
+    x: &mut [f64],
+    warm: bool,
+    summary: &mut PetscSummary,
+) -> Result<(), SolveError> {
     let report = system.solve(b, x, warm).map_err(petsc)?;
     let residual = report.residual;
     summary.ksp_type = report.ksp_type.clone();
@@ -432,6 +459,68 @@ fn ksp_solve(
         });
     }
     Ok(())
+}
+
+/// y of A y = b, A = QᵀKQ + E and b = Qᵀ(f − K w) formed by PETSc over
+/// the ranks from K staged there ([`crate::partition`]): E the identity and
+/// b zero on the `inactive` rows (Q's columns there empty), rank r holding
+/// rows [ranges[r], ranges[r + 1]); `modes` the near-nullspace; the solve
+/// is appended to `summary`.
+///
+/// # Errors
+/// As [`solve_petsc_from`].
+#[cfg(feature = "petsc")]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn solve_reduced_over_ranks(
+    ranges: &[usize],
+    q: &CsrMatrix,
+    inactive: &[bool],
+    f: &[f64],
+    w: &[f64],
+    modes: &[Vec<f64>],
+    options: &PetscOptions,
+    summary: &mut PetscSummary,
+) -> Result<Vec<f64>, SolveError> {
+    let n = q.nrows;
+    let mut rows = Rows::new(n, n, q.nnz())?;
+    for i in 0..n {
+        let (cols, vals) = q.row(i);
+        for (&j, &v) in cols.iter().zip(vals) {
+            rows.push(j, v);
+        }
+        rows.end_row()?;
+    }
+    let ranges: Vec<Index> = ranges.iter().map(|&r| r as Index).collect(); // ≤ n, checked by Rows::new
+    let reduction = seam_petsc::Reduction {
+        ranges: &ranges,
+        q: seam_petsc::Csr { rowptr: &rows.indptr, cols: &rows.indices, values: &rows.values },
+        inactive,
+        f,
+        w,
+        block_size: 3,
+    };
+    let config =
+        seam_petsc::KspConfig { rtol: options.rtol, max_iterations: options.max_iter, ..Default::default() };
+    let (mut system, b) = seam_petsc::System::reduced(reduction, modes, &config).map_err(petsc)?;
+    drop(rows);
+    let mut y = vec![0.0; n];
+    solve_and_report(&mut system, &b, &mut y, false, summary)?;
+    Ok(y)
+}
+
+#[cfg(not(feature = "petsc"))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn solve_reduced_over_ranks(
+    _: &[usize],
+    _: &CsrMatrix,
+    _: &[bool],
+    _: &[f64],
+    _: &[f64],
+    _: &[Vec<f64>],
+    _: &PetscOptions,
+    _: &mut PetscSummary,
+) -> Result<Vec<f64>, SolveError> {
+    Err(SolveError::PetscUnavailable)
 }
 
 #[cfg(not(feature = "petsc"))]
