@@ -185,10 +185,12 @@ fn reduced_petsc(
     Ok((u, None, "PETSc KSP on the reduced system (u_s = T u_m)", iterations))
 }
 
-/// Diagonal C_S over MPI ranks ([`crate::partition`]): the ranks assemble
-/// K cell by cell and PETSc forms A = QᵀKQ and b = Qᵀ(f − K w) over them,
-/// Q = P_g without the columns of prescribed, eliminated and unused dofs
-/// (identity rows of A), w = P_g ȳ the prescribed values; u = P_g y.
+/// Diagonal C_S over MPI ranks ([`crate::partition`]): A y = b with
+/// A = QᵀKQ, assembled by the ranks from their cells (Σ_e Q_eᵀ K_e Q_e) and
+/// summed by PETSc where its rows are, and b = Qᵀ(f − K w), the ranks
+/// giving their Q_eᵀ K_e w_e; Q = P_g without the columns of prescribed,
+/// eliminated and unused dofs (identity rows of A, zero in b), w = P_g ȳ
+/// the prescribed values; u = P_g y.
 fn reduced_over_ranks(
     bodies: &[Body],
     system: &System,
@@ -217,17 +219,19 @@ fn reduced_over_ranks(
     }
     let w = p.mul_vec(&prescribed, 1);
     let modes = rigid_body_modes_in(&system.points, Some(&retained), None);
-    let ranges = crate::partition::row_ranges(bodies, crate::petsc::petsc_ranks());
+    let ranges = crate::partition::row_ranges(bodies, &q, crate::petsc::petsc_ranks());
     seconds.setup += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    crate::partition::assemble_over_ranks(bodies, &ranges)?;
+    let qtkw = crate::partition::assemble_over_ranks(bodies, &ranges, (&q, &w), &inactive)?;
+    let mut b = q.transpose_mul_vec(&system.f, 1);
+    for ((b, &kw), &inactive) in b.iter_mut().zip(&qtkw).zip(&inactive) {
+        *b = if inactive { 0.0 } else { *b - kw };
+    }
     seconds.assembly += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let mut y = crate::petsc::solve_reduced_over_ranks(
-        &ranges, &q, &inactive, &system.f, &w, &modes, options, summary,
-    )?;
+    let mut y = crate::petsc::solve_staged_over_ranks(&ranges, &b, &modes, options, summary)?;
     seconds.factorization += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();

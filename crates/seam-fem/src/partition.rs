@@ -4,9 +4,9 @@
 //! reduced system PᵀKP over the ranks, so that K is never whole on one rank.
 //!
 //! - **Rows.** The points of all bodies, one after the other, are cut into N
-//!   contiguous blocks balanced by their cells (a point weighs one plus the
-//!   cells around it, about its rows' entries); rank r holds the rows of its
-//!   block in PETSc's distributed matrices.
+//!   contiguous blocks balanced by the lengths of their rows in the reduced
+//!   system ([`row_ranges`]); rank r holds the rows of its block in PETSc's
+//!   distributed matrices.
 //! - **Cells.** A cell belongs to the rank that holds its lowest point. Rank
 //!   0 (which reads the case) sends each rank its cells — their points'
 //!   coordinates and dofs, the body's material — as a job ([`answer`] on
@@ -30,43 +30,117 @@ use crate::element::ElementKind;
 use crate::material::Material;
 use crate::multibody::{Body, ProblemError};
 use crate::AssemblyError;
-use seam::VolumeMesh;
+use seam::{CsrMatrix, VolumeMesh};
 
 /// The tag of a job's bytes (and of its version).
 const MAGIC: &[u8; 8] = b"seamK001";
 
 /// The first row of each of `ranks` ranks, then n (in dofs, whole points):
-/// contiguous blocks of the bodies' points balanced by 1 + the cells
-/// around each point.
-pub(crate) fn row_ranges(bodies: &[Body], ranks: usize) -> Vec<usize> {
-    let mut weight = Vec::new();
+/// contiguous blocks of the bodies' points balanced by their rows' lengths
+/// in A = QᵀKQ, counted in points (one plus the points that row p of A
+/// meets: ∪ supp Q_l over the points l of the cells around every k with
+/// Q_kp ≠ 0). The master points of an interface, coupled through the
+/// eliminated slave points, have rows several times as long as K's; the
+/// counts are exact at the level of points and cost a fraction of forming A.
+pub(crate) fn row_ranges(bodies: &[Body], q: &CsrMatrix, ranks: usize) -> Vec<usize> {
+    let n = q.nrows / 3;
+    // The cells of all bodies in the numbering of all points, and the cells
+    // around each point.
+    let (mut first, mut nodes) = (vec![0], Vec::new());
+    let mut base = 0;
     for body in bodies {
-        let base = weight.len();
-        weight.resize(base + body.mesh.points().len(), 1usize);
         for cell in body.mesh.cells() {
-            for &p in cell.nodes() {
-                weight[base + p] += 1;
-            }
+            nodes.extend(cell.nodes().iter().map(|&p| base + p));
+            first.push(nodes.len());
         }
+        base += body.mesh.points().len();
     }
+    let around = transpose(n, (0..first.len() - 1).map(|c| &nodes[first[c]..first[c + 1]]));
+    // Q and Qᵀ by points.
+    let q_points: Vec<Vec<usize>> = (0..n)
+        .map(|k| {
+            let mut cols: Vec<usize> =
+                (3 * k..3 * k + 3).flat_map(|r| q.row(r).0.iter().map(|&j| j / 3)).collect();
+            cols.sort_unstable();
+            cols.dedup();
+            cols
+        })
+        .collect();
+    let q_t = transpose(n, q_points.iter().map(Vec::as_slice));
+    let mut stamp = vec![usize::MAX; n];
+    let weight: Vec<usize> = (0..n)
+        .map(|p| {
+            let mut count = 1;
+            for &k in q_t.row(p) {
+                for &c in around.row(k) {
+                    for &l in &nodes[first[c]..first[c + 1]] {
+                        for &j in &q_points[l] {
+                            if stamp[j] != p {
+                                stamp[j] = p;
+                                count += 1;
+                            }
+                        }
+                    }
+                }
+            }
+            count
+        })
+        .collect();
     let total: usize = weight.iter().sum();
     let mut ranges = vec![0; ranks + 1];
     let (mut sum, mut point) = (0, 0);
     for (r, range) in ranges.iter_mut().enumerate().skip(1) {
         let target = (total as u128 * r as u128 / ranks as u128) as usize;
-        while point < weight.len() && sum < target {
+        while point < n && sum < target {
             sum += weight[point];
             point += 1;
         }
         *range = 3 * point;
     }
-    ranges[ranks] = 3 * weight.len();
+    ranges[ranks] = 3 * n;
     ranges
 }
 
-/// The jobs of the ranks: rank r's cells with what assembling them needs
-/// (module doc), in the byte layout that [`cell_part`] reads.
-pub(crate) fn cell_jobs(bodies: &[Body], ranges: &[usize]) -> Vec<Vec<u8>> {
+/// Lists of indices below `n`, one per row, as CSR rows of their transpose
+/// (each row's entries in increasing order of the rows that hold them).
+fn transpose<'a>(n: usize, rows: impl Iterator<Item = &'a [usize]> + Clone) -> Lists {
+    let mut start = vec![0usize; n + 1];
+    for row in rows.clone() {
+        for &j in row {
+            start[j + 1] += 1;
+        }
+    }
+    for j in 0..n {
+        start[j + 1] += start[j];
+    }
+    let mut fill = start.clone();
+    let mut items = vec![0; start[n]];
+    for (i, row) in rows.enumerate() {
+        for &j in row {
+            items[fill[j]] = i;
+            fill[j] += 1;
+        }
+    }
+    Lists { start, items }
+}
+
+/// Lists of indices, CSR-like.
+struct Lists {
+    start: Vec<usize>,
+    items: Vec<usize>,
+}
+
+impl Lists {
+    fn row(&self, i: usize) -> &[usize] {
+        &self.items[self.start[i]..self.start[i + 1]]
+    }
+}
+
+/// The jobs of the ranks: rank r's cells with what assembling them and
+/// reducing them by u = Q y + w needs (module doc): their points'
+/// coordinates and dofs, those dofs' rows of Q and values of w, the body's
+/// material; in the byte layout that [`cell_part`] reads.
+pub(crate) fn cell_jobs(bodies: &[Body], ranges: &[usize], q: &CsrMatrix, w: &[f64]) -> Vec<Vec<u8>> {
     let ranks = ranges.len() - 1;
     let owner = |dof: usize| ranges.partition_point(|&r| r <= dof) - 1;
     let mut jobs: Vec<Vec<u8>> = (0..ranks).map(|_| MAGIC.to_vec()).collect();
@@ -107,7 +181,16 @@ pub(crate) fn cell_jobs(bodies: &[Body], ranges: &[usize]) -> Vec<Vec<u8>> {
                 for x in mesh.points()[p] {
                     job.extend_from_slice(&x.to_le_bytes());
                 }
-                put(job, (firsts[b] + 3 * p) as u64);
+                let dof = firsts[b] + 3 * p;
+                for d in dof..dof + 3 {
+                    let (cols, vals) = q.row(d);
+                    job.extend_from_slice(&w[d].to_le_bytes());
+                    job.extend_from_slice(&(cols.len() as u32).to_le_bytes());
+                    for (&j, &v) in cols.iter().zip(vals) {
+                        job.extend_from_slice(&(j as u32).to_le_bytes());
+                        job.extend_from_slice(&v.to_le_bytes());
+                    }
+                }
             }
             put(job, cells.len() as u64);
             for &c in &cells {
@@ -131,13 +214,14 @@ fn put(job: &mut Vec<u8>, v: u64) {
     job.extend_from_slice(&v.to_le_bytes());
 }
 
-/// One body's cells of a rank: its sub-mesh, its material, the first dof
-/// of each of its points, and each cell's index in the body.
+/// One body's cells of a rank: its sub-mesh, its material, each local
+/// dof's row of Q and value of w, and each cell's index in the body.
 struct BodyPart {
     body: usize,
     mesh: VolumeMesh,
     material: Material,
-    dofs: Vec<usize>,
+    q: Vec<Vec<(usize, f64)>>,
+    w: Vec<f64>,
     cells: Vec<usize>,
 }
 
@@ -149,11 +233,21 @@ fn cell_part(bytes: &[u8]) -> Option<Vec<BodyPart>> {
     for _ in 0..n_parts {
         let body = reader.u64()? as usize;
         let material = Material::new(reader.f64()?, reader.f64()?).ok()?;
-        let n_points = reader.count(32)?;
-        let (mut points, mut dofs) = (Vec::with_capacity(n_points), Vec::with_capacity(n_points));
+        let n_points = reader.count(60)?;
+        let mut points = Vec::with_capacity(n_points);
+        let (mut q, mut w) = (Vec::with_capacity(3 * n_points), Vec::with_capacity(3 * n_points));
         for _ in 0..n_points {
             points.push([reader.f64()?, reader.f64()?, reader.f64()?]);
-            dofs.push(reader.u64()? as usize);
+            for _ in 0..3 {
+                w.push(reader.f64()?);
+                let len = reader.u32()? as usize;
+                if len.checked_mul(12)? > reader.at.len() {
+                    return None;
+                }
+                q.push(
+                    (0..len).map(|_| Some((reader.u32()? as usize, reader.f64()?))).collect::<Option<_>>()?,
+                );
+            }
         }
         let n_cells = reader.count(13)?;
         let (mut cells, mut index) = (Vec::with_capacity(n_cells), Vec::with_capacity(n_cells));
@@ -165,7 +259,7 @@ fn cell_part(bytes: &[u8]) -> Option<Vec<BodyPart>> {
             cells.push(kind.cell(&nodes)?);
         }
         let mesh = VolumeMesh::new(points, cells).ok()?;
-        parts.push(BodyPart { body, mesh, material, dofs, cells: index });
+        parts.push(BodyPart { body, mesh, material, q, w, cells: index });
     }
     reader.at.is_empty().then_some(parts)
 }
@@ -215,33 +309,55 @@ enum PartError {
     Other(String),
 }
 
-impl PartError {
-    fn to_bytes(&self) -> Vec<u8> {
-        match self {
-            PartError::Degenerate(body, cell) => {
-                let mut bytes = vec![1];
-                put(&mut bytes, *body as u64);
-                put(&mut bytes, *cell as u64);
-                bytes
+/// A rank's contributions to Qᵀ K w: (index, value), by increasing index.
+type Contributions = Vec<(usize, f64)>;
+
+/// A rank's answer as bytes: 0 and its contributions, 1 and a degenerate
+/// cell (body, cell), or 2 and a line.
+fn answer_bytes(answer: &Result<Contributions, PartError>) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    match answer {
+        Ok(contributions) => {
+            bytes.push(0);
+            put(&mut bytes, contributions.len() as u64);
+            for &(i, v) in contributions {
+                put(&mut bytes, i as u64);
+                bytes.extend_from_slice(&v.to_le_bytes());
             }
-            PartError::Other(line) => [&[2u8][..], line.as_bytes()].concat(),
+        }
+        Err(PartError::Degenerate(body, cell)) => {
+            bytes.push(1);
+            put(&mut bytes, *body as u64);
+            put(&mut bytes, *cell as u64);
+        }
+        Err(PartError::Other(line)) => {
+            bytes.push(2);
+            bytes.extend_from_slice(line.as_bytes());
         }
     }
+    bytes
+}
 
-    /// An answer's error (empty: none).
-    fn from_bytes(bytes: &[u8], rank: usize) -> Option<ProblemError> {
-        let mut reader = Reader { at: bytes.get(1..).unwrap_or_default() };
-        match bytes.first() {
-            None => None,
-            Some(1) => match (reader.u64(), reader.u64()) {
-                (Some(body), Some(cell)) => Some(ProblemError::Assembly {
-                    body: body as usize,
-                    source: AssemblyError::DegenerateCell { cell: cell as usize },
-                }),
-                _ => Some(other(rank, "an unreadable answer")),
-            },
-            Some(_) => Some(other(rank, &String::from_utf8_lossy(reader.at))),
+/// Reads rank `rank`'s answer ([`answer_bytes`]).
+fn read_answer(bytes: &[u8], rank: usize) -> Result<Contributions, ProblemError> {
+    let mut reader = Reader { at: bytes.get(1..).unwrap_or_default() };
+    match bytes.first() {
+        Some(0) => {
+            let read = |reader: &mut Reader| -> Option<Contributions> {
+                let n = reader.count(16)?;
+                (0..n).map(|_| Some((reader.u64()? as usize, reader.f64()?))).collect()
+            };
+            read(&mut reader).ok_or_else(|| other(rank, "an unreadable answer"))
         }
+        Some(1) => match (reader.u64(), reader.u64()) {
+            (Some(body), Some(cell)) => Err(ProblemError::Assembly {
+                body: body as usize,
+                source: AssemblyError::DegenerateCell { cell: cell as usize },
+            }),
+            _ => Err(other(rank, "an unreadable answer")),
+        },
+        Some(_) => Err(other(rank, &String::from_utf8_lossy(reader.at))),
+        None => Err(other(rank, "no answer")),
     }
 }
 
@@ -251,89 +367,104 @@ fn other(rank: usize, what: &str) -> ProblemError {
     )))
 }
 
-/// Assembles a job's cells and stages their entries of K for PETSc
-/// (`seam_petsc::stage`).
-#[cfg(feature = "petsc")]
-fn assemble_part(bytes: &[u8]) -> Result<(), PartError> {
+/// A job's cells reduced: per body part, the columns its rows of Q meet
+/// (sorted) and Q_eᵀ K_e Q_e in them (K_e the part's stiffness, Q_e its
+/// rows of Q), and the contributions Q_eᵀ K_e w_e to Qᵀ K w.
+fn reduce_part(bytes: &[u8]) -> Result<(Vec<(Vec<usize>, CsrMatrix)>, Contributions), PartError> {
     let parts = cell_part(bytes).ok_or_else(|| PartError::Other("its job's bytes do not read".into()))?;
-    let mut blocks = Vec::with_capacity(parts.len());
+    let (mut products, mut contributions) = (Vec::with_capacity(parts.len()), Vec::new());
     for part in &parts {
         let k = crate::stiffness(&part.mesh, &part.material).map_err(
             |AssemblyError::DegenerateCell { cell }| PartError::Degenerate(part.body, part.cells[cell]),
         )?;
-        blocks.push(k);
+        let mut cols: Vec<usize> = part.q.iter().flatten().map(|&(j, _)| j).collect();
+        cols.sort_unstable();
+        cols.dedup();
+        let mut q = CsrMatrix::zeros(0, cols.len());
+        for row in &part.q {
+            for &(j, v) in row {
+                q.indices.push(cols.binary_search(&j).expect("a column of the rows"));
+                q.values.push(v);
+            }
+            q.indptr.push(q.indices.len());
+            q.nrows += 1;
+        }
+        let qtkw = q.transpose_mul_vec(&k.mul_vec(&part.w, 1), 1);
+        contributions.extend(qtkw.iter().zip(&cols).filter(|(&v, _)| v != 0.0).map(|(&v, &j)| (j, v)));
+        products.push((cols, crate::constraints::triple_product(&q, &k)));
     }
-    let count = blocks.iter().map(seam::CsrMatrix::nnz).sum();
+    // Sorted by index, each index's values in part order (deterministic).
+    contributions.sort_by_key(|&(j, _)| j);
+    Ok((products, contributions))
+}
+
+/// Reduces a job's cells ([`reduce_part`]) and stages their entries of
+/// QᵀKQ and `extra` entries for PETSc (`seam_petsc::stage`).
+#[cfg(feature = "petsc")]
+fn stage_part(bytes: &[u8], extra: &[(usize, usize, f64)]) -> Result<Contributions, PartError> {
+    let (products, contributions) = reduce_part(bytes)?;
+    let count = products.iter().map(|(_, a)| a.nnz()).sum::<usize>() + extra.len();
     seam_petsc::stage(count, |rows, cols, values| {
         let mut at = 0;
-        for (part, k) in parts.iter().zip(&blocks) {
-            let dof = |local: usize| (part.dofs[local / 3] + local % 3) as seam_petsc::Index;
-            for r in 0..k.nrows {
-                let (cs, vs) = k.row(r);
+        let mut push = |i: usize, j: usize, v: f64| {
+            (rows[at], cols[at], values[at]) = (i as seam_petsc::Index, j as seam_petsc::Index, v);
+            at += 1;
+        };
+        for (global, a) in &products {
+            for r in 0..a.nrows {
+                let (cs, vs) = a.row(r);
                 for (&c, &v) in cs.iter().zip(vs) {
-                    (rows[at], cols[at], values[at]) = (dof(r), dof(c), v);
-                    at += 1;
+                    push(global[r], global[c], v);
                 }
             }
         }
+        for &(i, j, v) in extra {
+            push(i, j, v);
+        }
     })
-    .map_err(|e| PartError::Other(e.0))
+    .map_err(|e| PartError::Other(e.0))?;
+    Ok(contributions)
 }
 
 /// A rank other than 0: does the job that [`crate::petsc::follow_petsc`]
-/// returned (assembles its cells' K and stages it for PETSc) and answers
-/// rank 0. Then follow again.
+/// returned — reduces its cells and stages their entries of QᵀKQ for PETSc —
+/// and answers rank 0 with its contributions to Qᵀ K w. Then follow again.
 #[cfg(feature = "petsc")]
 pub fn answer(job: &[u8]) {
-    let reply = match assemble_part(job) {
-        Ok(()) => Vec::new(),
-        Err(e) => e.to_bytes(),
-    };
-    seam_petsc::reply(&reply);
+    seam_petsc::reply(&answer_bytes(&stage_part(job, &[])));
 }
 
-/// Rank 0: hands every rank its cells ([`cell_jobs`]), assembles its own
-/// and stages them, and collects the others' answers. `ranges` as
-/// [`row_ranges`].
+/// Rank 0: hands every rank its cells ([`cell_jobs`]), reduces its own and
+/// stages them with the identity on the `inactive` rows, and collects the
+/// others' answers; returns Qᵀ K w, summed in rank order. `ranges` as
+/// [`row_ranges`]; u = Q y + w.
 ///
 /// # Errors
 /// The first rank's failure, in rank order: a degenerate cell as one
 /// process reports it.
 #[cfg(feature = "petsc")]
-pub(crate) fn assemble_over_ranks(bodies: &[Body], ranges: &[usize]) -> Result<(), ProblemError> {
-    let mut jobs = cell_jobs(bodies, ranges);
+pub(crate) fn assemble_over_ranks(
+    bodies: &[Body],
+    ranges: &[usize],
+    (q, w): (&CsrMatrix, &[f64]),
+    inactive: &[bool],
+) -> Result<Vec<f64>, ProblemError> {
+    let mut jobs = cell_jobs(bodies, ranges, q, w);
     let own = jobs.remove(0);
     seam_petsc::send_jobs(&jobs);
     drop(jobs);
-    let mut first = assemble_part(&own)
-        .err()
-        .map(|e| PartError::from_bytes(&e.to_bytes(), 0).unwrap_or_else(|| other(0, "an unknown failure")));
-    for r in 1..ranges.len() - 1 {
-        let answer = seam_petsc::receive_reply(r);
-        if first.is_none() {
-            first = PartError::from_bytes(&answer, r);
+    let identity: Vec<(usize, usize, f64)> =
+        inactive.iter().enumerate().filter(|(_, &i)| i).map(|(i, _)| (i, i, 1.0)).collect();
+    let own = read_answer(&answer_bytes(&stage_part(&own, &identity)), 0);
+    let answers: Vec<_> =
+        (1..ranges.len() - 1).map(|r| read_answer(&seam_petsc::receive_reply(r), r)).collect();
+    let mut qtkw = vec![0.0; q.nrows];
+    for contributions in std::iter::once(own).chain(answers) {
+        for (i, v) in contributions? {
+            qtkw[i] += v;
         }
     }
-    first.map_or(Ok(()), Err)
-}
-
-/// The cells' entries of K, point by point: (dof of the row, of the column,
-/// value) of every cell of `bodies` in `jobs` read back — what the ranks
-/// stage, for tests.
-#[cfg(test)]
-fn staged_entries(jobs: &[Vec<u8>]) -> Vec<(usize, usize, f64)> {
-    let mut all = Vec::new();
-    for job in jobs {
-        for part in cell_part(job).expect("a job reads back") {
-            let k = crate::stiffness(&part.mesh, &part.material).unwrap();
-            let dof = |local: usize| part.dofs[local / 3] + local % 3;
-            for r in 0..k.nrows {
-                let (cs, vs) = k.row(r);
-                all.extend(cs.iter().zip(vs).map(|(&c, &v)| (dof(r), dof(c), v)));
-            }
-        }
-    }
-    all
+    Ok(qtkw)
 }
 
 #[cfg(test)]
@@ -342,38 +473,87 @@ mod tests {
     use crate::generate::{block, BlockKind};
     use crate::solve::Dirichlet;
 
-    /// Two bodies cut into 1…5 ranks' cells: the rows are balanced whole
-    /// points, every cell goes to one rank, and the ranks' entries summed are
-    /// diag(K_1, K_2) to round-off.
+    /// Two bodies cut into 1…5 ranks' cells, reduced by a Q that ties some
+    /// dofs of the second body to the first's (as eliminated slave dofs are)
+    /// and drops others: the rows are whole points, every cell goes to one
+    /// rank, and the ranks' entries and contributions summed are QᵀKQ and
+    /// QᵀKw of the whole bodies to round-off.
     #[test]
-    fn the_ranks_cells_sum_to_the_bodies_stiffness() {
+    fn the_ranks_cells_sum_to_the_reduced_system() {
         let material = Material::new(1000.0, 0.3).unwrap();
         let a = block(3, 2, 2, |u, v, w| [u, v, w], BlockKind::Hex);
         let b = block(2, 2, 3, |u, v, w| [u + 1.0, v, 0.7 * w], BlockKind::Tet);
         let body = |mesh| Body { mesh, material, load: vec![], dirichlet: Dirichlet::new() };
         let bodies = [body(&a), body(&b)];
         let k = crate::multibody::bodies_stiffness(&bodies).unwrap();
+        let n = k.nrows;
+        let n_a = 3 * a.points().len();
+        // Q: the identity, but the first 12 dofs of b are eliminated (their
+        // rows the mean of two dofs of a, their columns empty) and dof 5 is
+        // dropped (an empty row and column).
+        let mut q = CsrMatrix::zeros(0, n);
+        for d in 0..n {
+            match d {
+                5 => {}
+                d if (n_a..n_a + 12).contains(&d) => {
+                    let m = (d - n_a) % n_a;
+                    q.indices.extend([m + 6, m + 9]);
+                    q.values.extend([0.5, 0.5]);
+                }
+                d => {
+                    q.indices.push(d);
+                    q.values.push(1.0);
+                }
+            }
+            q.indptr.push(q.indices.len());
+            q.nrows += 1;
+        }
+        let w: Vec<f64> = (0..n).map(|d| if d % 7 == 0 { (d as f64).sin() } else { 0.0 }).collect();
+        let reduced = crate::constraints::triple_product(&q, &k);
+        let qtkw = q.transpose_mul_vec(&k.mul_vec(&w, 1), 1);
+        let scale = k.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         for ranks in 1..=5 {
-            let ranges = row_ranges(&bodies, ranks);
-            assert_eq!((ranges[0], ranges[ranks]), (0, k.nrows));
+            let ranges = row_ranges(&bodies, &q, ranks);
+            assert_eq!((ranges[0], ranges[ranks]), (0, n));
             assert!(ranges.windows(2).all(|r| r[0] <= r[1] && r[0] % 3 == 0), "{ranges:?}");
-            let jobs = cell_jobs(&bodies, &ranges);
+            let jobs = cell_jobs(&bodies, &ranges, &q, &w);
             let cells: usize =
                 jobs.iter().flat_map(|j| cell_part(j).unwrap()).map(|p| p.mesh.cells().len()).sum();
             assert_eq!(cells, a.cells().len() + b.cells().len());
-            let mut sum = vec![vec![0.0; k.nrows]; k.nrows];
-            for (i, j, v) in staged_entries(&jobs) {
-                sum[i][j] += v;
+            let (mut sum, mut contributions) = (vec![vec![0.0; n]; n], vec![0.0; n]);
+            for job in &jobs {
+                let (products, part) = reduce_part(job).ok().unwrap();
+                for (global, a) in products {
+                    for r in 0..a.nrows {
+                        let (cs, vs) = a.row(r);
+                        cs.iter().zip(vs).for_each(|(&c, &v)| sum[global[r]][global[c]] += v);
+                    }
+                }
+                part.iter().for_each(|&(i, v)| contributions[i] += v);
             }
-            let scale = k.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             for (i, row) in sum.iter().enumerate() {
                 for (j, &v) in row.iter().enumerate() {
-                    assert!((v - k.get(i, j)).abs() <= 1e-13 * scale, "{ranks} ranks, ({i}, {j})");
+                    assert!((v - reduced.get(i, j)).abs() <= 1e-13 * scale, "{ranks} ranks, ({i}, {j})");
                 }
+                assert!((contributions[i] - qtkw[i]).abs() <= 1e-13 * scale, "{ranks} ranks, QᵀKw at {i}");
             }
         }
+        // A rank's failure comes back as one process reports it.
+        let degenerate = read_answer(&answer_bytes(&Err(PartError::Degenerate(1, 7))), 1);
+        assert!(
+            matches!(
+                degenerate,
+                Err(ProblemError::Assembly { body: 1, source: AssemblyError::DegenerateCell { cell: 7 } })
+            ),
+            "{degenerate:?}"
+        );
+        let text = read_answer(&answer_bytes(&Err(PartError::Other("out of memory".into()))), 2).unwrap_err();
+        assert_eq!(text.to_string(), "PETSc: MPI rank 2 could not assemble its cells: out of memory");
+        let done = read_answer(&answer_bytes(&Ok(vec![(3, 0.5), (9, -1.0)])), 1).unwrap();
+        assert_eq!(done, vec![(3, 0.5), (9, -1.0)]);
+        assert!(read_answer(&[], 1).is_err(), "no answer");
         // Bytes that do not read are refused, not a panic.
-        let job = &cell_jobs(&bodies, &row_ranges(&bodies, 2))[1];
+        let job = &cell_jobs(&bodies, &row_ranges(&bodies, &q, 2), &q, &w)[1];
         for cut in [0, 8, 16, job.len() / 2, job.len() - 1] {
             assert!(cell_part(&job[..cut]).is_none(), "cut at {cut}");
         }
@@ -382,6 +562,11 @@ mod tests {
 
 /// Without the feature no process leads other ranks: never called.
 #[cfg(not(feature = "petsc"))]
-pub(crate) fn assemble_over_ranks(_: &[Body], _: &[usize]) -> Result<(), ProblemError> {
+pub(crate) fn assemble_over_ranks(
+    _: &[Body],
+    _: &[usize],
+    _: (&CsrMatrix, &[f64]),
+    _: &[bool],
+) -> Result<Vec<f64>, ProblemError> {
     Err(ProblemError::Solve(crate::solve::SolveError::PetscUnavailable))
 }

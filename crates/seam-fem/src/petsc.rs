@@ -461,60 +461,36 @@ fn solve_and_report(
     Ok(())
 }
 
-/// y of A y = b, A = QᵀKQ + E and b = Qᵀ(f − K w) formed by PETSc over
-/// the ranks from K staged there ([`crate::partition`]): E the identity and
-/// b zero on the `inactive` rows (Q's columns there empty), rank r holding
-/// rows [ranges[r], ranges[r + 1]); `modes` the near-nullspace; the solve
-/// is appended to `summary`.
+/// y of A y = b, A the matrix every rank staged ([`crate::partition`]),
+/// summed by PETSc where its rows are (rank r holds rows [ranges[r],
+/// ranges[r + 1])), `modes` its near-nullspace; the solve is appended to
+/// `summary`.
 ///
 /// # Errors
 /// As [`solve_petsc_from`].
 #[cfg(feature = "petsc")]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn solve_reduced_over_ranks(
+pub(crate) fn solve_staged_over_ranks(
     ranges: &[usize],
-    q: &CsrMatrix,
-    inactive: &[bool],
-    f: &[f64],
-    w: &[f64],
+    b: &[f64],
     modes: &[Vec<f64>],
     options: &PetscOptions,
     summary: &mut PetscSummary,
 ) -> Result<Vec<f64>, SolveError> {
-    let n = q.nrows;
-    let mut rows = Rows::new(n, n, q.nnz())?;
-    for i in 0..n {
-        let (cols, vals) = q.row(i);
-        for (&j, &v) in cols.iter().zip(vals) {
-            rows.push(j, v);
-        }
-        rows.end_row()?;
+    if b.len() > Index::MAX as usize {
+        return Err(too_large());
     }
-    let ranges: Vec<Index> = ranges.iter().map(|&r| r as Index).collect(); // ≤ n, checked by Rows::new
-    let reduction = seam_petsc::Reduction {
-        ranges: &ranges,
-        q: seam_petsc::Csr { rowptr: &rows.indptr, cols: &rows.indices, values: &rows.values },
-        inactive,
-        f,
-        w,
-        block_size: 3,
-    };
+    let ranges: Vec<Index> = ranges.iter().map(|&r| r as Index).collect(); // ≤ n, checked above
     let config =
         seam_petsc::KspConfig { rtol: options.rtol, max_iterations: options.max_iter, ..Default::default() };
-    let (mut system, b) = seam_petsc::System::reduced(reduction, modes, &config).map_err(petsc)?;
-    drop(rows);
-    let mut y = vec![0.0; n];
-    solve_and_report(&mut system, &b, &mut y, false, summary)?;
+    let mut system = seam_petsc::System::staged(&ranges, 3, modes, &config).map_err(petsc)?;
+    let mut y = vec![0.0; b.len()];
+    solve_and_report(&mut system, b, &mut y, false, summary)?;
     Ok(y)
 }
 
 #[cfg(not(feature = "petsc"))]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn solve_reduced_over_ranks(
+pub(crate) fn solve_staged_over_ranks(
     _: &[usize],
-    _: &CsrMatrix,
-    _: &[bool],
-    _: &[f64],
     _: &[f64],
     _: &[Vec<f64>],
     _: &PetscOptions,

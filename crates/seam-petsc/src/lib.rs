@@ -28,7 +28,11 @@
 //! ranks, the others having called [`follow`]; each rank holds a contiguous
 //! block of the rows (whole points, balanced by entries) in PETSc's
 //! distributed matrices and vectors (MPIAIJ), and the solution comes back
-//! whole to rank 0.
+//! whole to rank 0. Between calls the leader may hand each rank a job of
+//! the program's own ([`send_jobs`], answered by [`reply`]), e.g. its cells:
+//! each rank then [`stage`]s its entries of a matrix, and
+//! [`System::staged`] forms the system from them over the ranks without
+//! the matrix ever being whole on one of them.
 
 use std::ffi::{c_char, c_int, CStr, CString};
 use std::ptr::NonNull;
@@ -93,23 +97,16 @@ mod ffi {
             j: *mut *mut PetscInt,
             v: *mut *mut f64,
         ) -> c_int;
-        pub fn seam_petsc_system_create_reduced(
+        pub fn seam_petsc_system_create_staged(
             n: PetscInt,
             bs: PetscInt,
             ranges: *const PetscInt,
-            qptr: *const PetscInt,
-            qcols: *const PetscInt,
-            qvals: *const f64,
-            inactive: *const c_char,
-            f: *const f64,
-            w: *const f64,
             modes: *const f64,
             n_modes: PetscInt,
             ksp_type: *const c_char,
             pc_type: *const c_char,
             rtol: f64,
             max_it: PetscInt,
-            b: *mut f64,
             out: *mut *mut RawSystem,
             err: *mut c_char,
             errlen: usize,
@@ -322,7 +319,7 @@ pub fn receive_reply(rank: usize) -> Vec<u8> {
 }
 
 /// Stages this rank's part of a matrix assembled where its cells are
-/// ([`System::reduced`]): `count` entries (row, column, value; global
+/// ([`System::staged`]): `count` entries (row, column, value; global
 /// indices, any rows, repeated entries summed) that `fill` writes. Replaces
 /// what was staged before.
 ///
@@ -530,26 +527,6 @@ pub struct Csr<'a> {
     pub values: &'a [f64],
 }
 
-/// What [`System::reduced`] reduces: K u = f by u = Q y + w.
-#[derive(Clone, Copy, Debug)]
-pub struct Reduction<'a> {
-    /// The first row of each rank, then n: rank r holds rows
-    /// [ranges[r], ranges[r + 1]) (multiples of `block_size`), where its
-    /// staged entries of K best lie.
-    pub ranges: &'a [Index],
-    /// Q, n × n.
-    pub q: Csr<'a>,
-    /// Rows and columns left out of QᵀKQ (Q's columns empty there): identity
-    /// rows of A, zero in b.
-    pub inactive: &'a [bool],
-    /// f.
-    pub f: &'a [f64],
-    /// w.
-    pub w: &'a [f64],
-    /// The points' size (3 for elasticity).
-    pub block_size: usize,
-}
-
 /// PETSc's index type (`PetscInt`: 32 bits in Debian's PETSc), in which
 /// matrices are passed without a copy of their indices.
 pub type Index = PetscInt;
@@ -638,40 +615,30 @@ impl System {
         }
     }
 
-    /// The system A y = b of K u = f reduced by u = Q y + w, with K
-    /// assembled from every rank's staged entries ([`stage`]) and never
-    /// whole on one rank: A = QᵀKQ + E and b = Qᵀ(f − K w), zero on the
-    /// rows that `reduction.inactive` marks, E the identity there (Q's
-    /// columns there must be empty). PETSc forms the product (MatPtAP) over
-    /// the ranks, each holding the rows `reduction.ranges` gives it. The
-    /// near-nullspace and `config` as in [`System::new`]. Returns the system
-    /// and b.
+    /// The symmetric n × n matrix of every rank's staged entries ([`stage`]:
+    /// summed where repeated, each sent to the rank that holds its row),
+    /// never whole on one rank, and its KSP: rank r holds rows
+    /// [ranges[r], ranges[r + 1]) (multiples of `block_size`; ranges has
+    /// [`ranks`] + 1 entries, n last). The near-nullspace and `config` as in
+    /// [`System::new`].
     ///
     /// # Errors
     /// As [`System::new`].
-    pub fn reduced(
-        reduction: Reduction<'_>,
+    pub fn staged(
+        ranges: &[Index],
+        block_size: usize,
         near_nullspace: &[Vec<f64>],
         config: &KspConfig,
-    ) -> Result<(System, Vec<f64>), PetscError> {
-        let Reduction { ranges, q, inactive, f, w, block_size } = reduction;
-        let n = q.rowptr.len().saturating_sub(1);
-        let nnz = q.rowptr.last().map_or(0, |&v| v.max(0) as usize);
-        let consistent = !q.rowptr.is_empty()
-            && q.cols.len() == nnz
-            && q.values.len() == nnz
-            && block_size > 0
-            && n % block_size == 0
-            && q.cols.iter().all(|&c| c >= 0 && (c as usize) < n)
-            && q.rowptr.windows(2).all(|w| w[0] <= w[1])
-            && [inactive.len(), f.len(), w.len()] == [n; 3]
-            && ranges.len() == ranks() + 1
+    ) -> Result<System, PetscError> {
+        let n = ranges.last().map_or(0, |&r| r.max(0) as usize);
+        let consistent = ranges.len() == ranks() + 1
             && ranges.first() == Some(&0)
-            && ranges.last().map(|&r| r as usize) == Some(n)
+            && block_size > 0
             && ranges.windows(2).all(|r| r[0] <= r[1] && r[0] as usize % block_size == 0)
+            && n % block_size == 0
             && near_nullspace.iter().all(|v| v.len() == n);
         if !consistent {
-            return Err(PetscError("inconsistent reduction passed to PETSc".into()));
+            return Err(PetscError("inconsistent rows passed to PETSc".into()));
         }
         let modes = orthonormal(near_nullspace);
         let n_modes = modes.len().checked_div(n).unwrap_or(0);
@@ -680,38 +647,27 @@ impl System {
         let (Ok(ksp_type), Ok(pc_type)) = (ksp_type, pc_type) else {
             return Err(PetscError("KSP and PC types must not contain a NUL character".into()));
         };
-        let inactive: Vec<c_char> = inactive.iter().map(|&i| c_char::from(i)).collect();
-        let mut b = vec![0.0; n];
         let guard = lock();
         if !guard.initialised {
             return Err(PetscError("PETSc is not initialised".into()));
         }
         let mut raw = std::ptr::null_mut();
         let mut err = [0 as c_char; ERR_LEN];
-        // SAFETY: the arrays have the lengths the shim reads (ranks + 1
-        // ranges, n + 1 offsets, nnz columns and values, n entries of
-        // inactive, f, w and b, n per near-nullspace vector), checked above;
-        // the shim copies them into PETSc objects (b: writes it) before
-        // returning; the strings are NUL-terminated; raw receives a new
-        // system or stays NULL.
+        // SAFETY: ranges has ranks + 1 entries and modes n per vector,
+        // checked above (the shim copies the rows each rank needs before
+        // returning); the staged entries are the shim's own; the strings are
+        // NUL-terminated; raw receives a new system or stays NULL.
         let code = unsafe {
-            ffi::seam_petsc_system_create_reduced(
+            ffi::seam_petsc_system_create_staged(
                 index(n, "size")?,
                 index(block_size, "block size")?,
                 ranges.as_ptr(),
-                q.rowptr.as_ptr(),
-                q.cols.as_ptr(),
-                q.values.as_ptr(),
-                inactive.as_ptr(),
-                f.as_ptr(),
-                w.as_ptr(),
                 modes.as_ptr(),
                 index(n_modes, "near-nullspace size")?,
                 ksp_type.as_ptr(),
                 pc_type.as_ptr(),
                 config.rtol,
                 index(config.max_iterations, "iteration cap")?,
-                b.as_mut_ptr(),
                 &mut raw,
                 err.as_mut_ptr(),
                 ERR_LEN,
@@ -719,7 +675,7 @@ impl System {
         };
         drop(guard);
         match (code, NonNull::new(raw)) {
-            (0, Some(raw)) => Ok((System { raw, n }, b)),
+            (0, Some(raw)) => Ok(System { raw, n }),
             _ => Err(error_text(&err, code)),
         }
     }
@@ -863,22 +819,14 @@ mod tests {
         assert!(!report.converged() && report.reason_name == "DIVERGED_ITS", "{report:?}");
     }
 
-    /// The reduced system of a 1D Laplacian with both ends prescribed and
-    /// the middle unknown eliminated (u_15 = (u_14 + u_16)/2), K staged in
-    /// pieces: A = QᵀKQ + E and b = Qᵀ(f − K w) as formed densely here.
+    /// A 1D Laplacian staged in halves (as two cells sharing each entry
+    /// would): the system of their sums.
     #[test]
-    fn a_reduced_system_is_q_transpose_k_q() {
+    fn a_staged_matrix_is_the_sum_of_its_entries() {
         initialize("").unwrap();
         let n = 30;
         let (rowptr, cols, values) = laplacian(n);
-        let dense_k = |i: usize, j: usize| {
-            (rowptr[i] as usize..rowptr[i + 1] as usize)
-                .find(|&k| cols[k] as usize == j)
-                .map_or(0.0, |k| values[k])
-        };
-        // Every entry staged in two halves, as two cells sharing it would.
-        let count = 2 * values.len();
-        stage(count, |si, sj, sv| {
+        stage(2 * values.len(), |si, sj, sv| {
             for i in 0..n {
                 for k in rowptr[i] as usize..rowptr[i + 1] as usize {
                     for half in 0..2 {
@@ -889,50 +837,23 @@ mod tests {
             }
         })
         .unwrap();
-        let inactive: Vec<bool> = (0..n).map(|i| i == 0 || i == 15 || i == n - 1).collect();
-        // Q: the identity on the active unknowns, row 15 the mean of 14 and 16.
-        let mut q = vec![vec![0.0; n]; n];
-        for i in (0..n).filter(|&i| !inactive[i]) {
-            q[i][i] = 1.0;
-        }
-        (q[15][14], q[15][16]) = (0.5, 0.5);
-        let (mut qptr, mut qcols, mut qvals) = (vec![0], Vec::new(), Vec::new());
-        for row in &q {
-            for (j, &v) in row.iter().enumerate().filter(|(_, &v)| v != 0.0) {
-                qcols.push(j as Index);
-                qvals.push(v);
-            }
-            qptr.push(qcols.len() as Index);
-        }
-        let mut w = vec![0.0; n];
-        (w[0], w[n - 1]) = (1.0, 2.0);
-        let f: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
-        let reduction = Reduction {
-            ranges: &[0, n as Index],
-            q: Csr { rowptr: &qptr, cols: &qcols, values: &qvals },
-            inactive: &inactive,
-            f: &f,
-            w: &w,
-            block_size: 1,
-        };
         let config = KspConfig { pc_type: "jacobi".into(), rtol: 1e-13, ..KspConfig::default() };
-        let (mut system, b) = System::reduced(reduction, &[], &config).unwrap();
-        // Dense references.
-        let r: Vec<f64> = (0..n).map(|i| f[i] - (0..n).map(|j| dense_k(i, j) * w[j]).sum::<f64>()).collect();
-        let a = |i: usize, j: usize| match inactive[i] || inactive[j] {
-            true => f64::from(u8::from(i == j)),
-            false => (0..n).map(|k| (0..n).map(|l| q[k][i] * dense_k(k, l) * q[l][j]).sum::<f64>()).sum(),
-        };
-        for i in 0..n {
-            let expected = if inactive[i] { 0.0 } else { (0..n).map(|k| q[k][i] * r[k]).sum() };
-            assert!((b[i] - expected).abs() < 1e-14, "b[{i}] = {} against {expected}", b[i]);
-        }
-        let mut y = vec![0.0; n];
-        let report = system.solve(&b, &mut y, false).unwrap();
+        let mut system = System::staged(&[0, n as Index], 1, &[], &config).unwrap();
+        let exact: Vec<f64> = (1..=n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let b: Vec<f64> = (0..n)
+            .map(|i| {
+                (rowptr[i] as usize..rowptr[i + 1] as usize)
+                    .map(|k| values[k] * exact[cols[k] as usize])
+                    .sum()
+            })
+            .collect();
+        let mut x = vec![0.0; n];
+        let report = system.solve(&b, &mut x, false).unwrap();
         assert!(report.converged(), "{report:?}");
         for i in 0..n {
-            let ay: f64 = (0..n).map(|j| a(i, j) * y[j]).sum();
-            assert!((ay - b[i]).abs() < 1e-10, "row {i}: (A y) = {ay} against b = {}", b[i]);
+            assert!((x[i] - exact[i]).abs() < 1e-10, "{i}: {} against {}", x[i], exact[i]);
         }
+        // Rows that do not fit: refused.
+        assert!(System::staged(&[0, 30, 60], 1, &[], &config).is_err(), "one rank here, two ranges");
     }
 }

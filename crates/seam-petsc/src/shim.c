@@ -15,7 +15,12 @@
  * collective PETSc calls on their rows (MPIAIJ, distributed vectors,
  * near-nullspace and field splits); a solution's pieces are gathered on the
  * leader. Every command ends with all ranks agreeing on success (an
- * MPI_Allreduce of the error code), so that no rank goes on alone.
+ * MPI_Allreduce of the error code), so that no rank goes on alone. Between
+ * commands the leader may send each follower a job (bytes of the program's
+ * own), which the follower's caller does and answers; a system can be
+ * formed from the matrix entries each rank staged
+ * (seam_petsc_system_create_staged), so that its matrix is never whole on
+ * one rank.
  */
 #include <petscksp.h>
 #include <stdio.h>
@@ -72,7 +77,7 @@ typedef struct {
 
 /* What the leader broadcasts before each call (all ranks run one binary:
  * the layout is the same everywhere). */
-enum { CMD_INIT = 1, CMD_CREATE, CMD_SOLVE, CMD_DESTROY, CMD_EXIT, CMD_YIELD, CMD_JOB, CMD_REDUCED };
+enum { CMD_INIT = 1, CMD_CREATE, CMD_SOLVE, CMD_DESTROY, CMD_EXIT, CMD_YIELD, CMD_JOB, CMD_STAGED };
 typedef struct {
   int cmd, id;
   PetscInt n, n_first, bs, n_modes, max_it;
@@ -647,12 +652,13 @@ void seam_petsc_release_bytes(unsigned char *bytes)
   free(bytes);
 }
 
-/* ---- A stiffness matrix assembled where its cells are ----
+/* ---- A matrix assembled where its cells are ----
  *
  * Each rank stages its cells' entries (i, j, value: global indices, any row,
  * repeated entries summed) before the leader calls
- * seam_petsc_system_create_reduced; PETSc sums them into the rows' owners
- * (MatSetPreallocationCOO, MatSetValuesCOO). */
+ * seam_petsc_system_create_staged; the entries of rows held elsewhere go to
+ * their ranks (pairwise exchanges), each rank sums its rows' entries in a
+ * fixed order and builds its rows as in seam_petsc_system_create. */
 static PetscInt    *staged_i = NULL, *staged_j = NULL;
 static PetscScalar *staged_v = NULL;
 static size_t       staged = 0;
@@ -684,115 +690,214 @@ int seam_petsc_stage(size_t count, PetscInt **i, PetscInt **j, PetscScalar **v)
   return 0;
 }
 
-/* Every rank, rows [r0, r0 + m): the reduced system (seam_petsc_system_
- * create_reduced) and this rank's rows of its right-hand side in b. */
-static int reduced_here(const command *c, PetscInt r0, PetscInt m, const PetscInt *qptr, const PetscInt *qcols,
-                        const PetscScalar *qvals, const char *inactive, const PetscScalar *f, const PetscScalar *w,
-                        const PetscScalar *modes, PetscScalar *b, seam_petsc_system **out, char *err, size_t errlen)
+/* Sends `count` elements of `size` bytes to rank `to` while receiving
+ * `expected` from rank `from` (MPI_Sendrecv in chunks of at most CHUNK
+ * elements, whose counts are ints; `from` sends as many chunks as this
+ * rank receives). */
+static void exchange(const void *out, size_t count, int to, void *in, size_t expected, int from, MPI_Datatype type,
+                     size_t size)
+{
+  const char *o = (const char *)out;
+  char       *i = (char *)in;
+  for (size_t done = 0; done < count || done < expected; done += CHUNK) {
+    size_t k = done < count ? (count - done < CHUNK ? count - done : CHUNK) : 0;
+    size_t l = done < expected ? (expected - done < CHUNK ? expected - done : CHUNK) : 0;
+    /* A side with nothing left talks to no rank (no empty messages). */
+    (void)MPI_Sendrecv(o + (k ? done * size : 0), (int)k, type, k ? to : MPI_PROC_NULL, TAG,
+                       i + (l ? done * size : 0), (int)l, type, l ? from : MPI_PROC_NULL, TAG, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE);
+  }
+}
+
+/* This rank's rows [r0, r0 + m) of the matrix every rank staged, as CSR
+ * (sorted columns, repeated entries summed): the staged entries of rows
+ * held elsewhere are sent to their ranks (`ranges`), those received added;
+ * entries are summed in a fixed order (this rank's, then each other rank's
+ * in rank order, each in staging order). Frees the staged entries. Returns
+ * 0, or 1 when out of memory. */
+static int gather_rows(const PetscInt *ranges, PetscInt r0, PetscInt m, PetscInt **rowptr_out, PetscInt **cols_out,
+                       PetscScalar **vals_out)
+{
+  int          size = world_size(), rank = world_rank(), failed = 0;
+  long long   *to = (long long *)calloc((size_t)size, sizeof(long long));
+  long long   *from = (long long *)calloc((size_t)size, sizeof(long long));
+  size_t      *at = (size_t *)calloc((size_t)size + 1, sizeof(size_t));
+  size_t       total = 0, received = 0;
+  PetscInt    *ri = NULL, *rj = NULL, *rowptr = NULL, *cols = NULL, *fill = NULL;
+  PetscScalar *rv = NULL, *vals = NULL;
+  if (!to || !from || !at) goto oom;
+  /* Entries by destination rank, this rank's first (a stable counting sort). */
+  for (size_t e = 0; e < staged; e++) {
+    int r = 0;
+    PetscInt lo = 0, hi = size; /* the rank whose rows hold staged_i[e] */
+    while (hi - lo > 1) {
+      PetscInt mid = (lo + hi) / 2;
+      if (ranges[mid] <= staged_i[e]) lo = mid;
+      else hi = mid;
+    }
+    r = (int)lo;
+    to[r]++;
+  }
+  if (size > 1) (void)MPI_Alltoall(to, 1, MPI_LONG_LONG, from, 1, MPI_LONG_LONG, MPI_COMM_WORLD);
+  else from[0] = to[0];
+  /* Send buffers in destination order. */
+  {
+    PetscInt    *si = (PetscInt *)malloc((staged + 1) * sizeof(PetscInt));
+    PetscInt    *sj = (PetscInt *)malloc((staged + 1) * sizeof(PetscInt));
+    PetscScalar *sv = (PetscScalar *)malloc((staged + 1) * sizeof(PetscScalar));
+    size_t      *put = (size_t *)calloc((size_t)size + 1, sizeof(size_t));
+    if (!si || !sj || !sv || !put) {
+      free(si), free(sj), free(sv), free(put);
+      goto oom;
+    }
+    for (int r = 0; r < size; r++) at[r + 1] = at[r] + (size_t)to[r];
+    for (int r = 0; r < size; r++) put[r] = at[r];
+    for (size_t e = 0; e < staged; e++) {
+      PetscInt lo = 0, hi = size;
+      while (hi - lo > 1) {
+        PetscInt mid = (lo + hi) / 2;
+        if (ranges[mid] <= staged_i[e]) lo = mid;
+        else hi = mid;
+      }
+      size_t k = put[lo]++;
+      si[k] = staged_i[e], sj[k] = staged_j[e], sv[k] = staged_v[e];
+    }
+    free(put);
+    unstage();
+    for (int r = 0; r < size; r++) received += (size_t)from[r];
+    ri = (PetscInt *)malloc((received + 1) * sizeof(PetscInt));
+    rj = (PetscInt *)malloc((received + 1) * sizeof(PetscInt));
+    rv = (PetscScalar *)malloc((received + 1) * sizeof(PetscScalar));
+    if (!ri || !rj || !rv) {
+      free(si), free(sj), free(sv);
+      goto oom;
+    }
+    /* Received entries in rank order: this rank's own, then rank 0, 1, …
+     * (skipping this one), each exchange pairwise in steps. */
+    size_t *start = (size_t *)calloc((size_t)size + 1, sizeof(size_t));
+    if (!start) {
+      free(si), free(sj), free(sv);
+      goto oom;
+    }
+    {
+      size_t k = (size_t)from[rank];
+      start[rank] = 0;
+      for (int r = 0; r < size; r++)
+        if (r != rank) start[r] = k, k += (size_t)from[r];
+    }
+    memcpy(ri, si + at[rank], (size_t)to[rank] * sizeof(PetscInt));
+    memcpy(rj, sj + at[rank], (size_t)to[rank] * sizeof(PetscInt));
+    memcpy(rv, sv + at[rank], (size_t)to[rank] * sizeof(PetscScalar));
+    for (int step = 1; step < size; step++) {
+      int dst = (rank + step) % size, src = (rank - step + size) % size;
+      exchange(si + at[dst], (size_t)to[dst], dst, ri + start[src], (size_t)from[src], src, MPIU_INT, sizeof(PetscInt));
+      exchange(sj + at[dst], (size_t)to[dst], dst, rj + start[src], (size_t)from[src], src, MPIU_INT, sizeof(PetscInt));
+      exchange(sv + at[dst], (size_t)to[dst], dst, rv + start[src], (size_t)from[src], src, MPIU_SCALAR,
+               sizeof(PetscScalar));
+    }
+    free(start);
+    free(si), free(sj), free(sv);
+  }
+  /* CSR of the received entries: by row (stable), then each row's columns
+   * sorted and summed. */
+  rowptr = (PetscInt *)calloc((size_t)m + 2, sizeof(PetscInt));
+  fill = (PetscInt *)calloc((size_t)m + 1, sizeof(PetscInt));
+  if (!rowptr || !fill) goto oom;
+  for (size_t e = 0; e < received; e++) {
+    PetscInt row = ri[e] - r0;
+    if (row < 0 || row >= m) continue; /* not this rank's: cannot happen */
+    rowptr[row + 1]++;
+  }
+  for (PetscInt r = 0; r < m; r++) rowptr[r + 1] += rowptr[r];
+  total = (size_t)rowptr[m];
+  cols = (PetscInt *)malloc((total + 1) * sizeof(PetscInt));
+  vals = (PetscScalar *)malloc((total + 1) * sizeof(PetscScalar));
+  if (!cols || !vals) goto oom;
+  for (size_t e = 0; e < received; e++) {
+    PetscInt row = ri[e] - r0;
+    if (row < 0 || row >= m) continue;
+    size_t k = (size_t)(rowptr[row] + fill[row]++);
+    cols[k] = rj[e], vals[k] = rv[e];
+  }
+  free(ri), free(rj), free(rv);
+  ri = rj = NULL;
+  rv = NULL;
+  {
+    /* Per row: sort by column (PETSc's sort: the same order for the same
+     * entries), then sum repeats in place; rows are compacted as they go. */
+    PetscInt out = 0;
+    for (PetscInt r = 0; r < m; r++) {
+      PetscInt a = rowptr[r], b = rowptr[r + 1];
+      (void)PetscSortIntWithScalarArray(b - a, cols + a, vals + a);
+      rowptr[r] = out;
+      for (PetscInt k = a; k < b; k++) {
+        if (out > rowptr[r] && cols[out - 1] == cols[k]) vals[out - 1] += vals[k];
+        else cols[out] = cols[k], vals[out] = vals[k], out++;
+      }
+    }
+    rowptr[m] = out;
+  }
+  free(fill);
+  free(to), free(from), free(at);
+  *rowptr_out = rowptr, *cols_out = cols, *vals_out = vals;
+  return 0;
+oom:
+  failed = 1;
+  unstage();
+  free(to), free(from), free(at), free(ri), free(rj), free(rv), free(rowptr), free(cols), free(vals), free(fill);
+  return failed;
+}
+
+/* Every rank: the system of the command from every rank's staged entries
+ * (this rank's rows [r0, r0 + m) of `ranges`) and this rank's rows of the
+ * near-nullspace vectors (`m` apart). */
+static int staged_here(const command *c, const PetscInt *ranges, PetscInt r0, PetscInt m, const PetscScalar *modes,
+                       seam_petsc_system **out, char *err, size_t errlen)
 {
   PetscErrorCode code = 0;
-  Mat            K = NULL, Q = NULL, E = NULL, A = NULL;
-  Vec            vf = NULL, vw = NULL, vr = NULL, vb = NULL;
-  PetscInt      *eptr = NULL, *ecols = NULL;
-  PetscScalar   *evals = NULL;
-  const PetscInt n = c->n, bs = c->bs;
+  Mat            A = NULL;
+  PetscInt      *rowptr = NULL, *cols = NULL;
+  PetscScalar   *vals = NULL;
   double         t0 = now();
 
   *out = NULL;
-  /* K from every rank's staged entries. */
-  TRY(MatCreate(PETSC_COMM_WORLD, &K));
-  TRY(MatSetSizes(K, m, m, n, n));
-  TRY(MatSetType(K, MATAIJ));
-  TRY(MatSetBlockSize(K, bs));
-  TRY(MatSetPreallocationCOO(K, (PetscCount)staged, staged_i, staged_j));
-  TRY(MatSetValuesCOO(K, staged_v, ADD_VALUES));
-  unstage();
-  /* A = QᵀKQ + E, E the identity on the inactive rows. */
-  TRY(build_matrix(n, r0, m, bs, qptr, qcols, qvals, 0, 0, &Q));
-  TRY(MatPtAP(K, Q, MAT_INITIAL_MATRIX, 2.0, &A));
-  eptr  = (PetscInt *)malloc(((size_t)m + 1) * sizeof(PetscInt));
-  ecols = (PetscInt *)malloc(((size_t)m + 1) * sizeof(PetscInt));
-  evals = (PetscScalar *)malloc(((size_t)m + 1) * sizeof(PetscScalar));
-  if (!eptr || !ecols || !evals) {
-    code = PETSC_ERR_MEM;
-    snprintf(err, errlen, "out of memory");
-    goto fail;
+  if (gather_rows(ranges, r0, m, &rowptr, &cols, &vals)) {
+    snprintf(err, errlen, "out of memory gathering the matrix's rows");
+    return PETSC_ERR_MEM;
   }
-  eptr[0] = 0;
-  for (PetscInt i = 0; i < m; i++) {
-    eptr[i + 1] = eptr[i];
-    if (inactive[i]) {
-      ecols[eptr[i]] = r0 + i;
-      evals[eptr[i]] = 1.0;
-      eptr[i + 1]++;
-    }
-  }
-  TRY(build_matrix(n, r0, m, bs, eptr, ecols, evals, 1, 0, &E));
-  TRY(MatAXPY(A, 1.0, E, DIFFERENT_NONZERO_PATTERN));
-  TRY(MatDestroy(&E));
-  TRY(MatSetOption(A, MAT_SYMMETRIC, PETSC_TRUE));
-  /* b = Qᵀ(f − K w), zero on the inactive rows. */
-  TRY(VecCreateMPIWithArray(PETSC_COMM_WORLD, bs, m, n, f, &vf));
-  TRY(VecCreateMPIWithArray(PETSC_COMM_WORLD, bs, m, n, w, &vw));
-  TRY(VecCreateMPIWithArray(PETSC_COMM_WORLD, bs, m, n, b, &vb));
-  TRY(VecDuplicate(vf, &vr));
-  TRY(MatMult(K, vw, vr));
-  TRY(VecAYPX(vr, -1.0, vf));
-  TRY(MatMultTranspose(Q, vr, vb));
-  for (PetscInt i = 0; i < m; i++)
-    if (inactive[i]) b[i] = 0.0;
-  MatDestroy(&K);
-  MatDestroy(&Q);
-  VecDestroy(&vf);
-  VecDestroy(&vw);
-  VecDestroy(&vr);
-  VecDestroy(&vb);
-  free(eptr);
-  free(ecols);
-  free(evals);
+  TRY(build_matrix(c->n, r0, m, c->bs, rowptr, cols, vals, 1, 1, &A));
+  free(rowptr), free(cols), free(vals);
   return configure_here(c, r0, m, A, now() - t0, modes, (size_t)m, out, err, errlen);
 fail:
-  unstage();
-  MatDestroy(&K);
-  MatDestroy(&Q);
-  MatDestroy(&E);
+  free(rowptr), free(cols), free(vals);
   MatDestroy(&A);
-  VecDestroy(&vf);
-  VecDestroy(&vw);
-  VecDestroy(&vr);
-  VecDestroy(&vb);
-  free(eptr);
-  free(ecols);
-  free(evals);
   return (int)code;
 }
 
-/* The system A y = b reduced by u = Q y + w from K u = f, with K assembled
- * from every rank's staged entries (seam_petsc_stage) and never whole on
- * one rank: A = QᵀKQ + E, b = Qᵀ(f − K w) (zero on the inactive rows), E
- * the identity on the rows that `inactive` marks (Q's columns there must be
- * empty). Rank r holds rows [ranges[r], ranges[r + 1]) (multiples of bs),
- * the leader gives the whole n × n Q (CSR), inactive, f, w and the n_modes
- * near-nullspace vectors (n entries each), and receives b (n entries); the
- * KSP is configured as by seam_petsc_system_create. */
-int seam_petsc_system_create_reduced(PetscInt n, PetscInt bs, const PetscInt *ranges, const PetscInt *qptr,
-                                     const PetscInt *qcols, const PetscScalar *qvals, const char *inactive,
-                                     const PetscScalar *f, const PetscScalar *w, const PetscScalar *modes,
-                                     PetscInt n_modes, const char *ksp_type, const char *pc_type, double rtol,
-                                     PetscInt max_it, PetscScalar *b, seam_petsc_system **out, char *err,
-                                     size_t errlen)
+/* The symmetric n × n matrix whose entries every rank staged
+ * (seam_petsc_stage: summed where repeated, each sent to the rank that holds
+ * its row), never whole on one rank: rank r holds rows [ranges[r],
+ * ranges[r + 1]) (multiples of bs), the leader gives the n_modes
+ * near-nullspace vectors (n entries each); the KSP is configured as by
+ * seam_petsc_system_create. */
+int seam_petsc_system_create_staged(PetscInt n, PetscInt bs, const PetscInt *ranges, const PetscScalar *modes,
+                                    PetscInt n_modes, const char *ksp_type, const char *pc_type, double rtol,
+                                    PetscInt max_it, seam_petsc_system **out, char *err, size_t errlen)
 {
-  int       size = distributed() ? world_size() : 1, code;
-  command   c;
-  PetscInt *kept = (PetscInt *)calloc((size_t)size + 1, sizeof(PetscInt));
+  int          size = distributed() ? world_size() : 1, code;
+  command      c;
+  PetscInt    *kept = (PetscInt *)calloc((size_t)size + 1, sizeof(PetscInt));
+  PetscScalar *own = (PetscScalar *)malloc(((size_t)n_modes * (size_t)ranges[1] + 1) * sizeof(PetscScalar));
   *out = NULL;
-  if (!kept) {
+  if (!kept || !own) {
+    free(kept);
+    free(own);
     snprintf(err, errlen, "out of memory");
     return PETSC_ERR_MEM;
   }
   memcpy(kept, ranges, ((size_t)size + 1) * sizeof(PetscInt));
   memset(&c, 0, sizeof(c));
-  c.cmd = CMD_REDUCED;
+  c.cmd = CMD_STAGED;
   c.id = next_id++;
   c.n = c.n_first = n;
   c.bs = bs;
@@ -805,33 +910,15 @@ int seam_petsc_system_create_reduced(PetscInt n, PetscInt bs, const PetscInt *ra
   if (size > 1) {
     broadcast(&c);
     (void)MPI_Bcast(kept, (size + 1) * (int)sizeof(PetscInt), MPI_BYTE, 0, MPI_COMM_WORLD);
-    for (int r = 1; r < size; r++) {
-      PetscInt  r0 = kept[r], m = kept[r + 1] - r0;
-      PetscInt *local = (PetscInt *)malloc(((size_t)m + 1) * sizeof(PetscInt));
-      if (!local) MPI_Abort(MPI_COMM_WORLD, 2); /* the followers wait for these rows */
-      for (PetscInt i = 0; i <= m; i++) local[i] = qptr[r0 + i] - qptr[r0];
-      send_array(local, (size_t)m + 1, MPIU_INT, sizeof(PetscInt), r);
-      free(local);
-      send_array(qcols + qptr[r0], (size_t)(qptr[r0 + m] - qptr[r0]), MPIU_INT, sizeof(PetscInt), r);
-      send_array(qvals + qptr[r0], (size_t)(qptr[r0 + m] - qptr[r0]), MPIU_SCALAR, sizeof(PetscScalar), r);
-      send_array(inactive + r0, (size_t)m, MPI_CHAR, 1, r);
-      send_array(f + r0, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), r);
-      send_array(w + r0, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), r);
+    for (int r = 1; r < size; r++)
       for (PetscInt k = 0; k < n_modes; k++)
-        send_array(modes + (size_t)k * (size_t)n + r0, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), r);
-    }
+        send_array(modes + (size_t)k * (size_t)n + kept[r], (size_t)(kept[r + 1] - kept[r]), MPIU_SCALAR,
+                   sizeof(PetscScalar), r);
   }
-  {
-    /* The leader's rows of the near-nullspace vectors, `m` apart. */
-    PetscInt     m = kept[1];
-    PetscScalar *own = (PetscScalar *)malloc(((size_t)n_modes * (size_t)m + 1) * sizeof(PetscScalar));
-    if (!own) MPI_Abort(MPI_COMM_WORLD, 2);
-    for (PetscInt k = 0; k < n_modes; k++) memcpy(own + (size_t)k * m, modes + (size_t)k * n, (size_t)m * sizeof(PetscScalar));
-    code = reduced_here(&c, 0, m, qptr, qcols, qvals, inactive, f, w, own, b, out, err, errlen);
-    free(own);
-  }
-  for (int r = 1; r < size; r++)
-    receive_array(b + kept[r], (size_t)(kept[r + 1] - kept[r]), MPIU_SCALAR, sizeof(PetscScalar), r);
+  for (PetscInt k = 0; k < n_modes; k++)
+    memcpy(own + (size_t)k * kept[1], modes + (size_t)k * n, (size_t)kept[1] * sizeof(PetscScalar));
+  code = staged_here(&c, kept, 0, kept[1], own, out, err, errlen);
+  free(own);
   if (!agreed(code)) {
     if (!code) {
       snprintf(err, errlen, "PETSc failed on another MPI rank while building the system");
@@ -846,45 +933,21 @@ int seam_petsc_system_create_reduced(PetscInt n, PetscInt bs, const PetscInt *ra
   return 0;
 }
 
-/* A follower's part of seam_petsc_system_create_reduced. */
-static int follow_reduced(const command *c, seam_petsc_system **s, char *err, size_t errlen)
+/* A follower's part of seam_petsc_system_create_staged. */
+static int follow_staged(const command *c, seam_petsc_system **s, char *err, size_t errlen)
 {
   int       size = world_size(), rank = world_rank(), code;
   PetscInt *ranges = (PetscInt *)calloc((size_t)size + 1, sizeof(PetscInt));
   if (!ranges) MPI_Abort(MPI_COMM_WORLD, 2);
   (void)MPI_Bcast(ranges, (size + 1) * (int)sizeof(PetscInt), MPI_BYTE, 0, MPI_COMM_WORLD);
-  PetscInt r0 = ranges[rank], m = ranges[rank + 1] - r0;
-  free(ranges);
-  PetscInt *qptr = (PetscInt *)malloc(((size_t)m + 1) * sizeof(PetscInt));
-  if (!qptr) MPI_Abort(MPI_COMM_WORLD, 2);
-  receive_array(qptr, (size_t)m + 1, MPIU_INT, sizeof(PetscInt), 0);
-  size_t       nnz = (size_t)qptr[m];
-  PetscInt    *qcols = (PetscInt *)malloc((nnz + 1) * sizeof(PetscInt));
-  PetscScalar *qvals = (PetscScalar *)malloc((nnz + 1) * sizeof(PetscScalar));
-  char        *inactive = (char *)malloc((size_t)m + 1);
-  PetscScalar *f = (PetscScalar *)malloc(((size_t)m + 1) * sizeof(PetscScalar));
-  PetscScalar *w = (PetscScalar *)malloc(((size_t)m + 1) * sizeof(PetscScalar));
-  PetscScalar *b = (PetscScalar *)malloc(((size_t)m + 1) * sizeof(PetscScalar));
+  PetscInt     r0 = ranges[rank], m = ranges[rank + 1] - r0;
   PetscScalar *modes = (PetscScalar *)malloc(((size_t)c->n_modes * (size_t)m + 1) * sizeof(PetscScalar));
-  if (!qcols || !qvals || !inactive || !f || !w || !b || !modes) MPI_Abort(MPI_COMM_WORLD, 2);
-  receive_array(qcols, nnz, MPIU_INT, sizeof(PetscInt), 0);
-  receive_array(qvals, nnz, MPIU_SCALAR, sizeof(PetscScalar), 0);
-  receive_array(inactive, (size_t)m, MPI_CHAR, 1, 0);
-  receive_array(f, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), 0);
-  receive_array(w, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), 0);
+  if (!modes) MPI_Abort(MPI_COMM_WORLD, 2);
   for (PetscInt k = 0; k < c->n_modes; k++)
     receive_array(modes + (size_t)k * (size_t)m, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), 0);
-  memset(b, 0, ((size_t)m + 1) * sizeof(PetscScalar));
-  code = reduced_here(c, r0, m, qptr, qcols, qvals, inactive, f, w, modes, b, s, err, errlen);
-  send_array(b, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), 0);
-  free(qptr);
-  free(qcols);
-  free(qvals);
-  free(inactive);
-  free(f);
-  free(w);
-  free(b);
+  code = staged_here(c, ranges, r0, m, modes, s, err, errlen);
   free(modes);
+  free(ranges);
   return code;
 }
 
@@ -1119,9 +1182,9 @@ int seam_petsc_follow(int *failed, unsigned char **job, size_t *job_len, char *e
         if (s && find(&all, s->id) == s) all.at[s->id] = NULL;
         destroy_here(s);
       }
-    } else if (c.cmd == CMD_REDUCED) {
+    } else if (c.cmd == CMD_STAGED) {
       seam_petsc_system *s = NULL;
-      code = follow_reduced(&c, &s, err, errlen);
+      code = follow_staged(&c, &s, err, errlen);
       if (!code && !keep(&all, s)) {
         snprintf(err, errlen, "out of memory");
         code = PETSC_ERR_MEM;
