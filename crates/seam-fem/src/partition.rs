@@ -367,10 +367,13 @@ fn other(rank: usize, what: &str) -> ProblemError {
     )))
 }
 
+/// A body part's columns of Q (sorted) and Q_eᵀ K_e Q_e in them.
+type Reduced = (Vec<usize>, CsrMatrix);
+
 /// A job's cells reduced: per body part, the columns its rows of Q meet
 /// (sorted) and Q_eᵀ K_e Q_e in them (K_e the part's stiffness, Q_e its
 /// rows of Q), and the contributions Q_eᵀ K_e w_e to Qᵀ K w.
-fn reduce_part(bytes: &[u8]) -> Result<(Vec<(Vec<usize>, CsrMatrix)>, Contributions), PartError> {
+fn reduce_part(bytes: &[u8]) -> Result<(Vec<Reduced>, Contributions), PartError> {
     let parts = cell_part(bytes).ok_or_else(|| PartError::Other("its job's bytes do not read".into()))?;
     let (mut products, mut contributions) = (Vec::with_capacity(parts.len()), Vec::new());
     for part in &parts {
