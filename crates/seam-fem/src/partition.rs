@@ -470,6 +470,17 @@ pub(crate) fn assemble_over_ranks(
     Ok(qtkw)
 }
 
+/// Without the feature no process leads other ranks: never called.
+#[cfg(not(feature = "petsc"))]
+pub(crate) fn assemble_over_ranks(
+    _: &[Body],
+    _: &[usize],
+    _: (&CsrMatrix, &[f64]),
+    _: &[bool],
+) -> Result<Vec<f64>, ProblemError> {
+    Err(ProblemError::Solve(crate::solve::SolveError::PetscUnavailable))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -561,15 +572,4 @@ mod tests {
             assert!(cell_part(&job[..cut]).is_none(), "cut at {cut}");
         }
     }
-}
-
-/// Without the feature no process leads other ranks: never called.
-#[cfg(not(feature = "petsc"))]
-pub(crate) fn assemble_over_ranks(
-    _: &[Body],
-    _: &[usize],
-    _: (&CsrMatrix, &[f64]),
-    _: &[bool],
-) -> Result<Vec<f64>, ProblemError> {
-    Err(ProblemError::Solve(crate::solve::SolveError::PetscUnavailable))
 }
