@@ -56,7 +56,8 @@
 use crate::constraints::{full_prolongation, matrix_free, prolongation, saddle_point, triple_product};
 use crate::constraints::{Constraints, Elimination, Solved, NONE};
 use crate::multibody::{free_dofs_of, Body, ProblemError, Solver, System, Timings};
-use crate::petsc::{rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, PetscOptions, PetscSummary};
+use crate::petsc::{augmented, rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, Augmented};
+use crate::petsc::{PetscOptions, PetscSummary, Split};
 use crate::solution::InterfaceSolution;
 use crate::solve::{solve, Dirichlet};
 use seam::CsrMatrix;
@@ -102,7 +103,20 @@ pub(crate) fn solve_glued(
             }
             Solver::Petsc(options) if over_ranks => {
                 let summary = petsc.insert(PetscSummary::default());
-                reduced_over_ranks(bodies, system, constraints, &free, &options, seconds, summary)?
+                match diagonal {
+                    true => {
+                        reduced_over_ranks(bodies, system, constraints, &free, &options, seconds, summary)?
+                    }
+                    false => with_lambda(saddle_over_ranks(
+                        bodies,
+                        system,
+                        constraints,
+                        &free,
+                        &options,
+                        seconds,
+                        summary,
+                    )?),
+                }
             }
             Solver::Petsc(options) => {
                 let summary = petsc.insert(PetscSummary::default());
@@ -223,7 +237,8 @@ fn reduced_over_ranks(
     seconds.setup += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let qtkw = crate::partition::assemble_over_ranks(bodies, &ranges, (&q, &w), &inactive)?;
+    let identity: Vec<_> = (0..q.nrows).filter(|&i| inactive[i]).map(|i| (i, i, 1.0)).collect();
+    let qtkw = crate::partition::assemble_over_ranks(bodies, &ranges, (&q, &w), &identity)?;
     let mut b = q.transpose_mul_vec(&system.f, 1);
     for ((b, &kw), &inactive) in b.iter_mut().zip(&qtkw).zip(&inactive) {
         *b = if inactive { 0.0 } else { *b - kw };
@@ -231,7 +246,7 @@ fn reduced_over_ranks(
     seconds.assembly += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let mut y = crate::petsc::solve_staged_over_ranks(&ranges, &b, &modes, options, summary)?;
+    let mut y = crate::petsc::solve_staged_over_ranks(&ranges, &b, (Split::None, &modes), options, summary)?;
     seconds.factorization += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
@@ -264,6 +279,85 @@ fn saddle_petsc(
     seconds.factorization += clock.elapsed().as_secs_f64();
     let iterations = summary.solves.iter().map(|s| s.iterations).sum();
     Ok((u, lambda, "PETSc KSP on the saddle point (fieldsplit)", iterations))
+}
+
+/// Standard multipliers (or crosspoints) over MPI ranks
+/// ([`crate::partition`]): the saddle point of [`solve_petsc_saddle`],
+/// [K_γ Cᵀ; C 0] on the free dofs, K's entries assembled by the ranks from
+/// their cells (Q the identity on the free dofs, w the prescribed values:
+/// QᵀKQ and f − K w), C, γCᵀC and the identity rows of the other dofs
+/// staged here; K's diagonal for γ from the cells at the constrained dofs.
+fn saddle_over_ranks(
+    bodies: &[Body],
+    system: &System,
+    constraints: &Constraints,
+    free: &[bool],
+    options: &PetscOptions,
+    seconds: &mut Timings,
+    summary: &mut PetscSummary,
+) -> Result<Solved, ProblemError> {
+    let clock = Instant::now();
+    let n = system.f.len();
+    let mut q = CsrMatrix::zeros(0, n);
+    for (i, _) in free.iter().enumerate().filter(|(_, &free)| free) {
+        q.indptr.resize(i + 1, q.indices.len());
+        q.indices.push(i);
+        q.values.push(1.0);
+    }
+    q.indptr.resize(n + 1, q.indices.len());
+    q.nrows = n;
+    let mut w = vec![0.0; n];
+    for (dof, v) in system.dirichlet.iter() {
+        w[dof] = v;
+    }
+    let constrained: Vec<bool> = {
+        let mut on = vec![false; n];
+        constraints.c.indices.iter().for_each(|&j| on[j] = free[j]);
+        on
+    };
+    let diagonal = crate::partition::stiffness_diagonal(bodies, &constrained)?;
+    let Augmented { c, g, ct, ctc, gamma } =
+        augmented((&constraints.c, &constraints.g), free, &w, |i| diagonal[i]);
+    let m = c.nrows;
+    let mut extra = Vec::with_capacity(n - q.indices.len() + ctc.nnz() + 2 * c.nnz());
+    for i in 0..n {
+        if !free[i] {
+            extra.push((i, i, 1.0));
+            continue;
+        }
+        let (cols, vals) = ctc.row(i);
+        extra.extend(cols.iter().zip(vals).filter(|(&j, _)| free[j]).map(|(&j, &v)| (i, j, gamma * v)));
+        let (rows, vals) = ct.row(i);
+        extra.extend(rows.iter().zip(vals).map(|(&r, &v)| (i, n + r, v)));
+    }
+    for r in 0..m {
+        let (cols, vals) = c.row(r);
+        extra.extend(cols.iter().zip(vals).map(|(&j, &v)| (n + r, j, v)));
+    }
+    let modes = rigid_body_modes_in(&system.points, None, None);
+    let mut ranges = crate::partition::row_ranges(bodies, &q, crate::petsc::petsc_ranks());
+    *ranges.last_mut().expect("at least one rank") = n + m; // the multipliers' rows: the last rank's
+    seconds.setup += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let kw = crate::partition::assemble_over_ranks(bodies, &ranges, (&q, &w), &extra)?;
+    drop(extra);
+    let ctg = ct.mul_vec(&g, 1);
+    let mut b: Vec<f64> =
+        (0..n).map(|i| if free[i] { system.f[i] - kw[i] + gamma * ctg[i] } else { 0.0 }).collect();
+    b.extend_from_slice(&g);
+    seconds.assembly += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let mut x =
+        crate::petsc::solve_staged_over_ranks(&ranges, &b, (Split::Saddle(n), &modes), options, summary)?;
+    seconds.factorization += clock.elapsed().as_secs_f64();
+    let lambda = x.split_off(n);
+    for (dof, v) in system.dirichlet.iter() {
+        x[dof] = v;
+    }
+    let iterations = summary.solves.iter().map(|s| s.iterations).sum();
+    Ok((x, lambda, "PETSc KSP on the saddle point (fieldsplit), K assembled over the MPI ranks", iterations))
 }
 
 /// λ_r = (f − Ku)_{dof r} / C_{r, dof r}: the slave rows of the saddle point

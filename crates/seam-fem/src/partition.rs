@@ -1,23 +1,33 @@
 //! The glued bodies partitioned over MPI ranks (`mpirun -np N seam solve
 //! --solver petsc`, the leader/follower model of [`crate::petsc`]): each
-//! rank assembles the stiffness of the cells it owns, and PETSc forms the
-//! reduced system PᵀKP over the ranks, so that K is never whole on one rank.
+//! rank assembles and reduces the cells it owns, so that neither K nor the
+//! reduced system is ever whole on one rank.
+//!
+//! With dual or lumped multipliers u = Q y + w ([`crate::glue`]: Q = P_g,
+//! the slave dofs eliminated, without the columns of prescribed, eliminated
+//! and unused dofs; w = P_g ȳ the prescribed values), and the system is
+//! A y = b with
+//!
+//! ```text
+//! A = QᵀKQ = Σ_e Q_eᵀ K_e Q_e,    b = Qᵀ f − Σ_e Q_eᵀ K_e w_e,
+//! ```
+//!
+//! e the cells, Q_e and w_e their dofs' rows of Q and values of w (the
+//! identity on the left-out rows of A, zero in b).
 //!
 //! - **Rows.** The points of all bodies, one after the other, are cut into N
-//!   contiguous blocks balanced by the lengths of their rows in the reduced
-//!   system ([`row_ranges`]); rank r holds the rows of its block in PETSc's
-//!   distributed matrices.
+//!   contiguous blocks balanced by the lengths of their rows in A, counted
+//!   by points ([`row_ranges`]); rank r holds the rows of its block in
+//!   PETSc's distributed matrices.
 //! - **Cells.** A cell belongs to the rank that holds its lowest point. Rank
 //!   0 (which reads the case) sends each rank its cells — their points'
-//!   coordinates and dofs, the body's material — as a job ([`answer`] on
-//!   the other ranks); every rank assembles its cells' K (the entries of
-//!   rows held elsewhere travel to their owners inside PETSc, summed by
-//!   `MatSetValuesCOO`).
-//! - **Reduction.** With dual or lumped multipliers u = P_g y (slave dofs
-//!   eliminated, module doc of [`crate::glue`]); rank 0 hands PETSc
-//!   P_g (its prescribed and eliminated columns dropped), which forms
-//!   A = P_gᵀ K P_g (MatPtAP) and b = P_gᵀ(f − K w), w = P_g ȳ the
-//!   prescribed values, over the ranks.
+//!   coordinates, rows of Q and values of w, the body's material — as a job
+//!   ([`answer`] on the other ranks); every rank forms its cells' K, their
+//!   Σ_e Q_eᵀ K_e Q_e (by the triple product of one process, in the columns
+//!   its rows of Q meet) and Σ_e Q_eᵀ K_e w_e, and stages the former for
+//!   the PETSc layer (`seam_petsc::stage`), which sends the entries of rows
+//!   held elsewhere to their ranks;
+//!   the latter come back to rank 0 with the answers.
 //!
 //! A cell that cannot be assembled (degenerate) is reported by its rank to
 //! rank 0, which fails with the error one process gives.
@@ -99,6 +109,37 @@ pub(crate) fn row_ranges(bodies: &[Body], q: &CsrMatrix, ranks: usize) -> Vec<us
     }
     ranges[ranks] = 3 * n;
     ranges
+}
+
+/// K's diagonal at the `wanted` dofs of all bodies (0 elsewhere), from the
+/// cells that touch them, each dof's entries summed in increasing cell order
+/// as [`crate::stiffness`] sums them.
+///
+/// # Errors
+/// [`ProblemError::Assembly`] for a degenerate cell among them.
+pub(crate) fn stiffness_diagonal(bodies: &[Body], wanted: &[bool]) -> Result<Vec<f64>, ProblemError> {
+    let mut diagonal = vec![0.0; wanted.len()];
+    let mut base = 0;
+    for (b, body) in bodies.iter().enumerate() {
+        for (c, cell) in body.mesh.cells().iter().enumerate() {
+            let dofs = |p: usize| base + 3 * p..base + 3 * p + 3;
+            if !cell.nodes().iter().any(|&p| dofs(p).any(|d| wanted[d])) {
+                continue;
+            }
+            let (x, kind) = crate::assembly::corners(body.mesh, c);
+            let k = crate::assembly::element_stiffness(kind, &x[..kind.n_nodes()], &body.material).ok_or(
+                ProblemError::Assembly { body: b, source: AssemblyError::DegenerateCell { cell: c } },
+            )?;
+            let nd = 3 * kind.n_nodes();
+            for (l, &p) in cell.nodes().iter().enumerate() {
+                for (a, d) in dofs(p).enumerate() {
+                    diagonal[d] += k[(3 * l + a) * nd + 3 * l + a];
+                }
+            }
+        }
+        base += 3 * body.mesh.points().len();
+    }
+    Ok(diagonal)
 }
 
 /// Lists of indices below `n`, one per row, as CSR rows of their transpose
@@ -438,9 +479,10 @@ pub fn answer(job: &[u8]) {
 }
 
 /// Rank 0: hands every rank its cells ([`cell_jobs`]), reduces its own and
-/// stages them with the identity on the `inactive` rows, and collects the
-/// others' answers; returns Qᵀ K w, summed in rank order. `ranges` as
-/// [`row_ranges`]; u = Q y + w.
+/// stages them with the `extra` entries (the identity on rows left out, the
+/// constraints of a saddle point), and collects the others' answers;
+/// returns Qᵀ K w, summed in rank order. `ranges` as [`row_ranges`];
+/// u = Q y + w.
 ///
 /// # Errors
 /// The first rank's failure, in rank order: a degenerate cell as one
@@ -450,15 +492,13 @@ pub(crate) fn assemble_over_ranks(
     bodies: &[Body],
     ranges: &[usize],
     (q, w): (&CsrMatrix, &[f64]),
-    inactive: &[bool],
+    extra: &[(usize, usize, f64)],
 ) -> Result<Vec<f64>, ProblemError> {
     let mut jobs = cell_jobs(bodies, ranges, q, w);
     let own = jobs.remove(0);
     seam_petsc::send_jobs(&jobs);
     drop(jobs);
-    let identity: Vec<(usize, usize, f64)> =
-        inactive.iter().enumerate().filter(|(_, &i)| i).map(|(i, _)| (i, i, 1.0)).collect();
-    let own = read_answer(&answer_bytes(&stage_part(&own, &identity)), 0);
+    let own = read_answer(&answer_bytes(&stage_part(&own, extra)), 0);
     let answers: Vec<_> =
         (1..ranges.len() - 1).map(|r| read_answer(&seam_petsc::receive_reply(r), r)).collect();
     let mut qtkw = vec![0.0; q.nrows];
@@ -476,7 +516,7 @@ pub(crate) fn assemble_over_ranks(
     _: &[Body],
     _: &[usize],
     _: (&CsrMatrix, &[f64]),
-    _: &[bool],
+    _: &[(usize, usize, f64)],
 ) -> Result<Vec<f64>, ProblemError> {
     Err(ProblemError::Solve(crate::solve::SolveError::PetscUnavailable))
 }

@@ -293,35 +293,9 @@ pub(crate) fn solve_petsc_saddle(
     for (dof, v) in dirichlet.iter() {
         prescribed[dof] = v;
     }
-    // C on the free dofs, and g − C_D ū.
-    let mut c_free = CsrMatrix::zeros(0, n);
-    let mut g_free = g.to_vec();
-    for r in 0..m {
-        let (cols, vals) = c.row(r);
-        for (&j, &v) in cols.iter().zip(vals) {
-            if active[j] {
-                c_free.indices.push(j);
-                c_free.values.push(v);
-            } else {
-                g_free[r] -= v * prescribed[j];
-            }
-        }
-        c_free.indptr.push(c_free.indices.len());
-        c_free.nrows += 1;
-    }
-    let ct = c_free.transpose();
-    let ctc = crate::constraints::gram(&c_free);
     let diagonal_k = k.diagonal();
-    let (sum_k, sum_c) = ctc
-        .diagonal()
-        .iter()
-        .zip(&diagonal_k)
-        .filter(|(&d, _)| d > 0.0)
-        .fold((0.0, 0.0), |(sk, sc), (&d, &kd)| (sk + kd, sc + d));
-    // γ balanced (measured on warped-glue, standard multipliers: 10× and
-    // 0.1× this need 1.7× and 1.5× the iterations; larger γ makes K_γ
-    // harder for multigrid).
-    let gamma = if sum_c > 0.0 { sum_k / sum_c } else { 0.0 };
+    let Augmented { c: c_free, g: g_free, ct, ctc, gamma } =
+        augmented((c, g), &active, &prescribed, |i| diagonal_k[i]);
     let ctg = ct.mul_vec(&g_free, 1);
     let mut a = Rows::new(n + m, n + m, k.nnz() + ctc.nnz() + 2 * c_free.nnz())?;
     for i in 0..n {
@@ -388,12 +362,67 @@ pub(crate) fn solve_petsc_saddle(
     Ok((x, lambda))
 }
 
+/// The constraints of a saddle point on the free dofs (`active`): C there,
+/// g − C_D ū, Cᵀ, CᵀC, and the augmentation's γ, which balances CᵀC's
+/// diagonal against K's (`k_diagonal(i)`) where the constraints act
+/// (measured on warped-glue, standard multipliers: 10× and 0.1× this need
+/// 1.7× and 1.5× the iterations; larger γ makes K_γ harder for multigrid).
+pub(crate) fn augmented(
+    (c, g): (&CsrMatrix, &[f64]),
+    active: &[bool],
+    prescribed: &[f64],
+    k_diagonal: impl Fn(usize) -> f64,
+) -> Augmented {
+    let n = active.len();
+    let mut c_free = CsrMatrix::zeros(0, n);
+    let mut g_free = g.to_vec();
+    for r in 0..c.nrows {
+        let (cols, vals) = c.row(r);
+        for (&j, &v) in cols.iter().zip(vals) {
+            if active[j] {
+                c_free.indices.push(j);
+                c_free.values.push(v);
+            } else {
+                g_free[r] -= v * prescribed[j];
+            }
+        }
+        c_free.indptr.push(c_free.indices.len());
+        c_free.nrows += 1;
+    }
+    let ct = c_free.transpose();
+    let ctc = crate::constraints::gram(&c_free);
+    let (sum_k, sum_c) = ctc
+        .diagonal()
+        .iter()
+        .enumerate()
+        .filter(|(_, &d)| d > 0.0)
+        .fold((0.0, 0.0), |(sk, sc), (i, &d)| (sk + k_diagonal(i), sc + d));
+    let gamma = if sum_c > 0.0 { sum_k / sum_c } else { 0.0 };
+    Augmented { c: c_free, g: g_free, ct, ctc, gamma }
+}
+
+/// A saddle point's constraints on the free dofs ([`augmented`]).
+pub(crate) struct Augmented {
+    /// C on the free dofs.
+    pub c: CsrMatrix,
+    /// g − C_D ū.
+    pub g: Vec<f64>,
+    /// Cᵀ.
+    pub ct: CsrMatrix,
+    /// CᵀC.
+    pub ctc: CsrMatrix,
+    /// γ of K_γ = K + γ CᵀC.
+    pub gamma: f64,
+}
+
 /// A system's matrix: points of 3 unknowns throughout, or a saddle point
 /// whose first `n` unknowns are the points'.
 #[derive(Clone, Copy)]
 #[cfg_attr(not(feature = "petsc"), allow(dead_code))]
-enum Split {
+pub(crate) enum Split {
+    /// Points of 3 unknowns throughout.
     None,
+    /// A saddle point whose first unknowns are the points'.
     Saddle(usize),
 }
 
@@ -407,20 +436,30 @@ fn ksp_solve(
     warm: bool,
     summary: &mut PetscSummary,
 ) -> Result<(), SolveError> {
-    use seam_petsc::{KspConfig, Structure};
-    let n = b.len();
     let matrix = seam_petsc::Csr { rowptr: &a.indptr, cols: &a.indices, values: &a.values };
+    let (structure, config) = structure_and_config(split, b.len(), options);
+    let mut system = seam_petsc::System::new(matrix, structure, modes, &config).map_err(petsc)?;
+    drop(a); // PETSc has its copy: ours goes before the preconditioner's setup
+    solve_and_report(&mut system, b, x, warm, summary)
+}
+
+/// The structure of a system of n unknowns and its KSP: CG (+ GAMG) on
+/// points, FGMRES with the field split on a saddle point.
+#[cfg(feature = "petsc")]
+fn structure_and_config(
+    split: Split,
+    n: usize,
+    options: &PetscOptions,
+) -> (seam_petsc::Structure, seam_petsc::KspConfig) {
+    use seam_petsc::{KspConfig, Structure};
     let base = KspConfig { rtol: options.rtol, max_iterations: options.max_iter, ..KspConfig::default() };
-    let (structure, config) = match split {
+    match split {
         Split::None => (Structure::Blocks(if n % 3 == 0 { 3 } else { 1 }), base),
         Split::Saddle(first) => (
             Structure::Saddle { first, block_size: 3 },
             KspConfig { ksp_type: "fgmres".into(), pc_type: "fieldsplit".into(), symmetric: false, ..base },
         ),
-    };
-    let mut system = seam_petsc::System::new(matrix, structure, modes, &config).map_err(petsc)?;
-    drop(a); // PETSc has its copy: ours goes before the preconditioner's setup
-    solve_and_report(&mut system, b, x, warm, summary)
+    }
 }
 
 #[cfg(feature = "petsc")]
@@ -462,9 +501,9 @@ fn solve_and_report(
 }
 
 /// y of A y = b, A the matrix every rank staged ([`crate::partition`]),
-/// summed by PETSc where its rows are (rank r holds rows [ranges[r],
-/// ranges[r + 1])), `modes` its near-nullspace; the solve is appended to
-/// `summary`.
+/// summed where its rows are (rank r holds rows [ranges[r], ranges[r + 1])),
+/// points or a saddle point (`split`), `modes` its near-nullspace; the
+/// solve is appended to `summary`.
 ///
 /// # Errors
 /// As [`solve_petsc_from`].
@@ -472,7 +511,7 @@ fn solve_and_report(
 pub(crate) fn solve_staged_over_ranks(
     ranges: &[usize],
     b: &[f64],
-    modes: &[Vec<f64>],
+    (split, modes): (Split, &[Vec<f64>]),
     options: &PetscOptions,
     summary: &mut PetscSummary,
 ) -> Result<Vec<f64>, SolveError> {
@@ -480,9 +519,8 @@ pub(crate) fn solve_staged_over_ranks(
         return Err(too_large());
     }
     let ranges: Vec<Index> = ranges.iter().map(|&r| r as Index).collect(); // ≤ n, checked above
-    let config =
-        seam_petsc::KspConfig { rtol: options.rtol, max_iterations: options.max_iter, ..Default::default() };
-    let mut system = seam_petsc::System::staged(&ranges, 3, modes, &config).map_err(petsc)?;
+    let (structure, config) = structure_and_config(split, b.len(), options);
+    let mut system = seam_petsc::System::staged(&ranges, structure, modes, &config).map_err(petsc)?;
     let mut y = vec![0.0; b.len()];
     solve_and_report(&mut system, b, &mut y, false, summary)?;
     Ok(y)
@@ -492,7 +530,7 @@ pub(crate) fn solve_staged_over_ranks(
 pub(crate) fn solve_staged_over_ranks(
     _: &[usize],
     _: &[f64],
-    _: &[Vec<f64>],
+    _: (Split, &[Vec<f64>]),
     _: &PetscOptions,
     _: &mut PetscSummary,
 ) -> Result<Vec<f64>, SolveError> {

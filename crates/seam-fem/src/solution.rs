@@ -12,7 +12,7 @@
 use crate::constraints::Constraints;
 use crate::contact::{add_contact_fields, check_couplings, solve_contact, ActiveSetStep, Kkt};
 use crate::glue::{add_tractions, solve_glued};
-use crate::multibody::{assemble_system, bodies_stiffness, check_input, Body, Coupling, Interface};
+use crate::multibody::{assemble_system, check_input, Body, Coupling, Interface};
 use crate::multibody::{ProblemError, Solver, Timings};
 use crate::stress::{recover_stresses, Stresses};
 use rayon::prelude::*;
@@ -184,8 +184,8 @@ pub fn solve_coupled(
     check_input(bodies, interfaces)?;
     check_couplings(interfaces)?;
     let mut seconds = Timings::default();
-    // Under mpirun, glued bodies with dual or lumped multipliers are
-    // assembled by the ranks (`partition`): K is not formed here.
+    // Under mpirun, glued bodies are assembled by the ranks (`partition`):
+    // K is not formed here.
     let over_ranks = matches!(options.solver, Solver::Petsc(_))
         && crate::petsc::petsc_ranks() > 1
         && interfaces.iter().all(|f| f.kind == Coupling::Glue);
@@ -193,13 +193,6 @@ pub fn solve_coupled(
     let clock = Instant::now();
     let constraints = Constraints::new(interfaces, &system.mortars, &system.offsets, &system.dirichlet);
     seconds.setup += clock.elapsed().as_secs_f64();
-    let over_ranks = over_ranks && constraints.eliminated_block_is_diagonal();
-    if system.k.nrows == 0 && !over_ranks {
-        // Standard multipliers or crosspoints: the saddle point from K here.
-        let clock = Instant::now();
-        system.k = bodies_stiffness(bodies)?;
-        seconds.assembly += clock.elapsed().as_secs_f64();
-    }
     let (dofs, n_constraints) = (system.f.len(), constraints.rows.len());
 
     let mut steps = match interfaces.iter().any(|f| f.kind == Coupling::Contact) {

@@ -99,10 +99,12 @@ mod ffi {
         ) -> c_int;
         pub fn seam_petsc_system_create_staged(
             n: PetscInt,
+            n_first: PetscInt,
             bs: PetscInt,
             ranges: *const PetscInt,
             modes: *const f64,
             n_modes: PetscInt,
+            symmetric: c_int,
             ksp_type: *const c_char,
             pc_type: *const c_char,
             rtol: f64,
@@ -615,33 +617,41 @@ impl System {
         }
     }
 
-    /// The symmetric n × n matrix of every rank's staged entries ([`stage`]:
-    /// summed where repeated, each sent to the rank that holds its row),
-    /// never whole on one rank, and its KSP: rank r holds rows
-    /// [ranges[r], ranges[r + 1]) (multiples of `block_size`; ranges has
-    /// [`ranks`] + 1 entries, n last). The near-nullspace and `config` as in
+    /// The n × n matrix of every rank's staged entries ([`stage`]: summed
+    /// where repeated, each sent to the rank that holds its row), never
+    /// whole on one rank, and its KSP: rank r holds rows [ranges[r],
+    /// ranges[r + 1]) (ranges has [`ranks`] + 1 entries, n last; whole
+    /// points of `structure` below its first field's end). The structure,
+    /// near-nullspace (on the first field) and `config` as in
     /// [`System::new`].
     ///
     /// # Errors
     /// As [`System::new`].
     pub fn staged(
         ranges: &[Index],
-        block_size: usize,
+        structure: Structure,
         near_nullspace: &[Vec<f64>],
         config: &KspConfig,
     ) -> Result<System, PetscError> {
         let n = ranges.last().map_or(0, |&r| r.max(0) as usize);
+        let (first, block_size) = match structure {
+            Structure::Blocks(block_size) => (n, block_size),
+            Structure::Saddle { first, block_size } => (first, block_size),
+        };
         let consistent = ranges.len() == ranks() + 1
             && ranges.first() == Some(&0)
             && block_size > 0
-            && ranges.windows(2).all(|r| r[0] <= r[1] && r[0] as usize % block_size == 0)
-            && n % block_size == 0
-            && near_nullspace.iter().all(|v| v.len() == n);
+            && first <= n
+            && first % block_size == 0
+            && ranges
+                .windows(2)
+                .all(|r| r[0] <= r[1] && (r[0] as usize >= first || r[0] as usize % block_size == 0))
+            && near_nullspace.iter().all(|v| v.len() == first);
         if !consistent {
             return Err(PetscError("inconsistent rows passed to PETSc".into()));
         }
         let modes = orthonormal(near_nullspace);
-        let n_modes = modes.len().checked_div(n).unwrap_or(0);
+        let n_modes = modes.len().checked_div(first).unwrap_or(0);
         let (ksp_type, pc_type) =
             (CString::new(config.ksp_type.as_str()), CString::new(config.pc_type.as_str()));
         let (Ok(ksp_type), Ok(pc_type)) = (ksp_type, pc_type) else {
@@ -653,17 +663,19 @@ impl System {
         }
         let mut raw = std::ptr::null_mut();
         let mut err = [0 as c_char; ERR_LEN];
-        // SAFETY: ranges has ranks + 1 entries and modes n per vector,
+        // SAFETY: ranges has ranks + 1 entries and modes `first` per vector,
         // checked above (the shim copies the rows each rank needs before
         // returning); the staged entries are the shim's own; the strings are
         // NUL-terminated; raw receives a new system or stays NULL.
         let code = unsafe {
             ffi::seam_petsc_system_create_staged(
                 index(n, "size")?,
+                index(first, "size")?,
                 index(block_size, "block size")?,
                 ranges.as_ptr(),
                 modes.as_ptr(),
                 index(n_modes, "near-nullspace size")?,
+                c_int::from(config.symmetric),
                 ksp_type.as_ptr(),
                 pc_type.as_ptr(),
                 config.rtol,
@@ -838,7 +850,7 @@ mod tests {
         })
         .unwrap();
         let config = KspConfig { pc_type: "jacobi".into(), rtol: 1e-13, ..KspConfig::default() };
-        let mut system = System::staged(&[0, n as Index], 1, &[], &config).unwrap();
+        let mut system = System::staged(&[0, n as Index], Structure::Blocks(1), &[], &config).unwrap();
         let exact: Vec<f64> = (1..=n).map(|i| (i as f64 * 0.37).sin()).collect();
         let b: Vec<f64> = (0..n)
             .map(|i| {
@@ -854,6 +866,9 @@ mod tests {
             assert!((x[i] - exact[i]).abs() < 1e-10, "{i}: {} against {}", x[i], exact[i]);
         }
         // Rows that do not fit: refused.
-        assert!(System::staged(&[0, 30, 60], 1, &[], &config).is_err(), "one rank here, two ranges");
+        assert!(
+            System::staged(&[0, 30, 60], Structure::Blocks(1), &[], &config).is_err(),
+            "one rank here, two ranges"
+        );
     }
 }

@@ -849,8 +849,8 @@ oom:
 }
 
 /* Every rank: the system of the command from every rank's staged entries
- * (this rank's rows [r0, r0 + m) of `ranges`) and this rank's rows of the
- * near-nullspace vectors (`m` apart). */
+ * (this rank's rows [r0, r0 + m) of `ranges`) and this rank's first-field
+ * rows of the near-nullspace vectors (one after the other). */
 static int staged_here(const command *c, const PetscInt *ranges, PetscInt r0, PetscInt m, const PetscScalar *modes,
                        seam_petsc_system **out, char *err, size_t errlen)
 {
@@ -865,29 +865,31 @@ static int staged_here(const command *c, const PetscInt *ranges, PetscInt r0, Pe
     snprintf(err, errlen, "out of memory gathering the matrix's rows");
     return PETSC_ERR_MEM;
   }
-  TRY(build_matrix(c->n, r0, m, c->bs, rowptr, cols, vals, 1, 1, &A));
+  TRY(build_matrix(c->n, r0, m, c->n_first < c->n ? 1 : c->bs, rowptr, cols, vals, c->symmetric, 1, &A));
   free(rowptr), free(cols), free(vals);
-  return configure_here(c, r0, m, A, now() - t0, modes, (size_t)m, out, err, errlen);
+  return configure_here(c, r0, m, A, now() - t0, modes, (size_t)first_part(c->n_first, r0, m), out, err, errlen);
 fail:
   free(rowptr), free(cols), free(vals);
   MatDestroy(&A);
   return (int)code;
 }
 
-/* The symmetric n × n matrix whose entries every rank staged
- * (seam_petsc_stage: summed where repeated, each sent to the rank that holds
- * its row), never whole on one rank: rank r holds rows [ranges[r],
- * ranges[r + 1]) (multiples of bs), the leader gives the n_modes
- * near-nullspace vectors (n entries each); the KSP is configured as by
- * seam_petsc_system_create. */
-int seam_petsc_system_create_staged(PetscInt n, PetscInt bs, const PetscInt *ranges, const PetscScalar *modes,
-                                    PetscInt n_modes, const char *ksp_type, const char *pc_type, double rtol,
-                                    PetscInt max_it, seam_petsc_system **out, char *err, size_t errlen)
+/* The n × n matrix whose entries every rank staged (seam_petsc_stage:
+ * summed where repeated, each sent to the rank that holds its row), never
+ * whole on one rank: rank r holds rows [ranges[r], ranges[r + 1]) (whole
+ * points of bs rows below n_first), the leader gives the n_modes
+ * near-nullspace vectors (n_first entries each); a saddle point when
+ * n_first < n, and the KSP, as by seam_petsc_system_create. */
+int seam_petsc_system_create_staged(PetscInt n, PetscInt n_first, PetscInt bs, const PetscInt *ranges,
+                                    const PetscScalar *modes, PetscInt n_modes, int symmetric, const char *ksp_type,
+                                    const char *pc_type, double rtol, PetscInt max_it, seam_petsc_system **out,
+                                    char *err, size_t errlen)
 {
   int          size = distributed() ? world_size() : 1, code;
   command      c;
   PetscInt    *kept = (PetscInt *)calloc((size_t)size + 1, sizeof(PetscInt));
-  PetscScalar *own = (PetscScalar *)malloc(((size_t)n_modes * (size_t)ranges[1] + 1) * sizeof(PetscScalar));
+  PetscInt     own_first = first_part(n_first, 0, ranges[1]);
+  PetscScalar *own = (PetscScalar *)malloc(((size_t)n_modes * (size_t)own_first + 1) * sizeof(PetscScalar));
   *out = NULL;
   if (!kept || !own) {
     free(kept);
@@ -899,11 +901,12 @@ int seam_petsc_system_create_staged(PetscInt n, PetscInt bs, const PetscInt *ran
   memset(&c, 0, sizeof(c));
   c.cmd = CMD_STAGED;
   c.id = next_id++;
-  c.n = c.n_first = n;
+  c.n = n;
+  c.n_first = n_first;
   c.bs = bs;
   c.n_modes = n_modes;
   c.max_it = max_it;
-  c.symmetric = 1;
+  c.symmetric = symmetric;
   c.rtol = rtol;
   snprintf(c.ksp_type, sizeof(c.ksp_type), "%s", ksp_type);
   snprintf(c.pc_type, sizeof(c.pc_type), "%s", pc_type);
@@ -912,11 +915,11 @@ int seam_petsc_system_create_staged(PetscInt n, PetscInt bs, const PetscInt *ran
     (void)MPI_Bcast(kept, (size + 1) * (int)sizeof(PetscInt), MPI_BYTE, 0, MPI_COMM_WORLD);
     for (int r = 1; r < size; r++)
       for (PetscInt k = 0; k < n_modes; k++)
-        send_array(modes + (size_t)k * (size_t)n + kept[r], (size_t)(kept[r + 1] - kept[r]), MPIU_SCALAR,
-                   sizeof(PetscScalar), r);
+        send_array(modes + (size_t)k * (size_t)n_first + kept[r],
+                   (size_t)first_part(n_first, kept[r], kept[r + 1] - kept[r]), MPIU_SCALAR, sizeof(PetscScalar), r);
   }
   for (PetscInt k = 0; k < n_modes; k++)
-    memcpy(own + (size_t)k * kept[1], modes + (size_t)k * n, (size_t)kept[1] * sizeof(PetscScalar));
+    memcpy(own + (size_t)k * own_first, modes + (size_t)k * n_first, (size_t)own_first * sizeof(PetscScalar));
   code = staged_here(&c, kept, 0, kept[1], own, out, err, errlen);
   free(own);
   if (!agreed(code)) {
@@ -940,11 +943,11 @@ static int follow_staged(const command *c, seam_petsc_system **s, char *err, siz
   PetscInt *ranges = (PetscInt *)calloc((size_t)size + 1, sizeof(PetscInt));
   if (!ranges) MPI_Abort(MPI_COMM_WORLD, 2);
   (void)MPI_Bcast(ranges, (size + 1) * (int)sizeof(PetscInt), MPI_BYTE, 0, MPI_COMM_WORLD);
-  PetscInt     r0 = ranges[rank], m = ranges[rank + 1] - r0;
-  PetscScalar *modes = (PetscScalar *)malloc(((size_t)c->n_modes * (size_t)m + 1) * sizeof(PetscScalar));
+  PetscInt     r0 = ranges[rank], m = ranges[rank + 1] - r0, m_first = first_part(c->n_first, r0, m);
+  PetscScalar *modes = (PetscScalar *)malloc(((size_t)c->n_modes * (size_t)m_first + 1) * sizeof(PetscScalar));
   if (!modes) MPI_Abort(MPI_COMM_WORLD, 2);
   for (PetscInt k = 0; k < c->n_modes; k++)
-    receive_array(modes + (size_t)k * (size_t)m, (size_t)m, MPIU_SCALAR, sizeof(PetscScalar), 0);
+    receive_array(modes + (size_t)k * (size_t)m_first, (size_t)m_first, MPIU_SCALAR, sizeof(PetscScalar), 0);
   code = staged_here(c, ranges, r0, m, modes, s, err, errlen);
   free(modes);
   free(ranges);
