@@ -233,7 +233,7 @@ fn reduced_over_ranks(
     }
     let w = p.mul_vec(&prescribed, 1);
     let modes = rigid_body_modes_in(&system.points, Some(&retained), None);
-    let ranges = crate::partition::row_ranges(bodies, &q, crate::petsc::petsc_ranks());
+    let ranges = crate::partition::row_ranges(bodies, &q, (&|_| 0, 0), crate::petsc::petsc_ranks());
     seconds.setup += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
@@ -335,7 +335,17 @@ fn saddle_over_ranks(
         extra.extend(cols.iter().zip(vals).map(|(&j, &v)| (n + r, j, v)));
     }
     let modes = rigid_body_modes_in(&system.points, None, None);
-    let mut ranges = crate::partition::row_ranges(bodies, &q, crate::petsc::petsc_ranks());
+    // Rows balanced with the constraints' entries, in points of 3 × 3
+    // entries: γCᵀC and Cᵀ in the points' rows, C in the multipliers' (the
+    // last rank's).
+    let constraint_entries =
+        |p: usize| (3 * p..3 * p + 3).map(|d| ctc.row(d).0.len() + ct.row(d).0.len()).sum::<usize>() / 9;
+    let mut ranges = crate::partition::row_ranges(
+        bodies,
+        &q,
+        (&constraint_entries, c.nnz() / 9),
+        crate::petsc::petsc_ranks(),
+    );
     *ranges.last_mut().expect("at least one rank") = n + m; // the multipliers' rows: the last rank's
     seconds.setup += clock.elapsed().as_secs_f64();
 

@@ -49,10 +49,17 @@ const MAGIC: &[u8; 8] = b"seamK001";
 /// contiguous blocks of the bodies' points balanced by their rows' lengths
 /// in A = QᵀKQ, counted in points (one plus the points that row p of A
 /// meets: ∪ supp Q_l over the points l of the cells around every k with
-/// Q_kp ≠ 0). The master points of an interface, coupled through the
-/// eliminated slave points, have rows several times as long as K's; the
-/// counts are exact at the level of points and cost a fraction of forming A.
-pub(crate) fn row_ranges(bodies: &[Body], q: &CsrMatrix, ranks: usize) -> Vec<usize> {
+/// Q_kp ≠ 0), plus `extra(p)` (rows added to A's, in the same unit), the
+/// last block also holding rows of weight `tail` after the points'. The
+/// master points of an interface, coupled through the eliminated slave
+/// points, have rows several times as long as K's; the counts are exact at
+/// the level of points and cost a fraction of forming A.
+pub(crate) fn row_ranges(
+    bodies: &[Body],
+    q: &CsrMatrix,
+    (extra, tail): (&dyn Fn(usize) -> usize, usize),
+    ranks: usize,
+) -> Vec<usize> {
     let n = q.nrows / 3;
     // The cells of all bodies in the numbering of all points, and the cells
     // around each point.
@@ -80,7 +87,7 @@ pub(crate) fn row_ranges(bodies: &[Body], q: &CsrMatrix, ranks: usize) -> Vec<us
     let mut stamp = vec![usize::MAX; n];
     let weight: Vec<usize> = (0..n)
         .map(|p| {
-            let mut count = 1;
+            let mut count = 1 + extra(p);
             for &k in q_t.row(p) {
                 for &c in around.row(k) {
                     for &l in &nodes[first[c]..first[c + 1]] {
@@ -96,7 +103,7 @@ pub(crate) fn row_ranges(bodies: &[Body], q: &CsrMatrix, ranks: usize) -> Vec<us
             count
         })
         .collect();
-    let total: usize = weight.iter().sum();
+    let total: usize = weight.iter().sum::<usize>() + tail;
     let mut ranges = vec![0; ranks + 1];
     let (mut sum, mut point) = (0, 0);
     for (r, range) in ranges.iter_mut().enumerate().skip(1) {
@@ -567,7 +574,7 @@ mod tests {
         let qtkw = q.transpose_mul_vec(&k.mul_vec(&w, 1), 1);
         let scale = k.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         for ranks in 1..=5 {
-            let ranges = row_ranges(&bodies, &q, ranks);
+            let ranges = row_ranges(&bodies, &q, (&|_| 0, 0), ranks);
             assert_eq!((ranges[0], ranges[ranks]), (0, n));
             assert!(ranges.windows(2).all(|r| r[0] <= r[1] && r[0] % 3 == 0), "{ranges:?}");
             let jobs = cell_jobs(&bodies, &ranges, &q, &w);
@@ -607,7 +614,7 @@ mod tests {
         assert_eq!(done, vec![(3, 0.5), (9, -1.0)]);
         assert!(read_answer(&[], 1).is_err(), "no answer");
         // Bytes that do not read are refused, not a panic.
-        let job = &cell_jobs(&bodies, &row_ranges(&bodies, &q, 2), &q, &w)[1];
+        let job = &cell_jobs(&bodies, &row_ranges(&bodies, &q, (&|_| 0, 0), 2), &q, &w)[1];
         for cut in [0, 8, 16, job.len() / 2, job.len() - 1] {
             assert!(cell_part(&job[..cut]).is_none(), "cut at {cut}");
         }

@@ -711,10 +711,12 @@ static void exchange(const void *out, size_t count, int to, void *in, size_t exp
 
 /* This rank's rows [r0, r0 + m) of the matrix every rank staged, as CSR
  * (sorted columns, repeated entries summed): the staged entries of rows
- * held elsewhere are sent to their ranks (`ranges`), those received added;
- * entries are summed in a fixed order (this rank's, then each other rank's
- * in rank order, each in staging order). Frees the staged entries. Returns
- * 0, or 1 when out of memory. */
+ * held elsewhere are sent to their ranks (`ranges`), those received added
+ * (this rank's first, then the others' in rank order) and summed in an
+ * order that the entries fix: the same sums for the same ranks. Frees the
+ * staged entries. Returns
+ * 0, or 1 when out of memory on one process (over ranks that aborts the
+ * job, as a follower's missing buffer does). */
 static int gather_rows(const PetscInt *ranges, PetscInt r0, PetscInt m, PetscInt **rowptr_out, PetscInt **cols_out,
                        PetscScalar **vals_out)
 {
@@ -842,6 +844,9 @@ static int gather_rows(const PetscInt *ranges, PetscInt r0, PetscInt m, PetscInt
   *rowptr_out = rowptr, *cols_out = cols, *vals_out = vals;
   return 0;
 oom:
+  /* The other ranks wait in the exchanges for this one: as for the
+   * leader's data, a buffer that cannot be had aborts the MPI job. */
+  if (size > 1) MPI_Abort(MPI_COMM_WORLD, 2);
   failed = 1;
   unstage();
   free(to), free(from), free(at), free(ri), free(rj), free(rv), free(rowptr), free(cols), free(vals), free(fill);
