@@ -2,8 +2,7 @@
 //! `seam solve --solver petsc` on the warped-glue case (h_s/h_m = 4, rtol
 //! 10⁻⁸, one thread per rank) by one process and under `mpirun -np N`:
 //! seconds per phase (rank 0's own work, PETSc's matrix, setup and solve,
-//! stresses and output) and the peak memory of each rank, largest (rank 0)
-//! first.
+//! stresses and output) and the peak memory of each rank, largest first.
 //!
 //! ```text
 //! cargo build --release -p seam-cli --features mpi
@@ -63,8 +62,7 @@ fn main() -> anyhow::Result<()> {
                     .output()?;
                 let stderr = String::from_utf8_lossy(&o.stderr);
                 anyhow::ensure!(o.status.success(), "{n} ranks: {stderr}");
-                // The ranks' lines come in any order: largest first (rank 0,
-                // which holds the whole problem).
+                // The ranks' lines come in any order: largest first.
                 let mut peaks: Vec<f64> = stderr
                     .lines()
                     .filter_map(|l| l.strip_prefix("rank-peak-kb "))

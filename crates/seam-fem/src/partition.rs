@@ -17,12 +17,12 @@
 //!
 //! - **Rows.** The points of all bodies, one after the other, are cut into N
 //!   contiguous blocks balanced by the lengths of their rows in A, counted
-//!   by points ([`row_ranges`]); rank r holds the rows of its block in
+//!   by points (`row_ranges`); rank r holds the rows of its block in
 //!   PETSc's distributed matrices.
 //! - **Cells.** A cell belongs to the rank that holds its lowest point. Rank
 //!   0 (which reads the case) sends each rank its cells — their points'
 //!   coordinates, rows of Q and values of w, the body's material — as a job
-//!   ([`answer`] on the other ranks); every rank forms its cells' K, their
+//!   (`answer` on the other ranks); every rank forms its cells' K, their
 //!   Σ_e Q_eᵀ K_e Q_e (by the triple product of one process, in the columns
 //!   its rows of Q meet) and Σ_e Q_eᵀ K_e w_e, and stages the former for
 //!   the PETSc layer (`seam_petsc::stage`), which sends the entries of rows

@@ -103,7 +103,7 @@ pub fn initialize_petsc(options: &str) -> Result<(), SolveError> {
 }
 
 /// The MPI ranks this process's PETSc systems are distributed over: those
-/// it leads ([`lead_petsc`]), itself included; 1 on one process or without
+/// it leads (`lead_petsc`), itself included; 1 on one process or without
 /// the feature.
 pub fn petsc_ranks() -> usize {
     #[cfg(feature = "petsc")]
@@ -501,7 +501,7 @@ fn solve_and_report(
 }
 
 /// y of A y = b, A the matrix every rank staged ([`crate::partition`]),
-/// summed where its rows are (rank r holds rows [ranges[r], ranges[r + 1])),
+/// summed where its rows are (rank r holds rows `ranges[r]..ranges[r + 1]`),
 /// points or a saddle point (`split`), `modes` its near-nullspace; the
 /// solve is appended to `summary`.
 ///

@@ -619,8 +619,8 @@ impl System {
 
     /// The n × n matrix of every rank's staged entries ([`stage`]: summed
     /// where repeated, each sent to the rank that holds its row), never
-    /// whole on one rank, and its KSP: rank r holds rows [ranges[r],
-    /// ranges[r + 1]) (ranges has [`ranks`] + 1 entries, n last; whole
+    /// whole on one rank, and its KSP: rank r holds rows
+    /// `ranges[r]..ranges[r + 1]` (ranges has [`ranks`] + 1 entries, n last; whole
     /// points of `structure` below its first field's end). The structure,
     /// near-nullspace (on the first field) and `config` as in
     /// [`System::new`].
