@@ -44,9 +44,9 @@
 //!   rows, so the point blocks stay whole) for dual and lumped multipliers;
 //!   on the saddle point for standard multipliers (or crosspoints), FGMRES
 //!   with a Schur-complement field-split preconditioner (GAMG on the
-//!   augmented K + γCᵀC). Under `mpirun` (dual and lumped multipliers) K
-//!   is assembled on the ranks that own the cells and reduced by PETSc over
-//!   them, never whole on one rank ([`crate::partition`]).
+//!   augmented K + γCᵀC). Under `mpirun` the ranks assemble and reduce the
+//!   cells they own, so that neither K nor the system is ever whole on one
+//!   rank ([`crate::partition`]).
 //!
 //! # Multipliers and tractions
 //! The slave rows of the saddle point read (K u)_S + C_Sᵀ λ = f_S, so
@@ -79,7 +79,7 @@ pub(crate) struct Glued {
 /// constraints of its glued interfaces. The PETSc solver of the reduced
 /// system takes K out of `system` (module doc of [`crate::petsc`]);
 /// `over_ranks`: it runs over MPI ranks, `system` without K, which the
-/// ranks assemble ([`crate::partition`]; C_S diagonal).
+/// ranks assemble ([`crate::partition`]).
 pub(crate) fn solve_glued(
     bodies: &[Body],
     system: &mut System,
@@ -201,7 +201,7 @@ fn reduced_petsc(
 
 /// Diagonal C_S over MPI ranks ([`crate::partition`]): A y = b with
 /// A = QᵀKQ, assembled by the ranks from their cells (Σ_e Q_eᵀ K_e Q_e) and
-/// summed by PETSc where its rows are, and b = Qᵀ(f − K w), the ranks
+/// summed where its rows are, and b = Qᵀ(f − K w), the ranks
 /// giving their Q_eᵀ K_e w_e; Q = P_g without the columns of prescribed,
 /// eliminated and unused dofs (identity rows of A, zero in b), w = P_g ȳ
 /// the prescribed values; u = P_g y.
