@@ -573,17 +573,8 @@ impl System {
         if !consistent {
             return Err(PetscError("inconsistent matrix passed to PETSc".into()));
         }
-        let modes = orthonormal(near_nullspace);
-        let n_modes = modes.len().checked_div(first).unwrap_or(0);
-        let (ksp_type, pc_type) =
-            (CString::new(config.ksp_type.as_str()), CString::new(config.pc_type.as_str()));
-        let (Ok(ksp_type), Ok(pc_type)) = (ksp_type, pc_type) else {
-            return Err(PetscError("KSP and PC types must not contain a NUL character".into()));
-        };
-        let guard = lock();
-        if !guard.initialised {
-            return Err(PetscError("PETSc is not initialised".into()));
-        }
+        let Inputs { modes, n_modes, ksp_type, pc_type } = Inputs::new(near_nullspace, first, config)?;
+        let guard = initialised()?;
         let mut raw = std::ptr::null_mut();
         let mut err = [0 as c_char; ERR_LEN];
         // SAFETY: the arrays have the lengths the shim reads (n + 1 offsets,
@@ -611,10 +602,7 @@ impl System {
             )
         };
         drop(guard);
-        match (code, NonNull::new(raw)) {
-            (0, Some(raw)) => Ok(System { raw, n }),
-            _ => Err(error_text(&err, code)),
-        }
+        System::created(code, raw, n, &err)
     }
 
     /// The n × n matrix of every rank's staged entries ([`stage`]: summed
@@ -650,17 +638,8 @@ impl System {
         if !consistent {
             return Err(PetscError("inconsistent rows passed to PETSc".into()));
         }
-        let modes = orthonormal(near_nullspace);
-        let n_modes = modes.len().checked_div(first).unwrap_or(0);
-        let (ksp_type, pc_type) =
-            (CString::new(config.ksp_type.as_str()), CString::new(config.pc_type.as_str()));
-        let (Ok(ksp_type), Ok(pc_type)) = (ksp_type, pc_type) else {
-            return Err(PetscError("KSP and PC types must not contain a NUL character".into()));
-        };
-        let guard = lock();
-        if !guard.initialised {
-            return Err(PetscError("PETSc is not initialised".into()));
-        }
+        let Inputs { modes, n_modes, ksp_type, pc_type } = Inputs::new(near_nullspace, first, config)?;
+        let guard = initialised()?;
         let mut raw = std::ptr::null_mut();
         let mut err = [0 as c_char; ERR_LEN];
         // SAFETY: ranges has ranks + 1 entries and modes `first` per vector,
@@ -686,10 +665,7 @@ impl System {
             )
         };
         drop(guard);
-        match (code, NonNull::new(raw)) {
-            (0, Some(raw)) => Ok(System { raw, n }),
-            _ => Err(error_text(&err, code)),
-        }
+        System::created(code, raw, n, &err)
     }
 
     /// Solves A x = b; `x` is the initial guess when `nonzero_guess`.
@@ -742,6 +718,53 @@ impl System {
             solve_seconds: raw.solve_seconds,
             ranks: raw.ranks.max(1) as usize,
         })
+    }
+}
+
+/// What the shim's creation of a system takes besides its matrix: the
+/// near-nullspace orthonormalised (`first` entries a vector, one after the
+/// other), their count, the KSP and PC types as C strings.
+struct Inputs {
+    modes: Vec<f64>,
+    n_modes: usize,
+    ksp_type: CString,
+    pc_type: CString,
+}
+
+impl Inputs {
+    fn new(near_nullspace: &[Vec<f64>], first: usize, config: &KspConfig) -> Result<Inputs, PetscError> {
+        let modes = orthonormal(near_nullspace);
+        let n_modes = modes.len().checked_div(first).unwrap_or(0);
+        let (ksp_type, pc_type) =
+            (CString::new(config.ksp_type.as_str()), CString::new(config.pc_type.as_str()));
+        let (Ok(ksp_type), Ok(pc_type)) = (ksp_type, pc_type) else {
+            return Err(PetscError("KSP and PC types must not contain a NUL character".into()));
+        };
+        Ok(Inputs { modes, n_modes, ksp_type, pc_type })
+    }
+}
+
+/// The lock, once PETSc is initialised.
+fn initialised() -> Result<std::sync::MutexGuard<'static, State>, PetscError> {
+    let guard = lock();
+    match guard.initialised {
+        true => Ok(guard),
+        false => Err(PetscError("PETSc is not initialised".into())),
+    }
+}
+
+impl System {
+    /// The system the shim created (`code` 0, `raw` set), or its error.
+    fn created(
+        code: c_int,
+        raw: *mut ffi::RawSystem,
+        n: usize,
+        err: &[c_char; ERR_LEN],
+    ) -> Result<System, PetscError> {
+        match (code, NonNull::new(raw)) {
+            (0, Some(raw)) => Ok(System { raw, n }),
+            _ => Err(error_text(err, code)),
+        }
     }
 }
 

@@ -531,6 +531,26 @@ static void destroy_here(seam_petsc_system *s)
   free(s);
 }
 
+/* The leader's command that creates a system (a new id). */
+static command system_command(int cmd, PetscInt n, PetscInt n_first, PetscInt bs, PetscInt n_modes, PetscInt max_it,
+                              int symmetric, double rtol, const char *ksp_type, const char *pc_type)
+{
+  command c;
+  memset(&c, 0, sizeof(c));
+  c.cmd       = cmd;
+  c.id        = next_id++;
+  c.n         = n;
+  c.n_first   = n_first;
+  c.bs        = bs;
+  c.n_modes   = n_modes;
+  c.max_it    = max_it;
+  c.symmetric = symmetric;
+  c.rtol      = rtol;
+  snprintf(c.ksp_type, sizeof(c.ksp_type), "%s", ksp_type);
+  snprintf(c.pc_type, sizeof(c.pc_type), "%s", pc_type);
+  return c;
+}
+
 /* Builds the n × n matrix (CSR, 0-based, sorted columns; block size bs) as
  * AIJ (or what -mat_type chooses), the n_modes vectors at `modes` (n_first
  * entries each, one after the other, orthonormal; the rigid-body modes for
@@ -550,18 +570,7 @@ int seam_petsc_system_create(PetscInt n, PetscInt n_first, PetscInt bs, const Pe
     snprintf(err, errlen, "out of memory");
     return PETSC_ERR_MEM;
   }
-  memset(&c, 0, sizeof(c));
-  c.cmd = CMD_CREATE;
-  c.id = next_id++;
-  c.n = n;
-  c.n_first = n_first;
-  c.bs = bs;
-  c.n_modes = n_modes;
-  c.max_it = max_it;
-  c.symmetric = symmetric;
-  c.rtol = rtol;
-  snprintf(c.ksp_type, sizeof(c.ksp_type), "%s", ksp_type);
-  snprintf(c.pc_type, sizeof(c.pc_type), "%s", pc_type);
+  c = system_command(CMD_CREATE, n, n_first, bs, n_modes, max_it, symmetric, rtol, ksp_type, pc_type);
   partition_rows(n, n_first, bs, rowptr, size, ranges);
   if (size > 1) {
     broadcast(&c);
@@ -903,18 +912,7 @@ int seam_petsc_system_create_staged(PetscInt n, PetscInt n_first, PetscInt bs, c
     return PETSC_ERR_MEM;
   }
   memcpy(kept, ranges, ((size_t)size + 1) * sizeof(PetscInt));
-  memset(&c, 0, sizeof(c));
-  c.cmd = CMD_STAGED;
-  c.id = next_id++;
-  c.n = n;
-  c.n_first = n_first;
-  c.bs = bs;
-  c.n_modes = n_modes;
-  c.max_it = max_it;
-  c.symmetric = symmetric;
-  c.rtol = rtol;
-  snprintf(c.ksp_type, sizeof(c.ksp_type), "%s", ksp_type);
-  snprintf(c.pc_type, sizeof(c.pc_type), "%s", pc_type);
+  c = system_command(CMD_STAGED, n, n_first, bs, n_modes, max_it, symmetric, rtol, ksp_type, pc_type);
   if (size > 1) {
     broadcast(&c);
     (void)MPI_Bcast(kept, (size + 1) * (int)sizeof(PetscInt), MPI_BYTE, 0, MPI_COMM_WORLD);
