@@ -181,16 +181,9 @@ pub(super) struct CurvedSlave {
 impl CurvedSlave {
     /// (B1)–(C2): the frame at the face centre, normal the true normal there;
     /// `k` sub-faces per reference edge.
-    pub(super) fn new(
-        face: CurvedFace,
-        k: usize,
-        gap_tol: f64,
-        clip_rtol: f64,
-        area_rtol: f64,
-    ) -> CurvedSlave {
+    pub(super) fn new(face: CurvedFace, k: usize, gap_tol: f64, area_rtol: f64) -> CurvedSlave {
         let centre = face.kind.centre();
         let frame = Frame::householder(face.normal(centre), face.map(centre));
-        let h = diameter(face.nodes());
         let mut area = 0.0;
         let subfaces = reference_subfaces(face.kind, k)
             .iter()
@@ -215,7 +208,7 @@ impl CurvedSlave {
                     edges,
                     ref_det: (edges[0][0] * edges[1][1] - edges[0][1] * edges[1][0]).abs(),
                     chord: PlaneFace::new(kind, q),
-                    clipper: ConvexClipper::new(&polygon, clip_rtol * h),
+                    clipper: ConvexClipper::new(&polygon),
                 }
             })
             .collect();
@@ -508,16 +501,6 @@ pub(super) fn face_integrals(face: &CurvedFace, rule: &TriangleRule) -> [f64; MA
 pub(super) fn control_box(face: &CurvedFace, normal: Point3, reach: f64) -> (Point3, Point3) {
     let (net, n) = face.control_net();
     crate::search::swept_box(&net[..n], normal, reach)
-}
-
-fn diameter(x: &[Point3]) -> f64 {
-    let mut d: f64 = 0.0;
-    for i in 0..x.len() {
-        for j in i + 1..x.len() {
-            d = d.max(norm(crate::element::sub(x[i], x[j])));
-        }
-    }
-    d
 }
 
 #[cfg(test)]

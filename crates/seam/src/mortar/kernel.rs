@@ -20,12 +20,12 @@ use crate::quadrature::{triangle_rule, TriangleRule};
 use crate::search::{swept_box, FaceTree};
 use rayon::prelude::*;
 
-/// Points closer than `CLIP_RTOL · h` (h the slave face diameter) are one point
-/// for the clipping (C4).
-const CLIP_RTOL: f64 = 1e-12;
-
 /// Intersection polygons with area below `AREA_RTOL ·` (projected slave area)
-/// are empty: shared edges and touching vertices.
+/// are dropped: slivers along shared edges of nearly matching meshes, whose
+/// share of any entry is below round-off of the face's. The clipping (C4)
+/// itself decides every configuration exactly ([`crate::clip`]); this is the
+/// only threshold of the segmentation, and it can only drop area (never add
+/// it).
 const AREA_RTOL: f64 = 1e-12;
 
 /// A first-order slave face with an affine |J| whose pairs cover its area to
@@ -410,7 +410,7 @@ impl<'a> Kernel<'a> {
     ) -> [f64; MAX_NODES] {
         let face = CurvedFace::of(self.slave, s);
         let gap_tol = curved_gap_tol(&face, self.options);
-        let mut cs = CurvedSlave::new(face, 1, gap_tol, CLIP_RTOL, AREA_RTOL);
+        let mut cs = CurvedSlave::new(face, 1, gap_tol, AREA_RTOL);
         let (lo, hi) = isoparametric::control_box(&face, cs.normal(), gap_tol);
         self.tree.faces_meeting_box_into(lo, hi, &mut scratch.candidates);
         let recorded = out.segments.len();
@@ -425,7 +425,7 @@ impl<'a> Kernel<'a> {
             scratch.cols.clear();
             scratch.b.clear();
             out.segments.truncate(recorded);
-            cs = CurvedSlave::new(face, isoparametric::SUBDIVISION, gap_tol, CLIP_RTOL, AREA_RTOL);
+            cs = CurvedSlave::new(face, isoparametric::SUBDIVISION, gap_tol, AREA_RTOL);
         }
         isoparametric::face_integrals(&face, &self.rules.curved[0])
     }
@@ -475,7 +475,7 @@ impl<'a> Kernel<'a> {
         let plane = element.project(|x| frame.project(x));
         let polygon = face_polygon(plane.corners());
         let h = element.diameter();
-        let clipper = ConvexClipper::new(&polygon, CLIP_RTOL * h);
+        let clipper = ConvexClipper::new(&polygon);
         let plane_area = polygon_area(&polygon);
         let mut sf = SlaveFace {
             warped_rule: (element.kind == FaceKind::Quad4 && element.warp() >= PLANAR_WARP)
