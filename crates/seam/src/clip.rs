@@ -17,7 +17,8 @@
 //! | edge crossing an edge's line | only for end points strictly on opposite sides; the crossing is computed from the end points in lexicographic order, so the two faces sharing the edge get the same point bit for bit, and lies on the edge (its parameter is in \[0, 1\] by construction) |
 //! | coincident or collinear edges, vertices on edges | "on" is inside: no crossing is made, the vertex is kept as it is |
 //! | polygon entirely on or outside one line | empty (no positive-area overlap) |
-//! | duplicate, collinear or rounding-dented vertices of a result | removed: every result is strictly convex by the exact predicate ([`make_strictly_convex`]), so its fan triangles all have positive orientation |
+//! | a face's corners: a fold, a straight corner, collinear corners | by the exact turns: the convex hull, the corner dropped, an empty polygon ([`face_polygon`]); so every subject and clip polygon is strictly convex |
+//! | crossings rounded next to a vertex | at most a dent of round-off size (a fan triangle of round-off area and either sign); a ring dented so that a later line meets it more than twice is made strictly convex at once ([`make_strictly_convex`]), so no polygon outgrows [`MAX_POLYGON`] |
 //! | sliver polygons | kept, with their true (tiny) area; the caller may drop pieces whose contribution is below round-off |
 //!
 //! Consequences: the pieces of one convex polygon clipped by the master
@@ -99,10 +100,38 @@ impl Frame {
 /// Exact orientation of `c` relative to the directed line a→b: positive when
 /// `c` lies on its left, zero on it, negative on its right; the value
 /// approximates twice the signed area of (a, b, c) to a relative round-off,
-/// and its sign is exact for the given floating-point coordinates (Shewchuk's
-/// adaptive predicate, the `robust` crate).
-#[inline]
+/// and its sign is exact for the given floating-point coordinates.
+///
+/// Shewchuk's filter first: the determinant of the rounded differences
+/// (b − a, c − a) has the sign of the exact one when its magnitude exceeds
+/// (3ε + 16ε²)(|t₁| + |t₂|), t₁, t₂ its two products (ε = 2⁻⁵³; Shewchuk 1997,
+/// ccwerrboundA); otherwise his adaptive exact predicate decides (the
+/// `robust` crate).
+#[inline(always)]
 pub fn orient(a: Point2, b: Point2, c: Point2) -> f64 {
+    let t1 = (b[0] - a[0]) * (c[1] - a[1]);
+    let t2 = (b[1] - a[1]) * (c[0] - a[0]);
+    let det = t1 - t2;
+    let bound = ORIENT_BOUND * (t1.abs() + t2.abs());
+    if det > bound || -det > bound {
+        det
+    } else {
+        orient_exact(a, b, c)
+    }
+}
+
+/// Shewchuk's ccwerrboundA, (3ε + 16ε²), ε = 2⁻⁵³.
+const ORIENT_BOUND: f64 = 3.3306690621773722e-16;
+
+/// [`ORIENT_BOUND`] with room for the rounding of a bound computed from
+/// magnitudes that majorise the products (a relative 1e-15 is ample: four
+/// roundings need 4.4e-16).
+const ORIENT_BOUND_MAJORISED: f64 = ORIENT_BOUND * (1.0 + 1e-15);
+
+/// The adaptive exact stage of [`orient`].
+#[cold]
+#[inline(never)]
+fn orient_exact(a: Point2, b: Point2, c: Point2) -> f64 {
     let coord = |p: Point2| robust::Coord { x: p[0], y: p[1] };
     robust::orient2d(coord(a), coord(b), coord(c))
 }
@@ -149,31 +178,32 @@ pub fn convex_hull(points: &[Point2]) -> Polygon {
 /// (duplicate and collinear corners dropped), empty when the corners are
 /// collinear.
 pub fn face_polygon(q: &[Point2]) -> Polygon {
-    let mut p: Polygon = q.iter().take(MAX_POLYGON).copied().collect();
-    if polygon_area(&p) < 0.0 {
-        p.reverse();
-    }
-    if p.len() == 3 {
-        // A triangle is convex: only its orientation is in question, decided exactly.
-        let o = orient(p[0], p[1], p[2]);
-        if o < 0.0 {
-            p.swap(1, 2);
-        } else if o == 0.0 {
-            p.clear();
+    match *q {
+        [a, b, c] => {
+            // A triangle is convex: only its orientation is in question.
+            let o = orient(a, b, c);
+            if o > 0.0 {
+                Polygon::from_iter([a, b, c])
+            } else if o < 0.0 {
+                Polygon::from_iter([a, c, b])
+            } else {
+                Polygon::new()
+            }
         }
-        return p;
+        [a, b, c, d] => {
+            // All four turns left: convex counter-clockwise; all right:
+            // convex clockwise; else (a fold, a straight corner) the hull.
+            let turns = [orient(d, a, b), orient(a, b, c), orient(b, c, d), orient(c, d, a)];
+            if turns.iter().all(|&t| t > 0.0) {
+                Polygon::from_iter([a, b, c, d])
+            } else if turns.iter().all(|&t| t < 0.0) {
+                Polygon::from_iter([d, c, b, a])
+            } else {
+                convex_hull(q)
+            }
+        }
+        _ => convex_hull(q),
     }
-    if is_strictly_convex(&p) {
-        p
-    } else {
-        convex_hull(&p)
-    }
-}
-
-/// Every corner turns strictly left (exact predicate).
-fn is_strictly_convex(p: &[Point2]) -> bool {
-    let n = p.len();
-    n >= 3 && (0..n).all(|i| orient(p[i], p[(i + 1) % n], p[(i + 2) % n]) > 0.0)
 }
 
 /// Removes, until none is left, every vertex of the counter-clockwise ring `p`
@@ -188,9 +218,9 @@ pub fn make_strictly_convex(p: &mut Polygon) {
     let (mut i, mut checked) = (0, 0);
     while p.len() >= 3 && checked < p.len() {
         let n = p.len();
-        let prev = (i + n - 1) % n;
-        if orient(p[prev], p[i], p[(i + 1) % n]) > 0.0 {
-            (i, checked) = ((i + 1) % n, checked + 1);
+        let (prev, next) = (if i == 0 { n - 1 } else { i - 1 }, if i + 1 == n { 0 } else { i + 1 });
+        if orient(p[prev], p[i], p[next]) > 0.0 {
+            (i, checked) = (next, checked + 1);
         } else {
             p.remove(i);
             // The previous vertex has a new neighbour: check it again.
@@ -207,10 +237,47 @@ pub fn make_strictly_convex(p: &mut Polygon) {
 /// every polygon clipped (every candidate master face of a slave face).
 #[derive(Clone, Debug)]
 pub struct ConvexClipper {
-    /// The edges a→b.
-    edges: ArrayVec<(Point2, Point2), MAX_POLYGON>,
+    edges: ArrayVec<ClipEdge, MAX_POLYGON>,
     lo: Point2,
     hi: Point2,
+    /// The zone of the static filter: the box [lo, hi] grown by its size on
+    /// every side.
+    zone: (Point2, Point2),
+}
+
+/// An edge a→b of a [`ConvexClipper`].
+#[derive(Clone, Copy, Debug)]
+struct ClipEdge {
+    a: Point2,
+    b: Point2,
+    /// b − a, rounded.
+    e: Point2,
+    /// The static filter's bound for points of the zone: a value of
+    /// e × (q − a) beyond it has the exact sign (Shewchuk's bound with the
+    /// products majorised over the zone).
+    bound: f64,
+}
+
+impl ClipEdge {
+    /// [`orient`]`(a, b, q)`: e × (q − a) if beyond the static bound (for
+    /// `q` in the zone) or else beyond its own error bound, otherwise the
+    /// adaptive exact predicate.
+    #[inline(always)]
+    fn side(&self, q: Point2, in_zone: bool) -> f64 {
+        let (a, e) = (self.a, self.e);
+        let t1 = e[0] * (q[1] - a[1]);
+        let t2 = e[1] * (q[0] - a[0]);
+        let det = t1 - t2;
+        if in_zone && (det > self.bound || -det > self.bound) {
+            return det;
+        }
+        let bound = ORIENT_BOUND * (t1.abs() + t2.abs());
+        if det > bound || -det > bound {
+            det
+        } else {
+            orient_exact(a, self.b, q)
+        }
+    }
 }
 
 impl ConvexClipper {
@@ -218,16 +285,29 @@ impl ConvexClipper {
     /// counter-clockwise); an empty `clip` clips everything away.
     pub fn new(clip: &[Point2]) -> ConvexClipper {
         let n = clip.len();
-        let edges = (0..n).map(|i| (clip[i], clip[(i + 1) % n])).collect();
         let (lo, hi) = bounding_box(clip);
-        ConvexClipper { edges, lo, hi }
+        let size = [hi[0] - lo[0], hi[1] - lo[1]];
+        let zone = ([lo[0] - size[0], lo[1] - size[1]], [hi[0] + size[0], hi[1] + size[1]]);
+        let edges = (0..n)
+            .map(|i| {
+                let (a, b) = (clip[i], clip[(i + 1) % n]);
+                let e = [b[0] - a[0], b[1] - a[1]];
+                // |q − a| over the zone, per axis (its corners bound the rounded differences).
+                let r0 = (zone.0[0] - a[0]).abs().max((zone.1[0] - a[0]).abs());
+                let r1 = (zone.0[1] - a[1]).abs().max((zone.1[1] - a[1]).abs());
+                let bound = ORIENT_BOUND_MAJORISED * (e[0].abs() * r1 + e[1].abs() * r0);
+                ClipEdge { a, b, e, bound }
+            })
+            .collect();
+        ConvexClipper { edges, lo, hi, zone }
     }
 
     /// Intersection of the strictly convex counter-clockwise `subject` (from
     /// [`face_polygon`]) with the clip polygon by Sutherland–Hodgman: `subject`
     /// is cut by each edge's closed half-plane in turn, every decision made by
     /// the exact [`orient`] (module doc: near-degenerate configurations).
-    /// The result is strictly convex, or empty when the overlap has no area.
+    /// The result is convex up to the rounding of its crossing points, or
+    /// empty when the overlap has no area.
     ///
     /// # Performance
     /// O(|subject|·|clip|) predicates, no allocation; disjoint bounding boxes
@@ -243,16 +323,20 @@ impl ConvexClipper {
         {
             return Polygon::new();
         }
+        // Every point met below lies in the subject's box (crossings lie on
+        // its edges, to rounding: the zone's margin is the clip's size).
+        let (zlo, zhi) = self.zone;
+        let in_zone = lo[0] >= zlo[0] && lo[1] >= zlo[1] && hi[0] <= zhi[0] && hi[1] <= zhi[1];
         // Two buffers used in turn: the input of one edge is the output of the last.
         let mut buffers = [Polygon::new(), Polygon::new()];
         buffers[0].extend(subject.iter().take(MAX_POLYGON).copied());
         let mut current = 0;
         let mut side = [0.0; MAX_POLYGON];
-        for &(a, b) in &self.edges {
+        for edge in &self.edges {
             let input = &buffers[current];
             let (mut any_in, mut any_out) = (false, false);
             for (s, &q) in side.iter_mut().zip(input.iter()) {
-                *s = orient(a, b, q);
+                *s = edge.side(q, in_zone);
                 any_in |= *s > 0.0;
                 any_out |= *s < 0.0;
             }
@@ -269,9 +353,13 @@ impl ConvexClipper {
             let (input, out) = if current == 0 { (&*first, second) } else { (&*second, first) };
             out.clear();
             let n = input.len();
+            // At most two crossings on a convex input; more, on a ring that
+            // rounding has dented, and it is made strictly convex at once.
+            let mut count = 0;
             let (mut p, mut sp) = (input[n - 1], side[n - 1]);
             for (&q, &sq) in input.iter().zip(&side[..n]) {
                 if (sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0) {
+                    count += 1;
                     push(out, crossing(p, sp, q, sq));
                 }
                 if sq >= 0.0 {
@@ -279,9 +367,11 @@ impl ConvexClipper {
                 }
                 (p, sp) = (q, sq);
             }
-            make_strictly_convex(out);
-            if out.is_empty() {
-                return Polygon::new();
+            if count > 2 {
+                make_strictly_convex(out);
+                if out.is_empty() {
+                    return Polygon::new();
+                }
             }
             current = 1 - current;
         }
