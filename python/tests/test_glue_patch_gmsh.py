@@ -27,8 +27,8 @@ The matrix (CASES; ids kind-n|m-multiplier, n the master's cells per side):
 - hex8, dual: every ratio at sizes 8 and 16, 1:1, 4:3, 2:1 at 32 and 64,
   1:2 at 16; the other kinds at sizes 8, 16, 32 and several ratios each, so
   that every size and every ratio meets hex and tet, structured and
-  unstructured; second order at sizes 8, 16 (and 32: tet10s); standard
-  multipliers on a subset of every kind.
+  unstructured; second order at sizes 8 and 16; standard multipliers on a
+  subset of every kind.
 The interfaces of larger cases, too costly to solve here (OPERATOR_CASES:
 second order at 32, hex8 64|96 and 64|43, tet4s 64|64), are checked for
 what the patch test needs of the operator: covered area and T on linear
@@ -67,9 +67,9 @@ def cases():
     c += [("tet4", n, m, "dual") for n, m in ((8, 8), (16, 24), (16, 8), (32, 24))] + [("tet4", 32, 24, "standard")]
     c += [("hex27", n, m, "dual") for n, m in ((8, 8), (8, 6), (16, 12), (16, 8))] + [("hex27", 8, 6, "standard")]
     c += [("hex20", n, m, "dual") for n, m in ((8, 12), (16, 16), (16, 12))] + [("hex20", 8, 6, "standard")]
-    c += [("tet10s", n, m, "dual") for n, m in ((8, 6), (8, 12), (16, 12), (16, 8), (32, 16))]
+    c += [("tet10s", n, m, "dual") for n, m in ((8, 6), (8, 12), (16, 12), (16, 8))]
     c += [("tet10s", 16, 8, "standard")]
-    c += [("tet10", n, m, "dual") for n, m in ((8, 8), (8, 6), (8, 12), (8, 4), (16, 12))] + [("tet10", 16, 12, "standard")]
+    c += [("tet10", n, m, "dual") for n, m in ((8, 8), (8, 6), (8, 12), (8, 4), (16, 12))] + [("tet10", 8, 6, "standard")]
     c = [(*k, SMOOTHING) for k in c]
     c += [("hex8", 32, 24, "dual", 1), ("hex8", 16, 16, "dual", 1), ("hex27", 16, 8, "dual", 1),
           ("tet10s", 16, 12, "dual", 1), ("tet10s", 16, 12, "standard", 1)]
@@ -190,4 +190,4 @@ def test_gmsh_leaves_its_float_noise_on_the_grid(gmsh_mesh, smoothing):
         print(f"{side} {n}: {np.count_nonzero(off > 1e-13)} of {len(off)} nodes more than 1e-13 off the grid, "
               f"by up to {off.max():.1e}; grid lines zigzag by up to {zigzag:.1e}")
         assert 1e-12 < off.max() < 1e-10 and np.count_nonzero(off > 1e-13) > len(off) // 2
-        assert zigzag > 1e-13 if smoothing > 1 else zigzag < 1e-15
+        assert zigzag > 1e-13 if smoothing > 1 else zigzag < 1e-14
