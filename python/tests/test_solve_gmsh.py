@@ -6,19 +6,17 @@ test` builds (target/debug/seam, or $SEAM_BIN): the files must be the same,
 byte for byte (summary.json up to the paths, timings and thread count).
 Errors are ``seam.SolveError`` with the CLI's one-line message.
 
-Needs the ``gmsh`` wheel (scripts/test installs it) and, headless, the X11
-and OpenGL runtime libraries it links to (.ci/run installs them).
+Meshes by gmsh_meshes.py (needs the ``gmsh`` wheel).
 """
 
 import json
 import sys
 from pathlib import Path
 
-import gmsh
-import numpy as np
 import pytest
 
 import seam
+from gmsh_meshes import mesh_box
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests" / "python"))
 from seam_cli import seam as run_cli  # noqa: E402
@@ -28,38 +26,6 @@ BOXES = {
     "lower": ((0.0, 0.0, 0.0, 1.0, 1.0, 0.5), 0.22),
     "upper": ((0.0, 0.0, 0.5, 1.0, 1.0, 0.5), 0.31),
 }
-EPS = 1e-6
-
-
-def mesh_box(path, box, size, order):
-    """One box meshed by Gmsh with the physical surfaces bottom, top, xmin,
-    ymin, xmax, ymax and the physical volume "body", of `order` 1 (Tet4) or 2
-    (Tet10, Tri6 faces), written as MSH 4.1."""
-    gmsh.initialize(readConfigFiles=False, interruptible=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.option.setNumber("General.NumThreads", 1)
-        gmsh.model.add(path.stem)
-        x0, y0, z0, dx, dy, dz = box
-        volume = gmsh.model.occ.addBox(x0, y0, z0, dx, dy, dz)
-        gmsh.model.occ.synchronize()
-        lo, hi = np.array([x0, y0, z0]), np.array([x0 + dx, y0 + dy, z0 + dz])
-        for name, axis, at in (("xmin", 0, lo), ("xmax", 0, hi), ("ymin", 1, lo), ("ymax", 1, hi),
-                               ("bottom", 2, lo), ("top", 2, hi)):
-            a, b = lo - EPS, hi + EPS
-            a[axis], b[axis] = at[axis] - EPS, at[axis] + EPS
-            (surface,) = gmsh.model.getEntitiesInBoundingBox(*a, *b, dim=2)
-            gmsh.model.addPhysicalGroup(2, [surface[1]], name=name)
-        gmsh.model.addPhysicalGroup(3, [volume], name="body")
-        gmsh.option.setNumber("Mesh.MeshSizeMin", size)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
-        gmsh.model.mesh.generate(3)
-        gmsh.model.mesh.setOrder(order)
-        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
-        gmsh.option.setNumber("Mesh.Binary", 0)
-        gmsh.write(str(path))
-    finally:
-        gmsh.finalize()
 
 
 def case_text(interface):

@@ -92,6 +92,22 @@ def solve(case, solver):
     return s
 
 
+def rollers_case(multiplier, stress=S, lower="lower.msh", upper="upper.msh"):
+    """The bodies lower (master) and upper (slave) of these meshes glued at
+    lower:top / upper:bottom; rollers at x = 0 and y = 0 on both and at
+    z = 0 under lower; σ n, σ = diag(stress), on their other outer faces."""
+    case = {
+        "body": [{**body("lower"), "mesh": str(lower)}, {**body("upper"), "mesh": str(upper)}],
+        "interface": [glue("lower:top", "upper:bottom", multiplier)],
+        "dirichlet": [roller("lower:bottom", "uz")],
+        "traction": [load("upper:top", [0, 0, stress[2]])],
+    }
+    for b in ("lower", "upper"):
+        case["dirichlet"] += [roller(f"{b}:xmin", "ux"), roller(f"{b}:ymin", "uy")]
+        case["traction"] += [load(f"{b}:xmax", [stress[0], 0, 0]), load(f"{b}:ymax", [0, stress[1], 0])]
+    return case
+
+
 USUAL = ((3, 4, 2), (4, 3, 2))
 # A fine slave over a coarse master: dual multipliers are eliminated (reduced
 # Cholesky); on the usual small meshes the elimination would fill in and the
@@ -119,16 +135,7 @@ def test_rollers_on_both_bodies_touching_a_glued_interface(tmp_path, monkeypatch
     write_block(tmp_path / "lower.msh", sizes[0], kinds[0], lambda u, v, w: (u, v, w * interface(u)))
     write_block(tmp_path / "upper.msh", sizes[1], kinds[1],
                 lambda u, v, w: (u, v, interface(u) + w * (1.2 - interface(u))))
-    case = {
-        "body": [body("lower"), body("upper")],
-        "interface": [glue("lower:top", "upper:bottom", multiplier)],
-        "dirichlet": [roller("lower:bottom", "uz")],
-        "traction": [load("upper:top", [0, 0, S[2]])],
-    }
-    for b in ("lower", "upper"):
-        case["dirichlet"] += [roller(f"{b}:xmin", "ux"), roller(f"{b}:ymin", "uy")]
-        case["traction"] += [load(f"{b}:xmax", [S[0], 0, 0]), load(f"{b}:ymax", [0, S[1], 0])]
-    s = solve(case, solver)
+    s = solve(rollers_case(multiplier), solver)
     eps = strain()
     u, sigma = body_errors(s, lambda _, x: x * eps, lambda _: voigt(S))
     (f,) = s.interfaces
