@@ -20,6 +20,7 @@
 //! | a face's corners: a fold, a straight corner, collinear corners | by the exact turns: the convex hull, the corner dropped, an empty polygon ([`face_polygon`]); so every subject and clip polygon is strictly convex |
 //! | crossings rounded next to a vertex | at most a dent of round-off size (a fan triangle of round-off area and either sign); a ring dented so that a later line meets it more than twice is made strictly convex at once ([`make_strictly_convex`]), so no polygon outgrows [`MAX_POLYGON`] |
 //! | sliver polygons | kept, with their true (tiny) area; the caller may drop pieces whose contribution is below round-off |
+//! | how pieces are triangulated | a fan from the vertex lowest along a fixed generic direction of space ([`Frame::apex_direction`]); for rules that are not exact, vertices within 1e-8 of their neighbours' chord are covered by slivers instead ([`stable_fan`]): noise then changes the triangles, and the quadrature on them, continuously |
 //!
 //! Consequences: the pieces of one convex polygon clipped by the master
 //! polygons that tile the plane tile it up to the rounding of crossing points
@@ -94,6 +95,14 @@ impl Frame {
     /// The unit normal n.
     pub fn normal(&self) -> Point3 {
         self.rows[2]
+    }
+
+    /// The in-plane direction along which a piece's lowest vertex is the
+    /// apex of its fan ([`stable_fan`]): a fixed direction of space
+    /// projected, the same for neighbouring faces whatever way their frames
+    /// turn.
+    pub fn apex_direction(&self) -> Point2 {
+        self.project_vector(SPACE_APEX)
     }
 }
 
@@ -379,6 +388,14 @@ impl ConvexClipper {
     }
 }
 
+/// The 3D direction whose projection onto a slave face's plane orders its
+/// pieces' vertices for the apex of their fans ([`Frame::apex_direction`]):
+/// (1, √3, √7)/√11, parallel to no normal of a structured mesh. A direction
+/// of 3D space, not of the frame, because the Householder frame flips its
+/// in-plane axes where the normal's third component changes sign, and noise
+/// makes it do so on faces whose normal lies in the xy plane.
+const SPACE_APEX: Point3 = [0.301_511_344_577_763_63, 0.522_232_967_867_093_5, 0.797_724_035_217_465_7];
+
 /// Appends `x` to `out`. A strictly convex n-gon cut by a line gives at most
 /// n + 1 vertices, so an n-gon clipped by an m-gon never has more than n + m
 /// ([`MAX_POLYGON`] ≥ 8 for two quadrilaterals).
@@ -418,6 +435,68 @@ fn bounding_box(p: &[Point2]) -> (Point2, Point2) {
         hi = [hi[0].max(q[0]), hi[1].max(q[1])];
     }
     (lo, hi)
+}
+
+/// A vertex within this fraction of its neighbours' chord length from the
+/// chord is left out of [`stable_fan`]'s fan (and covered by a sliver): far
+/// above the noise of coordinates (1e-16…1e-9 of a face), far below any
+/// intended kink.
+pub const NEAR_COLLINEAR: f64 = 1e-8;
+
+/// (C4) Triangles covering the convex polygon `p`, for rules that are not
+/// exact on the pieces: a fan from the vertex lowest along `apex` (a
+/// slave face's [`Frame::apex_direction`]) over the vertices that are not
+/// within [`NEAR_COLLINEAR`] of the chord between their neighbours, then, for
+/// each run of vertices left out between two fan vertices a and b, the
+/// slivers (a, r₁, r₂), …, (a, r_k, b) between the chord and the polyline.
+/// The signed areas add up to the polygon's exactly, and the fan's triangles
+/// change continuously with noise on the coordinates: a vertex that noise
+/// splits in two adds a sliver instead of moving the apex to another corner,
+/// and one that noise adds in the middle of an edge (where two nearly
+/// collinear edges cross) makes a sliver instead of splitting a fan triangle
+/// in two; either would move an inexact quadrature by its own error. n − 2
+/// triangles for n vertices, as [`fan_triangles`].
+pub fn stable_fan(p: &[Point2], apex: Point2) -> ArrayVec<[usize; 3], MAX_POLYGON> {
+    let n = p.len();
+    let mut out = ArrayVec::new();
+    if n < 3 {
+        return out;
+    }
+    let height = |q: Point2| q[0] * apex[0] + q[1] * apex[1];
+    let first = (1..n).fold(0, |k, i| if height(p[i]) < height(p[k]) { i } else { k });
+    // Vertex k of the ring that starts at the apex.
+    let at = |k: usize| (first + k) % n;
+    let mut fan: ArrayVec<usize, MAX_POLYGON> = ArrayVec::new();
+    fan.push(at(0));
+    let mut run: ArrayVec<usize, MAX_POLYGON> = ArrayVec::new();
+    for k in 1..=n {
+        let a = fan[fan.len() - 1];
+        if k < n {
+            let (pa, v, pb) = (p[a], p[at(k)], p[at(k + 1)]);
+            let e = [pb[0] - pa[0], pb[1] - pa[1]];
+            let twice_area = (e[0] * (v[1] - pa[1]) - e[1] * (v[0] - pa[0])).abs();
+            if twice_area <= NEAR_COLLINEAR * (e[0] * e[0] + e[1] * e[1]) {
+                run.push(at(k));
+                continue;
+            }
+        }
+        // The slivers between the chord a → b and the run left out.
+        let b = at(k);
+        for (j, &r) in run.iter().enumerate() {
+            let next = run.get(j + 1).copied().unwrap_or(b);
+            if next != a {
+                out.push([a, r, next]);
+            }
+        }
+        run.clear();
+        if k < n {
+            fan.push(b);
+        }
+    }
+    for k in 1..fan.len().saturating_sub(1) {
+        out.push([fan[0], fan[k], fan[k + 1]]);
+    }
+    out
 }
 
 /// (C4) Fan triangulation of a convex polygon: triangles (0, k, k+1), k = 1..n−2,
@@ -536,10 +615,9 @@ mod tests {
     fn on_the_line_is_inside_and_makes_no_new_vertex() {
         let unit = square(0.0, 0.0, 1.0);
         let diamond: Polygon = [[0.5, 0.0], [1.0, 0.5], [0.5, 1.0], [0.0, 0.5]].into_iter().collect();
-        let c = clip_polygon_polygon(&diamond, &unit);
-        assert_eq!(c.as_slice(), diamond.as_slice());
+        assert!(same_ring(&clip_polygon_polygon(&diamond, &unit), &diamond));
         let along = square(0.25, 0.0, 0.5);
-        assert_eq!(clip_polygon_polygon(&along, &unit).as_slice(), along.as_slice());
+        assert!(same_ring(&clip_polygon_polygon(&along, &unit), &along));
     }
 
     /// The two faces sharing an edge get the same crossing bits, whichever
@@ -582,6 +660,55 @@ mod tests {
                 .collect();
         make_strictly_convex(&mut p);
         assert_eq!(p.as_slice(), square(0.0, 0.0, 1.0).as_slice());
+    }
+
+    /// The stable fan covers the polygon (signed areas), keeps nearly
+    /// collinear vertices out of its fan, and is the plain fan otherwise.
+    #[test]
+    fn stable_fan_covers_and_leaves_nearly_collinear_vertices_to_slivers() {
+        let area = |p: &[Point2], t: &[[usize; 3]]| {
+            t.iter().map(|&[a, b, c]| polygon_area(&[p[a], p[b], p[c]])).sum::<f64>()
+        };
+        let p: Polygon = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]].into_iter().collect();
+        let down = [0.0, 1.0];
+        assert_eq!(stable_fan(&p, down).as_slice(), fan_triangles(4).collect::<Vec<_>>().as_slice());
+        // Noise made vertices in the middle of the edges 1–2 and 3–0, 1e-12 off the chords.
+        let q: Polygon = [[0.0, 0.0], [1.0, 0.0], [1.0 + 1e-12, 0.4], [1.0, 1.0], [0.0, 1.0], [-1e-12, 0.7]]
+            .into_iter()
+            .collect();
+        let t = stable_fan(&q, down);
+        assert_eq!(t.len(), 4);
+        assert!((area(&q, &t) - polygon_area(&q)).abs() < 1e-15);
+        // The fan is that of the square: the two slivers hold the rest.
+        let fan: Vec<[usize; 3]> =
+            t.iter().copied().filter(|&[_, b, c]| ![2, 5].contains(&b) && ![2, 5].contains(&c)).collect();
+        assert_eq!(fan, vec![[0, 1, 3], [0, 3, 4]]);
+    }
+
+    /// The same vertices in the same cyclic order.
+    fn same_ring(a: &[Point2], b: &[Point2]) -> bool {
+        a.len() == b.len() && (0..a.len()).any(|k| (0..a.len()).all(|i| a[(i + k) % a.len()] == b[i]))
+    }
+
+    /// The fan's apex is the vertex lowest along the direction, wherever the
+    /// ring starts; a vertex split in two by noise keeps it.
+    #[test]
+    fn the_fan_starts_at_the_lowest_vertex() {
+        let apex = [0.6, 0.8];
+        let h = |q: Point2| q[0] * apex[0] + q[1] * apex[1];
+        let unit = square(0.0, 0.0, 1.0);
+        for shift in [[0.0, 0.0], [0.3, -0.2], [-0.4, 0.5]] {
+            let c = clip_polygon_polygon(&square(shift[0], shift[1], 1.0), &unit);
+            let t = stable_fan(&c, apex);
+            let first = c[t[t.len() - 1][0]];
+            assert!(c.iter().all(|&q| h(q) >= h(first)), "{c:?} {t:?}");
+        }
+        let split: Polygon =
+            [[1.0, 1.0], [0.0, 1.0], [-1e-13, 1e-13], [1e-13, -1e-13], [1.0, 0.0]].into_iter().collect();
+        let t = stable_fan(&split, apex);
+        let first = split[t[t.len() - 1][0]];
+        assert!(first[0].abs() < 1e-12 && first[1].abs() < 1e-12, "{t:?}");
+        assert_eq!(t.len(), 3);
     }
 
     #[test]

@@ -61,8 +61,8 @@ mod sparse;
 mod wire;
 
 pub use clip::{
-    clip_polygon_polygon, convex_hull, face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame,
-    Point2, Polygon, MAX_POLYGON,
+    clip_polygon_polygon, convex_hull, face_polygon, fan_triangles, make_strictly_convex, orient,
+    polygon_area, stable_fan, ConvexClipper, Frame, Point2, Polygon, MAX_POLYGON, NEAR_COLLINEAR,
 };
 pub use element::{shape, FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
 pub use mesh::{

@@ -40,7 +40,7 @@
 
 use super::kernel::{add_point, barycentric, edge_midpoints, signed_area, Piece};
 use super::{FaceStats, Facing, Segment};
-use crate::clip::{face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame, MAX_POLYGON};
+use crate::clip::{face_polygon, polygon_area, stable_fan, ConvexClipper, Frame, MAX_POLYGON};
 use crate::curved::{
     monomials_of, shape_and_gradients, shape_values, CurvedFace, CurvedKind, MonomialMap, ProjectedFace,
 };
@@ -308,7 +308,7 @@ pub(super) fn pair(
                 gap = gap.max(g);
                 overlap = overlap.max(-g);
             }
-            for [a, b, c] in fan_triangles(polygon.len()) {
+            for [a, b, c] in stable_fan(&polygon, cs.frame.apex_direction()) {
                 let plane = [polygon[a], polygon[b], polygon[c]];
                 if signed_area(plane) <= 0.0 {
                     continue;

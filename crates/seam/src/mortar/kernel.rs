@@ -12,7 +12,7 @@ use super::isoparametric::{self, CurvedBlock, CurvedSlave, MAX_NODES};
 use super::multiplier::{apply_multiplier, FaceMeasures};
 use super::rows::Blocks;
 use super::{face_integrals, warped_quad_degree, FaceStats, MortarOptions, Segment};
-use crate::clip::{face_polygon, fan_triangles, polygon_area, ConvexClipper, Frame, MAX_POLYGON};
+use crate::clip::{face_polygon, fan_triangles, polygon_area, stable_fan, ConvexClipper, Frame, MAX_POLYGON};
 use crate::curved::CurvedFace;
 use crate::element::{FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
 use crate::mesh::{Point3, SurfaceMesh};
@@ -564,14 +564,22 @@ impl<'a> Kernel<'a> {
         block.has_d = in_plane;
         // A rule fixed by the options wins for warped quads.
         let fixed = sf.warped_rule.filter(|_| self.options.warped_quad_degree.is_some());
-        for [a, b, c] in fan_triangles(polygon.len()) {
-            let ts = [xs[a], xs[b], xs[c]];
-            if in_plane {
+        // An exact rule takes any triangulation; the plane's rules are not
+        // exact, so their pieces are triangulated stably under noise.
+        let mut record = |ts: [Xi; 3]| {
+            if let Some(segments) = record.as_deref_mut() {
+                segments.push(Segment { slave: s, master: m, corners: ts.map(|xi| sf.element.map(xi)) });
+            }
+        };
+        if in_plane {
+            // The plane's rules are not exact: pieces triangulated stably under noise.
+            for [a, b, c] in stable_fan(&polygon, sf.frame.apex_direction()) {
                 let plane = [polygon[a], polygon[b], polygon[c]];
                 if signed_area(plane) <= 0.0 {
                     continue;
                 }
                 block.segments += 1;
+                let ts = [xs[a], xs[b], xs[c]];
                 let mut on = PlaneSegment {
                     slave: sf,
                     master: &master_plane,
@@ -581,11 +589,14 @@ impl<'a> Kernel<'a> {
                     stats: &mut *stats,
                 };
                 on.integrate(em.kind, Piece { q: plane, xs: ts, xm: [xm[a], xm[b], xm[c]] }, block);
-            } else {
-                integrate_segment(sf, em.kind, ts, [xm[a], xm[b], xm[c]], &rule, block, straight);
+                record(ts);
             }
-            if let Some(segments) = record.as_deref_mut() {
-                segments.push(Segment { slave: s, master: m, corners: ts.map(|xi| sf.element.map(xi)) });
+        } else {
+            // An exact rule takes any triangulation.
+            for [a, b, c] in fan_triangles(polygon.len()) {
+                let ts = [xs[a], xs[b], xs[c]];
+                integrate_segment(sf, em.kind, ts, [xm[a], xm[b], xm[c]], &rule, block, straight);
+                record(ts);
             }
         }
         // D (of segments in the plane) is symmetric: only its upper triangle was accumulated.
