@@ -927,3 +927,370 @@ fn parent(path: &Path) -> &Path {
         _ => Path::new("."),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn a_failed_swap_restores_every_old_file_and_leaves_no_temporary() {
+        let tmp = tempfile::tempdir().unwrap();
+        let (a, b) = (tmp.path().join("a.txt"), tmp.path().join("b.txt"));
+        fs::write(&a, "old a").unwrap();
+        fs::write(&b, "old b").unwrap();
+        let mut out = Staged::prepare(&[a.clone(), b.clone()], &[], true).unwrap();
+        out.write(&a, |p| fs::write(p, "new a")).unwrap();
+        out.write(&b, |p| fs::write(p, "new b")).unwrap();
+        // b becomes a directory after the checks: the second rename fails.
+        fs::remove_file(&b).unwrap();
+        fs::create_dir(&b).unwrap();
+        fs::write(b.join("keep"), "x").unwrap();
+        let e = format!("{:#}", out.commit(&[]).unwrap_err());
+        assert!(e.contains("nothing was written and no file was changed"), "{e}");
+        assert!(e.contains("b.txt") && e.contains("is a directory"), "{e}");
+        assert_eq!(fs::read_to_string(&a).unwrap(), "old a");
+        assert_eq!(names(tmp.path()), ["a.txt", "b.txt"]);
+        assert_eq!(names(&b), ["keep"]);
+    }
+
+    #[test]
+    fn a_failed_rename_into_place_rolls_back_what_was_placed() {
+        let tmp = tempfile::tempdir().unwrap();
+        let (a, b, c) = (tmp.path().join("a"), tmp.path().join("b"), tmp.path().join("c"));
+        fs::write(&a, "old a").unwrap();
+        let mut out = Staged::prepare(&[a.clone(), b.clone(), c.clone()], &[], true).unwrap();
+        out.write(&a, |p| fs::write(p, "new a")).unwrap();
+        out.write(&b, |p| fs::write(p, "new b")).unwrap();
+        out.write(&c, |p| fs::write(p, "new c")).unwrap();
+        // The temporary of c disappears: its rename fails after a and b are placed.
+        fs::remove_file(sibling(&c, "partial")).unwrap();
+        assert!(out.commit(&[]).is_err());
+        assert_eq!(fs::read_to_string(&a).unwrap(), "old a");
+        assert_eq!(names(tmp.path()), ["a"]);
+    }
+
+    #[test]
+    fn a_commit_replaces_all_and_removes_stale_outputs() {
+        let tmp = tempfile::tempdir().unwrap();
+        let (a, stale) = (tmp.path().join("a"), tmp.path().join("T.mtx"));
+        fs::write(&a, "old").unwrap();
+        fs::write(&stale, "old T").unwrap();
+        let mut out = Staged::prepare(std::slice::from_ref(&a), &[], true).unwrap();
+        out.write(&a, |p| fs::write(p, "new")).unwrap();
+        out.commit(&[stale]).unwrap();
+        assert_eq!(fs::read_to_string(&a).unwrap(), "new");
+        assert_eq!(names(tmp.path()), ["a"]);
+    }
+
+    #[test]
+    fn outputs_that_are_inputs_directories_or_twice_the_same_are_refused_even_with_force() {
+        let tmp = tempfile::tempdir().unwrap();
+        let input = tmp.path().join("mesh.msh");
+        fs::write(&input, "mesh").unwrap();
+        let link = tmp.path().join("link.vtu");
+        fs::hard_link(&input, &link).unwrap();
+        let sub = tmp.path().join("sub");
+        fs::create_dir(&sub).unwrap();
+        let inputs = [input.clone()];
+        let refused =
+            |targets: &[PathBuf]| format!("{:#}", Staged::prepare(targets, &inputs, true).err().unwrap());
+        let e = refused(std::slice::from_ref(&link));
+        assert!(e.contains("it is the input") && e.contains("mesh.msh"), "{e}");
+        assert!(refused(std::slice::from_ref(&sub)).contains("it is a directory"));
+        let twice = refused(&[tmp.path().join("x.json"), sub.join("../x.json")]);
+        assert!(twice.contains("two outputs of this run would be written to the same file"), "{twice}");
+        let not_dir = refused(&[input.join("B.mtx")]);
+        assert!(not_dir.contains("is not a directory"), "{not_dir}");
+        assert_eq!(fs::read_to_string(&input).unwrap(), "mesh");
+        if Path::new("/dev/null").exists() {
+            let e = format!("{:#}", Staged::prepare(&[PathBuf::from("/dev/null")], &[], true).err().unwrap());
+            assert!(e.contains("is not a regular file"), "{e}");
+        }
+    }
+
+    /// A scratch directory: in memory where there is one (`/dev/shm`), as the
+    /// tests below commit hundreds of times and every commit flushes to disk.
+    fn scratch() -> tempfile::TempDir {
+        let shm = Path::new("/dev/shm");
+        match shm.is_dir() {
+            true => tempfile::tempdir_in(shm).unwrap_or_else(|_| tempfile::tempdir().unwrap()),
+            false => tempfile::tempdir().unwrap(),
+        }
+    }
+
+    /// Every entry of `dirs` (names relative to `root`) with its text, sorted:
+    /// hidden leftovers and lock files included.
+    fn contents(root: &Path, dirs: &[&Path]) -> Vec<(String, String)> {
+        let mut v = Vec::new();
+        for dir in dirs {
+            for e in fs::read_dir(dir).unwrap() {
+                let path = e.unwrap().path();
+                let name = path.strip_prefix(root).unwrap().to_string_lossy().into_owned();
+                v.push((name, fs::read_to_string(&path).unwrap_or_default()));
+            }
+        }
+        v.sort();
+        v
+    }
+
+    /// (path relative to the root, text).
+    type Set = [(&'static str, &'static str)];
+
+    fn set(root: &Path, files: &Set) -> Vec<(String, String)> {
+        let mut v: Vec<(String, String)> = files
+            .iter()
+            .map(|(n, t)| (Path::new(n).to_string_lossy().into_owned(), t.to_string()))
+            .collect();
+        v.sort();
+        let _ = root;
+        v
+    }
+
+    fn lay(root: &Path, files: &Set) {
+        for (name, text) in files {
+            fs::write(root.join(name), text).unwrap();
+        }
+    }
+
+    /// One run writing `new` into `root` with `--force` and removing the
+    /// stale outputs `stale`, with `fault` at one of its steps.
+    fn run(root: &Path, new: &Set, stale: &[&str], fault: Option<(usize, Fault)>) -> Result<()> {
+        let targets: Vec<PathBuf> = new.iter().map(|(n, _)| root.join(n)).collect();
+        let mut out = Staged::prepare_with(&targets, &[], true, Steps { fault, ..Steps::default() })?;
+        for (target, (_, text)) in targets.iter().zip(new) {
+            out.write(target, |p| fs::write(p, text))?;
+        }
+        let stale: Vec<PathBuf> = stale.iter().map(|n| root.join(n)).collect();
+        out.commit(&stale)
+    }
+
+    /// The next run writing into `dir` (with `fault`): recovers, writes nothing.
+    fn next_run(dir: &Path, fault: Option<(usize, Fault)>) -> Result<Vec<String>> {
+        let steps = Steps { fault, ..Steps::default() };
+        let out = Staged::prepare_with(&[dir.join("new-output")], &[], true, steps)?;
+        Ok(out.notices().to_vec())
+    }
+
+    const OLD: &Set = &[("a", "old a"), ("b", "old b"), ("T.mtx", "old T")];
+    const NEW: &Set = &[("a", "new a"), ("b", "new b"), ("c", "new c")];
+
+    /// Whether a run with `fault` at `at` ran to its end without the fault:
+    /// the new set in place and nothing else.
+    fn untouched_by_fault(root: &Path) -> bool {
+        contents(root, &[root]) == set(root, NEW)
+    }
+
+    #[test]
+    fn a_kill_at_any_step_of_a_commit_leaves_the_old_or_the_new_set_once_the_next_run_recovered() {
+        let mut outcomes = Vec::new();
+        for at in 1.. {
+            let tmp = scratch();
+            let root = tmp.path();
+            lay(root, OLD);
+            let _ = run(root, NEW, &["T.mtx"], Some((at, Fault::Kill)));
+            if untouched_by_fault(root) {
+                break;
+            }
+            // Killed: the lock file stays; the old set or the new one, or a journal.
+            let left = contents(root, &[root]);
+            assert!(left.iter().any(|(n, _)| n == LOCK), "step {at}: {left:?}");
+            let notices = next_run(root, None).unwrap();
+            // Up to the commit marker (journal, marker: steps 1 and 2) the old
+            // set, after it the new one; nothing else.
+            let expected = if at <= 2 { OLD } else { NEW };
+            assert_eq!(contents(root, &[root]), set(root, expected), "kill at step {at}, then {notices:?}");
+            assert_eq!(notices.len(), 1, "step {at}: {notices:?}");
+            assert!(notices[0].starts_with(&format!("recovered {}: ", root.display())), "{notices:?}");
+            let pid = std::process::id();
+            match at {
+                // Only temporary files: nothing to roll back.
+                1 => assert!(notices[0].ends_with(": 3 leftover files of interrupted runs removed"), "{notices:?}"),
+                2 => assert!(notices[0].contains(&format!("(seam pid {pid}) was rolled back")), "{notices:?}"),
+                // Only the marker, after the last journal: a leftover.
+                13 => assert!(notices[0].ends_with(": 1 leftover file of interrupted runs removed"), "{notices:?}"),
+                _ => assert!(notices[0].contains(&format!("(seam pid {pid}) was completed")), "{notices:?}"),
+            }
+            outcomes.push(at);
+        }
+        // Journal, marker, 3 old files aside (a, b, and T.mtx as stale), 3 new
+        // in, 3 backups removed, the journal, the marker: 13 steps.
+        assert_eq!(outcomes, (1..=13).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn an_error_at_any_step_of_a_commit_keeps_the_old_set_or_completes_the_new_one() {
+        for at in 1..=13 {
+            let tmp = scratch();
+            let root = tmp.path();
+            lay(root, OLD);
+            match run(root, NEW, &["T.mtx"], Some((at, Fault::Error))) {
+                // Before the new set is in place (journal, marker, 6 renames): undone.
+                Err(e) => {
+                    assert!(at <= 8, "step {at}: {e:#}");
+                    assert!(format!("{e:#}").contains("nothing was written and no file was changed"), "{e:#}");
+                    assert_eq!(contents(root, &[root]), set(root, OLD), "error at step {at}");
+                }
+                // In the clean-up: the new set, leftovers the next run removes.
+                Ok(()) => {
+                    assert!(at > 8, "step {at}");
+                    assert_ne!(contents(root, &[root]), set(root, NEW), "step {at} leaves something");
+                    let notices = next_run(root, None).unwrap();
+                    assert_eq!(notices.len(), 1, "{notices:?}");
+                    assert_eq!(contents(root, &[root]), set(root, NEW), "error at step {at}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_kill_during_a_recovery_is_recovered_by_the_run_after() {
+        let mut recoveries = 0;
+        for at in 1..=13 {
+            for again in 1.. {
+                let tmp = scratch();
+                let root = tmp.path();
+                lay(root, OLD);
+                let _ = run(root, NEW, &["T.mtx"], Some((at, Fault::Kill)));
+                if next_run(root, Some((again, Fault::Kill))).is_ok() {
+                    // The recovery had fewer steps: it finished.
+                    break;
+                }
+                recoveries += 1;
+                next_run(root, None).unwrap();
+                let expected = if at <= 2 { OLD } else { NEW };
+                assert_eq!(contents(root, &[root]), set(root, expected), "kill at {at}, then at {again}");
+            }
+        }
+        assert!(recoveries >= 40, "{recoveries} recoveries killed");
+    }
+
+    /// `seam assemble -o out --segments seg/s.vtu`: one transaction in two
+    /// directories, recovered whole by a run that writes into one of them.
+    #[test]
+    fn a_transaction_over_two_directories_is_recovered_in_both() {
+        const OLD2: &Set = &[("out/B.mtx", "old B"), ("seg/s.vtu", "old s"), ("out/summary.json", "old")];
+        const NEW2: &Set = &[("out/B.mtx", "new B"), ("seg/s.vtu", "new s"), ("out/summary.json", "new")];
+        let mut kills = 0;
+        for at in 1.. {
+            let tmp = scratch();
+            let root = tmp.path();
+            let (out, seg) = (root.join("out"), root.join("seg"));
+            fs::create_dir(&out).unwrap();
+            fs::create_dir(&seg).unwrap();
+            lay(root, OLD2);
+            let _ = run(root, NEW2, &[], Some((at, Fault::Kill)));
+            if contents(root, &[&out, &seg]) == set(root, NEW2) {
+                break;
+            }
+            kills += 1;
+            // The next run writes into seg only: once the journals are there
+            // (steps 1 and 2) it locks out too and recovers both; before, out
+            // keeps the old files and its hidden temporaries, which the next
+            // run writing into out removes.
+            let notices = next_run(&seg, None).unwrap();
+            assert!(notices.len() <= 1, "{notices:?}");
+            // Two journals and the marker: the commit point is step 3.
+            let expected = if at <= 3 { OLD2 } else { NEW2 };
+            let visible: Vec<(String, String)> = contents(root, &[&out, &seg])
+                .into_iter()
+                .filter(|(n, _)| !Path::new(n).file_name().unwrap().to_string_lossy().starts_with('.'))
+                .collect();
+            assert_eq!(visible, set(root, expected), "kill at {at}: {notices:?}");
+            let _ = next_run(&out, None).unwrap();
+            assert_eq!(contents(root, &[&out, &seg]), set(root, expected), "kill at {at}: {notices:?}");
+        }
+        assert!(kills >= 10, "{kills}");
+    }
+
+    #[test]
+    fn leftovers_of_older_runs_are_removed_and_moved_aside_files_put_back() {
+        let tmp = scratch();
+        let root = tmp.path();
+        lay(
+            root,
+            &[
+                ("b", "new b"),
+                ("notes.seam-1.old", "a user's file"),
+                (".hidden", "a user's file"),
+                (".a.seam-41.old", "old a"),
+                (".b.seam-41.old", "old b"),
+                (".c.seam-41.partial", "half of c"),
+                (".seam-write-probe-41", ""),
+                (".seam-41-0.commit", ""),
+                (".seam-41-1.journal", "{\"seam_output_jour"),
+                (LOCK, "41\n"),
+            ],
+        );
+        let notices = next_run(root, None).unwrap();
+        assert_eq!(
+            notices,
+            [format!(
+                "recovered {}: a moved aside by an older seam put back; 5 leftover files of interrupted runs removed",
+                root.display()
+            )]
+        );
+        let expected: &Set =
+            &[("a", "old a"), ("b", "new b"), ("notes.seam-1.old", "a user's file"), (".hidden", "a user's file")];
+        assert_eq!(contents(root, &[root]), set(root, expected));
+        assert_eq!(next_run(root, None).unwrap(), Vec::<String>::new(), "nothing left to recover");
+    }
+
+    #[test]
+    fn leftover_names_are_recognised_exactly() {
+        assert_eq!(Leftover::of(".B.mtx.seam-12.old"), Some(Leftover::Backup("B.mtx")));
+        assert_eq!(Leftover::of(".x.seam-y.seam-12.partial"), Some(Leftover::Other));
+        for name in [".seam-write-probe-7", ".seam-7-0.journal", ".seam-7-3.commit"] {
+            assert_eq!(Leftover::of(name), Some(Leftover::Other), "{name}");
+        }
+        for name in [LOCK, ".seam-7.journal", ".B.mtx.seam-.old", "..seam-12.old", "B.seam-1.old", ".x.seam-1a.partial"]
+        {
+            assert_eq!(Leftover::of(name), None, "{name}");
+        }
+    }
+
+    /// Two runs writing into one directory at once: the second waits, with
+    /// one notice, for the first to commit; then it sees the first's files.
+    #[test]
+    fn a_second_run_waits_for_the_first_and_then_sees_its_files() {
+        static HEARD: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+        set_notice_handler(|line| HEARD.lock().unwrap().push(line.to_string()));
+        let tmp = scratch();
+        let a = tmp.path().join("a");
+        let mut first = Staged::prepare(std::slice::from_ref(&a), &[], false).unwrap();
+        first.write(&a, |p| fs::write(p, "first")).unwrap();
+        let (a2, tmp2) = (a.clone(), tmp.path().to_path_buf());
+        let second = std::thread::spawn(move || {
+            let refused = Staged::prepare(std::slice::from_ref(&a2), &[], false).err().map(|e| format!("{e:#}"));
+            let mut out = Staged::prepare(std::slice::from_ref(&a2), &[], true).unwrap();
+            let seen = fs::read_to_string(&a2).unwrap();
+            out.write(&a2, |p| fs::write(p, "second")).unwrap();
+            out.commit(&[]).unwrap();
+            (refused, seen, names(&tmp2))
+        });
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        assert!(!second.is_finished(), "the second run waits");
+        assert_eq!(names(tmp.path()), [".a.seam-".to_string() + &format!("{}.partial", std::process::id()), LOCK.into()]);
+        first.commit(&[]).unwrap();
+        let (refused, seen, left) = second.join().unwrap();
+        let refused = refused.unwrap();
+        assert!(refused.ends_with("already exists; pass --force to overwrite it"), "{refused}");
+        assert_eq!(seen, "first");
+        assert_eq!(fs::read_to_string(&a).unwrap(), "second");
+        assert_eq!(left, ["a"]);
+        let waiting = format!(
+            "waiting for another seam run (pid {}) writing into {} to finish",
+            std::process::id(),
+            tmp.path().display()
+        );
+        assert!(HEARD.lock().unwrap().contains(&waiting), "{:?}", HEARD.lock().unwrap());
+    }
+}
