@@ -233,8 +233,11 @@ impl Staged {
     /// The journal of a commit: every written file and, with `--force`, every
     /// stale output that exists; checked (module doc).
     fn journal(&self, stale: &[PathBuf]) -> Result<Journal> {
-        let mut replaced: Vec<(&Path, Option<&Path>)> =
-            self.files.iter().map(|(temporary, target)| (target.as_path(), Some(temporary.as_path()))).collect();
+        let mut replaced: Vec<(&Path, Option<&Path>)> = self
+            .files
+            .iter()
+            .map(|(temporary, target)| (target.as_path(), Some(temporary.as_path())))
+            .collect();
         if self.force {
             replaced.extend(
                 stale
@@ -243,7 +246,8 @@ impl Staged {
                     .map(|p| (p.as_path(), None)),
             );
         }
-        let mut journal = Journal { version: 1, pid: std::process::id(), dirs: Vec::new(), files: Vec::new() };
+        let mut journal =
+            Journal { version: 1, pid: std::process::id(), dirs: Vec::new(), files: Vec::new() };
         for (target, temporary) in replaced {
             let exists = match fs::symlink_metadata(target) {
                 Err(_) => false,
@@ -305,7 +309,8 @@ impl Staged {
             self.steps.next()?;
             fs::rename(&target, backup).with_context(|| format!("cannot replace {}", target.display()))?;
         }
-        for (target, partial) in journal.files.iter().filter_map(|f| Some((f.target(dirs), f.partial(dirs)?))) {
+        for (target, partial) in journal.files.iter().filter_map(|f| Some((f.target(dirs), f.partial(dirs)?)))
+        {
             self.steps.next()?;
             fs::rename(partial, &target).with_context(|| format!("cannot write {}", target.display()))?;
         }
@@ -501,7 +506,8 @@ fn roll_back(journal: &Journal, steps: &mut Steps) -> Result<()> {
         match f.backup(&dirs) {
             Some(backup) if exists(&backup) => {
                 steps.next()?;
-                fs::rename(&backup, &target).with_context(|| format!("cannot restore {}", target.display()))?;
+                fs::rename(&backup, &target)
+                    .with_context(|| format!("cannot restore {}", target.display()))?;
             }
             Some(_) => {} // the old file never left
             None if partial.as_ref().is_some_and(|p| !exists(p)) && exists(&target) => {
@@ -528,7 +534,8 @@ fn finish(journal: &Journal, id: &str, dirs: &[PathBuf], marker: &Path, steps: &
         match f.partial(dirs) {
             Some(partial) if exists(&partial) => {
                 steps.next()?;
-                fs::rename(&partial, &target).with_context(|| format!("cannot write {}", target.display()))?;
+                fs::rename(&partial, &target)
+                    .with_context(|| format!("cannot write {}", target.display()))?;
             }
             Some(_) => {} // in place
             None if exists(&target) => {
@@ -740,14 +747,15 @@ impl DirLock {
         let unwritable = || format!("output directory {} is not writable", shown.display());
         let mut waited = false;
         loop {
-            let file = match OpenOptions::new().read(true).write(true).create(true).truncate(false).open(&path) {
-                Ok(file) => file,
-                // Another user's lock file in a shared directory.
-                Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied && path.exists() => {
-                    File::open(&path).with_context(unwritable)?
-                }
-                Err(e) => return Err(e).with_context(unwritable),
-            };
+            let file =
+                match OpenOptions::new().read(true).write(true).create(true).truncate(false).open(&path) {
+                    Ok(file) => file,
+                    // Another user's lock file in a shared directory.
+                    Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied && path.exists() => {
+                        File::open(&path).with_context(unwritable)?
+                    }
+                    Err(e) => return Err(e).with_context(unwritable),
+                };
             match file.try_lock() {
                 Ok(()) => {}
                 Err(TryLockError::WouldBlock) => {
@@ -770,7 +778,8 @@ impl DirLock {
             // The last holder removes the file before it unlocks: locked, but
             // no longer the directory's lock file, it is tried again.
             if still_named(&file, &path) {
-                let mut lock = DirLock { dir: dir.to_path_buf(), shown: shown.to_path_buf(), file, keep: false };
+                let mut lock =
+                    DirLock { dir: dir.to_path_buf(), shown: shown.to_path_buf(), file, keep: false };
                 let _ = lock.file.set_len(0).and_then(|()| writeln!(lock.file, "{}", std::process::id()));
                 return Ok(lock);
             }
@@ -1046,10 +1055,8 @@ mod tests {
     type Set = [(&'static str, &'static str)];
 
     fn set(root: &Path, files: &Set) -> Vec<(String, String)> {
-        let mut v: Vec<(String, String)> = files
-            .iter()
-            .map(|(n, t)| (Path::new(n).to_string_lossy().into_owned(), t.to_string()))
-            .collect();
+        let mut v: Vec<(String, String)> =
+            files.iter().map(|(n, t)| (Path::new(n).to_string_lossy().into_owned(), t.to_string())).collect();
         v.sort();
         let _ = root;
         v
@@ -1113,10 +1120,18 @@ mod tests {
             let pid = std::process::id();
             match at {
                 // Only temporary files: nothing to roll back.
-                1 => assert!(notices[0].ends_with(": 3 leftover files of interrupted runs removed"), "{notices:?}"),
-                2 => assert!(notices[0].contains(&format!("(seam pid {pid}) was rolled back")), "{notices:?}"),
+                1 => assert!(
+                    notices[0].ends_with(": 3 leftover files of interrupted runs removed"),
+                    "{notices:?}"
+                ),
+                2 => {
+                    assert!(notices[0].contains(&format!("(seam pid {pid}) was rolled back")), "{notices:?}")
+                }
                 // Only the marker, after the last journal: a leftover.
-                13 => assert!(notices[0].ends_with(": 1 leftover file of interrupted runs removed"), "{notices:?}"),
+                13 => assert!(
+                    notices[0].ends_with(": 1 leftover file of interrupted runs removed"),
+                    "{notices:?}"
+                ),
                 _ => assert!(notices[0].contains(&format!("(seam pid {pid}) was completed")), "{notices:?}"),
             }
             outcomes.push(at);
@@ -1136,7 +1151,10 @@ mod tests {
                 // Before the new set is in place (journal, marker, 6 renames): undone.
                 Err(e) => {
                     assert!(at <= 8, "step {at}: {e:#}");
-                    assert!(format!("{e:#}").contains("nothing was written and no file was changed"), "{e:#}");
+                    assert!(
+                        format!("{e:#}").contains("nothing was written and no file was changed"),
+                        "{e:#}"
+                    );
                     assert_eq!(contents(root, &[root]), set(root, OLD), "error at step {at}");
                 }
                 // In the clean-up: the new set, leftovers the next run removes.
@@ -1238,8 +1256,12 @@ mod tests {
                 root.display()
             )]
         );
-        let expected: &Set =
-            &[("a", "old a"), ("b", "new b"), ("notes.seam-1.old", "a user's file"), (".hidden", "a user's file")];
+        let expected: &Set = &[
+            ("a", "old a"),
+            ("b", "new b"),
+            ("notes.seam-1.old", "a user's file"),
+            (".hidden", "a user's file"),
+        ];
         assert_eq!(contents(root, &[root]), set(root, expected));
         assert_eq!(next_run(root, None).unwrap(), Vec::<String>::new(), "nothing left to recover");
     }
@@ -1251,8 +1273,14 @@ mod tests {
         for name in [".seam-write-probe-7", ".seam-7-0.journal", ".seam-7-3.commit"] {
             assert_eq!(Leftover::of(name), Some(Leftover::Other), "{name}");
         }
-        for name in [LOCK, ".seam-7.journal", ".B.mtx.seam-.old", "..seam-12.old", "B.seam-1.old", ".x.seam-1a.partial"]
-        {
+        for name in [
+            LOCK,
+            ".seam-7.journal",
+            ".B.mtx.seam-.old",
+            "..seam-12.old",
+            "B.seam-1.old",
+            ".x.seam-1a.partial",
+        ] {
             assert_eq!(Leftover::of(name), None, "{name}");
         }
     }
@@ -1269,7 +1297,8 @@ mod tests {
         first.write(&a, |p| fs::write(p, "first")).unwrap();
         let (a2, tmp2) = (a.clone(), tmp.path().to_path_buf());
         let second = std::thread::spawn(move || {
-            let refused = Staged::prepare(std::slice::from_ref(&a2), &[], false).err().map(|e| format!("{e:#}"));
+            let refused =
+                Staged::prepare(std::slice::from_ref(&a2), &[], false).err().map(|e| format!("{e:#}"));
             let mut out = Staged::prepare(std::slice::from_ref(&a2), &[], true).unwrap();
             let seen = fs::read_to_string(&a2).unwrap();
             out.write(&a2, |p| fs::write(p, "second")).unwrap();
@@ -1278,7 +1307,10 @@ mod tests {
         });
         std::thread::sleep(std::time::Duration::from_millis(300));
         assert!(!second.is_finished(), "the second run waits");
-        assert_eq!(names(tmp.path()), [".a.seam-".to_string() + &format!("{}.partial", std::process::id()), LOCK.into()]);
+        assert_eq!(
+            names(tmp.path()),
+            [".a.seam-".to_string() + &format!("{}.partial", std::process::id()), LOCK.into()]
+        );
         first.commit(&[]).unwrap();
         let (refused, seen, left) = second.join().unwrap();
         let refused = refused.unwrap();
