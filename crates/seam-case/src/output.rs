@@ -199,6 +199,7 @@ impl Staged {
         let marker = dirs[0].join(format!(".seam-{id}.commit"));
         if let Err(e) = self.begin(&journal, &id, &dirs, &marker) {
             if !self.steps.killed() {
+                let _ = fs::remove_file(&marker);
                 for dir in &dirs {
                     let _ = fs::remove_file(dir.join(journal_name(&id)));
                 }
@@ -217,7 +218,7 @@ impl Staged {
             return Err(match undone {
                 Ok(()) => e.context("nothing was written and no file was changed"),
                 Err(u) => e.context(format!(
-                    "nothing was written, but the old files could not all be put back ({}): the next seam run writing into {} puts them back",
+                    "the old files could not all be put back ({}): the next seam run writing into {} recovers a whole set",
                     crate::solve::one_line(&u),
                     dirs[0].display()
                 )),
@@ -674,7 +675,7 @@ fn remove_leftovers(dir: &Path, steps: &mut Steps, recovered: &mut Recovered) ->
             None => {}
         }
     }
-    backups.sort_by(|a, b| b.0.cmp(&a.0)); // newest first
+    backups.sort_by_key(|b| std::cmp::Reverse(b.0)); // newest first
     for (_, original, backup) in backups {
         steps.next()?;
         let target = dir.join(&original);
