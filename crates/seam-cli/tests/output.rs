@@ -36,7 +36,15 @@ fn two_cases(root: &Path, n: usize) {
     }
 }
 
-/// `seam solve VARIANT/case.toml --force` in `root`, started.
+/// A scratch directory with the [`two_cases`] of size `n` and their results.
+fn scene(n: usize) -> (tempfile::TempDir, Reference) {
+    let tmp = tempfile::tempdir().unwrap();
+    two_cases(tmp.path(), n);
+    let reference = Reference::new(tmp.path());
+    (tmp, reference)
+}
+
+/// `seam solve VARIANT/case.toml [--force]` in `root`, started.
 fn start(root: &Path, variant: &str, force: bool) -> Child {
     let case = format!("{variant}/case.toml");
     let mut args = vec!["solve", &case, "--threads", "1"];
@@ -109,11 +117,8 @@ impl Reference {
 /// nothing hidden; and it says so in one line when it recovered something.
 #[test]
 fn solve_killed_at_any_moment_leaves_a_whole_set_after_the_next_run() {
-    let tmp = tempfile::tempdir().unwrap();
-    let root = tmp.path();
-    two_cases(root, 8);
-    let reference = Reference::new(root);
-    let out = root.join("out");
+    let (tmp, reference) = scene(8);
+    let (root, out) = (tmp.path(), tmp.path().join("out"));
     // The time of a whole run (the shortest of three), for the kill moments.
     let mut whole = Duration::MAX;
     for _ in 0..3 {
@@ -173,11 +178,8 @@ fn solve_killed_at_any_moment_leaves_a_whole_set_after_the_next_run() {
 /// first one's whole set. With `--force`, both succeed one after the other.
 #[test]
 fn two_runs_into_one_directory_never_both_replace_it_unseen() {
-    let tmp = tempfile::tempdir().unwrap();
-    let root = tmp.path();
-    two_cases(root, 6);
-    let reference = Reference::new(root);
-    let out = root.join("out");
+    let (tmp, reference) = scene(6);
+    let (root, out) = (tmp.path(), tmp.path().join("out"));
     for round in 0..3 {
         fs::remove_dir_all(&out).unwrap();
         let (a, b) = (start(root, "a", false), start(root, "b", false));
@@ -205,11 +207,8 @@ fn two_runs_into_one_directory_never_both_replace_it_unseen() {
 /// another `seam` holds it (`flock` on `out/.seam.lock`).
 #[test]
 fn a_run_waits_for_the_lock_with_one_line_then_writes() {
-    let tmp = tempfile::tempdir().unwrap();
-    let root = tmp.path();
-    two_cases(root, 4);
-    let reference = Reference::new(root);
-    let out = root.join("out");
+    let (tmp, reference) = scene(4);
+    let (root, out) = (tmp.path(), tmp.path().join("out"));
     let lock_path = out.join(".seam.lock");
     let lock = fs::File::create(&lock_path).unwrap();
     lock.lock().unwrap();
