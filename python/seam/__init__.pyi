@@ -19,6 +19,7 @@ __all__ = [
     "MortarError",
     "MshError",
     "NoOverlapError",
+    "OutputWarning",
     "Solution",
     "SolveError",
     "__version__",
@@ -53,6 +54,10 @@ class NoOverlapError(MortarError):
 
 class FactorizationError(MortarError):
     """D restricted to the covered slave nodes is not positive definite."""
+
+class OutputWarning(UserWarning):
+    """A notice about an output directory: ``Solution.write`` waits for another
+    run writing into it, or recovered what an interrupted run left there."""
 
 @final
 class Mesh:
@@ -317,7 +322,11 @@ class Solution:
     def interfaces(self) -> list:
         """Per interface in case order: ``.master``, ``.slave``, ``.kind`` and its point fields."""
     def write(self, dir: Union[str, "os.PathLike[str]"], force: bool = False) -> dict:
-        """Writes the files of ``seam solve`` into ``dir``; returns the summary written."""
+        """Writes the files of ``seam solve`` into ``dir``; returns the summary written.
+
+        Waits for another run writing into ``dir``, and first recovers what an
+        interrupted run left there: each said in a ``seam.OutputWarning``.
+        """
 
 def solve(
     case: Union[str, "os.PathLike[str]", dict],

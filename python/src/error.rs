@@ -12,14 +12,17 @@
 //! | `seam_case::CheckError` | as its `MortarError` |
 //! | `seam_case::solve::SolveFailure` | `seam.SolveError` (a `ValueError`) |
 //!
-//! Messages are the Rust `Display` text, unchanged.
+//! Messages are the Rust `Display` text, unchanged. The notices of output
+//! directories (`seam_case::output`: waiting for another run writing there,
+//! what was recovered from an interrupted one) are `seam.OutputWarning`s
+//! ([`warn_notice`]).
 
 use pyo3::create_exception;
 use pyo3::exceptions::{
     PyFileNotFoundError, PyIsADirectoryError, PyNotADirectoryError, PyOSError, PyPermissionError,
-    PyValueError,
+    PyUserWarning, PyValueError,
 };
-use pyo3::PyErr;
+use pyo3::{PyErr, Python};
 use seam::MortarError as CoreMortarError;
 use seam_io::MshErrorKind;
 use std::io::ErrorKind;
@@ -58,6 +61,24 @@ create_exception!(
     PyValueError,
     "`seam.solve` could not solve the case or write its results (the one-line message of `seam solve`)."
 );
+
+create_exception!(
+    seam,
+    OutputWarning,
+    PyUserWarning,
+    "A notice about an output directory: `write` waits for another run writing into it, or \
+     recovered what an interrupted run left there (the one line `seam` prints on stderr)."
+);
+
+/// Issues a notice of an output directory as a `seam.OutputWarning` (a
+/// warning that the filters turn into an error cannot interrupt the write:
+/// it is dropped).
+pub fn warn_notice(line: &str) {
+    Python::attach(|py| {
+        let message = std::ffi::CString::new(line.replace('\0', "")).unwrap_or_default();
+        let _ = PyErr::warn(py, &py.get_type::<OutputWarning>(), &message, 1);
+    });
+}
 
 /// `seam.MeshError` with the message of `e`.
 pub fn mesh_error(e: seam::MeshError) -> PyErr {

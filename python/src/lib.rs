@@ -8,7 +8,7 @@
 //! | `seam.check` | [`seam_case::check()`], its report through `json.loads` |
 //! | `seam.Mortar` | [`seam::Mortar`] + its [`seam::Transfer`] ([`mortar::PyMortar`]) |
 //! | `seam.solve`, `seam.Solution` | [`seam_case::solve`], GIL released ([`solve::PySolution`]) |
-//! | exceptions | [`error`] |
+//! | exceptions, `seam.OutputWarning` | [`error`] |
 #![forbid(unsafe_code)]
 
 mod check;
@@ -37,6 +37,8 @@ fn _seam(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("NoOverlapError", py.get_type::<error::NoOverlapError>())?;
     m.add("FactorizationError", py.get_type::<error::FactorizationError>())?;
     m.add("SolveError", py.get_type::<error::SolveError>())?;
+    m.add("OutputWarning", py.get_type::<error::OutputWarning>())?;
+    seam_case::output::set_notice_handler(error::warn_notice);
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -109,6 +109,10 @@ impl PySolution {
     /// summary.json last, all-or-nothing. Existing files are only replaced
     /// with `force`. Returns the summary written, a dict.
     ///
+    /// While another run (a `seam` process, another thread) writes into
+    /// `dir`, this one waits for it; what an interrupted run left there is
+    /// recovered first. Each is said in a `seam.OutputWarning`.
+    ///
     /// Raises:
     ///     SolveError: an output exists without force, or cannot be written.
     #[pyo3(signature = (dir, force = false))]

@@ -133,6 +133,23 @@ def test_rtol_is_that_of_seam_solve(example, tmp_path):
         seam.solve(example / "case.toml", solver="pcg", rtol=2.0)
 
 
+def test_write_recovers_what_an_interrupted_run_left_with_one_warning(example, tmp_path):
+    solution = seam.solve(example / "case.toml")
+    out = tmp_path / "out"
+    solution.write(out)
+    written = sorted(p.name for p in out.iterdir())
+    # What a killed run leaves: a temporary file, a write probe, its lock file.
+    (out / ".summary.json.seam-99999.partial").write_text("half")
+    (out / ".seam-write-probe-99999").write_text("")
+    (out / ".seam.lock").write_text("99999\n")
+    with pytest.warns(seam.OutputWarning) as heard:
+        solution.write(out, force=True)
+    assert [str(w.message) for w in heard] == [
+        f"recovered {out}: 2 leftover files of interrupted runs removed"
+    ]
+    assert sorted(p.name for p in out.iterdir()) == written
+
+
 def test_write_refuses_existing_files_without_force(example, tmp_path):
     solution = seam.solve(example / "case.toml")
     solution.write(tmp_path / "out")

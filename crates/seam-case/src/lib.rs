@@ -9,7 +9,8 @@
 //! | worker threads (`--threads`, `threads=`) | [`threads`] | at least 1, at most a few per core |
 //!
 //! And the pipeline of `seam solve` and `seam.solve`: [`solve`] reads the
-//! meshes of a checked case, solves it and writes its results all-or-nothing
+//! meshes of a checked case, solves it and writes its results all-or-nothing,
+//! one run at a time per directory and recovered after a kill
 //! ([`output::Staged`]). The file-level pipelines of `seam assemble`
 //! ([`assemble`]) and `seam transfer` ([`transfer`]), on surfaces read with
 //! their fields ([`input`]).

@@ -7,7 +7,10 @@
 //! Exit codes: 0 = success; 1 = ran, but the meshes do not couple (no overlap;
 //! for `solve`, an interface whose surfaces do not meet);
 //! 2 = error (bad input, unwritable output, …); 3 = `check --strict` found
-//! incomplete coverage or a violated invariant. Errors are one line on stderr.
+//! incomplete coverage or a violated invariant. Errors are one line on stderr,
+//! and so are the notices of the output directories (waiting for another run
+//! writing there, what was recovered from an interrupted one;
+//! [`seam_case::output`]).
 #![forbid(unsafe_code)]
 
 mod args;
@@ -29,6 +32,8 @@ use std::process::ExitCode;
 pub use seam_case::Failure;
 
 fn main() -> ExitCode {
+    // Waiting for another run, or recovering an interrupted one: one line each.
+    seam_case::output::set_notice_handler(|line| eprintln!("seam: {line}"));
     #[cfg(feature = "mpi")]
     let ranks = match ranks::Ranks::initialize() {
         Ok(ranks) => ranks,
