@@ -51,10 +51,11 @@
 //! overwritten without `--force`, and an input never.
 
 use anyhow::{anyhow, bail, Context, Result};
+use fs4::{FileExt, TryLockError};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
 use std::ffi::{OsStr, OsString};
-use std::fs::{self, File, OpenOptions, TryLockError};
+use std::fs::{self, File, OpenOptions};
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -757,7 +758,8 @@ impl DirLock {
                     }
                     Err(e) => return Err(e).with_context(unwritable),
                 };
-            match file.try_lock() {
+            // fs4's trait, not std's File::try_lock (Rust 1.89; seam builds with 1.85).
+            match FileExt::try_lock(&file) {
                 Ok(()) => {}
                 Err(TryLockError::WouldBlock) => {
                     if !waited {
@@ -770,7 +772,7 @@ impl DirLock {
                         notify(notices, line);
                         waited = true;
                     }
-                    file.lock().with_context(|| format!("cannot lock {}", path.display()))?;
+                    FileExt::lock(&file).with_context(|| format!("cannot lock {}", path.display()))?;
                 }
                 Err(TryLockError::Error(e)) => {
                     return Err(e).with_context(|| format!("cannot lock {}", path.display()))
