@@ -132,7 +132,7 @@ pub struct Summary {
     /// The interfaces' multiplier when they share one, "mixed" otherwise,
     /// "none" without interfaces.
     pub multiplier: String,
-    /// Degrees of freedom (3 per mesh point).
+    /// Degrees of freedom (3 per mesh point that some cell uses).
     pub dofs: usize,
     /// Constraint rows.
     pub constraints: usize,
@@ -295,7 +295,7 @@ pub struct BodySummary {
     pub points: usize,
     /// Mesh cells.
     pub cells: usize,
-    /// Degrees of freedom (3 per mesh point).
+    /// Degrees of freedom (3 per mesh point that some cell uses).
     pub dofs: usize,
     /// Young's modulus.
     pub young: f64,
@@ -841,7 +841,10 @@ fn read_body(case: &Case, b: &crate::Body) -> anyhow::Result<ProblemBody> {
     let surfaces = referenced_surfaces(case, &b.name)
         .into_iter()
         .map(|s| {
-            let surface = msh.surface(Some(&s)).map_err(|e| e.with_path(&path)).with_context(what)?;
+            let surface = msh
+                .surface_of_volume(&s, b.volume.as_deref())
+                .map_err(|e| e.with_path(&path))
+                .with_context(what)?;
             Ok((s, surface))
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
@@ -1146,7 +1149,7 @@ fn summary(
                 file: file_name(&names.bodies[b]),
                 points: body.mesh.points().len(),
                 cells: body.mesh.cells().len(),
-                dofs: 3 * body.mesh.points().len(),
+                dofs: 3 * body.mesh.used_points().into_iter().filter(|&u| u).count(),
                 young: body.material.young(),
                 poisson: body.material.poisson(),
                 supported: problem.supports.iter().any(|s| s.boundary.body == b),

@@ -563,6 +563,18 @@ impl VolumeMesh {
         &self.cells
     }
 
+    /// Which points some cell uses (`true`); the others (nodes of a file's
+    /// other volumes, say) carry no unknowns.
+    pub fn used_points(&self) -> Vec<bool> {
+        let mut used = vec![false; self.points.len()];
+        for cell in &self.cells {
+            for &n in cell.nodes() {
+                used[n] = true;
+            }
+        }
+        used
+    }
+
     /// The boundary: every cell face that belongs to exactly one cell, oriented
     /// with its normal pointing out of that cell. Points keep their numbering.
     ///

@@ -216,6 +216,18 @@ pub enum MshErrorKind {
         /// What was selected, for example `physical group "top" (2)`.
         selection: String,
     },
+    /// A face of a surface has a node that no cell of the selected volume has.
+    #[error("element {element_tag} of {surface} is not on {volume}: its node {node_tag} is in no cell of that volume")]
+    NotOnVolume {
+        /// The surface's group, for example `physical group "top" (2)`.
+        surface: String,
+        /// The volume's group.
+        volume: String,
+        /// The Gmsh tag of the face.
+        element_tag: u64,
+        /// The Gmsh tag of the node.
+        node_tag: u64,
+    },
     /// The selection has no volume cells.
     #[error("no volume cells found in {selection}")]
     NoCells {
