@@ -9,7 +9,7 @@ use pyo3::types::{PyDict, PyList};
 use seam_case::solve::{LinearSolver, SolveFailure, SolveOptions, Solved};
 use seam_case::Case;
 
-use crate::error::SolveError;
+use crate::error::{detach, guard, Entry, SolveError};
 use crate::mortar::thread_pool;
 
 /// A solved case: `summary`, `bodies`, `interfaces` and `write`.
@@ -113,7 +113,7 @@ impl PySolution {
     ///     SolveError: an output exists without force, or cannot be written.
     #[pyo3(signature = (dir, force = false))]
     fn write<'py>(&self, py: Python<'py>, dir: PathBuf, force: bool) -> PyResult<Bound<'py, PyAny>> {
-        let summary = py.detach(|| self.inner.write(&dir, force)).map_err(solve_error)?;
+        let summary = detach(py, Entry::Solve, || self.inner.write(&dir, force))?.map_err(solve_error)?;
         let json = serde_json::to_string(&summary).map_err(|e| {
             pyo3::exceptions::PyValueError::new_err(format!("cannot convert the summary: {e}"))
         })?;
@@ -170,8 +170,10 @@ pub fn solve(
         }
     };
     match (solver, petsc_options) {
-        (LinearSolver::Petsc, options) => seam_case::solve::initialize_petsc(options.unwrap_or(""))
-            .map_err(|e| SolveError::new_err(format!("solver=\"petsc\": {e}")))?,
+        (LinearSolver::Petsc, options) => {
+            guard(Entry::Solve, || seam_case::solve::initialize_petsc(options.unwrap_or("")))?
+                .map_err(|e| SolveError::new_err(format!("solver=\"petsc\": {e}")))?
+        }
         (_, Some(_)) => {
             return Err(pyo3::exceptions::PyValueError::new_err("petsc_options needs solver=\"petsc\""))
         }
@@ -197,11 +199,10 @@ pub fn solve(
             }
         }
     };
-    let solved = py
-        .detach(|| match &pool {
-            Some(pool) => pool.install(run),
-            None => run(),
-        })
-        .map_err(solve_error)?;
+    let solved = detach(py, Entry::Solve, || match &pool {
+        Some(pool) => pool.install(run),
+        None => run(),
+    })?
+    .map_err(solve_error)?;
     Ok(PySolution { inner: solved })
 }

@@ -197,3 +197,18 @@ def test_mesh_properties_are_read_only():
     mesh = seam.Mesh(*square())
     with pytest.raises(AttributeError):
         mesh.points = POINTS
+
+
+@pytest.mark.parametrize(
+    "entry, cls",
+    [("mesh", seam.MeshError), ("read_mesh", seam.MshError), ("mortar", seam.MortarError), ("solve", seam.SolveError)],
+)
+def test_a_panic_in_the_library_is_the_entry_points_exception(entry, cls):
+    """A bug that panics in Rust raises the entry point's class (an
+    `Exception`, which pyo3's PanicException is not) with the panic's message."""
+    from seam import _seam
+
+    with pytest.raises(Exception) as info:
+        _seam._panic_in(entry)
+    assert type(info.value) is cls
+    assert str(info.value) == "internal error in seam (a bug; please report it with the input): a panic forced by a test"
