@@ -330,7 +330,22 @@ const CATALOGUE: &[Expectation] = &[
     ),
     ("transfer ex/master.msh ex/slave.msh -o t.vtu --expr 1/(x-x)", 2, &["is inf at node"]),
     ("transfer ex/master.msh ex/slave.msh -o t.vtu --expr x+w", 2, &["uses 'w'; only x, y and z are known"]),
-    ("transfer ex/master.msh ex/slave.msh -o t.vtu --expr sin(x", 2, &["does not parse"]),
+    (
+        "transfer ex/master.msh ex/slave.msh -o t.vtu --expr sin(x",
+        2,
+        &["does not parse at character 4: this '(' is never closed"],
+    ),
+    (
+        "transfer ex/master.msh ex/slave.msh -o t.vtu --expr 1e999*x",
+        2,
+        &["the number 1e999, beyond double precision"],
+    ),
+    (
+        "transfer ex/master.msh ex/slave.msh -o t.vtu --expr foo(x)",
+        2,
+        &["calls 'foo', which is not a known function; the functions are abs, signum, sin"],
+    ),
+    ("transfer ex/master.msh ex/slave.msh -o t.vtu --expr 2x", 2, &["missing operator between '2' and 'x'"]),
     (
         "transfer ex/master.msh ex/slave.msh -o t.vtu --field temperature",
         2,
@@ -364,6 +379,11 @@ const CATALOGUE: &[Expectation] = &[
     ("solve contact_standard.toml", 2, &["contact needs multiplier \"lumped\""]),
     ("solve case.toml --threads 100000", 2, &["more than 4 per core"]),
     ("solve case.toml --rtol -1", 2, &["--rtol -1 must lie in (0, 1)"]),
+    (
+        "solve case.toml --rtol 1e-300 --solver pcg",
+        2,
+        &["--rtol 1e-300 is below what double precision can reach", "use 1e-14 or more"],
+    ),
     ("example operator -o ex", 2, &["already exists; pass --force"]),
 ];
 
