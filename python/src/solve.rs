@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use numpy::ndarray::Array2;
 use numpy::{PyArray1, ToPyArray};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyFloat, PyList, PyTuple};
 use seam_case::solve::{LinearSolver, SolveFailure, SolveOptions, Solved};
 use seam_case::Case;
 
@@ -126,6 +126,32 @@ impl PySolution {
     }
 }
 
+/// The first float that is not finite in `value` (dicts and lists looked
+/// into), as "`path`: inf is not a finite number", the path written as
+/// `body[0].young`.
+fn non_finite(value: &Bound<'_, PyAny>, path: &str) -> PyResult<Option<String>> {
+    if let Ok(x) = value.cast::<PyFloat>() {
+        let x = x.value();
+        return Ok((!x.is_finite()).then(|| format!("{path}: {x} is not a finite number")));
+    }
+    if let Ok(dict) = value.cast::<PyDict>() {
+        for (key, item) in dict.iter() {
+            let key = key.str()?.to_string();
+            let path = if path.is_empty() { key } else { format!("{path}.{key}") };
+            if let Some(problem) = non_finite(&item, &path)? {
+                return Ok(Some(problem));
+            }
+        }
+    } else if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
+        for (i, item) in value.try_iter()?.enumerate() {
+            if let Some(problem) = non_finite(&item?, &format!("{path}[{i}]"))? {
+                return Ok(Some(problem));
+            }
+        }
+    }
+    Ok(None)
+}
+
 /// Solves a case as `seam solve` does, without writing anything.
 ///
 /// Args:
@@ -183,6 +209,10 @@ pub fn solve(
     let pool = thread_pool(threads)?;
     let source = match case.cast::<PyDict>() {
         Ok(dict) => {
+            // JSON has no inf or NaN: name the field that holds one.
+            if let Some(problem) = non_finite(dict.as_any(), "")? {
+                return Err(SolveError::new_err(format!("case dict: {problem}")));
+            }
             let json: String = py.import("json")?.call_method1("dumps", (dict,))?.extract()?;
             Err(json)
         }
