@@ -12,8 +12,8 @@
 //! until ‖r‖₂ ≤ rtol ‖b‖₂. The recursively updated r drifts from b − A x in
 //! floating point, so convergence is confirmed with the true residual (and the
 //! iteration restarted from it if that check fails). When a restart no longer
-//! halves the true residual, round-off holds it above rtol: the iteration
-//! stops (`stagnated`) rather than spend its iterations there.
+//! lowers the true residual, or has failed too often, round-off holds it above
+//! rtol: the iteration stops (`stagnated`) rather than spend its iterations there.
 //!
 //! [`solve_pcg`] applies it to K u = f with Dirichlet conditions: on the free
 //! dofs F it solves K_FF u_F = f_F − K_FD ū_D, written in the full dof space as
@@ -33,6 +33,11 @@
 use crate::solve::{Dirichlet, SolveError};
 use rayon::prelude::*;
 use seam::CsrMatrix;
+
+/// The failed confirmations (recursive residual below rtol, true one above)
+/// after which [`pcg`] stops as stagnated, as it does at the first that does
+/// not lower the true residual.
+const MAX_FAILED_CONFIRMATIONS: usize = 8;
 
 /// Chunk length of the deterministic parallel reductions and updates.
 const CHUNK: usize = 4096;
@@ -144,8 +149,8 @@ pub fn pcg(
         breakdown,
         stagnated,
     };
-    // The true residual of the last failed confirmation.
-    let mut confirmed = f64::INFINITY;
+    // The true residual of the last failed confirmation, and their number.
+    let (mut confirmed, mut failed) = (f64::INFINITY, 0);
     loop {
         if res.is_nan() || rz < 0.0 || rz.is_nan() {
             return report(iterations, res, false, true, false);
@@ -156,7 +161,8 @@ pub fn pcg(
             if res_true <= rtol {
                 return report(iterations, res_true, true, false, false);
             }
-            if res_true > 0.5 * confirmed {
+            failed += 1;
+            if res_true >= confirmed || failed > MAX_FAILED_CONFIRMATIONS {
                 return report(iterations, res_true.min(confirmed), false, false, true);
             }
             confirmed = res_true;
