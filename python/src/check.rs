@@ -6,7 +6,7 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-use crate::error::{check_error, msh_error};
+use crate::error::{check_error, detach, msh_error, Entry};
 use crate::mesh::MeshArg;
 use crate::mortar::Coupling;
 
@@ -16,7 +16,8 @@ use crate::mortar::Coupling;
 fn side<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<(MeshArg<'py>, String)> {
     match obj.extract::<PathBuf>() {
         Ok(path) => {
-            let mesh = obj.py().detach(|| seam_io::read_surface_file(&path, None)).map_err(msh_error)?;
+            let mesh = detach(obj.py(), Entry::ReadMesh, || seam_io::read_surface_file(&path, None))?
+                .map_err(msh_error)?;
             Ok((MeshArg::Built(mesh), path.display().to_string()))
         }
         Err(_) => match MeshArg::extract(obj, what) {
@@ -86,7 +87,7 @@ pub fn check<'py>(
         .run(py, |options| {
             let check = seam_case::check(m, s, options, (&master_name, &slave_name))?;
             Ok(serde_json::to_string(&check.report))
-        })
+        })?
         .map_err(check_error)?
         .map_err(|e| PyValueError::new_err(format!("cannot convert the report: {e}")))?;
     // json.loads: exactly what a script reading `seam check --json` gets.

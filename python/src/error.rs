@@ -11,10 +11,14 @@
 //! | `MortarError::NonFinite` | `seam.MortarError` |
 //! | `seam_case::CheckError` | as its `MortarError` |
 //! | `seam_case::solve::SolveFailure` | `seam.SolveError` (a `ValueError`) |
+//! | a panic (a bug) in the library | the entry point's class ([`Entry`]) |
 //!
-//! Messages are the Rust `Display` text, unchanged. The notices of output
-//! directories (`seam_case::output`: waiting for another run writing there,
-//! what was recovered from an interrupted one) are `seam.OutputWarning`s
+//! Messages are the Rust `Display` text, unchanged. Every call into the
+//! library goes through [`detach`] or [`guard`], so that a panic reaches Python
+//! as an exception `except Exception` catches, not as pyo3's
+//! `PanicException` (a `BaseException`). The notices of output directories
+//! (`seam_case::output`: waiting for another run writing there, what was
+//! recovered from an interrupted one) are `seam.OutputWarning`s
 //! ([`warn_notice`]).
 
 use pyo3::create_exception;
@@ -22,10 +26,12 @@ use pyo3::exceptions::{
     PyFileNotFoundError, PyIsADirectoryError, PyNotADirectoryError, PyOSError, PyPermissionError,
     PyUserWarning, PyValueError,
 };
-use pyo3::{PyErr, Python};
+use pyo3::{PyErr, PyResult, Python};
 use seam::MortarError as CoreMortarError;
 use seam_io::MshErrorKind;
+use std::any::Any;
 use std::io::ErrorKind;
+use std::panic::{catch_unwind, AssertUnwindSafe};
 
 create_exception!(
     seam,
@@ -135,4 +141,73 @@ pub fn msh_error(e: seam_io::MshError) -> PyErr {
         ErrorKind::NotADirectory => os_error!(PyNotADirectoryError),
         _ => os_error!(PyOSError),
     }
+}
+
+/// Which kind of call into the library: the class a panic in it becomes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Entry {
+    /// Building a mesh (`seam.Mesh`, tuples): `seam.MeshError`.
+    Mesh,
+    /// Reading an MSH file: `seam.MshError`.
+    ReadMesh,
+    /// Assembling, checking or applying an operator: `seam.MortarError`.
+    Mortar,
+    /// Solving a case or writing its results: `seam.SolveError`.
+    Solve,
+}
+
+impl Entry {
+    /// The entry named `name` ("mesh", "read_mesh", "mortar", "solve").
+    pub fn named(name: &str) -> Option<Entry> {
+        [
+            ("mesh", Entry::Mesh),
+            ("read_mesh", Entry::ReadMesh),
+            ("mortar", Entry::Mortar),
+            ("solve", Entry::Solve),
+        ]
+        .into_iter()
+        .find_map(|(n, e)| (n == name).then_some(e))
+    }
+
+    /// The exception of a panic with `payload` in this entry.
+    pub fn panic_error(self, payload: &(dyn Any + Send)) -> PyErr {
+        let message = panic_message(payload);
+        match self {
+            Entry::Mesh => MeshError::new_err(message),
+            Entry::ReadMesh => MshError::new_err(message),
+            Entry::Mortar => MortarError::new_err(message),
+            Entry::Solve => SolveError::new_err(message),
+        }
+    }
+}
+
+/// The one-line message of a panic: what it said (a `&str` or `String`
+/// payload), marked as seam's bug.
+pub fn panic_message(payload: &(dyn Any + Send)) -> String {
+    let said = payload
+        .downcast_ref::<&str>()
+        .copied()
+        .or_else(|| payload.downcast_ref::<String>().map(String::as_str))
+        .unwrap_or("(no message)");
+    let first = said.lines().next().unwrap_or_default();
+    format!("internal error in seam (a bug; please report it with the input): {first}")
+}
+
+/// `f()`, a panic in it turned into `entry`'s exception.
+pub fn guard<T>(entry: Entry, f: impl FnOnce() -> T) -> PyResult<T> {
+    catch_unwind(AssertUnwindSafe(f)).map_err(|payload| entry.panic_error(&*payload))
+}
+
+/// `_seam._panic_in(entry)`, for the tests: panics inside [`detach`] as a
+/// call into the library of `entry` ("mesh", "read_mesh", "mortar",
+/// "solve") would, and raises what that call raises then.
+#[pyo3::pyfunction]
+pub fn _panic_in(py: Python<'_>, entry: &str) -> PyResult<()> {
+    let entry = Entry::named(entry).ok_or_else(|| PyValueError::new_err(format!("no entry {entry:?}")))?;
+    detach(py, entry, || -> () { panic!("a panic forced by a test\nsecond line") })
+}
+
+/// `f()` with the GIL released, a panic in it turned into `entry`'s exception.
+pub fn detach<T: Send>(py: Python<'_>, entry: Entry, f: impl FnOnce() -> T + Send) -> PyResult<T> {
+    py.detach(|| catch_unwind(AssertUnwindSafe(f))).map_err(|payload| entry.panic_error(&*payload))
 }

@@ -30,6 +30,7 @@ fn _seam(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<solve::PySolution>()?;
     m.add_function(wrap_pyfunction!(check::check, m)?)?;
     m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
+    m.add_function(wrap_pyfunction!(error::_panic_in, m)?)?;
     m.add("MeshError", py.get_type::<error::MeshError>())?;
     m.add("MshError", py.get_type::<error::MshError>())?;
     m.add("MortarError", py.get_type::<error::MortarError>())?;

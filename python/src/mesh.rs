@@ -10,7 +10,7 @@ use pyo3::types::PyTuple;
 use seam::{Face, SurfaceMesh};
 
 use crate::convert::{faces_from, index_rows, points_from, short};
-use crate::error::{mesh_error, msh_error};
+use crate::error::{detach, mesh_error, msh_error, Entry};
 
 /// A surface mesh of linear triangles and bilinear quadrilaterals (quads
 /// possibly warped) and their second-order (curved) versions: 6-node triangles
@@ -58,7 +58,7 @@ pub fn mesh_from_arrays(
 ) -> PyResult<SurfaceMesh> {
     let points = points_from(points)?;
     let faces = faces_from(faces)?;
-    py.detach(|| SurfaceMesh::new(points, faces)).map_err(mesh_error)
+    detach(py, Entry::Mesh, || SurfaceMesh::new(points, faces))?.map_err(mesh_error)
 }
 
 /// The same exception, its message prefixed by `what: ` (which side is wrong).
@@ -269,5 +269,7 @@ pub fn read_mesh(py: Python<'_>, path: PathBuf, group: Option<&Bound<'_, PyAny>>
             },
         },
     };
-    py.detach(|| seam_io::read_surface_file(&path, group.as_deref())).map(PyMesh::from).map_err(msh_error)
+    detach(py, Entry::ReadMesh, || seam_io::read_surface_file(&path, group.as_deref()))?
+        .map(PyMesh::from)
+        .map_err(msh_error)
 }

@@ -9,7 +9,7 @@ use pyo3::types::PyDict;
 use seam::{Facing, MaxGap, MortarOptions, Multiplier, Transfer};
 
 use crate::convert::{csr_matrix, finite, nodal_values_from, nodal_values_into, short};
-use crate::error::mortar_error;
+use crate::error::{detach, mortar_error, Entry};
 use crate::mesh::MeshArg;
 
 /// A scalar of the summary (numbers; anything else as its JSON text).
@@ -90,9 +90,10 @@ impl Coupling {
         Ok(Coupling { pool: thread_pool(threads)?, ..self })
     }
 
-    /// `f(options)` on the worker threads, the GIL released.
-    pub fn run<T: Send>(&self, py: Python<'_>, f: impl FnOnce(&MortarOptions) -> T + Send) -> T {
-        py.detach(|| match &self.pool {
+    /// `f(options)` on the worker threads, the GIL released; a panic becomes
+    /// `seam.MortarError`.
+    pub fn run<T: Send>(&self, py: Python<'_>, f: impl FnOnce(&MortarOptions) -> T + Send) -> PyResult<T> {
+        detach(py, Entry::Mortar, || match &self.pool {
             Some(pool) => pool.install(|| f(&self.options)),
             None => f(&self.options),
         })
@@ -150,7 +151,7 @@ pub fn assemble(
     let slave = MeshArg::extract(slave, "slave")?;
     let coupling = coupling.on_threads(threads)?;
     let (m, s) = (master.get(), slave.get());
-    let mortar = coupling.run(py, |options| seam::assemble(m, s, options)).map_err(mortar_error)?;
+    let mortar = coupling.run(py, |options| seam::assemble(m, s, options))?.map_err(mortar_error)?;
     Ok(PyMortar::from(mortar))
 }
 
@@ -183,7 +184,7 @@ impl PyMortar {
         if let Some(t) = self.transfer.get() {
             return Ok(t);
         }
-        let t = py.detach(|| self.inner.transfer()).map_err(mortar_error)?;
+        let t = detach(py, Entry::Mortar, || self.inner.transfer())?.map_err(mortar_error)?;
         Ok(self.transfer.get_or_init(|| t))
     }
 }
@@ -235,7 +236,7 @@ impl PyMortar {
         let (v, k) = nodal_values_from(values, "values", cols, "master point")?;
         let t = self.transfer_operator(py)?;
         let width = k.unwrap_or(1);
-        let out = if width == 0 { Vec::new() } else { py.detach(|| t.apply(&v, width)) };
+        let out = if width == 0 { Vec::new() } else { detach(py, Entry::Mortar, || t.apply(&v, width))? };
         finite(&out, "the result", k, "slave point")?;
         nodal_values_into(py, out, rows, k)
     }
@@ -262,7 +263,8 @@ impl PyMortar {
         let (f, k) = nodal_values_from(loads, "loads", rows, "slave point")?;
         let t = self.transfer_operator(py)?;
         let width = k.unwrap_or(1);
-        let out = if width == 0 { Vec::new() } else { py.detach(|| t.apply_transpose(&f, width)) };
+        let out =
+            if width == 0 { Vec::new() } else { detach(py, Entry::Mortar, || t.apply_transpose(&f, width))? };
         finite(&out, "the result", k, "master point")?;
         nodal_values_into(py, out, cols, k)
     }

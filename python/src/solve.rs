@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 use numpy::ndarray::Array2;
 use numpy::{PyArray1, ToPyArray};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyFloat, PyList, PyTuple};
 use seam_case::solve::{LinearSolver, SolveFailure, SolveOptions, Solved};
 use seam_case::Case;
 
-use crate::error::SolveError;
+use crate::error::{detach, guard, Entry, SolveError};
 use crate::mortar::thread_pool;
 
 /// A solved case: `summary`, `bodies`, `interfaces` and `write`.
@@ -117,7 +117,7 @@ impl PySolution {
     ///     SolveError: an output exists without force, or cannot be written.
     #[pyo3(signature = (dir, force = false))]
     fn write<'py>(&self, py: Python<'py>, dir: PathBuf, force: bool) -> PyResult<Bound<'py, PyAny>> {
-        let summary = py.detach(|| self.inner.write(&dir, force)).map_err(solve_error)?;
+        let summary = detach(py, Entry::Solve, || self.inner.write(&dir, force))?.map_err(solve_error)?;
         let json = serde_json::to_string(&summary).map_err(|e| {
             pyo3::exceptions::PyValueError::new_err(format!("cannot convert the summary: {e}"))
         })?;
@@ -128,6 +128,32 @@ impl PySolution {
         let s = &self.inner.summary;
         format!("<seam.Solution of {}: {} bodies, {} interfaces>", s.case, s.bodies.len(), s.interfaces.len())
     }
+}
+
+/// The first float that is not finite in `value` (dicts and lists looked
+/// into), as "`path`: inf is not a finite number", the path written as
+/// `body[0].young`.
+fn non_finite(value: &Bound<'_, PyAny>, path: &str) -> PyResult<Option<String>> {
+    if let Ok(x) = value.cast::<PyFloat>() {
+        let x = x.value();
+        return Ok((!x.is_finite()).then(|| format!("{path}: {x} is not a finite number")));
+    }
+    if let Ok(dict) = value.cast::<PyDict>() {
+        for (key, item) in dict.iter() {
+            let key = key.str()?.to_string();
+            let path = if path.is_empty() { key } else { format!("{path}.{key}") };
+            if let Some(problem) = non_finite(&item, &path)? {
+                return Ok(Some(problem));
+            }
+        }
+    } else if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
+        for (i, item) in value.try_iter()?.enumerate() {
+            if let Some(problem) = non_finite(&item?, &format!("{path}[{i}]"))? {
+                return Ok(Some(problem));
+            }
+        }
+    }
+    Ok(None)
 }
 
 /// Solves a case as `seam solve` does, without writing anything.
@@ -174,8 +200,10 @@ pub fn solve(
         }
     };
     match (solver, petsc_options) {
-        (LinearSolver::Petsc, options) => seam_case::solve::initialize_petsc(options.unwrap_or(""))
-            .map_err(|e| SolveError::new_err(format!("solver=\"petsc\": {e}")))?,
+        (LinearSolver::Petsc, options) => {
+            guard(Entry::Solve, || seam_case::solve::initialize_petsc(options.unwrap_or("")))?
+                .map_err(|e| SolveError::new_err(format!("solver=\"petsc\": {e}")))?
+        }
         (_, Some(_)) => {
             return Err(pyo3::exceptions::PyValueError::new_err("petsc_options needs solver=\"petsc\""))
         }
@@ -185,6 +213,10 @@ pub fn solve(
     let pool = thread_pool(threads)?;
     let source = match case.cast::<PyDict>() {
         Ok(dict) => {
+            // JSON has no inf or NaN: name the field that holds one.
+            if let Some(problem) = non_finite(dict.as_any(), "")? {
+                return Err(SolveError::new_err(format!("case dict: {problem}")));
+            }
             let json: String = py.import("json")?.call_method1("dumps", (dict,))?.extract()?;
             Err(json)
         }
@@ -201,11 +233,10 @@ pub fn solve(
             }
         }
     };
-    let solved = py
-        .detach(|| match &pool {
-            Some(pool) => pool.install(run),
-            None => run(),
-        })
-        .map_err(solve_error)?;
+    let solved = detach(py, Entry::Solve, || match &pool {
+        Some(pool) => pool.install(run),
+        None => run(),
+    })?
+    .map_err(solve_error)?;
     Ok(PySolution { inner: solved })
 }

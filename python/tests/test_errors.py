@@ -197,3 +197,37 @@ def test_mesh_properties_are_read_only():
     mesh = seam.Mesh(*square())
     with pytest.raises(AttributeError):
         mesh.points = POINTS
+
+
+@pytest.mark.parametrize(
+    "entry, cls",
+    [("mesh", seam.MeshError), ("read_mesh", seam.MshError), ("mortar", seam.MortarError), ("solve", seam.SolveError)],
+)
+def test_a_panic_in_the_library_is_the_entry_points_exception(entry, cls):
+    """A bug that panics in Rust raises the entry point's class (an
+    `Exception`, which pyo3's PanicException is not) with the panic's message."""
+    from seam import _seam
+
+    with pytest.raises(Exception) as info:
+        _seam._panic_in(entry)
+    assert type(info.value) is cls
+    assert str(info.value) == "internal error in seam (a bug; please report it with the input): a panic forced by a test"
+
+
+@pytest.mark.parametrize(
+    "field, value, message",
+    [
+        ("young", float("inf"), "case dict: body[0].young: inf is not a finite number"),
+        ("body_force", [0.0, float("-inf"), 0.0], "case dict: body[0].body_force[1]: -inf is not a finite number"),
+        ("t", (0.0, float("nan"), 1.0), "case dict: traction[0].t[1]: NaN is not a finite number"),
+    ],
+)
+def test_a_case_dict_with_inf_or_nan_names_the_field(field, value, message):
+    """JSON has no inf or NaN: the field holding one is named, not a position
+    in the JSON text."""
+    body = {"name": "a", "mesh": "a.msh", "young": 1.0, "poisson": 0.3}
+    traction = {"boundary": "a:top", "t": [0.0, 0.0, 1.0]}
+    (body if field != "t" else traction)[field] = value
+    with pytest.raises(seam.SolveError) as info:
+        seam.solve({"body": [body], "traction": [traction]})
+    assert str(info.value) == message

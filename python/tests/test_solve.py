@@ -123,7 +123,7 @@ def test_errors_are_the_one_line_messages_of_seam_solve(example, tmp_path):
 
 def test_rtol_is_that_of_seam_solve(example, tmp_path):
     """rtol is PCG's tolerance: the same answer as `seam solve --rtol`, and a
-    value outside (0, 1) is refused."""
+    value outside (0, 1), or below what double precision reaches, is refused."""
     solution = seam.solve(example / "case.toml", solver="pcg", rtol=1e-12)
     cli = run_cli("solve", example / "case.toml", "--solver", "pcg", "--rtol", "1e-12", "--force", cwd=tmp_path)
     assert cli.returncode == 0, cli.stderr
@@ -131,6 +131,8 @@ def test_rtol_is_that_of_seam_solve(example, tmp_path):
     assert without_paths_and_times(solution.summary) == without_paths_and_times(written)
     with pytest.raises(seam.SolveError, match=r"rtol 2(\.0)? must lie in \(0, 1\)"):
         seam.solve(example / "case.toml", solver="pcg", rtol=2.0)
+    with pytest.raises(seam.SolveError, match=r"^rtol 1e-300 is below what double precision can reach: .*use 1e-14"):
+        seam.solve(example / "case.toml", solver="pcg", rtol=1e-300)
 
 
 def test_write_recovers_what_an_interrupted_run_left_with_one_warning(example, tmp_path):

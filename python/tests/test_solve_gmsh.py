@@ -141,3 +141,50 @@ def test_errors_are_the_cli_one_line_messages(meshes, tmp_path, monkeypatch):
     with pytest.raises(seam.SolveError, match="underside.*(bottom|top)"):
         seam.solve("surface.toml")
     assert not (tmp_path / "out").exists()
+
+
+def test_bodies_from_the_volumes_of_one_file(tmp_path, monkeypatch):
+    """One Gmsh file with two physical volumes (two fused boxes, one conforming
+    mesh): each body selects one (`volume`), so the other's nodes are in its
+    points but not its unknowns; the surface between them, glued, faces out
+    of each. A uniaxial patch test, u = (νPx, νPy, −Pz)/E, holds at every
+    node of each body; the other volume's nodes get zero."""
+    gmsh.initialize(readConfigFiles=False, interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.NumThreads", 1)
+        lower = gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1)
+        upper = gmsh.model.occ.addBox(0, 0, 1, 1, 1, 1)
+        gmsh.model.occ.fragment([(3, lower)], [(3, upper)])
+        gmsh.model.occ.synchronize()
+        gmsh.model.addPhysicalGroup(3, [lower], name="lower")
+        gmsh.model.addPhysicalGroup(3, [upper], name="upper")
+        centres = {s: gmsh.model.occ.getCenterOfMass(2, s) for _, s in gmsh.model.getEntities(2)}
+        for name, centre in (("bottom", (0.5, 0.5, 0)), ("xmin", (0, 0.5, 0.5)), ("ymin", (0.5, 0, 0.5)),
+                             ("mid", (0.5, 0.5, 1)), ("top", (0.5, 0.5, 2))):
+            (surface,) = [s for s, c in centres.items() if np.allclose(c, centre)]
+            gmsh.model.addPhysicalGroup(2, [surface], name=name)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.5)
+        gmsh.model.mesh.generate(3)
+        gmsh.write(str(tmp_path / "two.msh"))
+    finally:
+        gmsh.finalize()
+    e, nu, p = 1000.0, 0.25, 2.0
+    body = {"mesh": "two.msh", "young": e, "poisson": nu}
+    case = {
+        "body": [dict(body, name="lower", volume="lower"), dict(body, name="upper", volume="upper")],
+        "interface": [{"master": "lower:mid", "slave": "upper:mid", "kind": "glue"}],
+        "dirichlet": [{"boundary": "lower:bottom", "uz": 0.0}, {"boundary": "lower:xmin", "ux": 0.0},
+                      {"boundary": "lower:ymin", "uy": 0.0}],
+        "traction": [{"boundary": "upper:top", "t": [0.0, 0.0, -p]}],
+    }
+    monkeypatch.chdir(tmp_path)
+    solution = seam.solve(case)
+    used = 0
+    for name, (z0, z1) in (("lower", (0, 1)), ("upper", (1, 2))):
+        x, u = solution.bodies[name].points, solution.bodies[name].displacement
+        mine = (x[:, 2] >= z0 - EPS) & (x[:, 2] <= z1 + EPS)
+        exact = np.where(mine[:, None], np.c_[nu * p * x[:, 0], nu * p * x[:, 1], -p * x[:, 2]] / e, 0.0)
+        np.testing.assert_allclose(u, exact, rtol=0, atol=1e-12 * p / e)
+        used += mine.sum()
+    assert solution.summary["dofs"] == 3 * used < 6 * len(x)

@@ -1,14 +1,56 @@
-//! Expressions in x, y and z (`seam transfer --expr "sin(x)*y + z"`), parsed
-//! once by [exmex] and evaluated at points.
+//! Expressions in x, y and z (`seam transfer --expr "sin(x)*y + 1e-3*z"`),
+//! parsed once by [exmex] and evaluated at points.
 //!
 //! Before exmex sees it, the text is bounded: at most [`MAX_LEN`] characters and
 //! parentheses nested at most [`MAX_DEPTH`] deep, so that no input costs more
-//! than a few kilobytes of parsing. Every value is checked: NaN or ±∞ (for
-//! example `sqrt(x - 0.5)` at x < 0.5, `1/x` at x = 0) is an error naming the
-//! point, never a result.
+//! than a few kilobytes of parsing. Then it is read token by token here
+//! (numbers in decimal or scientific notation, x, y, z, the [`FUNCTIONS`] and
+//! [`CONSTANTS`], `+ - * / ^`, parentheses, commas), so that every mistake is
+//! named in our words at its character: an unknown function, a number beyond
+//! double precision, a missing operator or operand, unbalanced parentheses.
+//! Every value is checked: NaN or ±∞ (for example `sqrt(x - 0.5)` at x < 0.5,
+//! `1/x` at x = 0) is an error naming the point, never a result.
 
 use exmex::prelude::*;
+use exmex::{FloatOpsFactory, MatchLiteral};
 use seam::Point3;
+
+/// The functions an expression may call, with their number of arguments
+/// (exmex's; `log` is `ln`).
+pub const FUNCTIONS: &[(&str, usize)] = &[
+    ("abs", 1),
+    ("signum", 1),
+    ("sin", 1),
+    ("cos", 1),
+    ("tan", 1),
+    ("asin", 1),
+    ("acos", 1),
+    ("atan", 1),
+    ("sinh", 1),
+    ("cosh", 1),
+    ("tanh", 1),
+    ("asinh", 1),
+    ("acosh", 1),
+    ("atanh", 1),
+    ("floor", 1),
+    ("round", 1),
+    ("ceil", 1),
+    ("trunc", 1),
+    ("fract", 1),
+    ("exp", 1),
+    ("sqrt", 1),
+    ("cbrt", 1),
+    ("ln", 1),
+    ("log", 1),
+    ("log2", 1),
+    ("log10", 1),
+    ("atan2", 2),
+    ("min", 2),
+    ("max", 2),
+];
+
+/// The named constants an expression may use (π, e, τ).
+pub const CONSTANTS: &[&str] = &["PI", "π", "E", "e", "TAU", "τ"];
 
 /// The longest expression text accepted, in bytes.
 pub const MAX_LEN: usize = 1000;
@@ -33,13 +75,37 @@ pub enum ExpressionError {
         /// Its deepest nesting.
         depth: usize,
     },
-    /// exmex cannot parse it.
-    #[error("the expression '{text}' does not parse: {message}")]
+    /// It does not have the form of an expression.
+    #[error("the expression '{text}' does not parse at character {position}: {problem}")]
     Parse {
         /// The expression.
         text: String,
-        /// exmex's reason, on one line.
-        message: String,
+        /// Where (1-based, in characters).
+        position: usize,
+        /// What is wrong there.
+        problem: String,
+    },
+    /// It calls a function that is not one of [`FUNCTIONS`].
+    #[error(
+        "the expression '{text}' calls '{name}', which is not a known function; the functions are {}",
+        function_list()
+    )]
+    UnknownFunction {
+        /// The expression.
+        text: String,
+        /// The unknown name.
+        name: String,
+    },
+    /// A number beyond the range of double precision, or so small that it
+    /// would be 0.
+    #[error("the expression '{text}' holds the number {number}, {}", if *.overflow { "beyond double precision (magnitude at most 1.8e308)" } else { "below the smallest double precision number (4.9e-324): it would be 0" })]
+    NumberOutOfRange {
+        /// The expression.
+        text: String,
+        /// The number as written.
+        number: String,
+        /// Too large (else too small).
+        overflow: bool,
     },
     /// It uses a variable other than x, y and z.
     #[error("the expression '{text}' uses '{name}'; only x, y and z are known")]
@@ -77,6 +143,10 @@ fn coordinates(p: Point3) -> String {
     format!("({}, {}, {})", p[0], p[1], p[2])
 }
 
+fn function_list() -> String {
+    FUNCTIONS.iter().map(|(name, _)| *name).collect::<Vec<_>>().join(", ")
+}
+
 fn one_line(text: &str) -> String {
     text.split_whitespace().collect::<Vec<_>>().join(" ")
 }
@@ -85,7 +155,7 @@ fn one_line(text: &str) -> String {
 #[derive(Clone, Debug)]
 pub struct Expression {
     text: String,
-    expr: FlatEx<f64>,
+    expr: FlatEx<f64, FloatOpsFactory<f64>, Numbers>,
     /// For each variable of the expression (alphabetical, as exmex orders
     /// them), the coordinate it stands for.
     axes: Vec<usize>,
@@ -97,7 +167,8 @@ impl Expression {
     ///
     /// # Errors
     /// [`ExpressionError::TooLong`], [`ExpressionError::TooDeep`],
-    /// [`ExpressionError::Parse`], [`ExpressionError::UnknownVariable`].
+    /// [`ExpressionError::Parse`], [`ExpressionError::UnknownVariable`],
+    /// [`ExpressionError::UnknownFunction`], [`ExpressionError::NumberOutOfRange`].
     pub fn parse(text: &str) -> Result<Expression, ExpressionError> {
         if text.len() > MAX_LEN {
             return Err(ExpressionError::TooLong { len: text.len() });
@@ -106,9 +177,17 @@ impl Expression {
         if depth > MAX_DEPTH {
             return Err(ExpressionError::TooDeep { text: text.to_string(), depth });
         }
-        let expr = exmex::parse::<f64>(text).map_err(|e| ExpressionError::Parse {
-            text: text.to_string(),
-            message: one_line(&e.to_string()),
+        check_syntax(text)?;
+        // exmex skips spaces only; what it might still refuse is named
+        // without its internal wording.
+        let spaced: String = text.chars().map(|c| if c.is_whitespace() { ' ' } else { c }).collect();
+        let expr = FlatEx::<f64, FloatOpsFactory<f64>, Numbers>::parse(&spaced).map_err(|_| {
+            ExpressionError::Parse {
+                text: text.to_string(),
+                position: 1,
+                problem: "not an expression of numbers, x, y, z, + - * / ^, parentheses and functions such as sin(x)"
+                    .into(),
+            }
         })?;
         let axes = expr
             .var_names()
@@ -178,6 +257,194 @@ impl Expression {
     }
 }
 
+/// Numbers as exmex reads them here: decimal or scientific notation
+/// ([`number_prefix`]).
+#[derive(Clone, Debug)]
+struct Numbers;
+
+impl MatchLiteral for Numbers {
+    fn is_literal(text: &str) -> Option<&str> {
+        number_prefix(text)
+    }
+}
+
+/// The number `text` starts with: digits with at most one `.` (at least one
+/// digit), then an optional exponent `e` or `E`, a sign and digits: `2`,
+/// `2.5`, `.5`, `1e-3`, `1E+2`.
+fn number_prefix(text: &str) -> Option<&str> {
+    let b = text.as_bytes();
+    let digits = |from: usize| from + b[from..].iter().take_while(|c| c.is_ascii_digit()).count();
+    let mut end = digits(0);
+    let mut mantissa = end;
+    if b.get(end) == Some(&b'.') {
+        let after = digits(end + 1);
+        mantissa += after - end - 1;
+        end = after;
+    }
+    if mantissa == 0 {
+        return None;
+    }
+    if matches!(b.get(end), Some(b'e' | b'E')) {
+        let sign = usize::from(matches!(b.get(end + 1), Some(b'+' | b'-')));
+        let exponent = digits(end + 1 + sign);
+        if exponent > end + 1 + sign {
+            end = exponent;
+        }
+    }
+    Some(&text[..end])
+}
+
+/// What a token is, for the checks of [`check_syntax`].
+#[derive(Clone, Copy, PartialEq)]
+enum Token<'a> {
+    Value(&'a str),
+    Function(&'a str, usize),
+    Operator(char),
+    Open,
+    Close,
+    Comma,
+}
+
+impl Token<'_> {
+    fn describe(self) -> String {
+        match self {
+            Token::Value(t) | Token::Function(t, _) => format!("'{t}'"),
+            Token::Operator(c) => format!("'{c}'"),
+            Token::Open => "'('".into(),
+            Token::Close => "')'".into(),
+            Token::Comma => "','".into(),
+        }
+    }
+}
+
+/// Reads `text` token by token: every name is x, y, z, a constant or a
+/// function, every number fits double precision, operands and operators
+/// alternate, parentheses balance and commas separate the two arguments of
+/// atan2, min and max.
+fn check_syntax(text: &str) -> Result<(), ExpressionError> {
+    let fail =
+        |position: usize, problem: String| ExpressionError::Parse { text: text.into(), position, problem };
+    // The open parentheses: (position, the two-argument function called, commas).
+    let mut open: Vec<(usize, Option<&str>, usize)> = Vec::new();
+    // After an operand (a value or ')'), else where an operand is due.
+    let mut after_operand = false;
+    let mut previous: Option<Token> = None;
+    let chars: Vec<(usize, char)> = text.char_indices().collect();
+    let mut i = 0;
+    loop {
+        while chars.get(i).is_some_and(|(_, c)| c.is_whitespace()) {
+            i += 1;
+        }
+        let position = i + 1;
+        let Some(&(at, c)) = chars.get(i) else { break };
+        let rest = &text[at..];
+        let (token, len) = if let Some(number) = number_prefix(rest) {
+            let value: f64 =
+                number.parse().map_err(|_| fail(position, format!("'{number}' is not a number")))?;
+            let nonzero = number
+                .split(['e', 'E'])
+                .next()
+                .is_some_and(|m| m.bytes().any(|d| (b'1'..=b'9').contains(&d)));
+            if value.is_infinite() || (value == 0.0 && nonzero) {
+                return Err(ExpressionError::NumberOutOfRange {
+                    text: text.into(),
+                    number: number.into(),
+                    overflow: value.is_infinite(),
+                });
+            }
+            (Token::Value(number), number.chars().count())
+        } else if c.is_alphabetic() || c == '_' {
+            let len = rest.chars().take_while(|&c| c.is_alphanumeric() || c == '_').count();
+            let end = rest.char_indices().nth(len).map_or(rest.len(), |(e, _)| e);
+            let name = &rest[..end];
+            let next = rest[end..].trim_start().chars().next();
+            let token = match FUNCTIONS.iter().find(|(f, _)| *f == name) {
+                Some(&(f, n)) => Token::Function(f, n),
+                None if ["x", "y", "z"].contains(&name) || CONSTANTS.contains(&name) => Token::Value(name),
+                None if next == Some('(') => {
+                    return Err(ExpressionError::UnknownFunction { text: text.into(), name: name.into() })
+                }
+                None => {
+                    return Err(ExpressionError::UnknownVariable { text: text.into(), name: name.into() })
+                }
+            };
+            (token, len)
+        } else {
+            let token = match c {
+                '+' | '-' | '*' | '/' | '^' => Token::Operator(c),
+                '(' => Token::Open,
+                ')' => Token::Close,
+                ',' => Token::Comma,
+                _ => return Err(fail(position, format!("'{c}' is not part of an expression"))),
+            };
+            (token, 1)
+        };
+        let after =
+            |p: Option<Token>| p.map_or("at the start".to_string(), |t| format!("after {}", t.describe()));
+        let expected_value =
+            || fail(position, format!("expected a value {}, found {}", after(previous), token.describe()));
+        match (after_operand, token) {
+            (false, Token::Value(_)) => after_operand = true,
+            (false, Token::Function(..)) => {}
+            (false, Token::Operator('+' | '-')) => {}
+            (false, Token::Open) => {
+                let called = match previous {
+                    Some(Token::Function(f, 2)) => Some(f),
+                    _ => None,
+                };
+                open.push((position, called, 0));
+            }
+            (false, _) => return Err(expected_value()),
+            (true, Token::Operator(_)) => after_operand = false,
+            (true, Token::Close) => {
+                let Some((_, called, commas)) = open.pop() else {
+                    return Err(fail(position, "')' closes no '('".into()));
+                };
+                if let (Some(f), 0) = (called, commas) {
+                    return Err(fail(position, format!("{f} takes 2 arguments, found 1")));
+                }
+            }
+            (true, Token::Comma) => match open.last_mut() {
+                Some((_, Some(_), commas @ 0)) => {
+                    *commas = 1;
+                    after_operand = false;
+                }
+                Some((_, Some(f), _)) => {
+                    return Err(fail(position, format!("{f} takes 2 arguments, found more")))
+                }
+                _ => return Err(fail(position, "',' outside the arguments of atan2, min or max".into())),
+            },
+            (true, _) => {
+                let before = previous.map(Token::describe).unwrap_or_default();
+                return Err(fail(
+                    position,
+                    format!("missing operator between {before} and {}", token.describe()),
+                ));
+            }
+        }
+        if matches!(token, Token::Function(f, 2) if !rest[f.len()..].trim_start().starts_with('(')) {
+            return Err(fail(
+                position,
+                format!("{} needs its two arguments in parentheses", token.describe()),
+            ));
+        }
+        previous = Some(token);
+        i += len;
+    }
+    let end = chars.len() + 1;
+    if !after_operand {
+        let problem = match previous {
+            None => "the expression is empty".into(),
+            Some(p) => format!("expected a value after {}, found the end", p.describe()),
+        };
+        return Err(fail(end, problem));
+    }
+    match open.last() {
+        Some(&(position, ..)) => Err(fail(position, "this '(' is never closed".into())),
+        None => Ok(()),
+    }
+}
+
 /// The deepest nesting of parentheses (and brackets) in `text`.
 fn nesting(text: &str) -> usize {
     let (mut depth, mut deepest) = (0usize, 0usize);
@@ -210,7 +477,7 @@ mod tests {
 
     #[test]
     fn bad_expressions_are_named() {
-        assert!(matches!(Expression::parse("sin(x"), Err(ExpressionError::Parse { .. })));
+        assert!(matches!(Expression::parse("sin(x"), Err(ExpressionError::Parse { position: 4, .. })));
         let err = Expression::parse("x + w").unwrap_err().to_string();
         assert_eq!(err, "the expression 'x + w' uses 'w'; only x, y and z are known");
         let long = "x+".repeat(600) + "x";
@@ -225,6 +492,76 @@ mod tests {
             .ends_with("nests parentheses 40 deep; at most 32 are accepted"));
         let ok = "(".repeat(32) + "x" + &")".repeat(32);
         assert_eq!(Expression::parse(&ok).unwrap().at([3.0, 0.0, 0.0]).unwrap(), 3.0);
+    }
+
+    #[test]
+    fn scientific_notation_is_read_and_out_of_range_numbers_are_named() {
+        let at = |text: &str| Expression::parse(text).unwrap().at([2.0, 3.0, 5.0]).unwrap();
+        assert_eq!(at("1e-3*x"), 1e-3 * 2.0);
+        assert_eq!(at("2.5e3"), 2500.0);
+        assert_eq!(at("1E+2 - z"), 95.0);
+        assert_eq!(at(".5e1*y"), 15.0);
+        assert_eq!(at("2*e"), 2.0 * std::f64::consts::E);
+        assert_eq!(at("1e-310"), 1e-310);
+        assert_eq!(
+            Expression::parse("1e999*x").unwrap_err().to_string(),
+            "the expression '1e999*x' holds the number 1e999, beyond double precision (magnitude at most 1.8e308)"
+        );
+        assert_eq!(
+            Expression::parse("x + 2.5e-400").unwrap_err().to_string(),
+            "the expression 'x + 2.5e-400' holds the number 2.5e-400, below the smallest double precision \
+             number (4.9e-324): it would be 0"
+        );
+        assert_eq!(at("0e-999 + x"), 2.0);
+    }
+
+    #[test]
+    fn mistakes_are_named_at_their_character_in_our_words() {
+        let err = |text: &str| Expression::parse(text).unwrap_err().to_string();
+        assert_eq!(
+            err("foo(x)"),
+            format!(
+                "the expression 'foo(x)' calls 'foo', which is not a known function; the functions are {}",
+                function_list()
+            )
+        );
+        assert!(err("foo (x)").contains("abs, signum, sin, cos, tan, asin"), "{}", err("foo (x)"));
+        let at = |text: &str, position: usize, problem: &str| {
+            assert_eq!(
+                err(text),
+                format!("the expression '{text}' does not parse at character {position}: {problem}")
+            );
+        };
+        at("sin(x", 4, "this '(' is never closed");
+        at("x)", 2, "')' closes no '('");
+        at("x y", 3, "missing operator between 'x' and 'y'");
+        at("2x", 2, "missing operator between '2' and 'x'");
+        at("abs(x)(y)", 7, "missing operator between ')' and '('");
+        at("*x", 1, "expected a value at the start, found '*'");
+        at("x**2", 3, "expected a value after '*', found '*'");
+        at("x+", 3, "expected a value after '+', found the end");
+        at("()", 2, "expected a value after '(', found ')'");
+        at("", 1, "the expression is empty");
+        at("x % 2", 3, "'%' is not part of an expression");
+        at("{x}", 1, "'{' is not part of an expression");
+        at("min(x)", 6, "min takes 2 arguments, found 1");
+        at("min(x,y,z)", 8, "min takes 2 arguments, found more");
+        at("x,y", 2, "',' outside the arguments of atan2, min or max");
+        at("max x", 1, "'max' needs its two arguments in parentheses");
+        at("1.2.3", 4, "missing operator between '1.2' and '.3'");
+        for good in [
+            "min(x, y)",
+            "atan2(y,x)",
+            "sin x",
+            "-x^2",
+            "x^-2",
+            "--x",
+            "log2(x)",
+            "x\t+ y",
+            "max(min(x,y),z)",
+        ] {
+            assert!(Expression::parse(good).is_ok(), "{good}");
+        }
     }
 
     #[test]

@@ -132,7 +132,7 @@ pub struct Summary {
     /// The interfaces' multiplier when they share one, "mixed" otherwise,
     /// "none" without interfaces.
     pub multiplier: String,
-    /// Degrees of freedom (3 per mesh point).
+    /// Degrees of freedom (3 per mesh point that some cell uses).
     pub dofs: usize,
     /// Constraint rows.
     pub constraints: usize,
@@ -295,7 +295,7 @@ pub struct BodySummary {
     pub points: usize,
     /// Mesh cells.
     pub cells: usize,
-    /// Degrees of freedom (3 per mesh point).
+    /// Degrees of freedom (3 per mesh point that some cell uses).
     pub dofs: usize,
     /// Young's modulus.
     pub young: f64,
@@ -390,7 +390,7 @@ impl LinearSolver {
 pub struct SolveOptions {
     /// The linear solver.
     pub solver: LinearSolver,
-    /// PCG: stop when ‖r‖₂ ≤ rtol ‖b‖₂; in (0, 1).
+    /// PCG: stop when ‖r‖₂ ≤ rtol ‖b‖₂; in [[`MIN_RTOL`], 1).
     pub rtol: f64,
     /// Pieces of each body's output: 1 writes `<body>.vtu`; N > 1 (a solve
     /// over N MPI ranks) writes `<body>.pvtu` and its N pieces
@@ -506,10 +506,29 @@ pub fn solve_case_to_output(
 }
 
 fn check_rtol(options: &SolveOptions) -> Result<(), SolveFailure> {
-    match options.rtol > 0.0 && options.rtol < 1.0 {
-        true => Ok(()),
-        false => Err(SolveFailure::Error(format!("rtol {} must lie in (0, 1)", options.rtol))),
+    match rtol_problem(options.rtol) {
+        None => Ok(()),
+        Some(problem) => Err(SolveFailure::Error(format!("rtol {problem}"))),
     }
+}
+
+/// The smallest relative tolerance accepted, 10 machine epsilons (≈ 2.2e-15):
+/// a residual below it, relative to ‖b‖, is round-off in double precision.
+pub const MIN_RTOL: f64 = 10.0 * f64::EPSILON;
+
+/// What is wrong with the relative tolerance `rtol`, as text that follows
+/// its name and starts with its value: outside (0, 1), or below [`MIN_RTOL`];
+/// `None` when it is usable.
+pub fn rtol_problem(rtol: f64) -> Option<String> {
+    if !(rtol > 0.0 && rtol < 1.0) {
+        return Some(format!("{rtol} must lie in (0, 1)"));
+    }
+    (rtol < MIN_RTOL).then(|| {
+        format!(
+            "{rtol:e} is below what double precision can reach: relative residuals under {MIN_RTOL:.1e} \
+             (10 machine epsilons) are round-off; use 1e-14 or more"
+        )
+    })
 }
 
 /// The output files of `case` in `dir`, checked and staged (module doc of
@@ -841,7 +860,10 @@ fn read_body(case: &Case, b: &crate::Body) -> anyhow::Result<ProblemBody> {
     let surfaces = referenced_surfaces(case, &b.name)
         .into_iter()
         .map(|s| {
-            let surface = msh.surface(Some(&s)).map_err(|e| e.with_path(&path)).with_context(what)?;
+            let surface = msh
+                .surface_of_volume(&s, b.volume.as_deref())
+                .map_err(|e| e.with_path(&path))
+                .with_context(what)?;
             Ok((s, surface))
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
@@ -1146,7 +1168,7 @@ fn summary(
                 file: file_name(&names.bodies[b]),
                 points: body.mesh.points().len(),
                 cells: body.mesh.cells().len(),
-                dofs: 3 * body.mesh.points().len(),
+                dofs: 3 * body.mesh.used_points().into_iter().filter(|&u| u).count(),
                 young: body.material.young(),
                 poisson: body.material.poisson(),
                 supported: problem.supports.iter().any(|s| s.boundary.body == b),
@@ -1312,6 +1334,14 @@ mod tests {
         let rtol = SolveOptions { solver: LinearSolver::Pcg, rtol: 2.0, pieces: 1 };
         let e = solve_case(Path::new("nowhere.toml"), &rtol).err().unwrap();
         assert_eq!(e, SolveFailure::Error("rtol 2 must lie in (0, 1)".into()));
+        let tiny = SolveOptions { rtol: 1e-300, ..rtol };
+        let e = solve_case(Path::new("nowhere.toml"), &tiny).err().unwrap();
+        assert_eq!(
+            e.to_string(),
+            "rtol 1e-300 is below what double precision can reach: relative residuals under 2.2e-15 \
+             (10 machine epsilons) are round-off; use 1e-14 or more"
+        );
+        assert_eq!(rtol_problem(1e-14), None);
         let e = solve_case(Path::new("nowhere.toml"), &SolveOptions::default()).err().unwrap();
         assert!(
             matches!(&e, SolveFailure::Error(m) if m.contains("nowhere.toml") && !m.contains('\n')),

@@ -21,8 +21,8 @@ pub fn run(args: &SolveArgs, pieces: usize) -> Result<(), Failure> {
 /// Reads, checks, solves and writes the case ([`seam_case::solve::solve_case_to_output`])
 /// on `--threads` worker threads.
 pub fn solve(args: &SolveArgs, pieces: usize) -> Result<Solved, Failure> {
-    if !(args.rtol > 0.0 && args.rtol < 1.0) {
-        return Err(anyhow!("--rtol {} must lie in (0, 1)", args.rtol).into());
+    if let Some(problem) = seam_case::solve::rtol_problem(args.rtol) {
+        return Err(anyhow!("--rtol {problem}").into());
     }
     let options = SolveOptions {
         solver: match args.solver {

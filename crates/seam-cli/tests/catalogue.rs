@@ -93,6 +93,15 @@ fn setup(dir: &Path) {
         square_msh("3 1 1 0", "2 2 2 1 1 1 3 4")
             .replace("\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0", "\n1 5 0 0\n2 6 0 0\n3 6 1 0\n4 5 1 0"),
     );
+    // Binary data in the other byte order than its check integer; a node
+    // block claiming 99 999 999 999 nodes (line 42).
+    let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("../seam-io/tests/data");
+    let mut swapped = std::fs::read(fixtures.join("box_tet.v41.bin.msh")).unwrap();
+    let check = swapped.windows(8).position(|w| w == b"4.1 1 8\n").unwrap() + 8;
+    swapped[check..check + 4].reverse();
+    write(dir, "swapped.msh", swapped);
+    let text = std::fs::read_to_string(fixtures.join("box_tet.v41.ascii.msh")).unwrap();
+    write(dir, "huge_block.msh", text.replacen("\n0 1 0 1\n", "\n0 1 0 99999999999\n", 1));
     std::fs::create_dir(dir.join("dir.msh")).unwrap();
     // Earlier results whose summary.json is (now) a directory.
     std::fs::create_dir_all(dir.join("ex2/summary.json")).unwrap();
@@ -217,6 +226,16 @@ const CATALOGUE: &[Expectation] = &[
     ("assemble /dev/zero ex/slave.msh -o out", 2, &["/dev/zero", "is not a regular file"]),
     ("assemble empty.msh ex/slave.msh -o out", 2, &["empty.msh", "not a Gmsh MSH file"]),
     ("assemble ex/master.msh truncated.msh -o out", 2, &["truncated.msh", "truncated"]),
+    (
+        "assemble ex/master.msh swapped.msh -o out",
+        2,
+        &["swapped.msh: byte 119: byte-swapped data", "in the big-endian byte order that the check integer"],
+    ),
+    (
+        "assemble ex/master.msh huge_block.msh -o out",
+        2,
+        &["huge_block.msh: line 42: the number of nodes of entity (0, 1) is 99999999999, more than"],
+    ),
     ("assemble square.msh nan.msh -o out", 2, &["nan.msh", "node 3 has a non-finite coordinate"]),
     ("assemble square.msh huge.msh -o out", 2, &["huge.msh", "node 3 has coordinate 1e300, out of range"]),
     ("assemble square.msh flat.msh -o out", 2, &["flat.msh", "element 1 is degenerate: its area is zero"]),
@@ -330,7 +349,22 @@ const CATALOGUE: &[Expectation] = &[
     ),
     ("transfer ex/master.msh ex/slave.msh -o t.vtu --expr 1/(x-x)", 2, &["is inf at node"]),
     ("transfer ex/master.msh ex/slave.msh -o t.vtu --expr x+w", 2, &["uses 'w'; only x, y and z are known"]),
-    ("transfer ex/master.msh ex/slave.msh -o t.vtu --expr sin(x", 2, &["does not parse"]),
+    (
+        "transfer ex/master.msh ex/slave.msh -o t.vtu --expr sin(x",
+        2,
+        &["does not parse at character 4: this '(' is never closed"],
+    ),
+    (
+        "transfer ex/master.msh ex/slave.msh -o t.vtu --expr 1e999*x",
+        2,
+        &["the number 1e999, beyond double precision"],
+    ),
+    (
+        "transfer ex/master.msh ex/slave.msh -o t.vtu --expr foo(x)",
+        2,
+        &["calls 'foo', which is not a known function; the functions are abs, signum, sin"],
+    ),
+    ("transfer ex/master.msh ex/slave.msh -o t.vtu --expr 2x", 2, &["missing operator between '2' and 'x'"]),
     (
         "transfer ex/master.msh ex/slave.msh -o t.vtu --field temperature",
         2,
@@ -364,6 +398,11 @@ const CATALOGUE: &[Expectation] = &[
     ("solve contact_standard.toml", 2, &["contact needs multiplier \"lumped\""]),
     ("solve case.toml --threads 100000", 2, &["more than 4 per core"]),
     ("solve case.toml --rtol -1", 2, &["--rtol -1 must lie in (0, 1)"]),
+    (
+        "solve case.toml --rtol 1e-300 --solver pcg",
+        2,
+        &["--rtol 1e-300 is below what double precision can reach", "use 1e-14 or more"],
+    ),
     ("example operator -o ex", 2, &["already exists; pass --force"]),
 ];
 

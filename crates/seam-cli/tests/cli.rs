@@ -332,7 +332,17 @@ fn transfer_reproduces_a_linear_field_and_reports_its_error() {
     let tmp = tempfile::tempdir().unwrap();
     let (source, target) = (fixture("square_tri.v41.bin.msh"), fixture("square_mixed.v22.ascii.msh"));
     let o = seam(
-        &["transfer", &source, &target, "-o", "out/t.vtu", "--expr", "2*x - y + 0.5", "--name", "u"],
+        &[
+            "transfer",
+            &source,
+            &target,
+            "-o",
+            "out/t.vtu",
+            "--expr",
+            "2e0*x - 1E+3*y/1e3 + 5e-1",
+            "--name",
+            "u",
+        ],
         tmp.path(),
     );
     assert!(o.status.success(), "{}", stderr(&o));

@@ -252,3 +252,97 @@ fn petsc_without_the_feature_says_how_to_build_it() {
     assert!(e.contains("built without PETSc") && e.contains("--features petsc"), "{e}");
     assert!(!tmp.path().join("ex/out").exists());
 }
+
+/// One MSH 2.2 file holding two physical volumes, "lower" (z < 1) and "upper"
+/// (z > 1), of n × n × n Hex8 cells each over [0, 1]² × [0, 2] (x graded),
+/// nodes numbered with z fastest so that each volume's nodes are scattered
+/// through the file; physical surfaces "bottom" (z = 0), "xmin" and "ymin"
+/// (of the lower volume), "mid" (z = 1, between the volumes) and "top" (z = 2).
+fn two_volume_msh(n: usize) -> String {
+    let nz = 2 * n;
+    let node = |i: usize, j: usize, k: usize| 1 + k + (nz + 1) * (i + (n + 1) * j);
+    let mut nodes = vec![String::new(); (n + 1) * (n + 1) * (nz + 1)];
+    for (i, j, k) in (0..=n).flat_map(|i| (0..=n).flat_map(move |j| (0..=nz).map(move |k| (i, j, k)))) {
+        let (u, v, w) = (i as f64 / n as f64, j as f64 / n as f64, k as f64 / n as f64);
+        nodes[node(i, j, k) - 1] = format!("{} {:?} {:?} {:?}", node(i, j, k), 0.7 * u + 0.3 * u * u, v, w);
+    }
+    let mut elements: Vec<String> = Vec::new();
+    let mut push = |kind: u32, physical: u32, nodes: &[usize]| {
+        let list: Vec<String> = nodes.iter().map(usize::to_string).collect();
+        elements.push(format!("{} {kind} 2 {physical} {physical} {}", elements.len() + 1, list.join(" ")));
+    };
+    for (i, j, k) in (0..n).flat_map(|i| (0..n).flat_map(move |j| (0..nz).map(move |k| (i, j, k)))) {
+        let hex = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+            .map(|(a, b, c)| node(i + a, j + b, k + c));
+        push(5, if k < n { 1 } else { 2 }, &hex);
+    }
+    for (a, b) in (0..n).flat_map(|a| (0..n).map(move |b| (a, b))) {
+        let z = |k| [node(a, b, k), node(a + 1, b, k), node(a + 1, b + 1, k), node(a, b + 1, k)];
+        push(3, 3, &z(0));
+        push(3, 6, &z(n));
+        push(3, 7, &z(nz));
+        push(3, 4, &[node(0, a, b), node(0, a + 1, b), node(0, a + 1, b + 1), node(0, a, b + 1)]);
+        push(3, 5, &[node(a, 0, b), node(a + 1, 0, b), node(a + 1, 0, b + 1), node(a, 0, b + 1)]);
+    }
+    let names = ["3 1 \"lower\"", "3 2 \"upper\"", "2 3 \"bottom\"", "2 4 \"xmin\"", "2 5 \"ymin\""];
+    let names = [&names[..], &["2 6 \"mid\"", "2 7 \"top\""]].concat();
+    format!(
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n{}\n{}\n$EndPhysicalNames\n\
+         $Nodes\n{}\n{}\n$EndNodes\n$Elements\n{}\n{}\n$EndElements\n",
+        names.len(),
+        names.join("\n"),
+        nodes.len(),
+        nodes.join("\n"),
+        elements.len(),
+        elements.join("\n")
+    )
+}
+
+/// Two bodies, each one physical volume of the same file (`volume = ...`),
+/// glued at the surface between them: the other volume's nodes are not
+/// unknowns (the dofs count only the body's own), the shared surface faces
+/// out of each body, and the uniaxial patch test u = (νPx, νPy, −Pz)/E holds
+/// on every node of each body, written in the file's node numbering (the
+/// nodes of the other volume: zero).
+#[test]
+fn bodies_from_the_volumes_of_one_file_are_glued_and_exact() {
+    let tmp = tempfile::tempdir().unwrap();
+    let n = 2;
+    std::fs::write(tmp.path().join("two.msh"), two_volume_msh(n)).unwrap();
+    let body = |name: &str| {
+        format!("[[body]]\nname = \"{name}\"\nmesh = \"two.msh\"\nvolume = \"{name}\"\nyoung = {E:?}\npoisson = {NU:?}\n\n")
+    };
+    let case = format!(
+        "{}{}[[interface]]\nmaster = \"lower:mid\"\nslave = \"upper:mid\"\nkind = \"glue\"\n\n\
+         [[dirichlet]]\nboundary = \"lower:bottom\"\nuz = 0.0\n\n[[dirichlet]]\nboundary = \"lower:xmin\"\nux = 0.0\n\n\
+         [[dirichlet]]\nboundary = \"lower:ymin\"\nuy = 0.0\n\n[[traction]]\nboundary = \"upper:top\"\nt = [0.0, 0.0, -{P:?}]\n",
+        body("lower"),
+        body("upper")
+    );
+    std::fs::write(tmp.path().join("case.toml"), &case).unwrap();
+    let o = seam(&["solve", "case.toml"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let per_body = 3 * (n + 1) * (n + 1) * (n + 1);
+    assert_eq!(json(&tmp.path().join("out/summary.json"))["dofs"], 2 * per_body);
+    for (name, z) in [("lower", 0.0..=1.0), ("upper", 1.0..=2.0)] {
+        let (points, u) = vtu_field(&tmp.path().join(format!("out/{name}.vtu")), "displacement", false);
+        assert_eq!(points.len(), (n + 1) * (n + 1) * (2 * n + 1), "the file's nodes");
+        for (x, u) in points.iter().zip(u.chunks(3)) {
+            let exact = match z.contains(&x[2]) {
+                true => [NU * P * x[0] / E, NU * P * x[1] / E, -P * x[2] / E],
+                false => [0.0; 3],
+            };
+            assert!(
+                (0..3).all(|k| (u[k] - exact[k]).abs() < 1e-12 * P / E),
+                "{name} at {x:?}: {u:?} vs {exact:?}"
+            );
+        }
+    }
+    // A surface of the other volume is named as such.
+    std::fs::remove_dir_all(tmp.path().join("out")).unwrap();
+    let bad = case.replace("boundary = \"upper:top\"", "boundary = \"lower:top\"");
+    assert_rejected(
+        tmp.path(),
+        &[(bad, "element 19 of physical group \"top\" (7) is not on physical group \"lower\" (1): its node 5 is in no cell")],
+    );
+}

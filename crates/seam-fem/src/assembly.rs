@@ -278,6 +278,9 @@ pub fn stiffness(mesh: &VolumeMesh, material: &Material) -> Result<CsrMatrix, As
         .for_each_init(Vec::new, |nb, (p, (cols, vals))| {
             neighbours(p, nb);
             let width = 3 * nb.len();
+            if width == 0 {
+                return; // a point that no cell uses: three empty rows
+            }
             for row in cols.chunks_mut(width) {
                 for (q, &j) in nb.iter().enumerate() {
                     row[3 * q..3 * q + 3].copy_from_slice(&[3 * j, 3 * j + 1, 3 * j + 2]);
@@ -589,6 +592,30 @@ mod tests {
         // Flat tet: degenerate.
         let flat = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]];
         assert!(element_stiffness(ElementKind::Tet4, &flat, &m).is_none());
+    }
+
+    /// Points that no cell uses (a file's other volumes) get empty rows, and
+    /// the used ones the same rows as without them.
+    #[test]
+    fn unused_points_get_empty_rows() {
+        let m = Material::new(1.0, 0.25).unwrap();
+        let x = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
+        let alone =
+            stiffness(&VolumeMesh::new(x.to_vec(), vec![seam::Cell::Tet4([0, 1, 2, 3])]).unwrap(), &m);
+        let points = vec![[5.0; 3], x[0], x[1], [6.0; 3], x[2], x[3], [7.0; 3]];
+        let mesh = VolumeMesh::new(points, vec![seam::Cell::Tet4([1, 2, 4, 5])]).unwrap();
+        let (k, alone) = (stiffness(&mesh, &m).unwrap(), alone.unwrap());
+        assert_eq!(k.nrows, 21);
+        let row = |k: &CsrMatrix, r: usize| k.indptr[r + 1] - k.indptr[r];
+        for p in [0, 3, 6] {
+            assert!((0..3).all(|a| row(&k, 3 * p + a) == 0), "point {p}");
+        }
+        assert_eq!(k.nnz(), alone.nnz());
+        assert_eq!(row(&k, 3 * 5 + 2), 12);
+        assert_eq!(
+            k.values[k.indptr[3 * 5 + 2]..k.indptr[3 * 5 + 3]],
+            alone.values[alone.indptr[11]..alone.indptr[12]]
+        );
     }
 
     /// A unit pressure on a flat unit face: the classic consistent loads,

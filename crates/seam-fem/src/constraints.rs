@@ -533,12 +533,8 @@ pub(crate) fn matrix_free(
     };
     let mut x = vec![0.0; n_r];
     let report = pcg(apply_a, apply_m, &b, &mut x, options.rtol, options.max_iter);
-    if report.breakdown {
-        return Err(SolveError::Singular.into());
-    }
-    if !report.converged {
-        let (iterations, relative_residual) = (report.iterations, report.relative_residual);
-        return Err(SolveError::NotConverged { iterations, relative_residual }.into());
+    if let Some(e) = report.error(options.rtol) {
+        return Err(e.into());
     }
     seconds.factorization += clock.elapsed().as_secs_f64();
 

@@ -335,13 +335,7 @@ pub(crate) fn check_input(bodies: &[Body], interfaces: &[Interface]) -> Result<(
 pub(crate) fn free_dofs_of(bodies: &[Body], dirichlet: &Dirichlet) -> Vec<bool> {
     let mut free = Vec::new();
     for body in bodies {
-        let base = free.len();
-        free.resize(base + 3 * body.mesh.points().len(), false);
-        for cell in body.mesh.cells() {
-            for &p in cell.nodes() {
-                free[base + 3 * p..base + 3 * p + 3].fill(true);
-            }
-        }
+        free.extend(body.mesh.used_points().into_iter().flat_map(|used| [used; 3]));
     }
     for (dof, _) in dirichlet.iter() {
         free[dof] = false;

@@ -11,7 +11,9 @@
 //!
 //! until ‖r‖₂ ≤ rtol ‖b‖₂. The recursively updated r drifts from b − A x in
 //! floating point, so convergence is confirmed with the true residual (and the
-//! iteration restarted from it if that check fails).
+//! iteration restarted from it if that check fails). When a restart no longer
+//! lowers the true residual, or has failed too often, round-off holds it above
+//! rtol: the iteration stops (`stagnated`) rather than spend its iterations there.
 //!
 //! [`solve_pcg`] applies it to K u = f with Dirichlet conditions: on the free
 //! dofs F it solves K_FF u_F = f_F − K_FD ū_D, written in the full dof space as
@@ -32,6 +34,11 @@ use crate::solve::{Dirichlet, SolveError};
 use rayon::prelude::*;
 use seam::CsrMatrix;
 
+/// The failed confirmations (recursive residual below rtol, true one above)
+/// after which [`pcg`] stops as stagnated, as it does at the first that does
+/// not lower the true residual.
+const MAX_FAILED_CONFIRMATIONS: usize = 8;
+
 /// Chunk length of the deterministic parallel reductions and updates.
 const CHUNK: usize = 4096;
 
@@ -48,6 +55,24 @@ pub struct PcgReport {
     /// True when the iteration stopped because pᵀAp ≤ 0 or rᵀM⁻¹r < 0 (or a
     /// NaN appeared): A or M is not positive definite (e.g. A is singular).
     pub breakdown: bool,
+    /// True when round-off holds the true residual above rtol: rtol is below
+    /// what double precision reaches on this system.
+    pub stagnated: bool,
+}
+
+impl PcgReport {
+    /// The error of an iteration that did not converge: [`SolveError::Singular`]
+    /// on a breakdown, [`SolveError::ToleranceUnreachable`] when it stagnated,
+    /// else [`SolveError::NotConverged`]; `None` when it converged.
+    pub fn error(&self, rtol: f64) -> Option<SolveError> {
+        let (iterations, relative_residual) = (self.iterations, self.relative_residual);
+        match (self.converged, self.breakdown, self.stagnated) {
+            (true, ..) => None,
+            (_, true, _) => Some(SolveError::Singular),
+            (_, _, true) => Some(SolveError::ToleranceUnreachable { rtol, reached: relative_residual }),
+            _ => Some(SolveError::NotConverged { iterations, relative_residual }),
+        }
+    }
 }
 
 /// x·y, summed by fixed chunks in a fixed order (the same bits on any number of
@@ -117,32 +142,46 @@ pub fn pcg(
     };
     let (mut rz, mut res) = restart(x, &mut r, &mut z, &mut p, &mut ap);
     let mut iterations = 0;
-    let report = |iterations, relative_residual, converged, breakdown| PcgReport {
+    let report = |iterations, relative_residual, converged, breakdown, stagnated| PcgReport {
         iterations,
         relative_residual,
         converged,
         breakdown,
+        stagnated,
     };
+    // The true residual of the last failed confirmation, and their number.
+    let (mut confirmed, mut failed) = (f64::INFINITY, 0);
     loop {
         if res.is_nan() || rz < 0.0 || rz.is_nan() {
-            return report(iterations, res, false, true);
+            return report(iterations, res, false, true, false);
         }
         if res <= rtol {
             // Confirm with the true residual.
             let (rz_true, res_true) = restart(x, &mut r, &mut z, &mut p, &mut ap);
             if res_true <= rtol {
-                return report(iterations, res_true, true, false);
+                return report(iterations, res_true, true, false, false);
             }
+            failed += 1;
+            if res_true >= confirmed || failed > MAX_FAILED_CONFIRMATIONS {
+                return report(iterations, res_true.min(confirmed), false, false, true);
+            }
+            confirmed = res_true;
             (rz, res) = (rz_true, res_true);
             continue;
         }
         if iterations >= max_iter {
-            return report(iterations, res, false, false);
+            return report(iterations, res, false, false, false);
         }
         apply_a(&p, &mut ap);
         let pap = dot(&p, &ap);
+        if (rz == 0.0 || pap == 0.0) && res < f64::EPSILON {
+            // r or p underflowed at a residual below round-off: the true one decides.
+            let (_, res_true) = restart(x, &mut r, &mut z, &mut p, &mut ap);
+            let converged = res_true <= rtol;
+            return report(iterations, res_true, converged, false, !converged);
+        }
         if pap.is_nan() || pap <= 0.0 || pap.is_infinite() {
-            return report(iterations, res, false, true);
+            return report(iterations, res, false, true, false);
         }
         let alpha = rz / pap;
         x.par_chunks_mut(CHUNK).zip(p.par_chunks(CHUNK)).for_each(|(xs, ps)| {
@@ -309,7 +348,9 @@ fn spd_inverse3(d: &[f64; 9]) -> Option<[f64; 9]> {
 ///
 /// # Errors
 /// [`SolveError::NotConverged`] at the iteration cap; [`SolveError::Singular`]
-/// on a breakdown (K_FF not positive definite); [`SolveError::Dimension`],
+/// on a breakdown (K_FF not positive definite);
+/// [`SolveError::ToleranceUnreachable`] when round-off holds the residual
+/// above rtol; [`SolveError::Dimension`],
 /// [`SolveError::DofOutOfRange`], [`SolveError::NonFiniteValue`] for
 /// inconsistent input.
 pub fn solve_pcg(
@@ -395,14 +436,8 @@ pub fn solve_pcg_from(
         None => vec![0.0; n],
     };
     let report = pcg(apply_a, apply_m, &b, &mut u, options.rtol, options.max_iter);
-    if report.breakdown {
-        return Err(SolveError::Singular);
-    }
-    if !report.converged {
-        return Err(SolveError::NotConverged {
-            iterations: report.iterations,
-            relative_residual: report.relative_residual,
-        });
+    if let Some(e) = report.error(options.rtol) {
+        return Err(e);
     }
     for (dof, v) in dirichlet.iter() {
         u[dof] = v;
@@ -459,6 +494,24 @@ mod tests {
         // A floating body: K_FF is singular and f is not balanced.
         let r = solve_pcg(&k, &f, &Dirichlet::new(), &PcgOptions { max_iter: 500, ..PcgOptions::default() });
         assert!(matches!(r, Err(SolveError::Singular | SolveError::NotConverged { .. })), "{r:?}");
+    }
+
+    /// A tolerance below round-off on a well-posed problem stops early and
+    /// says so; it is not called singular.
+    #[test]
+    fn an_unreachable_tolerance_is_named_not_singular() {
+        let (k, f, bc) = problem(3);
+        for rtol in [1e-300, 1e-17] {
+            let options = PcgOptions { rtol, ..PcgOptions::default() };
+            match solve_pcg(&k, &f, &bc, &options) {
+                Err(e @ SolveError::ToleranceUnreachable { reached, .. }) => {
+                    assert!(reached > rtol && reached < 1e-12, "{e}");
+                    let text = e.to_string();
+                    assert!(text.contains("is below what double precision reaches on this system"), "{text}");
+                }
+                other => panic!("rtol {rtol:e}: {other:?}"),
+            }
+        }
     }
 
     #[test]

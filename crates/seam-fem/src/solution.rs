@@ -134,7 +134,7 @@ impl ContactFields {
 /// What the solve did.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Report {
-    /// Displacement unknowns, 3 per point of all bodies.
+    /// Displacement unknowns, 3 per point of all bodies that some cell uses.
     pub dofs: usize,
     /// Rows of the glued interfaces' constraints.
     pub constraints: usize,
@@ -193,7 +193,8 @@ pub fn solve_coupled(
     let clock = Instant::now();
     let constraints = Constraints::new(interfaces, &system.mortars, &system.offsets, &system.dirichlet);
     seconds.setup += clock.elapsed().as_secs_f64();
-    let (dofs, n_constraints) = (system.f.len(), constraints.rows.len());
+    let used = |b: &Body| b.mesh.used_points().into_iter().filter(|&u| u).count();
+    let (dofs, n_constraints) = (bodies.iter().map(|b| 3 * used(b)).sum(), constraints.rows.len());
 
     let mut steps = match interfaces.iter().any(|f| f.kind == Coupling::Contact) {
         true => Some(solve_contact(bodies, interfaces, options, &mut system, &constraints, &mut seconds)?),

@@ -102,6 +102,15 @@ pub enum SolveError {
         /// ‖r‖ / ‖b‖ at the end.
         relative_residual: f64,
     },
+    /// The iteration stagnated above its relative tolerance: round-off in
+    /// double precision holds the residual there.
+    #[error("the relative tolerance {rtol:.1e} is below what double precision reaches on this system: round-off holds the relative residual at {reached:.1e}; ask for a larger tolerance")]
+    ToleranceUnreachable {
+        /// The tolerance asked for.
+        rtol: f64,
+        /// The smallest relative residual reached.
+        reached: f64,
+    },
     /// The PETSc solver was asked for, but this build has no PETSc.
     #[error(
         "this seam was built without PETSc: build it with `cargo build --release -p seam-cli --features petsc` \

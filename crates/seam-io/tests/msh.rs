@@ -885,6 +885,60 @@ fn binary_errors_are_located_by_byte_offset() {
     assert!(err.to_string().contains("expected the binary integer 1 (byte order check)"), "{err}");
 }
 
+/// A count that the rest of its section cannot hold is reported where it is
+/// written, before anything is read or allocated for it.
+#[test]
+fn a_count_beyond_its_section_is_named_at_its_line_or_byte() {
+    let err = read_err(&edited("2 1 0 4\n", "2 1 0 99999999999\n"));
+    assert!(matches!(err.kind(), MshErrorKind::CountTooLarge { count: 99_999_999_999, .. }), "{err:?}");
+    assert_eq!(
+        err.to_string(),
+        "line 14: the number of nodes of entity (2, 1) is 99999999999, more than the 36 bytes before \
+         $EndNodes can hold (at most 4)"
+    );
+    let err = read_err(&edited("1 4 10 40\n", "1 99999999999 10 40\n"));
+    assert!(err.to_string().starts_with("line 13: the number of nodes is 99999999999, more than"), "{err}");
+    let err = read_err(&edited("2 1 2 2\n", "2 1 2 99999999999\n"));
+    assert!(
+        err.to_string().starts_with("line 26: the number of elements of entity (2, 1) is 99999999999"),
+        "{err}"
+    );
+    // Binary: at the count's byte offset.
+    let mut bytes = binary_square_v41(false, 8);
+    let at = bytes.windows(8).position(|w| w == 4u64.to_le_bytes()).unwrap();
+    bytes[at..at + 8].copy_from_slice(&99_999_999_999u64.to_le_bytes());
+    let err = read_msh(&bytes).unwrap_err();
+    assert_eq!(err.location(), Some(Location::Offset(at)));
+    assert!(err.to_string().contains("the number of nodes is 99999999999, more than"), "{err}");
+    // A cut file is still called truncated.
+    assert!(read_err(&SQUARE[..SQUARE.find("30\n").unwrap()]).to_string().contains("truncated file"));
+}
+
+/// Binary data in the other byte order than the check integer announces
+/// (the check alone swapped) are named as byte-swapped, not as truncated.
+#[test]
+fn byte_swapped_data_are_named() {
+    for (version, big_endian) in [("4.1", true), ("4.1", false), ("2.2", false)] {
+        let mut bytes = match version {
+            "4.1" => binary_square_v41(big_endian, 8),
+            _ => binary_square_v22(big_endian),
+        };
+        let check = bytes.windows(4).position(|w| w == [1, 0, 0, 0] || w == [0, 0, 0, 1]).unwrap();
+        bytes[check..check + 4].reverse();
+        let err = read_msh(&bytes).unwrap_err();
+        assert!(matches!(err.kind(), MshErrorKind::ByteSwapped { .. }), "{version} {big_endian}: {err}");
+        let announced = if big_endian { "little-endian" } else { "big-endian" };
+        let text = err.to_string();
+        assert!(text.contains(&format!("in the {announced} byte order that the check integer")), "{text}");
+        assert!(text.contains("the data and the check disagree"), "{text}");
+        if version == "4.1" {
+            assert!(text.contains("byte-swapped data: the number of entities of dimension 2 is"), "{text}");
+        } else {
+            assert!(text.contains("the number of elements of an element header is 33554432"), "{text}");
+        }
+    }
+}
+
 // ----- robustness ------------------------------------------------------------------
 
 fn all_fixture_bytes() -> Vec<(String, Vec<u8>)> {

@@ -317,13 +317,7 @@ impl SurfaceMesh {
 
     /// Which points some face uses (`true`) and which are off the surface.
     pub fn used_points(&self) -> Vec<bool> {
-        let mut used = vec![false; self.points.len()];
-        for face in &self.faces {
-            for &n in face.nodes() {
-                used[n] = true;
-            }
-        }
-        used
+        used_points(self.points.len(), self.faces.iter().map(Face::nodes))
     }
 
     /// Consumes the mesh, returning its points and faces.
@@ -563,6 +557,12 @@ impl VolumeMesh {
         &self.cells
     }
 
+    /// Which points some cell uses (`true`); the others (nodes of a file's
+    /// other volumes, say) carry no unknowns.
+    pub fn used_points(&self) -> Vec<bool> {
+        used_points(self.points.len(), self.cells.iter().map(Cell::nodes))
+    }
+
     /// The boundary: every cell face that belongs to exactly one cell, oriented
     /// with its normal pointing out of that cell. Points keep their numbering.
     ///
@@ -706,6 +706,15 @@ fn check_element(what: &'static str, e: usize, nodes: &[usize], n_nodes: usize) 
         }
     }
     Ok(())
+}
+
+/// Per point of `n`, whether one of `elements` (node lists) uses it.
+fn used_points<'a>(n: usize, elements: impl Iterator<Item = &'a [usize]>) -> Vec<bool> {
+    let mut used = vec![false; n];
+    for &p in elements.flatten() {
+        used[p] = true;
+    }
+    used
 }
 
 /// Vector area ½ Σ x_i × x_{i+1} of a closed polygon (exact for planar polygons;

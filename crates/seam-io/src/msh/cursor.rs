@@ -33,6 +33,9 @@ pub(crate) struct Cursor<'a> {
     encoding: Encoding,
     binary_file: bool,
     section: String,
+    /// Where the current section's last `$End<Section>` line starts, if the
+    /// file has one: the bytes its counts must fit in ([`Cursor::check_count`]).
+    section_end: Option<usize>,
 }
 
 /// The lines of ASCII blocks that one thread parses at a time; shorter blocks
@@ -46,7 +49,14 @@ impl<F: Fn() -> String> What for F {}
 impl<'a> Cursor<'a> {
     /// A cursor at the start of `bytes`, reading ASCII.
     pub fn new(bytes: &'a [u8]) -> Self {
-        Cursor { bytes, pos: 0, encoding: Encoding::Ascii, binary_file: false, section: "MeshFormat".into() }
+        Cursor {
+            bytes,
+            pos: 0,
+            encoding: Encoding::Ascii,
+            binary_file: false,
+            section: "MeshFormat".into(),
+            section_end: None,
+        }
     }
 
     /// The current byte offset.
@@ -65,9 +75,18 @@ impl<'a> Cursor<'a> {
         self.binary_file = true;
     }
 
-    /// Records the section being read, for truncation messages.
+    /// Records the section being read, for truncation messages, and where
+    /// its last `$End<Section>` line is.
     pub fn enter_section(&mut self, name: &str) {
         self.section = name.to_string();
+        let marker = format!("$End{name}");
+        let rest = &self.bytes[self.pos..];
+        self.section_end = memchr::memmem::rfind_iter(rest, marker.as_bytes())
+            .find(|&i| {
+                let after = rest.get(i + marker.len());
+                (i == 0 || rest[i - 1] == b'\n') && after.is_none_or(|b| b.is_ascii_whitespace())
+            })
+            .map(|i| self.pos + i);
     }
 
     /// Runs `read` on text (`$PhysicalNames`, counts of MSH 2.2, `$NodeData`
@@ -77,6 +96,69 @@ impl<'a> Cursor<'a> {
         let result = read(self);
         self.encoding = encoding;
         result
+    }
+
+    /// A count of the records that follow (a `size_t`), each at least
+    /// `record_bytes` long: checked by [`Cursor::check_count`].
+    pub fn count(&mut self, record_bytes: usize, what: impl What) -> Result<u64, MshError> {
+        let at = self.pos;
+        let count = self.size(&what)?;
+        self.check_count(at, count, self.size_bytes(), record_bytes, what)?;
+        Ok(count)
+    }
+
+    /// Checks `count`, written at byte `at` (a binary integer `width` bytes
+    /// wide, or text for `None`), records of at least `record_bytes` bytes:
+    /// more than fit before the section's `$End` line is an error at the
+    /// count, before anything is read or allocated for it; in binary, when
+    /// the count would fit in the other byte order, the data are
+    /// byte-swapped against the byte-order check. Without an `$End` line
+    /// (a truncated file) nothing is checked: reading reports the truncation.
+    pub fn check_count(
+        &self,
+        at: usize,
+        count: u64,
+        width: Option<usize>,
+        record_bytes: usize,
+        what: impl What,
+    ) -> Result<(), MshError> {
+        let Some(end) = self.section_end.filter(|&end| end >= self.pos) else { return Ok(()) };
+        let bytes = (end - self.pos) as u64;
+        let room = bytes / record_bytes.max(1) as u64;
+        if count <= room {
+            return Ok(());
+        }
+        if let (Some(width), Encoding::Binary { big_endian, .. }) = (width, self.encoding) {
+            let swapped = match width {
+                4 => u64::from((count as u32).swap_bytes()),
+                _ => count.swap_bytes(),
+            };
+            if swapped <= room {
+                let (announced, other) = (count.to_string(), swapped.to_string());
+                return Err(
+                    self.error(at, MshErrorKind::ByteSwapped { what: what(), announced, other, big_endian })
+                );
+            }
+        }
+        let section = self.section.clone();
+        Err(self.error(at, MshErrorKind::CountTooLarge { what: what(), count, bytes, room, section }))
+    }
+
+    /// Whether the binary data are read as big-endian (`None` in ASCII).
+    pub fn big_endian(&self) -> Option<bool> {
+        match self.encoding {
+            Encoding::Binary { big_endian, .. } => Some(big_endian),
+            Encoding::Ascii => None,
+        }
+    }
+
+    /// The least bytes of a record that takes `ascii` bytes in text and
+    /// `binary` in binary, in the current encoding.
+    pub fn record_bytes(&self, ascii: usize, binary: usize) -> usize {
+        match self.encoding {
+            Encoding::Ascii => ascii,
+            Encoding::Binary { .. } => binary,
+        }
     }
 
     /// How many records of at least `min_record_bytes` bytes can still follow:

@@ -126,6 +126,38 @@ pub enum MshErrorKind {
         /// What the file has instead (quoted, or for example "end of line").
         found: String,
     },
+    /// A count is more than the rest of its section can hold.
+    #[error("{what} is {count}, more than the {bytes} bytes before $End{section} can hold (at most {room})")]
+    CountTooLarge {
+        /// What the count counts, for example `the number of nodes of entity (0, 1)`.
+        what: String,
+        /// The count.
+        count: u64,
+        /// The bytes from the count to the section's `$End` line.
+        bytes: u64,
+        /// The most records these bytes can hold.
+        room: u64,
+        /// The section name without `$`.
+        section: String,
+    },
+    /// Binary data that make sense only in the byte order the byte-order
+    /// check of `$MeshFormat` does not announce.
+    #[error(
+        "byte-swapped data: {what} is {announced} in the {} byte order that the check integer of \
+         $MeshFormat announces, {other} in the other; the data and the check disagree (write the file \
+         again with Gmsh)",
+        if *.big_endian { "big-endian" } else { "little-endian" }
+    )]
+    ByteSwapped {
+        /// What was read, for example `the number of entities of dimension 0`.
+        what: String,
+        /// What it is in the announced byte order.
+        announced: String,
+        /// What it is in the other.
+        other: String,
+        /// Whether the check announces big-endian.
+        big_endian: bool,
+    },
     /// A node coordinate is NaN or infinite.
     #[error("node {node_tag} has a non-finite coordinate")]
     NonFiniteCoordinate {
@@ -215,6 +247,18 @@ pub enum MshErrorKind {
     NoFaces {
         /// What was selected, for example `physical group "top" (2)`.
         selection: String,
+    },
+    /// A face of a surface has a node that no cell of the selected volume has.
+    #[error("element {element_tag} of {surface} is not on {volume}: its node {node_tag} is in no cell of that volume")]
+    NotOnVolume {
+        /// The surface's group, for example `physical group "top" (2)`.
+        surface: String,
+        /// The volume's group.
+        volume: String,
+        /// The Gmsh tag of the face.
+        element_tag: u64,
+        /// The Gmsh tag of the node.
+        node_tag: u64,
     },
     /// The selection has no volume cells.
     #[error("no volume cells found in {selection}")]

@@ -21,6 +21,10 @@ const MAX_COMPONENTS: usize = 9;
 /// count says.
 const ELEMENT_BYTES: usize = 24;
 
+/// The least bytes of an MSH 2.2 element: "1 15 0 1\n" in text, two ints in
+/// binary.
+const ELEMENT_V2_BYTES: usize = 8;
+
 /// Parses a whole MSH file.
 pub(crate) fn parse_msh(bytes: &[u8]) -> Result<Msh, MshError> {
     let mut cur = Cursor::new(bytes);
@@ -143,8 +147,11 @@ impl Parser<'_> {
 
     fn read_entities(&mut self) -> Result<(), MshError> {
         let mut counts = [0u64; 4];
+        // An entity takes at least "1 0 0 0 0\n", or a tag, 3 doubles and a size_t.
+        let sb = self.cur.size_bytes().unwrap_or(0);
+        let entity_bytes = self.cur.record_bytes(10, 28 + sb);
         for (dim, count) in counts.iter_mut().enumerate() {
-            *count = self.cur.size(|| format!("the number of entities of dimension {dim}"))?;
+            *count = self.cur.count(entity_bytes, || format!("the number of entities of dimension {dim}"))?;
         }
         self.cur.end_record(|| "the entity counts".into())?;
         for (dim, &count) in (0..).zip(&counts) {
@@ -174,7 +181,9 @@ impl Parser<'_> {
     // ----- $Nodes -------------------------------------------------------------
 
     fn read_nodes_v2(&mut self) -> Result<(), MshError> {
-        let count = self.cur.text(|cur| read_count(cur, "the number of nodes"))?;
+        // A node takes at least "1 0 0 0\n", or an int and 3 doubles.
+        let node_bytes = if self.format.binary { 28 } else { 8 };
+        let count = self.cur.text(|cur| read_count(cur, node_bytes, "the number of nodes"))?;
         self.msh.reserve_nodes(self.cur.capacity(count, 8));
         // Long ASCII blocks of well-formed records at once (in parallel); any
         // other block record by record.
@@ -203,6 +212,7 @@ impl Parser<'_> {
                     .map_err(|_| cur.parse_error(at, "a node tag".into(), tag.to_string()))?;
                 let xyz = [f64::from_bits(word(4)), f64::from_bits(word(12)), f64::from_bits(word(20))];
                 if !xyz.iter().all(|x| x.is_finite()) {
+                    byte_swapped_node(cur, at, record, tag)?;
                     return Err(cur.error(at + 4, MshErrorKind::NonFiniteCoordinate { node_tag: tag }));
                 }
                 self.msh.add_node(tag, xyz).map_err(|kind| self.cur.error(at, kind))?;
@@ -218,7 +228,11 @@ impl Parser<'_> {
     }
 
     fn read_nodes_v4(&mut self) -> Result<(), MshError> {
-        let [blocks, count, _, _] = read_v4_header(&mut self.cur, "node")?;
+        // A block header takes at least "0 1 0 0\n" (3 ints and a size_t in
+        // binary); a node "1\n0 0 0\n" (a size_t and 3 doubles).
+        let sb = self.cur.size_bytes().unwrap_or(0);
+        let sizes = (self.cur.record_bytes(8, 12 + sb), self.cur.record_bytes(8, sb + 24));
+        let [blocks, count, _, _] = read_v4_header(&mut self.cur, "node", sizes)?;
         self.msh.reserve_nodes(self.cur.capacity(count, 8));
         for _ in 0..blocks {
             self.read_node_block_v4()?;
@@ -234,6 +248,7 @@ impl Parser<'_> {
         let entity = cur.int(|| "the entity tag of a node block".into())?;
         let parametric =
             cur.int(|| format!("the parametric flag of the node block of entity ({dim}, {entity})"))?;
+        let count_at = cur.pos();
         let count = cur.size(|| format!("the number of nodes of entity ({dim}, {entity})"))?;
         cur.end_record(|| format!("the node block header of entity ({dim}, {entity})"))?;
         let n_parametric = match (parametric, dim) {
@@ -248,6 +263,13 @@ impl Parser<'_> {
                 ));
             }
         };
+        // A node takes at least "1\n0 0 0\n", or a size_t and 3 doubles
+        // (and its parametric coordinates).
+        let sb = cur.size_bytes();
+        let node_bytes = cur.record_bytes(8 + 2 * n_parametric, sb.unwrap_or(0) + 8 * (3 + n_parametric));
+        cur.check_count(count_at, count, sb, node_bytes, || {
+            format!("the number of nodes of entity ({dim}, {entity})")
+        })?;
         // Long ASCII blocks of well-formed records at once (in parallel); any
         // other block record by record.
         if let Some(sb) = cur.size_bytes() {
@@ -334,7 +356,11 @@ impl Parser<'_> {
     // ----- $Elements ----------------------------------------------------------
 
     fn read_elements_v4(&mut self) -> Result<(), MshError> {
-        let [blocks, count, _, _] = read_v4_header(&mut self.cur, "element")?;
+        // A block header takes at least "2 1 2 0\n" (3 ints and a size_t in
+        // binary); an element "1 1\n" (2 size_t).
+        let sb = self.cur.size_bytes().unwrap_or(0);
+        let sizes = (self.cur.record_bytes(8, 12 + sb), self.cur.record_bytes(4, 2 * sb));
+        let [blocks, count, _, _] = read_v4_header(&mut self.cur, "element", sizes)?;
         self.msh.reserve_elements(self.cur.capacity(count, ELEMENT_BYTES));
         for _ in 0..blocks {
             self.read_element_block_v4()?;
@@ -349,10 +375,17 @@ impl Parser<'_> {
         let entity = cur.int(|| "the entity tag of an element block".into())?;
         let at = cur.pos();
         let number = cur.int(|| format!("the element type of the block of entity ({dim}, {entity})"))?;
+        let count_at = cur.pos();
         let count = cur.size(|| format!("the number of elements of entity ({dim}, {entity})"))?;
         cur.end_record(|| format!("the element block header of entity ({dim}, {entity})"))?;
         let element_type =
             known_type(cur, at, number, || format!("the element block of entity ({dim}, {entity})"))?;
+        let sb = cur.size_bytes();
+        // An element is its tag and node tags: a digit and a blank each, or size_t.
+        let element_bytes = cur.record_bytes(2, sb.unwrap_or(0)) * (element_type.nodes + 1);
+        cur.check_count(count_at, count, sb, element_bytes, || {
+            format!("the number of elements of entity ({dim}, {entity})")
+        })?;
         let physical_tags = self.entity_physicals.get(&(dim, entity)).cloned().unwrap_or_default();
         // Long ASCII blocks of well-formed records at once (in parallel); any
         // other block record by record.
@@ -417,7 +450,7 @@ impl Parser<'_> {
 
     /// 2.2 ASCII: `tag type ntags tags... nodes...` per line.
     fn read_elements_v2_ascii(&mut self) -> Result<(), MshError> {
-        let count = read_count(&mut self.cur, "the number of elements")?;
+        let count = read_count(&mut self.cur, ELEMENT_V2_BYTES, "the number of elements")?;
         for _ in 0..count {
             let cur = &mut self.cur;
             let at = cur.pos();
@@ -432,7 +465,7 @@ impl Parser<'_> {
     /// 2.2 binary: headers `type count ntags`, each followed by `count` records
     /// `tag tags... nodes...`.
     fn read_elements_v2_binary(&mut self) -> Result<(), MshError> {
-        let total = self.cur.text(|cur| read_count(cur, "the number of elements"))?;
+        let total = self.cur.text(|cur| read_count(cur, ELEMENT_V2_BYTES, "the number of elements"))?;
         let mut read = 0u64;
         while read < total {
             let cur = &mut self.cur;
@@ -440,6 +473,14 @@ impl Parser<'_> {
             let number = cur.int(|| "the element type of an element header".into())?;
             let count = cur.int(|| "the number of elements of an element header".into())?;
             let n_tags = cur.int(|| "the number of tags of an element header".into())?;
+            let what = || "the number of elements of an element header".to_string();
+            match cur.check_count(at + 4, u64::from(count as u32), Some(4), ELEMENT_V2_BYTES, what) {
+                // A negative count is named as such below.
+                Err(e) if count >= 0 || matches!(e.kind(), MshErrorKind::ByteSwapped { .. }) => {
+                    return Err(e)
+                }
+                _ => {}
+            }
             let count = u64::try_from(count).ok().filter(|&c| c <= total - read).ok_or_else(|| {
                 let expected = format!("at most {} elements in an element header", total - read);
                 cur.parse_error(at, expected, count.to_string())
@@ -540,6 +581,33 @@ impl Parser<'_> {
     }
 }
 
+/// The error for an MSH 2.2 binary node record (int tag, 3 doubles) at `at`
+/// with a non-finite coordinate when, byte-swapped, it is a node with finite
+/// coordinates and a positive tag: the data are in the other byte order.
+fn byte_swapped_node(cur: &Cursor<'_>, at: usize, record: &[u8], tag: u64) -> Result<(), MshError> {
+    let Some(big_endian) = cur.big_endian() else { return Ok(()) };
+    let swapped = |k: usize, n: usize| {
+        let word = cur.word(record.get(k..k + n).unwrap_or_default());
+        if n == 4 {
+            u64::from((word as u32).swap_bytes())
+        } else {
+            word.swap_bytes()
+        }
+    };
+    let other_tag = swapped(0, 4) as u32 as i32;
+    let xyz = [4, 12, 20].map(|k| f64::from_bits(swapped(k, 8)));
+    if other_tag <= 0 || !xyz.iter().all(|x| x.is_finite()) {
+        return Ok(());
+    }
+    let kind = MshErrorKind::ByteSwapped {
+        what: "a node record".into(),
+        announced: format!("node {tag} with a non-finite coordinate"),
+        other: format!("node {other_tag} at ({}, {}, {})", xyz[0], xyz[1], xyz[2]),
+        big_endian,
+    };
+    Err(cur.error(at, kind))
+}
+
 /// The 3 finite coordinates, then `n_parametric` numbers, that end an ASCII
 /// node record (as [`Parser::read_node`] reads them); `None` if the record is
 /// anything else.
@@ -555,16 +623,16 @@ fn coordinates<'t>(tokens: &mut impl Iterator<Item = &'t [u8]>, n_parametric: us
     (finite && tokens.next().is_none()).then_some(xyz)
 }
 
-/// A count alone on its line.
-fn read_count(cur: &mut Cursor<'_>, what: &str) -> Result<u64, MshError> {
-    let count = cur.size(|| what.to_string())?;
+/// A count alone on its line, of records of at least `record_bytes` bytes.
+fn read_count(cur: &mut Cursor<'_>, record_bytes: usize, what: &str) -> Result<u64, MshError> {
+    let count = cur.count(record_bytes, || what.to_string())?;
     cur.end_record(|| what.to_string())?;
     Ok(count)
 }
 
 /// A `size_t` count followed by that many `int` tags.
 fn read_tag_list(cur: &mut Cursor<'_>, what: impl Fn() -> String) -> Result<Vec<i32>, MshError> {
-    let count = cur.size(&what)?;
+    let count = cur.count(cur.record_bytes(2, 4), &what)?;
     let mut tags = Vec::with_capacity(cur.capacity(count, 2));
     for _ in 0..count {
         tags.push(cur.int(&what)?);
@@ -573,8 +641,9 @@ fn read_tag_list(cur: &mut Cursor<'_>, what: impl Fn() -> String) -> Result<Vec<
 }
 
 /// The 4.1 `$Nodes`/`$Elements` header: blocks, count, smallest and largest
-/// tag; `item` is "node" or "element".
-fn read_v4_header(cur: &mut Cursor<'_>, item: &str) -> Result<[u64; 4], MshError> {
+/// tag; `item` is "node" or "element", `sizes` the least bytes of a block
+/// and of an item.
+fn read_v4_header(cur: &mut Cursor<'_>, item: &str, sizes: (usize, usize)) -> Result<[u64; 4], MshError> {
     let names = [
         format!("the number of {item} blocks"),
         format!("the number of {item}s"),
@@ -582,8 +651,12 @@ fn read_v4_header(cur: &mut Cursor<'_>, item: &str) -> Result<[u64; 4], MshError
         format!("the largest {item} tag"),
     ];
     let mut header = [0; 4];
-    for (value, name) in header.iter_mut().zip(&names) {
-        *value = cur.size(|| name.clone())?;
+    for (i, (value, name)) in header.iter_mut().zip(&names).enumerate() {
+        *value = match i {
+            0 => cur.count(sizes.0, || name.clone())?,
+            1 => cur.count(sizes.1, || name.clone())?,
+            _ => cur.size(|| name.clone())?,
+        };
     }
     cur.end_record(|| format!("the {item} section header"))?;
     Ok(header)
@@ -602,7 +675,7 @@ fn known_type(
 }
 
 fn read_physical_names(cur: &mut Cursor<'_>, msh: &mut MshBuilder) -> Result<(), MshError> {
-    let count = read_count(cur, "the number of physical names")?;
+    let count = read_count(cur, 7, "the number of physical names")?;
     for _ in 0..count {
         let at = cur.pos();
         let dim = cur.int(|| "the dimension of a physical name".into())?;
@@ -631,20 +704,20 @@ struct NodeDataHeader {
 /// String tags (the first is the name), real tags (the first is the time),
 /// integer tags (time step, components, number of entries, ...).
 fn read_node_data_header(cur: &mut Cursor<'_>) -> Result<NodeDataHeader, MshError> {
-    let n_strings = read_count(cur, "the number of string tags")?;
+    let n_strings = read_count(cur, 1, "the number of string tags")?;
     let mut name = None;
     for _ in 0..n_strings {
         let (_, line) = cur.line().ok_or_else(|| cur.truncated())?;
         let text = unquote(line).unwrap_or_else(|| String::from_utf8_lossy(line).into_owned());
         name.get_or_insert(text);
     }
-    let n_reals = read_count(cur, "the number of real tags")?;
+    let n_reals = read_count(cur, 2, "the number of real tags")?;
     for _ in 0..n_reals {
         cur.doubles(&mut [0.0], || "a real tag".into())?;
         cur.end_record(|| "a real tag".into())?;
     }
     let at = cur.pos();
-    let n_ints = read_count(cur, "the number of integer tags")?;
+    let n_ints = read_count(cur, 2, "the number of integer tags")?;
     let mut ints = Vec::with_capacity(cur.capacity(n_ints, 2));
     for _ in 0..n_ints {
         ints.push(cur.int(|| "an integer tag".into())?);

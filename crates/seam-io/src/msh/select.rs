@@ -38,13 +38,49 @@ impl Msh {
     /// or non-finite node, named by its Gmsh tag.
     pub fn surface(&self, group: Option<&str>) -> Result<SurfaceMesh, MshError> {
         match group {
-            Some(group) => self.group_surface(group),
+            Some(group) => self.group_surface(group, None),
             None if self.elements.iter().any(|e| e.dim == 3) => {
                 let tags = tags_of(&self.volume_elements(None)?);
                 self.volume(None)?.boundary().map_err(|e| self.mesh_error(e, &tags))
             }
             None => self.all_faces(),
         }
+    }
+
+    /// The faces of the dimension-2 physical group `group` (as in
+    /// [`Msh::surface`]) as a surface of the body made of the cells of
+    /// `volume` (see [`Msh::volume`]; `None`: all cells): each face is oriented
+    /// outward from the body's cells, so a surface between two physical volumes
+    /// faces out of the one selected.
+    ///
+    /// # Errors
+    /// Those of [`Msh::surface`] and [`Msh::volume`], and
+    /// [`MshErrorKind::NotOnVolume`] for a face with a node that no cell of
+    /// `volume` has.
+    pub fn surface_of_volume(&self, group: &str, volume: Option<&str>) -> Result<SurfaceMesh, MshError> {
+        let Some(volume) = volume else { return self.group_surface(group, None) };
+        let cells = self.volume_elements(Some(volume))?;
+        let mut used = vec![false; self.nodes.len()];
+        for &n in cells.iter().flat_map(|e| &e.nodes) {
+            if let Some(u) = used.get_mut(n) {
+                *u = true; // an index out of range is VolumeMesh::new's to report
+            }
+        }
+        let tag = self.group_tag(2, group)?;
+        if let Some((face, &node)) = self
+            .group_elements(2, tag)
+            .iter()
+            .find_map(|e| e.nodes.iter().find(|&&n| !used.get(n).copied().unwrap_or(false)).map(|n| (e, n)))
+        {
+            return Err(MshErrorKind::NotOnVolume {
+                surface: self.describe_group(2, tag),
+                volume: self.describe_group(3, self.group_tag(3, volume)?),
+                element_tag: face.tag,
+                node_tag: self.node_tags.get(node).copied().unwrap_or(node as u64),
+            }
+            .into());
+        }
+        self.group_surface(group, Some(&cells))
     }
 
     /// The volume cells: all of them, or those of the dimension-3 physical group
@@ -119,7 +155,9 @@ impl Msh {
         }
     }
 
-    fn group_surface(&self, group: &str) -> Result<SurfaceMesh, MshError> {
+    /// The faces of group `group`, oriented outward from `cells` (`None`: all
+    /// cells of the file).
+    fn group_surface(&self, group: &str, cells: Option<&[&MshElement]>) -> Result<SurfaceMesh, MshError> {
         let tag = self.group_tag(2, group)?;
         let selected = self.group_elements(2, tag);
         if selected.is_empty() {
@@ -127,12 +165,15 @@ impl Msh {
         }
         let faces = selected.iter().map(|e| face_of(e)).collect::<Result<Vec<_>, _>>()?;
         let face_tags = tags_of(&selected);
-        let (cells, cell_tags): (Vec<Cell>, Vec<u64>) = self
-            .elements
-            .iter()
-            .filter(|e| e.dim == 3)
-            .filter_map(|e| Some((cell_of(e).ok()?, e.tag)))
-            .unzip();
+        let (cells, cell_tags): (Vec<Cell>, Vec<u64>) = match cells {
+            Some(cells) => (cells.iter().map(|e| cell_of(e)).collect::<Result<_, _>>()?, tags_of(cells)),
+            None => self
+                .elements
+                .iter()
+                .filter(|e| e.dim == 3)
+                .filter_map(|e| Some((cell_of(e).ok()?, e.tag)))
+                .unzip(),
+        };
         if cells.is_empty() {
             return SurfaceMesh::new(self.nodes.clone(), faces).map_err(|e| self.mesh_error(e, &face_tags));
         }
