@@ -1004,3 +1004,61 @@ fn corrupted_fixtures_give_errors_not_panics() {
         }
     }
 }
+
+/// A body's surface must be made of its cells' faces: two Hex8 stacked, the
+/// top face as the hex's quad (accepted, oriented out of the body), as two
+/// triangles (no cell has them) and the face between the hexes (inside the
+/// body) each refused with one line naming the element and the groups.
+#[test]
+fn a_body_surface_that_is_no_face_of_its_cells_is_named() {
+    let node = |i: usize, j: usize, k: usize| 1 + i + 2 * j + 4 * k;
+    let nodes: Vec<String> =
+        (0..12).map(|n| format!("{} {} {} {}", n + 1, n % 2, (n / 2) % 2, n / 4)).collect();
+    let hex = |k: usize| {
+        [(0, 0), (1, 0), (1, 1), (0, 1)]
+            .iter()
+            .chain(&[(0, 0), (1, 0), (1, 1), (0, 1)])
+            .enumerate()
+            .map(|(c, &(i, j))| node(i, j, k + c / 4).to_string())
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let top = [node(0, 0, 2), node(1, 0, 2), node(1, 1, 2), node(0, 1, 2)];
+    let mid = [node(0, 0, 1), node(1, 0, 1), node(1, 1, 1), node(0, 1, 1)];
+    let elements = [
+        format!("1 5 2 1 1 {}", hex(0)),
+        format!("2 5 2 1 1 {}", hex(1)),
+        format!("3 3 2 2 2 {} {} {} {}", top[0], top[1], top[2], top[3]),
+        format!("4 2 2 3 3 {} {} {}", top[0], top[1], top[2]),
+        format!("5 2 2 3 3 {} {} {}", top[0], top[2], top[3]),
+        format!("6 3 2 4 4 {} {} {} {}", mid[0], mid[1], mid[2], mid[3]),
+    ];
+    let text = format!(
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n3 1 \"block\"\n2 2 \"top\"\n2 3 \"split\"\n\
+         2 4 \"mid\"\n$EndPhysicalNames\n$Nodes\n12\n{}\n$EndNodes\n$Elements\n6\n{}\n$EndElements\n",
+        nodes.join("\n"),
+        elements.join("\n")
+    );
+    let msh = read_msh(text.as_bytes()).unwrap();
+    for volume in [None, Some("block")] {
+        let surface = msh.surface_of_volume("top", volume).unwrap();
+        assert!(area_vector(&surface.corners(0))[2] > 0.0, "oriented out of the body");
+        let body =
+            volume.map_or("the file's cells".to_string(), |_| "physical group \"block\" (1)".to_string());
+        let e = msh.surface_of_volume("split", volume).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            format!(
+                "element 4 of physical group \"split\" (3) is not a face of any cell of {body}: \
+                 a body's surface must be made of its cells' faces"
+            )
+        );
+        let e = msh.surface_of_volume("mid", volume).unwrap_err().to_string();
+        assert!(
+            e.starts_with("element 6 of physical group \"mid\" (4) is a face between two cells of"),
+            "{e}"
+        );
+    }
+    // The operator's surfaces (no body) take any faces.
+    assert_eq!(msh.surface(Some("split")).unwrap().n_faces(), 2);
+}

@@ -592,26 +592,48 @@ impl VolumeMesh {
 
     /// Orients the given faces (for example a physical surface) outward with
     /// respect to the one cell each belongs to. A face that belongs to no cell, or
-    /// to two cells (an interior face), keeps the orientation it was given.
+    /// to two cells (an interior face), keeps the orientation it was given
+    /// ([`VolumeMesh::face_owners`] tells which).
     ///
     /// # Errors
     /// [`MeshError`] if the faces are empty, out of range or degenerate.
     pub fn orient_outward(&self, faces: &[Face]) -> Result<SurfaceMesh, MeshError> {
-        let all = self.cell_faces();
+        self.orient_outward_of(faces, &self.face_owners(faces))
+    }
+
+    /// [`VolumeMesh::orient_outward`] with the faces' owners known.
+    ///
+    /// # Errors
+    /// As [`VolumeMesh::orient_outward`].
+    pub fn orient_outward_of(&self, faces: &[Face], owners: &[FaceOwner]) -> Result<SurfaceMesh, MeshError> {
         let oriented = faces
+            .iter()
+            .zip(owners)
+            .map(|(f, &owner)| match owner {
+                FaceOwner::Cell(cell) => self.outward(*f, cell),
+                FaceOwner::NoCell | FaceOwner::Interior => *f,
+            })
+            .collect();
+        SurfaceMesh::new(self.points.clone(), oriented)
+    }
+
+    /// Which cell each of `faces` is a face of (by its corner nodes).
+    pub fn face_owners(&self, faces: &[Face]) -> Vec<FaceOwner> {
+        let all = self.cell_faces();
+        faces
             .iter()
             .map(|f| {
                 let key = face_key(f.corner_nodes());
                 let start = all.partition_point(|e| e.key < key);
                 match &all[start..] {
-                    [first, rest @ ..] if first.key == key && rest.first().is_none_or(|e| e.key != key) => {
-                        self.outward(*f, first.cell)
-                    }
-                    _ => *f,
+                    [first, rest @ ..] if first.key == key => match rest.first() {
+                        Some(second) if second.key == key => FaceOwner::Interior,
+                        _ => FaceOwner::Cell(first.cell),
+                    },
+                    _ => FaceOwner::NoCell,
                 }
             })
-            .collect();
-        SurfaceMesh::new(self.points.clone(), oriented)
+            .collect()
     }
 
     /// Every face of every cell, sorted by its node set (then cell, local face):
@@ -651,6 +673,17 @@ impl VolumeMesh {
             face
         }
     }
+}
+
+/// Which cells a face is a face of ([`VolumeMesh::face_owners`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FaceOwner {
+    /// Exactly one cell, this one: a boundary face.
+    Cell(usize),
+    /// No cell has a face with these corners.
+    NoCell,
+    /// Two cells: a face inside the mesh.
+    Interior,
 }
 
 struct CellFace {

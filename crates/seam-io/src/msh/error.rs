@@ -248,6 +248,24 @@ pub enum MshErrorKind {
         /// What was selected, for example `physical group "top" (2)`.
         selection: String,
     },
+    /// A face of a body's surface is no face of the body's cells (its
+    /// corners are their nodes): a surface meshed apart from the volume, or
+    /// quadrilaterals cut along the other diagonal than the cells' faces, or
+    /// a face inside the body.
+    #[error(
+        "element {element_tag} of {surface} is {} of {volume}: a body's surface must be made of its cells' faces",
+        if *interior { "a face between two cells" } else { "not a face of any cell" }
+    )]
+    NotACellFace {
+        /// The surface's group, for example `physical group "top" (2)`.
+        surface: String,
+        /// The body's cells, for example `physical group "lower" (1)`.
+        volume: String,
+        /// The Gmsh tag of the face.
+        element_tag: u64,
+        /// The face is one of two cells (inside the body), not of none.
+        interior: bool,
+    },
     /// A face of a surface has a node that no cell of the selected volume has.
     #[error("element {element_tag} of {surface} is not on {volume}: its node {node_tag} is in no cell of that volume")]
     NotOnVolume {

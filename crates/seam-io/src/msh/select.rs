@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use seam::{Cell, Face, MeshError, SurfaceMesh, VolumeMesh};
+use seam::{Cell, Face, FaceOwner, MeshError, SurfaceMesh, VolumeMesh};
 
 use super::element_types::{
     HEX20, HEX27, HEX8, PRISM15, PRISM18, PRISM6, PYRAMID13, PYRAMID14, PYRAMID5, QUAD4, QUAD8, QUAD9, TET10,
@@ -58,8 +58,11 @@ impl Msh {
     /// [`MshErrorKind::NotOnVolume`] for a face with a node that no cell of
     /// `volume` has.
     pub fn surface_of_volume(&self, group: &str, volume: Option<&str>) -> Result<SurfaceMesh, MshError> {
-        let Some(volume) = volume else { return self.group_surface(group, None) };
-        let cells = self.volume_elements(Some(volume))?;
+        let cells = self.volume_elements(volume)?;
+        let body = match volume {
+            Some(volume) => self.describe_group(3, self.group_tag(3, volume)?),
+            None => "the file's cells".to_string(),
+        };
         let mut used = vec![false; self.nodes.len()];
         for &n in cells.iter().flat_map(|e| &e.nodes) {
             if let Some(u) = used.get_mut(n) {
@@ -74,13 +77,13 @@ impl Msh {
         {
             return Err(MshErrorKind::NotOnVolume {
                 surface: self.describe_group(2, tag),
-                volume: self.describe_group(3, self.group_tag(3, volume)?),
+                volume: body,
                 element_tag: face.tag,
                 node_tag: self.node_tags.get(node).copied().unwrap_or(node as u64),
             }
             .into());
         }
-        self.group_surface(group, Some(&cells))
+        self.group_surface(group, Some((&cells, body)))
     }
 
     /// The volume cells: all of them, or those of the dimension-3 physical group
@@ -157,7 +160,14 @@ impl Msh {
 
     /// The faces of group `group`, oriented outward from `cells` (`None`: all
     /// cells of the file).
-    fn group_surface(&self, group: &str, cells: Option<&[&MshElement]>) -> Result<SurfaceMesh, MshError> {
+    /// The faces of group `group`, oriented out of `body` (its cells and how
+    /// to name them; every face must then be a face of exactly one of them),
+    /// or else out of the file's cells (a face of none keeps its orientation).
+    fn group_surface(
+        &self,
+        group: &str,
+        body: Option<(&[&MshElement], String)>,
+    ) -> Result<SurfaceMesh, MshError> {
         let tag = self.group_tag(2, group)?;
         let selected = self.group_elements(2, tag);
         if selected.is_empty() {
@@ -165,8 +175,8 @@ impl Msh {
         }
         let faces = selected.iter().map(|e| face_of(e)).collect::<Result<Vec<_>, _>>()?;
         let face_tags = tags_of(&selected);
-        let (cells, cell_tags): (Vec<Cell>, Vec<u64>) = match cells {
-            Some(cells) => (cells.iter().map(|e| cell_of(e)).collect::<Result<_, _>>()?, tags_of(cells)),
+        let (cells, cell_tags): (Vec<Cell>, Vec<u64>) = match &body {
+            Some((cells, _)) => (cells.iter().map(|e| cell_of(e)).collect::<Result<_, _>>()?, tags_of(cells)),
             None => self
                 .elements
                 .iter()
@@ -179,7 +189,23 @@ impl Msh {
         }
         let volume =
             VolumeMesh::new(self.nodes.clone(), cells).map_err(|e| self.mesh_error(e, &cell_tags))?;
-        volume.orient_outward(&faces).map_err(|e| self.mesh_error(e, &face_tags))
+        let owners = volume.face_owners(&faces);
+        if let Some((_, body)) = body {
+            // A body's surface carries the traces of its cells' functions
+            // (loads, interfaces): a face no cell has (a surface meshed apart,
+            // or quads cut along the other diagonal) would carry others.
+            let stray = owners.iter().position(|o| !matches!(o, FaceOwner::Cell(_)));
+            if let Some(i) = stray {
+                return Err(MshErrorKind::NotACellFace {
+                    surface: self.describe_group(2, tag),
+                    volume: body,
+                    element_tag: face_tags[i],
+                    interior: owners[i] == FaceOwner::Interior,
+                }
+                .into());
+            }
+        }
+        volume.orient_outward_of(&faces, &owners).map_err(|e| self.mesh_error(e, &face_tags))
     }
 
     fn all_faces(&self) -> Result<SurfaceMesh, MshError> {
