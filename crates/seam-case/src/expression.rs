@@ -7,7 +7,9 @@
 //! (numbers in decimal or scientific notation, x, y, z, the [`FUNCTIONS`] and
 //! [`CONSTANTS`], `+ - * / ^`, parentheses, commas), so that every mistake is
 //! named in our words at its character: an unknown function, a number beyond
-//! double precision, a missing operator or operand, unbalanced parentheses.
+//! double precision, a missing operator or operand, unbalanced parentheses, a
+//! unary minus before `^` (`-x^2` is −(x²) in mathematics but (−x)² to exmex:
+//! refused, asking for parentheses).
 //! Every value is checked: NaN or ±∞ (for example `sqrt(x - 0.5)` at x < 0.5,
 //! `1/x` at x = 0) is an error naming the point, never a result.
 
@@ -329,6 +331,9 @@ fn check_syntax(text: &str) -> Result<(), ExpressionError> {
     // After an operand (a value or ')'), else where an operand is due.
     let mut after_operand = false;
     let mut previous: Option<Token> = None;
+    // A unary minus: its position, the parentheses open at it, and whether
+    // its operand is complete (then a '^' would make it ambiguous).
+    let mut minus: Option<(usize, usize, bool)> = None;
     let chars: Vec<(usize, char)> = text.char_indices().collect();
     let mut i = 0;
     loop {
@@ -379,6 +384,21 @@ fn check_syntax(text: &str) -> Result<(), ExpressionError> {
             };
             (token, 1)
         };
+        // '-x^2' is −(x²) in mathematics, (−x)² for exmex (and Excel):
+        // refused rather than read either way.
+        match (minus, token) {
+            (Some((at, _, true)), Token::Operator('^')) => {
+                let (start, end) = (chars[at - 1].0, chars.get(i).map_or(text.len(), |&(e, _)| e));
+                let base = text[start..end].trim_end();
+                return Err(fail(
+                    at,
+                    format!("'{base}^…' is ambiguous: write -({}^…) or ({base})^…", base[1..].trim_start()),
+                ));
+            }
+            (Some((_, _, true)), _) => minus = None,
+            (None, Token::Operator('-')) if !after_operand => minus = Some((position, open.len(), false)),
+            _ => {}
+        }
         let after =
             |p: Option<Token>| p.map_or("at the start".to_string(), |t| format!("after {}", t.describe()));
         let expected_value =
@@ -427,6 +447,10 @@ fn check_syntax(text: &str) -> Result<(), ExpressionError> {
                 position,
                 format!("{} needs its two arguments in parentheses", token.describe()),
             ));
+        }
+        // The minus's operand is complete once a value stands at its level.
+        if let Some((_, depth, done)) = &mut minus {
+            *done = after_operand && open.len() == *depth;
         }
         previous = Some(token);
         i += len;
@@ -549,12 +573,18 @@ mod tests {
         at("x,y", 2, "',' outside the arguments of atan2, min or max");
         at("max x", 1, "'max' needs its two arguments in parentheses");
         at("1.2.3", 4, "missing operator between '1.2' and '.3'");
+        at("-x^2", 1, "'-x^…' is ambiguous: write -(x^…) or (-x)^…");
+        at("1 + -sin(y)^2", 5, "'-sin(y)^…' is ambiguous: write -(sin(y)^…) or (-sin(y))^…");
+        at("y*(- 2^x)", 4, "'- 2^…' is ambiguous: write -(2^…) or (- 2)^…");
         for good in [
             "min(x, y)",
             "atan2(y,x)",
             "sin x",
-            "-x^2",
+            "-(x^2)",
+            "(-x)^2",
             "x^-2",
+            "-x*y^2",
+            "2^-x",
             "--x",
             "log2(x)",
             "x\t+ y",
