@@ -45,7 +45,7 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
-mod clip;
+pub mod clip;
 pub mod curved;
 mod element;
 /// Small 3-vector operations on [`Point3`].
