@@ -564,8 +564,6 @@ impl<'a> Kernel<'a> {
         block.has_d = in_plane;
         // A rule fixed by the options wins for warped quads.
         let fixed = sf.warped_rule.filter(|_| self.options.warped_quad_degree.is_some());
-        // An exact rule takes any triangulation; the plane's rules are not
-        // exact, so their pieces are triangulated stably under noise.
         let mut record = |ts: [Xi; 3]| {
             if let Some(segments) = record.as_deref_mut() {
                 segments.push(Segment { slave: s, master: m, corners: ts.map(|xi| sf.element.map(xi)) });
