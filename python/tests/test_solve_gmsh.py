@@ -13,10 +13,12 @@ import json
 import sys
 from pathlib import Path
 
+import gmsh
+import numpy as np
 import pytest
 
 import seam
-from gmsh_meshes import mesh_box
+from gmsh_meshes import EPS, mesh_box
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests" / "python"))
 from seam_cli import seam as run_cli  # noqa: E402
