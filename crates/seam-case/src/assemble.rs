@@ -298,7 +298,11 @@ fn read(path: &Path, group: &Option<String>) -> anyhow::Result<SurfaceMesh> {
 
 /// The mortar segments as a VTU triangle mesh (three points per triangle), with
 /// the cell fields `slave_face` and `master_face` (0-based face indices).
+/// Segments of zero area (slivers of round-off size, which nearly matching
+/// meshes make and which carry nothing) are left out.
 fn write_segments(path: &Path, segments: &[Segment]) -> std::io::Result<()> {
+    let segments: Vec<Segment> =
+        segments.iter().copied().filter(|s| seam::is_proper_face(&s.corners)).collect();
     let points: Vec<Point3> = segments.iter().flat_map(|s| s.corners).collect();
     let faces = (0..segments.len()).map(|k| Face::Tri3([3 * k, 3 * k + 1, 3 * k + 2])).collect();
     let mesh = SurfaceMesh::new(points, faces).map_err(std::io::Error::other)?;

@@ -66,8 +66,8 @@ pub use clip::{
 };
 pub use element::{shape, FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
 pub use mesh::{
-    area_vector, Cell, Face, FaceOwner, MeshError, Point3, SurfaceMesh, VolumeMesh, MAX_MAGNITUDE,
-    MIN_FACE_SIZE, ZERO_AREA_RTOL,
+    area_vector, is_proper_face, Cell, Face, FaceOwner, MeshError, Point3, SurfaceMesh, VolumeMesh,
+    MAX_MAGNITUDE, MIN_FACE_SIZE, ZERO_AREA_RTOL,
 };
 pub use mortar::{
     assemble, assemble_with_tree, face_integrals, face_quality, master_side, nodal_areas, nodal_normals,

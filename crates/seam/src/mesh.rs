@@ -715,6 +715,13 @@ fn check_points(points: &[Point3]) -> Result<(), MeshError> {
     Ok(())
 }
 
+/// Whether a face of corners `c` (3 or 4, finite and in range) passes the
+/// shape checks of [`SurfaceMesh::new`]: not smaller than [`MIN_FACE_SIZE`], not
+/// of zero area (relative to its size, [`ZERO_AREA_RTOL`]).
+pub fn is_proper_face(c: &[Point3]) -> bool {
+    check_face_shape(c, 0).is_ok()
+}
+
 /// A face of corners `c` (3 or 4, finite and in range) is neither too small
 /// nor of zero area; `f` names it in the error.
 fn check_face_shape(c: &[Point3], f: usize) -> Result<(), MeshError> {
