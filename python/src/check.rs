@@ -10,18 +10,23 @@ use crate::error::{check_error, detach, msh_error, Entry};
 use crate::mesh::MeshArg;
 use crate::mortar::Coupling;
 
-/// A side of `check` and its name in the report: a path read as `read_mesh`
-/// reads it (named by the path), else as `assemble` takes it (named by its
-/// role, `what`).
-fn side<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<(MeshArg<'py>, String)> {
+/// A side of `check`, its name in the report and the Gmsh element tags of
+/// its faces: a path read as `read_mesh` reads it (named by the path, its
+/// faces by their tags), else as `assemble` takes it (named by its role,
+/// `what`; no tags).
+fn side<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<(MeshArg<'py>, String, Option<Vec<u64>>)> {
     match obj.extract::<PathBuf>() {
         Ok(path) => {
-            let mesh = detach(obj.py(), Entry::ReadMesh, || seam_io::read_surface_file(&path, None))?
-                .map_err(msh_error)?;
-            Ok((MeshArg::Built(mesh), path.display().to_string()))
+            let read = || {
+                let msh = seam_io::read_msh_file(&path)?;
+                let mesh = msh.surface(None).map_err(|e| e.with_path(&path))?;
+                Ok((mesh, msh.surface_face_tags(None).map_err(|e| e.with_path(&path))?))
+            };
+            let (mesh, tags) = detach(obj.py(), Entry::ReadMesh, read)?.map_err(msh_error)?;
+            Ok((MeshArg::Built(mesh), path.display().to_string(), tags))
         }
         Err(_) => match MeshArg::extract(obj, what) {
-            Ok(mesh) => Ok((mesh, what.to_string())),
+            Ok(mesh) => Ok((mesh, what.to_string(), None)),
             Err(e) if e.is_instance_of::<PyTypeError>(obj.py()) && !obj.is_instance_of::<PyTuple>() => {
                 Err(PyTypeError::new_err(format!(
                     "{what} must be a seam.Mesh, a (points, faces) tuple or the path of an MSH file, got {}",
@@ -37,8 +42,11 @@ fn side<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<(MeshArg<'py>, Str
 ///
 /// Assembles the operator as `assemble` does, then measures the coverage, the
 /// signed normal gaps of the covered slave points, the orientation and the
-/// quality of both surfaces, and the invariants D·1 = B·1, 1ᵀD1 = covered area
-/// and T·1 = 1 on the operator. The GIL is released while computing.
+/// quality of both surfaces, and invariants of the operator: D·1 = B·1,
+/// 1ᵀD1 = covered area, T·1 = 1, the covered area at most the slave area,
+/// D's row sums at most the nodal areas, and (standard and dual multipliers)
+/// linear fields reproduced on flat parts. The GIL is released while
+/// computing.
 ///
 /// Args:
 ///     master: The master (mortar) side: a Mesh, a (points, faces) tuple, or the
@@ -59,7 +67,11 @@ fn side<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<(MeshArg<'py>, Str
 ///     slave_orientation_conflicts, master_orientation_conflicts,
 ///     slave_quality and master_quality ({min_angle_degrees,
 ///     max_angle_degrees, max_warp}), invariants ([{name, value, tolerance,
-///     ok}]) and ok (every slave point covered, every invariant kept).
+///     ok, offending_faces, offending_nodes}]: where an invariant fails, up
+///     to five slave faces and slave nodes as 1-based rows, worst first), ok
+///     (every slave point covered, every invariant kept) and face_ids (how
+///     offending_faces names faces: "gmsh element tags" for a slave given as
+///     the path of an MSH file, else "1-based face indices").
 ///
 /// Raises:
 ///     As `assemble`; for a path as `read_mesh` (FileNotFoundError, MshError,
@@ -80,12 +92,12 @@ pub fn check<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let coupling =
         Coupling::new(multiplier, max_gap, facing, max_angle, warped_quad_degree)?.on_threads(threads)?;
-    let (master, master_name) = side(master, "master")?;
-    let (slave, slave_name) = side(slave, "slave")?;
+    let (master, master_name, _) = side(master, "master")?;
+    let (slave, slave_name, tags) = side(slave, "slave")?;
     let (m, s) = (master.get(), slave.get());
     let json = coupling
         .run(py, |options| {
-            let check = seam_case::check(m, s, options, (&master_name, &slave_name))?;
+            let check = seam_case::check(m, s, options, (&master_name, &slave_name), tags.as_deref())?;
             Ok(serde_json::to_string(&check.report))
         })?
         .map_err(check_error)?
