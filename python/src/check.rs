@@ -7,26 +7,23 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use crate::error::{check_error, detach, msh_error, Entry};
-use crate::mesh::MeshArg;
+use crate::mesh::{MeshArg, PyMesh};
 use crate::mortar::Coupling;
 
-/// A side of `check`, its name in the report and the Gmsh element tags of
-/// its faces: a path read as `read_mesh` reads it (named by the path, its
-/// faces by their tags), else as `assemble` takes it (named by its role,
-/// `what`; no tags).
-fn side<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<(MeshArg<'py>, String, Option<Vec<u64>>)> {
+/// A side of `check` and its name in the report: a path read as `read_mesh`
+/// reads it (named by the path), else as `assemble` takes it (named by its
+/// role, `what`). Faces keep the Gmsh element tags `read_mesh` gives them.
+fn side<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<(MeshArg<'py>, String)> {
     match obj.extract::<PathBuf>() {
         Ok(path) => {
-            let read = || {
-                let msh = seam_io::read_msh_file(&path)?;
-                let mesh = msh.surface(None).map_err(|e| e.with_path(&path))?;
-                Ok((mesh, msh.surface_face_tags(None).map_err(|e| e.with_path(&path))?))
-            };
-            let (mesh, tags) = detach(obj.py(), Entry::ReadMesh, read)?.map_err(msh_error)?;
-            Ok((MeshArg::Built(mesh), path.display().to_string(), tags))
+            let (inner, face_tags) =
+                detach(obj.py(), Entry::ReadMesh, || seam_io::read_tagged_surface_file(&path, None))?
+                    .map_err(msh_error)?;
+            let mesh = Bound::new(obj.py(), PyMesh { inner, face_tags })?;
+            Ok((MeshArg::Object(mesh), path.display().to_string()))
         }
         Err(_) => match MeshArg::extract(obj, what) {
-            Ok(mesh) => Ok((mesh, what.to_string(), None)),
+            Ok(mesh) => Ok((mesh, what.to_string())),
             Err(e) if e.is_instance_of::<PyTypeError>(obj.py()) && !obj.is_instance_of::<PyTuple>() => {
                 Err(PyTypeError::new_err(format!(
                     "{what} must be a seam.Mesh, a (points, faces) tuple or the path of an MSH file, got {}",
@@ -70,8 +67,9 @@ fn side<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<(MeshArg<'py>, Str
 ///     ok, offending_faces, offending_nodes}]: where an invariant fails, up
 ///     to five slave faces and slave nodes as 1-based rows, worst first), ok
 ///     (every slave point covered, every invariant kept) and face_ids (how
-///     offending_faces names faces: "gmsh element tags" for a slave given as
-///     the path of an MSH file, else "1-based face indices").
+///     offending_faces names faces: "gmsh element tags" for a slave read
+///     from the elements of an MSH file, by path or `read_mesh`, else
+///     "1-based face indices").
 ///
 /// Raises:
 ///     As `assemble`; for a path as `read_mesh` (FileNotFoundError, MshError,
@@ -92,12 +90,12 @@ pub fn check<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let coupling =
         Coupling::new(multiplier, max_gap, facing, max_angle, warped_quad_degree)?.on_threads(threads)?;
-    let (master, master_name, _) = side(master, "master")?;
-    let (slave, slave_name, tags) = side(slave, "slave")?;
-    let (m, s) = (master.get(), slave.get());
+    let (master, master_name) = side(master, "master")?;
+    let (slave, slave_name) = side(slave, "slave")?;
+    let (m, s, tags) = (master.get(), slave.get(), slave.face_tags());
     let json = coupling
         .run(py, |options| {
-            let check = seam_case::check(m, s, options, (&master_name, &slave_name), tags.as_deref())?;
+            let check = seam_case::check(m, s, options, (&master_name, &slave_name), tags)?;
             Ok(serde_json::to_string(&check.report))
         })?
         .map_err(check_error)?

@@ -150,6 +150,8 @@ def test_a_doubly_covered_slave_is_not_ok_and_its_faces_are_named(tmp_path):
     master = write_quads_msh(tmp_path / "master.msh", master_points, master_quads, range(1, 6), [1, 1, 1, 1, 2])
     slave = write_quads_msh(tmp_path / "slave.msh", slave_points, slave_quads, range(101, 117), [1] * 16)
     from_files = seam.check(master, slave)
+    read = seam.check(seam.read_mesh(master), seam.read_mesh(slave))
+    assert read == {**from_files, "master": "master", "slave": "slave"}
     assert from_files["face_ids"] == "gmsh element tags"
     assert from_files["invariants"][3]["offending_faces"] == [111, 112, 115, 116]
     r = run_cli("check", master, slave, "--json", "r.json", "--strict", cwd=tmp_path)

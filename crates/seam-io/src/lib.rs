@@ -42,7 +42,7 @@ pub(crate) fn read_regular_file(path: &Path) -> io::Result<Vec<u8>> {
 }
 
 pub use msh::{
-    read_msh, read_msh_file, read_surface_file, read_volume_file, write_msh, write_msh_file,
+    read_msh, read_msh_file, read_surface_file, read_tagged_surface_file, read_volume_file, write_msh, write_msh_file,
     write_volume_msh, write_volume_msh_file, Degeneracy, GroupId, Location, Msh, MshElement, MshError,
     MshErrorKind, MshFormat, MshVersion, NodeData, PhysicalName,
 };
