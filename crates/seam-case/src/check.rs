@@ -359,7 +359,7 @@ impl Checked {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use seam::generate::{flat, patch, Pattern};
+    use seam::generate::{flat, patch, quadratic_patch, Pattern, Quadratic};
     use seam::Multiplier;
 
     fn run(master: &SurfaceMesh, slave: &SurfaceMesh) -> Check {
@@ -517,6 +517,36 @@ mod tests {
             // doubled quarter): only the bounds catch it.
             if multiplier != Multiplier::Lumped {
                 assert!(find("I4").ok, "{what}");
+            }
+        }
+        // Second order: the top right Quad9 of the master twice, under Tri6
+        // and Quad8 slaves (dual: transformed bases).
+        let (points, mut faces) = quadratic_patch(2, 2, Quadratic::Quad9, None, flat(1.0, 1.0)).into_parts();
+        faces.push(faces[3]);
+        let quad9_master = SurfaceMesh::new(points, faces).unwrap();
+        for kind in [Quadratic::Tri6, Quadratic::Quad8] {
+            let slave = quadratic_patch(4, 4, kind, None, flat(1.0, 1.0));
+            for multiplier in [Multiplier::Standard, Multiplier::Dual] {
+                let options = MortarOptions { multiplier, ..Default::default() };
+                let r = check(&quad9_master, &slave, &options, ("m", "s"), None).unwrap().report;
+                let what = format!("{kind:?} {multiplier:?}: {:?}", r.invariants);
+                let failed: Vec<&str> = r.invariants.iter().filter(|i| !i.ok).map(|i| i.name).collect();
+                assert_eq!(failed.len(), 2, "{what}");
+                assert!(failed[0].starts_with("covered area") && failed[1].starts_with("D·1"), "{what}");
+                // The slave faces behind the duplicate: cells (2..4, 2..4).
+                let behind: Vec<u64> = (0..slave.n_faces() as u64)
+                    .filter(|&f| {
+                        let c = slave.corners(f as usize);
+                        let n = slave.faces()[f as usize].n_corners() as f64;
+                        let centre: [f64; 2] =
+                            [0, 1].map(|k| c.iter().take(n as usize).map(|x| x[k]).sum::<f64>() / n);
+                        centre[0] > 0.5 && centre[1] > 0.5
+                    })
+                    .map(|f| f + 1)
+                    .collect();
+                for i in r.invariants.iter().filter(|i| !i.ok) {
+                    assert!(i.offending_faces.iter().all(|f| behind.contains(f)), "{what}: {behind:?}");
+                }
             }
         }
         // Named by their Gmsh element tags when the caller has them.

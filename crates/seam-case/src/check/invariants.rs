@@ -176,8 +176,11 @@ pub(super) fn measure(m: &Mortar, t: &Transfer, master: &SurfaceMesh, slave: &Su
     let (d1, b1) = (m.d.row_sums(), m.b.row_sums());
     let scale = d1.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(f64::MIN_POSITIVE);
     let i1: Vec<f64> = d1.iter().zip(&b1).map(|(d, b)| (d - b).abs() / scale).collect();
-    let area = m.summary.covered_area.max(f64::MIN_POSITIVE);
-    let i2 = (m.d.sum() - area).abs().max((m.b.sum() - area).abs()) / area;
+    // Compensated sums: summed plainly, 1ᵀD1 and the covered area of a
+    // correct operator on Gmsh cubes (12 000 slave faces) differed by 3.9e-13.
+    let area = sum(m.faces.iter().map(|f| f.covered_area)).max(f64::MIN_POSITIVE);
+    let (d, b) = (sum(m.d.values.iter().copied()), sum(m.b.values.iter().copied()));
+    let i2 = (d - area).abs().max((b - area).abs()) / area;
     let t1 = t.apply(&vec![1.0; master.n_points()], 1);
     let ones: Vec<f64> =
         (0..t1.len()).map(|p| if m.covered[p] { (t1[p] - 1.0).abs() } else { 0.0 }).collect();
@@ -207,13 +210,25 @@ pub(super) fn measure(m: &Mortar, t: &Transfer, master: &SurfaceMesh, slave: &Su
     measured
 }
 
+/// The sum of `values` by Neumaier's compensated summation: its error does
+/// not grow with the number of terms.
+fn sum(values: impl Iterator<Item = f64>) -> f64 {
+    let (mut s, mut c) = (0.0f64, 0.0f64);
+    for v in values {
+        let t = s + v;
+        c += if s.abs() >= v.abs() { (s - t) + v } else { (v - t) + s };
+        s = t;
+    }
+    s + c
+}
+
 /// (covered − slave area)⁺ / slave area. Named: the faces covered beyond
 /// their own area; if none is (the excess spread over faces each within
 /// theirs), those named by the D row sums; else the faces with the largest
 /// excess.
 fn covered_excess(m: &Mortar, s: &Slave, row_sums: &Measured) -> Measured {
-    let sm = &m.summary;
-    let value = (sm.covered_area - sm.slave_area).max(0.0) / sm.slave_area;
+    let excess = sum(m.faces.iter().map(|f| f.covered_area - f.area));
+    let value = excess.max(0.0) / sum(m.faces.iter().map(|f| f.area));
     let name = "covered area ≤ slave area: excess / slave area";
     if value <= COVERED_EXCESS {
         return Measured { name, value, tolerance: COVERED_EXCESS, faces: Vec::new(), nodes: Vec::new() };
