@@ -62,7 +62,7 @@ pub(super) const EXACT: f64 = 1e-13;
 pub(super) const EXACT_TRANSFER: f64 = 1e-12;
 
 /// Tolerance of the covered area's excess over the slave area, relative to
-/// the slave area. Measured: at most 8.5e-16 (on the curved faces too: their
+/// the slave area. Measured: at most 3.8e-16 (on the curved faces too: their
 /// covered area is integrated by the rules of their area).
 pub(super) const COVERED_EXCESS: f64 = 1e-10;
 
@@ -76,7 +76,10 @@ pub(super) const ROW_SUM_EXCESS: f64 = 1e-10;
 
 /// Tolerance of the in-plane defect of N x_s = B x_m on flat parts,
 /// relative to the node's support times the model size (the largest
-/// coordinate). Measured: at most 2.6e-14.
+/// coordinate). Measured: at most 2.6e-14, over the nodes of the flat
+/// scenes, of the noisy ones moved in x and y only (up to 1e-9) and in z by
+/// 1e-13 (flat to [`FLAT`]), and the boundary columns of the quads of the
+/// cylinder (flat strips).
 pub(super) const LINEAR_REPRODUCTION: f64 = 1e-10;
 
 /// A slave point is on a flat part when the nodes of its faces, and the
@@ -420,35 +423,19 @@ mod tests {
     use seam::vec3::{norm, sub};
     use seam::{BasisTransformation, MortarOptions, Multiplier, Point3, SurfaceMesh};
 
-    /// SplitMix64, uniform in [−1, 1).
-    struct Rng(u64);
-
-    impl Rng {
-        fn symmetric(&mut self) -> f64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^= z >> 31;
-            (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        }
-    }
-
     /// `mesh` with every coordinate moved by up to `eps` × the largest one,
-    /// only x and y when `in_plane`.
-    fn noisy(mesh: &SurfaceMesh, eps: f64, in_plane: bool, rng: &mut Rng) -> SurfaceMesh {
+    /// only x and y when `in_plane`; `seed` picks the pseudo-random moves
+    /// (the fractional part of a fast-growing sine, in [−1, 1)).
+    fn noisy(mesh: &SurfaceMesh, eps: f64, in_plane: bool, seed: f64) -> SurfaceMesh {
         let size = super::largest_coordinate(mesh);
+        let unit = |i: usize| 2.0 * ((i as f64 * 12.9898 + seed).sin() * 43758.5453).rem_euclid(1.0) - 1.0;
         let points = mesh
             .points()
             .iter()
-            .map(|x| {
-                std::array::from_fn(|k| {
-                    if in_plane && k == 2 {
-                        x[k]
-                    } else {
-                        x[k] + eps * size * rng.symmetric()
-                    }
-                })
+            .enumerate()
+            .map(|(p, x)| {
+                let keep = |k: usize| in_plane && k == 2;
+                std::array::from_fn(|k| if keep(k) { x[k] } else { x[k] + eps * size * unit(3 * p + k) })
             })
             .collect();
         SurfaceMesh::new(points, mesh.faces().to_vec()).unwrap()
@@ -561,7 +548,6 @@ mod tests {
             }
         }
         // Nearly matching meshes: the same meshes, each with its own noise.
-        let mut rng = Rng(31);
         let bases = [
             ("quads", patch(6, 6, Pattern::Quads, &square)),
             (
@@ -576,8 +562,8 @@ mod tests {
         for (name, mesh) in &bases {
             for eps in [1e-13, 1e-12, 1e-11, 1e-10, 1e-9] {
                 for in_plane in [true, false] {
-                    let (m, sl) =
-                        (noisy(mesh, eps, in_plane, &mut rng), noisy(mesh, eps, in_plane, &mut rng));
+                    let seed = s.len() as f64;
+                    let (m, sl) = (noisy(mesh, eps, in_plane, seed), noisy(mesh, eps, in_plane, seed + 0.5));
                     let how = if in_plane { "in x, y" } else { "in x, y, z" };
                     s.push((format!("noisy {name}, {eps:e} {how}"), m, sl));
                 }
@@ -688,8 +674,10 @@ mod tests {
                     // slave nodes uncovered next to covered ones (standard
                     // multipliers: T = D_CC⁻¹ B_C drops D_CU); the verdict is
                     // not ok there anyway, for the uncovered nodes.
-                    let incomplete = r.uncovered_slave_nodes > 0 && i.name.contains("T·1");
-                    if !i.ok && !incomplete {
+                    if r.uncovered_slave_nodes > 0 && i.name.contains("T·1") {
+                        continue;
+                    }
+                    if !i.ok {
                         failures.push(format!("{what}: {} = {:e}", i.name, i.value));
                     }
                     match worst.iter_mut().find(|w| w.0 == i.name) {
