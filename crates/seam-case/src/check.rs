@@ -143,9 +143,10 @@ pub struct Invariant {
     /// `value <= tolerance`.
     pub ok: bool,
     /// Where it fails: up to five slave faces, worst first, named as
-    /// [`CheckReport::face_ids`] says (for an invariant per node, the faces
-    /// around [`Invariant::offending_nodes`], those covered beyond their own
-    /// area first). Empty when ok, and for I2, a sum over the whole surface.
+    /// [`CheckReport::face_ids`] says: the faces covered beyond their own
+    /// area, or for an invariant per node the faces around the nodes where it
+    /// fails (only those covered beyond their own area, if any is). Empty
+    /// when ok, and for I2, a sum over the whole surface.
     pub offending_faces: Vec<u64>,
     /// Up to five slave nodes where a per-node invariant fails, worst first,
     /// as 1-based rows of B and D (like [`CheckReport::uncovered_examples`]).

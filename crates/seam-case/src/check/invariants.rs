@@ -380,9 +380,8 @@ fn linear_reproduction(m: &Mortar, master: &SurfaceMesh, s: &Slave) -> Vec<f64> 
                 return 0.0;
             }
             let r: [f64; 3] = std::array::from_fn(|k| nx[3 * p + k] - bx[3 * p + k]);
-            let along = (0..3).map(|k| r[k] * normal[k]).sum::<f64>();
-            let in_plane = (0..3).map(|k| (r[k] - along * normal[k]).powi(2)).sum::<f64>().sqrt();
-            in_plane / (s.support[p] * size)
+            let along = dot(r, normal);
+            norm(std::array::from_fn(|k| r[k] - along * normal[k])) / (s.support[p] * size)
         })
         .collect()
 }
