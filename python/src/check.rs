@@ -7,18 +7,20 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use crate::error::{check_error, detach, msh_error, Entry};
-use crate::mesh::MeshArg;
+use crate::mesh::{MeshArg, PyMesh};
 use crate::mortar::Coupling;
 
 /// A side of `check` and its name in the report: a path read as `read_mesh`
 /// reads it (named by the path), else as `assemble` takes it (named by its
-/// role, `what`).
+/// role, `what`). Faces keep the Gmsh element tags `read_mesh` gives them.
 fn side<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<(MeshArg<'py>, String)> {
     match obj.extract::<PathBuf>() {
         Ok(path) => {
-            let mesh = detach(obj.py(), Entry::ReadMesh, || seam_io::read_surface_file(&path, None))?
-                .map_err(msh_error)?;
-            Ok((MeshArg::Built(mesh), path.display().to_string()))
+            let (inner, face_tags) =
+                detach(obj.py(), Entry::ReadMesh, || seam_io::read_tagged_surface_file(&path, None))?
+                    .map_err(msh_error)?;
+            let mesh = Bound::new(obj.py(), PyMesh { inner, face_tags })?;
+            Ok((MeshArg::Object(mesh), path.display().to_string()))
         }
         Err(_) => match MeshArg::extract(obj, what) {
             Ok(mesh) => Ok((mesh, what.to_string())),
@@ -37,8 +39,11 @@ fn side<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<(MeshArg<'py>, Str
 ///
 /// Assembles the operator as `assemble` does, then measures the coverage, the
 /// signed normal gaps of the covered slave points, the orientation and the
-/// quality of both surfaces, and the invariants D·1 = B·1, 1ᵀD1 = covered area
-/// and T·1 = 1 on the operator. The GIL is released while computing.
+/// quality of both surfaces, and invariants of the operator: D·1 = B·1,
+/// 1ᵀD1 = covered area, T·1 = 1, the covered area at most the slave area,
+/// D's row sums at most the nodal areas, and (standard and dual multipliers)
+/// linear fields reproduced on flat parts. The GIL is released while
+/// computing.
 ///
 /// Args:
 ///     master: The master (mortar) side: a Mesh, a (points, faces) tuple, or the
@@ -59,7 +64,12 @@ fn side<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<(MeshArg<'py>, Str
 ///     slave_orientation_conflicts, master_orientation_conflicts,
 ///     slave_quality and master_quality ({min_angle_degrees,
 ///     max_angle_degrees, max_warp}), invariants ([{name, value, tolerance,
-///     ok}]) and ok (every slave point covered, every invariant kept).
+///     ok, offending_faces, offending_nodes}]: where an invariant fails, up
+///     to five slave faces and slave nodes as 1-based rows, worst first), ok
+///     (every slave point covered, every invariant kept) and face_ids (how
+///     offending_faces names faces: "gmsh element tags" for a slave read
+///     from the elements of an MSH file, by path or `read_mesh`, else
+///     "1-based face indices").
 ///
 /// Raises:
 ///     As `assemble`; for a path as `read_mesh` (FileNotFoundError, MshError,
@@ -82,10 +92,10 @@ pub fn check<'py>(
         Coupling::new(multiplier, max_gap, facing, max_angle, warped_quad_degree)?.on_threads(threads)?;
     let (master, master_name) = side(master, "master")?;
     let (slave, slave_name) = side(slave, "slave")?;
-    let (m, s) = (master.get(), slave.get());
+    let (m, s, tags) = (master.get(), slave.get(), slave.face_tags());
     let json = coupling
         .run(py, |options| {
-            let check = seam_case::check(m, s, options, (&master_name, &slave_name))?;
+            let check = seam_case::check(m, s, options, (&master_name, &slave_name), tags)?;
             Ok(serde_json::to_string(&check.report))
         })?
         .map_err(check_error)?

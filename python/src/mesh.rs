@@ -36,11 +36,14 @@ use crate::error::{detach, mesh_error, msh_error, Entry};
 #[pyclass(name = "Mesh", module = "seam", frozen)]
 pub struct PyMesh {
     pub inner: SurfaceMesh,
+    /// The Gmsh element tag of each face, for a mesh `read_mesh` read from
+    /// the elements of an MSH file (`check` names faces by them).
+    pub face_tags: Option<Vec<u64>>,
 }
 
 impl From<SurfaceMesh> for PyMesh {
     fn from(inner: SurfaceMesh) -> Self {
-        PyMesh { inner }
+        PyMesh { inner, face_tags: None }
     }
 }
 
@@ -81,6 +84,14 @@ impl MeshArg<'_> {
         match self {
             MeshArg::Object(m) => &m.get().inner,
             MeshArg::Built(m) => m,
+        }
+    }
+
+    /// The Gmsh element tags of the faces, if the mesh has them.
+    pub fn face_tags(&self) -> Option<&[u64]> {
+        match self {
+            MeshArg::Object(m) => m.get().face_tags.as_deref(),
+            MeshArg::Built(_) => None,
         }
     }
 }
@@ -241,7 +252,8 @@ impl PyMesh {
 ///     group: A physical group of dimension 2, by name or number.
 ///
 /// Returns:
-///     The surface as a Mesh.
+///     The surface as a Mesh. Its faces keep their Gmsh element tags (unless
+///     they are the boundary of the volume cells), by which `check` names them.
 ///
 /// Raises:
 ///     FileNotFoundError: The file does not exist (other I/O failures raise
@@ -269,7 +281,7 @@ pub fn read_mesh(py: Python<'_>, path: PathBuf, group: Option<&Bound<'_, PyAny>>
             },
         },
     };
-    detach(py, Entry::ReadMesh, || seam_io::read_surface_file(&path, group.as_deref()))?
-        .map(PyMesh::from)
+    detach(py, Entry::ReadMesh, || seam_io::read_tagged_surface_file(&path, group.as_deref()))?
+        .map(|(inner, face_tags)| PyMesh { inner, face_tags })
         .map_err(msh_error)
 }

@@ -80,7 +80,8 @@ def test_the_report_of_meshes_is_that_of_the_cli(cli_report):
     ]:
         report = seam.check(master, slave, multiplier="dual")
         assert (report["master"], report["slave"]) == ("master", "slave")
-        assert_same(report, {**cli_report, "master": "master", "slave": "slave"})
+        assert report["face_ids"] == "1-based face indices" and cli_report["face_ids"] == "gmsh element tags"
+        assert_same(report, {**cli_report, "master": "master", "slave": "slave", "face_ids": "1-based face indices"})
 
 
 def test_matching_meshes_are_ok():
@@ -109,3 +110,51 @@ def test_errors_are_those_of_assemble(tmp_path):
         seam.check((points, tris), 3)
     with pytest.raises(TypeError, match="positional"):
         seam.check((points, tris), (points, tris), "dual")  # options are keyword-only
+
+
+def write_quads_msh(path, points, quads, tags, groups):
+    """MSH 2.2 ASCII: quad i tagged tags[i] in physical surface groups[i]."""
+    nodes = "".join(f"{i + 1} {x} {y} {z}\n" for i, (x, y, z) in enumerate(points))
+    elements = "".join(
+        f"{t} 3 2 {g} {g} " + " ".join(str(n + 1) for n in q) + "\n" for t, g, q in zip(tags, groups, quads)
+    )
+    path.write_text(
+        f"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n{len(points)}\n{nodes}$EndNodes\n"
+        f"$Elements\n{len(quads)}\n{elements}$EndElements\n"
+    )
+    return path
+
+
+def test_a_doubly_covered_slave_is_not_ok_and_its_faces_are_named(tmp_path):
+    # The master's top right quad is repeated (as by two overlapping physical
+    # surfaces): the four slave quads behind it, 0-based 10, 11, 14, 15, are
+    # covered twice. D·1 = B·1 still holds; the bounds on the covered area and
+    # on D's row sums do not.
+    master_points, _, master_quads = grid(2, 2)
+    master_quads = np.vstack([master_quads, master_quads[3:4]])
+    slave_points, _, slave_quads = grid(4, 4)
+    report = seam.check((master_points, master_quads), (slave_points, slave_quads))
+    assert not report["ok"] and report["uncovered_slave_nodes"] == 0
+    assert abs(report["covered_fraction"] - 1.25) < 1e-14
+    assert report["face_ids"] == "1-based face indices"
+    by_name = {i["name"].split(":")[0]: i for i in report["invariants"]}
+    assert all(i["ok"] for i in report["invariants"][:3])
+    covered, row_sums = by_name["covered area ≤ slave area"], by_name["D·1 ≤ nodal area"]
+    assert not covered["ok"] and abs(covered["value"] - 0.25) < 1e-14
+    assert covered["offending_faces"] == [11, 12, 15, 16] and covered["offending_nodes"] == []
+    assert not row_sums["ok"] and sorted(row_sums["offending_faces"]) == [11, 12, 15, 16]
+    assert sorted(row_sums["offending_nodes"][:4]) == [19, 20, 24, 25]  # 1-based rows, grid points (3..4, 3..4)
+    assert [i["offending_faces"] for i in report["invariants"] if i["ok"]] == [[]] * 4
+
+    # From MSH files: the slave's faces by their Gmsh element tags, as `seam check` names them.
+    master = write_quads_msh(tmp_path / "master.msh", master_points, master_quads, range(1, 6), [1, 1, 1, 1, 2])
+    slave = write_quads_msh(tmp_path / "slave.msh", slave_points, slave_quads, range(101, 117), [1] * 16)
+    from_files = seam.check(master, slave)
+    read = seam.check(seam.read_mesh(master), seam.read_mesh(slave))
+    assert read == {**from_files, "master": "master", "slave": "slave"}
+    assert from_files["face_ids"] == "gmsh element tags"
+    assert from_files["invariants"][3]["offending_faces"] == [111, 112, 115, 116]
+    r = run_cli("check", master, slave, "--json", "r.json", "--strict", cwd=tmp_path)
+    assert r.returncode == 3 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert "111, 112, 115, 116" in r.stderr and "111, 112, 115, 116" in r.stdout
+    assert from_files == json.loads((tmp_path / "r.json").read_text())

@@ -2,35 +2,43 @@
 //! `seam check` and `seam.check`.
 //!
 //! [`check`] assembles the mortar operator with the given options and measures
-//! coverage, normal gaps, orientation, face quality and the invariants I1 and
-//! I2 of DESIGN.md §2 on it. The [`CheckReport`] serializes to the JSON of
-//! `seam check --json`; its field order is the key order of that file, which
-//! scripts rely on. [`check_files`] is the file-level pipeline of `seam
-//! check`: read the two surfaces, check, write the fields and the report.
+//! coverage, normal gaps, orientation, face quality and invariants on it: I1
+//! and I2 of DESIGN.md §2, and the bounds that catch D and B wrong together
+//! (the covered area and D's row sums at most the slave and nodal areas,
+//! linear fields reproduced on flat parts; see the `invariants` module), each
+//! with the slave faces where it fails. The [`CheckReport`] serializes to the
+//! JSON of `seam check --json`; its field order is the key order of that
+//! file, which scripts rely on. [`check_files`] is the file-level pipeline of
+//! `seam check`: read the two surfaces, check, write the fields and the
+//! report.
+
+mod invariants;
 
 use crate::input::{Pair, Surface};
 use crate::output::Staged;
 use crate::Failure;
 use anyhow::Context;
 use seam::{
-    assemble, face_integrals, face_quality, normal_gaps, orientation_conflicts, warped_quad_degree,
-    FaceElement, Mortar, MortarError, MortarOptions, SurfaceMesh, Transfer,
+    assemble, face_quality, normal_gaps, orientation_conflicts, Mortar, MortarError, MortarOptions,
+    SurfaceMesh, Transfer,
 };
 use seam_io::Field;
 use serde::Serialize;
 use std::path::PathBuf;
-
-/// Tolerance of the invariants I1 and I2 on B and D: "exact" in DESIGN.md §2.
-const EXACT: f64 = 1e-13;
-
-/// Tolerance of T·1 = 1, one solve away from B and D.
-const EXACT_TRANSFER: f64 = 1e-12;
 
 /// Uncovered slave nodes named in [`CheckReport::uncovered_examples`].
 const EXAMPLES: usize = 5;
 
 /// Bins of [`CheckReport::gap_histogram`].
 const GAP_BINS: usize = 10;
+
+/// [`CheckReport::face_ids`] when the slave faces are named by their Gmsh
+/// element tags.
+pub const GMSH_ELEMENT_TAGS: &str = "gmsh element tags";
+
+/// [`CheckReport::face_ids`] when the slave faces are named by their 1-based
+/// index in the slave surface.
+pub const FACE_INDICES: &str = "1-based face indices";
 
 /// A check of two surfaces: the report and the per-node fields behind it.
 #[derive(Clone, Debug)]
@@ -62,7 +70,7 @@ pub struct CheckReport {
     /// Area of the slave surface.
     pub slave_area: f64,
     /// Area of the master surface (each face integrated as the assembly would
-    /// integrate a slave face).
+    /// integrate a slave face, curved faces with a rule of degree 20).
     pub master_area: f64,
     /// Slave area with a master face behind it.
     pub covered_area: f64,
@@ -88,10 +96,17 @@ pub struct CheckReport {
     pub slave_quality: Quality,
     /// Shape of the master faces.
     pub master_quality: Quality,
-    /// I1 and I2 measured on the assembled operator.
+    /// The invariants measured on the assembled operator: I1 (D·1 = B·1),
+    /// I2, I1 on T (T·1 = 1), the covered area at most the slave area, D's
+    /// row sums at most the nodal areas, and (standard and dual multipliers)
+    /// I4, linear fields reproduced on flat parts.
     pub invariants: Vec<Invariant>,
     /// Every slave node covered and every invariant within its tolerance.
     pub ok: bool,
+    /// How [`Invariant::offending_faces`] names slave faces:
+    /// [`GMSH_ELEMENT_TAGS`] for a surface of elements of an MSH file, else
+    /// [`FACE_INDICES`].
+    pub face_ids: &'static str,
 }
 
 /// One bin of the normal-gap histogram, `[from, to)` (the last one closed).
@@ -127,6 +142,16 @@ pub struct Invariant {
     pub tolerance: f64,
     /// `value <= tolerance`.
     pub ok: bool,
+    /// Where it fails: up to five slave faces, worst first, named as
+    /// [`CheckReport::face_ids`] says: the faces covered beyond their own
+    /// area, or for an invariant per node the faces around the nodes where it
+    /// fails (only those covered beyond their own area, if any is). Empty
+    /// when ok, and for I2, a sum over the whole surface.
+    pub offending_faces: Vec<u64>,
+    /// Up to five slave nodes where a per-node invariant fails, worst first,
+    /// as 1-based rows of B and D (like [`CheckReport::uncovered_examples`]).
+    /// Empty when ok and for invariants of the whole surface.
+    pub offending_nodes: Vec<usize>,
 }
 
 /// Why a check produced no report.
@@ -153,7 +178,8 @@ impl CheckError {
 
 /// Assembles the operator between `master` and `slave` with `options` and
 /// reports how the surfaces meet; `names` are (master, slave) as the report
-/// shows them.
+/// shows them, `slave_face_tags` the Gmsh element tag of each slave face if
+/// it has them (the report then names faces by them, else by 1-based index).
 ///
 /// Runs on the current rayon pool (`pool.install` to bound the threads).
 ///
@@ -165,11 +191,13 @@ pub fn check(
     slave: &SurfaceMesh,
     options: &MortarOptions,
     names: (&str, &str),
+    slave_face_tags: Option<&[u64]>,
 ) -> Result<Check, CheckError> {
     let mortar = assemble(master, slave, options).map_err(CheckError::Assembly)?;
     let transfer = mortar.transfer().map_err(CheckError::Transfer)?;
     let gaps = normal_gaps(slave, master, &transfer, &mortar.covered);
-    let report = report(master, slave, &mortar, &transfer, &gaps, names);
+    let tags = slave_face_tags.filter(|t| t.len() == slave.n_faces());
+    let report = report(master, slave, &mortar, &transfer, &gaps, names, tags);
     Ok(Check { report, coverage: mortar.node_coverage, normal_gaps: gaps })
 }
 
@@ -180,10 +208,22 @@ fn report(
     t: &Transfer,
     gaps: &[f64],
     (master_name, slave_name): (&str, &str),
+    tags: Option<&[u64]>,
 ) -> CheckReport {
     let s = &m.summary;
     let uncovered = m.uncovered_nodes();
-    let invariants = invariants(m, t, master);
+    let face_id = |f: usize| tags.map_or(f as u64 + 1, |t| t[f]);
+    let invariants: Vec<Invariant> = invariants::measure(m, t, master, slave)
+        .into_iter()
+        .map(|i| Invariant {
+            name: i.name,
+            value: i.value,
+            tolerance: i.tolerance,
+            ok: i.value <= i.tolerance,
+            offending_faces: i.faces.into_iter().map(face_id).collect(),
+            offending_nodes: i.nodes.into_iter().map(|p| p + 1).collect(),
+        })
+        .collect();
     let finite: Vec<f64> = gaps.iter().copied().filter(|g| g.is_finite()).collect();
     let (lo, hi) = finite.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &g| (a.min(g), b.max(g)));
     CheckReport {
@@ -206,34 +246,13 @@ fn report(
         master_quality: quality(master),
         ok: uncovered.is_empty() && invariants.iter().all(|i| i.ok),
         invariants,
+        face_ids: if tags.is_some() { GMSH_ELEMENT_TAGS } else { FACE_INDICES },
     }
 }
 
-/// I1 and I2 measured on the assembled operator.
-fn invariants(m: &Mortar, t: &Transfer, master: &SurfaceMesh) -> Vec<Invariant> {
-    let (d1, b1) = (m.d.row_sums(), m.b.row_sums());
-    let scale = d1.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(f64::MIN_POSITIVE);
-    let i1 = d1.iter().zip(&b1).map(|(d, b)| (d - b).abs()).fold(0.0, f64::max) / scale;
-    let area = m.summary.covered_area.max(f64::MIN_POSITIVE);
-    let i2 = (m.d.sum() - area).abs().max((m.b.sum() - area).abs()) / area;
-    let t1 = t.apply(&vec![1.0; master.n_points()], 1);
-    let ones = (0..t1.len()).filter(|&p| m.covered[p]).map(|p| (t1[p] - 1.0).abs()).fold(0.0, f64::max);
-    let check = |name, value: f64, tolerance| Invariant { name, value, tolerance, ok: value <= tolerance };
-    vec![
-        check("I1 max |D·1 − B·1| / max D·1", i1, EXACT),
-        check("I2 |1ᵀD1 − covered area| / covered area", i2, EXACT),
-        check("I1 max |T·1 − 1| on covered nodes", ones, EXACT_TRANSFER),
-    ]
-}
-
+/// The area of `mesh`, curved faces included (not their chords').
 fn area(mesh: &SurfaceMesh) -> f64 {
-    (0..mesh.n_faces())
-        .map(|f| {
-            let e = FaceElement::of(mesh, f);
-            let degree = if e.is_planar() { 5 } else { warped_quad_degree(&e) };
-            face_integrals(&e, degree).iter().sum::<f64>()
-        })
-        .sum()
+    (0..mesh.n_faces()).map(|f| invariants::face_moments(mesh, f).iter().sum::<f64>()).sum()
 }
 
 fn quality(mesh: &SurfaceMesh) -> Quality {
@@ -304,13 +323,15 @@ pub fn check_files(c: &CheckFiles) -> Result<Checked, Failure> {
     let inputs = [pair.master.clone(), pair.slave.clone()];
     let out = Staged::prepare(&targets, &inputs, c.force)?;
     let master = Surface::read(&pair.master, pair.master_group.as_deref())?.mesh;
-    let slave = Surface::read(&pair.slave, pair.slave_group.as_deref())?.mesh;
+    let slave = Surface::read(&pair.slave, pair.slave_group.as_deref())?;
     let names = (pair.master.display().to_string(), pair.slave.display().to_string());
-    let Check { report, coverage, normal_gaps } = check(&master, &slave, &c.options, (&names.0, &names.1))
-        .map_err(|e| match e {
+    let tags = slave.face_tags();
+    let Check { report, coverage, normal_gaps } =
+        check(&master, &slave.mesh, &c.options, (&names.0, &names.1), tags).map_err(|e| match e {
             CheckError::Assembly(e) => Failure::from_coupling(e, &pair.slave, &pair.master),
             e => Failure::Error(e.into()),
         })?;
+    let slave = slave.mesh;
     Ok(Checked { report, slave, coverage, normal_gaps, vtu: c.vtu.clone(), json: c.json.clone(), out })
 }
 
@@ -339,10 +360,11 @@ impl Checked {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use seam::generate::{flat, patch, Pattern};
+    use seam::generate::{flat, patch, quadratic_patch, Pattern, Quadratic};
+    use seam::Multiplier;
 
     fn run(master: &SurfaceMesh, slave: &SurfaceMesh) -> Check {
-        check(master, slave, &MortarOptions::default(), ("m.msh", "s.msh")).unwrap()
+        check(master, slave, &MortarOptions::default(), ("m.msh", "s.msh"), None).unwrap()
     }
 
     #[test]
@@ -356,7 +378,9 @@ mod tests {
         assert!((r.master_area - 1.0).abs() < 1e-14, "{}", r.master_area);
         assert_eq!(r.uncovered_slave_nodes, 0);
         assert!(r.uncovered_examples.is_empty());
-        assert_eq!(r.invariants.len(), 3);
+        assert_eq!(r.invariants.len(), 6);
+        assert!(r.invariants.iter().all(|i| i.offending_faces.is_empty() && i.offending_nodes.is_empty()));
+        assert_eq!(r.face_ids, FACE_INDICES);
         assert!(r.invariants.iter().all(|i| i.ok && i.value <= i.tolerance), "{:?}", r.invariants);
         assert!(r.ok);
         // Coplanar: every gap is 0, all in one bin of the histogram.
@@ -415,6 +439,7 @@ mod tests {
             "master_quality",
             "invariants",
             "ok",
+            "face_ids",
         ];
         let at: Vec<usize> = keys.iter().map(|k| json.find(&format!("\"{k}\":")).unwrap()).collect();
         assert!(at.windows(2).all(|w| w[0] < w[1]), "keys out of order: {json}");
@@ -425,16 +450,132 @@ mod tests {
             "\"min_angle_degrees\":",
             "\"max_warp\":",
             "\"tolerance\":",
+            "\"offending_faces\":[]",
+            "\"offending_nodes\":[]",
         ] {
             assert!(json.contains(k), "{k} missing: {json}");
         }
+        // An invariant's keys, in order, new ones last.
+        let first = &json[json.find("\"invariants\":[{").unwrap()..];
+        let first = &first[..first.find('}').unwrap()];
+        let keys = ["name", "value", "tolerance", "ok", "offending_faces", "offending_nodes"];
+        let at: Vec<usize> = keys.iter().map(|k| first.find(&format!("\"{k}\":")).unwrap()).collect();
+        assert!(at.windows(2).all(|w| w[0] < w[1]), "invariant keys out of order: {first}");
+    }
+
+    /// The unit square as 2 × 2 quads, the top right one (face 3) listed
+    /// twice: a master that covers a quarter of the slave twice.
+    fn master_with_a_duplicated_face() -> SurfaceMesh {
+        let (points, mut faces) = patch(2, 2, Pattern::Quads, flat(1.0, 1.0)).into_parts();
+        faces.push(faces[3]);
+        SurfaceMesh::new(points, faces).unwrap()
+    }
+
+    #[test]
+    fn a_doubly_covered_slave_is_not_ok_and_its_faces_are_named() {
+        // Slave faces 10, 11, 14 and 15 (0-based) of the 4 × 4 quads lie
+        // behind the duplicated master face.
+        let behind = [11, 12, 15, 16];
+        let master = master_with_a_duplicated_face();
+        let slave = patch(4, 4, Pattern::Quads, flat(1.0, 1.0));
+        for multiplier in [Multiplier::Standard, Multiplier::Dual, Multiplier::Lumped] {
+            let options = MortarOptions { multiplier, ..Default::default() };
+            let r = check(&master, &slave, &options, ("m", "s"), None).unwrap().report;
+            let what = format!("{multiplier:?}: {:?}", r.invariants);
+            assert!(!r.ok, "{what}");
+            assert_eq!(r.uncovered_slave_nodes, 0);
+            assert!((r.covered_fraction - 1.25).abs() < 1e-14, "{}", r.covered_fraction);
+            assert_eq!(r.face_ids, FACE_INDICES);
+            let find = |prefix: &str| r.invariants.iter().find(|i| i.name.starts_with(prefix)).unwrap();
+            // I1, I2 and T·1 = 1 hold: D and B are wrong together.
+            for i in &r.invariants[..3] {
+                assert!(i.ok && i.offending_faces.is_empty(), "{what}");
+            }
+            let covered = find("covered area");
+            assert!(!covered.ok && (covered.value - 0.25).abs() < 1e-14, "{what}");
+            assert_eq!(covered.offending_faces, behind, "{what}");
+            assert!(covered.offending_nodes.is_empty());
+            let rows = find("D·1");
+            assert!(!rows.ok, "{what}");
+            let sorted = |v: &[u64]| {
+                let mut v = v.to_vec();
+                v.sort_unstable();
+                v
+            };
+            assert_eq!(sorted(&rows.offending_faces), behind, "{what}");
+            // The nodes whose faces are all behind the duplicate (grid points
+            // (3..=4, 3..=4), rows 19, 20, 24, 25) have twice their nodal area,
+            // a quarter of their support above it; then come those with half
+            // of their faces behind it (rows 14, 15, 18, 23), an eighth.
+            assert!((rows.value - 0.25).abs() < 1e-12, "{what}");
+            let nodes = &rows.offending_nodes;
+            assert_eq!(nodes.len(), 5, "{what}");
+            let mut first: Vec<usize> = nodes[..4].to_vec();
+            first.sort_unstable();
+            assert_eq!(first, [19, 20, 24, 25], "{what}");
+            assert!([14, 15, 18, 23].contains(&nodes[4]), "{what}");
+            // Linear fields are still reproduced (B and D agree on the
+            // doubled quarter): only the bounds catch it.
+            if multiplier != Multiplier::Lumped {
+                assert!(find("I4").ok, "{what}");
+            }
+        }
+        // Second order: the top right Quad9 of the master twice, under Tri6
+        // and Quad8 slaves (dual: transformed bases).
+        let (points, mut faces) = quadratic_patch(2, 2, Quadratic::Quad9, None, flat(1.0, 1.0)).into_parts();
+        faces.push(faces[3]);
+        let quad9_master = SurfaceMesh::new(points, faces).unwrap();
+        for kind in [Quadratic::Tri6, Quadratic::Quad8] {
+            let slave = quadratic_patch(4, 4, kind, None, flat(1.0, 1.0));
+            for multiplier in [Multiplier::Standard, Multiplier::Dual] {
+                let options = MortarOptions { multiplier, ..Default::default() };
+                let r = check(&quad9_master, &slave, &options, ("m", "s"), None).unwrap().report;
+                let what = format!("{kind:?} {multiplier:?}: {:?}", r.invariants);
+                let failed: Vec<&str> = r.invariants.iter().filter(|i| !i.ok).map(|i| i.name).collect();
+                assert_eq!(failed.len(), 2, "{what}");
+                assert!(failed[0].starts_with("covered area") && failed[1].starts_with("D·1"), "{what}");
+                // The slave faces behind the duplicate: cells (2..4, 2..4).
+                let behind: Vec<u64> = (0..slave.n_faces() as u64)
+                    .filter(|&f| {
+                        let c = slave.corners(f as usize);
+                        let n = slave.faces()[f as usize].n_corners() as f64;
+                        let centre: [f64; 2] =
+                            [0, 1].map(|k| c.iter().take(n as usize).map(|x| x[k]).sum::<f64>() / n);
+                        centre[0] > 0.5 && centre[1] > 0.5
+                    })
+                    .map(|f| f + 1)
+                    .collect();
+                for i in r.invariants.iter().filter(|i| !i.ok) {
+                    assert!(i.offending_faces.iter().all(|f| behind.contains(f)), "{what}: {behind:?}");
+                }
+            }
+        }
+        // Named by their Gmsh element tags when the caller has them.
+        let tags: Vec<u64> = (0..16).map(|f| 1000 + f).collect();
+        let r = check(&master, &slave, &MortarOptions::default(), ("m", "s"), Some(&tags)).unwrap().report;
+        assert_eq!(r.face_ids, GMSH_ELEMENT_TAGS);
+        let covered = r.invariants.iter().find(|i| i.name.starts_with("covered area")).unwrap();
+        assert_eq!(covered.offending_faces, [1010, 1011, 1014, 1015]);
+    }
+
+    #[test]
+    fn the_master_area_of_curved_faces_is_that_of_the_faces() {
+        // A quarter of a cylinder of radius 1, height 1, in 3 × 2 Quad9 faces.
+        let quarter = seam::generate::cylinder(1.0, std::f64::consts::FRAC_PI_2, 1.0);
+        let mesh = seam::generate::quadratic_patch(3, 2, seam::generate::Quadratic::Quad9, None, quarter);
+        let r = run(&mesh, &mesh).report;
+        // The slave area is the assembly's, by a rule of lower degree.
+        assert!((r.master_area - r.slave_area).abs() < 1e-10, "{} against {}", r.master_area, r.slave_area);
+        // The quadratic arcs of 30° are within 2e-4 of the circle's π/2.
+        assert!((r.master_area - std::f64::consts::FRAC_PI_2).abs() < 2e-4, "{}", r.master_area);
+        assert!(r.ok, "{:?}", r.invariants);
     }
 
     #[test]
     fn an_assembly_failure_says_which_stage() {
         let master = patch(1, 1, Pattern::Quads, |u, v| [u + 5.0, v, 0.0]);
         let slave = patch(1, 1, Pattern::Quads, flat(1.0, 1.0));
-        let e = check(&master, &slave, &MortarOptions::default(), ("m", "s")).unwrap_err();
+        let e = check(&master, &slave, &MortarOptions::default(), ("m", "s"), None).unwrap_err();
         assert!(matches!(e, CheckError::Assembly(MortarError::NoOverlap { .. })), "{e:?}");
         assert_eq!(e.to_string(), e.mortar_error().to_string());
     }

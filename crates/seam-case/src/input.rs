@@ -21,6 +21,9 @@ pub struct Surface {
     /// Gmsh node tags (MSH files); `None` for VTU files, whose points are
     /// named by their 0-based index, as in ParaView.
     node_tags: Option<Vec<u64>>,
+    /// Gmsh element tags of the faces ([`seam_io::Msh::surface_face_tags`]);
+    /// `None` for VTU files and for the boundary of an MSH file's cells.
+    face_tags: Option<Vec<u64>>,
 }
 
 impl Surface {
@@ -43,16 +46,24 @@ impl Surface {
                 mesh: vtu.mesh,
                 fields: vtu.point_data,
                 node_tags: None,
+                face_tags: None,
             });
         }
         let msh = seam_io::read_msh_file(path)?;
         let mesh = msh.surface(group).map_err(|e| e.with_path(path))?;
+        let face_tags = msh.surface_face_tags(group).map_err(|e| e.with_path(path))?;
         let fields = msh
             .node_data
             .iter()
             .map(|d| Field::new(d.name.clone(), d.components, d.values.clone()))
             .collect();
-        Ok(Surface { path: path.into(), mesh, fields, node_tags: Some(msh.node_tags) })
+        Ok(Surface { path: path.into(), mesh, fields, node_tags: Some(msh.node_tags), face_tags })
+    }
+
+    /// The Gmsh element tag of each face, when the faces are elements of an
+    /// MSH file.
+    pub fn face_tags(&self) -> Option<&[u64]> {
+        self.face_tags.as_deref()
     }
 
     /// Node `p` (0-based, file order) as the file names it: "node 17" (its Gmsh

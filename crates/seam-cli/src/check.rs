@@ -7,7 +7,7 @@ use crate::assemble::{options, pair, thread_pool};
 use crate::Failure;
 use anyhow::anyhow;
 use seam_case::check::{check_files, CheckFiles};
-use seam_case::CheckReport;
+use seam_case::{CheckReport, Invariant};
 
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     let options = options(&args.coupling)?;
@@ -23,13 +23,40 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     print_report(&checked.report);
     let report = checked.write()?;
     if args.strict && !report.ok {
-        return Err(Failure::CheckFailed(anyhow!(
-            "{} and {}: incomplete coverage or a violated invariant (--strict)",
-            args.pair.slave.display(),
-            args.pair.master.display()
-        )));
+        let (slave, master) = (args.pair.slave.display(), args.pair.master.display());
+        let violated: Vec<String> = report
+            .invariants
+            .iter()
+            .filter(|i| !i.ok)
+            .map(|i| match offending(&report, i) {
+                Some(place) => format!("{} at {place}", i.name),
+                None => i.name.to_string(),
+            })
+            .collect();
+        let reason = match (report.uncovered_slave_nodes, violated.is_empty()) {
+            (0, _) => format!("violated: {}", violated.join("; ")),
+            (n, true) => format!("{n} uncovered slave nodes"),
+            (n, false) => format!("{n} uncovered slave nodes; violated: {}", violated.join("; ")),
+        };
+        return Err(Failure::CheckFailed(anyhow!("{slave} and {master}: {reason} (--strict)")));
     }
     Ok(())
+}
+
+/// Where a violated invariant fails, "slave faces (Gmsh element tags) 11,
+/// 12; slave nodes (1-based rows) 19, 20", or `None` when nothing is named.
+fn offending(r: &CheckReport, i: &Invariant) -> Option<String> {
+    let list = |v: Vec<String>| v.join(", ");
+    let mut parts = Vec::new();
+    if !i.offending_faces.is_empty() {
+        let faces = list(i.offending_faces.iter().map(u64::to_string).collect());
+        parts.push(format!("slave faces ({}) {faces}", r.face_ids));
+    }
+    if !i.offending_nodes.is_empty() {
+        let nodes = list(i.offending_nodes.iter().map(usize::to_string).collect());
+        parts.push(format!("slave nodes (1-based rows) {nodes}"));
+    }
+    (!parts.is_empty()).then(|| parts.join("; "))
 }
 
 fn print_report(r: &CheckReport) {
@@ -79,12 +106,22 @@ fn print_report(r: &CheckReport) {
     println!("  invariants (measured on the assembled operator):");
     for i in &r.invariants {
         println!(
-            "    {:<46} {:9.1e}  (≤ {:.0e}) {}",
+            "    {:<56} {:9.1e}  (≤ {:.0e}) {}",
             i.name,
             i.value,
             i.tolerance,
             if i.ok { "ok" } else { "VIOLATED" }
         );
+        if let Some(place) = offending(r, i) {
+            println!("        at {place}");
+        }
     }
-    println!("  verdict      {}", if r.ok { "ok" } else { "incomplete coverage or a violated invariant" });
+    let violated = r.invariants.iter().any(|i| !i.ok);
+    let verdict = match (r.uncovered_slave_nodes > 0, violated) {
+        (false, false) => "ok",
+        (true, false) => "incomplete coverage",
+        (false, true) => "violated invariants",
+        (true, true) => "incomplete coverage and violated invariants",
+    };
+    println!("  verdict      {verdict}");
 }

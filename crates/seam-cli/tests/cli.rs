@@ -458,6 +458,78 @@ fn check_reports_coverage_gaps_orientation_and_invariants() {
     assert!(String::from_utf8_lossy(&o.stdout).contains("6 slave nodes"));
 }
 
+/// An n × n grid of quads on the unit square (MSH 2.2 ASCII), element i
+/// tagged `first_tag + i`, in physical surface 1, then a copy of element
+/// `duplicate` if any, in physical surface 2 (two physical surfaces that
+/// overlap).
+fn quads_msh(n: usize, first_tag: usize, duplicate: Option<usize>) -> String {
+    let node = |i: usize, j: usize| j * (n + 1) + i + 1;
+    let mut nodes = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            nodes += &format!("{} {} {} 0\n", node(i, j), i as f64 / n as f64, j as f64 / n as f64);
+        }
+    }
+    let mut quads: Vec<[usize; 4]> = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            quads.push([node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)]);
+        }
+    }
+    quads.extend(duplicate.map(|d| quads[d]));
+    let elements: String = quads
+        .iter()
+        .enumerate()
+        .map(|(e, q)| {
+            let group = if e < n * n { 1 } else { 2 };
+            format!("{} 3 2 {group} {group} {} {} {} {}\n", first_tag + e, q[0], q[1], q[2], q[3])
+        })
+        .collect();
+    format!(
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n{}\n{nodes}$EndNodes\n$Elements\n{}\n{elements}$EndElements\n",
+        (n + 1) * (n + 1),
+        quads.len()
+    )
+}
+
+/// A master surface with an element listed twice (a mesh merge's duplicate)
+/// covers part of the slave twice: D and B are wrong together, I1 and I2
+/// hold, and the bounds on the covered area and D's row sums catch it,
+/// naming the slave elements behind the duplicate by their Gmsh tags.
+#[test]
+fn check_names_the_slave_elements_a_duplicated_master_element_covers_twice() {
+    let tmp = tempfile::tempdir().unwrap();
+    let master = write(tmp.path(), "master.msh", &quads_msh(2, 1, Some(3)));
+    let slave = write(tmp.path(), "slave.msh", &quads_msh(4, 101, None));
+    let o = seam(&["check", &master, &slave, "--json", "r.json", "--strict"], tmp.path());
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    assert!(err.contains("slave.msh") && err.contains("covered area ≤ slave area"), "{err}");
+    assert!(err.contains("gmsh element tags) 111, 112, 115, 116"), "{err}");
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("covered 1.250000 (125.0000 % of the slave)"), "{text}");
+    assert_eq!(text.matches("VIOLATED").count(), 2, "{text}");
+    assert!(text.contains("at slave faces (gmsh element tags) 111, 112, 115, 116\n"), "{text}");
+    assert!(text.contains("verdict      violated invariants\n"), "{text}");
+    let r = json(&tmp.path().join("r.json"));
+    assert_eq!(r["ok"], false);
+    assert_eq!(r["face_ids"], "gmsh element tags");
+    let violated: Vec<&serde_json::Value> =
+        r["invariants"].as_array().unwrap().iter().filter(|i| i["ok"] == false).collect();
+    assert_eq!(violated.len(), 2, "{r}");
+    assert_eq!(violated[0]["offending_faces"], serde_json::json!([111, 112, 115, 116]), "{r}");
+    let mut faces: Vec<u64> =
+        violated[1]["offending_faces"].as_array().unwrap().iter().map(|v| v.as_u64().unwrap()).collect();
+    faces.sort_unstable();
+    assert_eq!(faces, [111, 112, 115, 116], "{r}");
+    assert_eq!(violated[1]["offending_nodes"].as_array().unwrap().len(), 5, "{r}");
+    // Without --strict the report is the same and the run succeeds.
+    let o = seam(&["check", &master, &slave], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(String::from_utf8_lossy(&o.stdout).matches("VIOLATED").count(), 2);
+}
+
 #[test]
 fn assemble_writes_the_mortar_segments() {
     let tmp = tempfile::tempdir().unwrap();

@@ -42,9 +42,9 @@ pub(crate) fn read_regular_file(path: &Path) -> io::Result<Vec<u8>> {
 }
 
 pub use msh::{
-    read_msh, read_msh_file, read_surface_file, read_volume_file, write_msh, write_msh_file,
-    write_volume_msh, write_volume_msh_file, Degeneracy, GroupId, Location, Msh, MshElement, MshError,
-    MshErrorKind, MshFormat, MshVersion, NodeData, PhysicalName,
+    read_msh, read_msh_file, read_surface_file, read_tagged_surface_file, read_volume_file, write_msh,
+    write_msh_file, write_volume_msh, write_volume_msh_file, Degeneracy, GroupId, Location, Msh, MshElement,
+    MshError, MshErrorKind, MshFormat, MshVersion, NodeData, PhysicalName,
 };
 pub use mtx::{read_matrix_market_str, write_matrix_market, write_matrix_market_file, MatrixMarketError};
 pub use vtu::{

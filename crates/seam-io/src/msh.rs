@@ -176,6 +176,21 @@ pub fn read_surface_file(path: impl AsRef<Path>, group: Option<&str>) -> Result<
     read_msh_file(path)?.surface(group).map_err(|e| e.with_path(path))
 }
 
+/// [`read_surface_file`], with the Gmsh element tag of each face
+/// ([`Msh::surface_face_tags`]: `None` for the boundary of the volume cells).
+///
+/// # Errors
+/// As [`read_surface_file`].
+pub fn read_tagged_surface_file(
+    path: impl AsRef<Path>,
+    group: Option<&str>,
+) -> Result<(SurfaceMesh, Option<Vec<u64>>), MshError> {
+    let path = path.as_ref();
+    let msh = read_msh_file(path)?;
+    let surface = msh.surface(group).map_err(|e| e.with_path(path))?;
+    Ok((surface, msh.surface_face_tags(group).map_err(|e| e.with_path(path))?))
+}
+
 /// Reads the volume cells from an MSH file: [`read_msh_file`] then
 /// [`Msh::volume`]. Every error names the path.
 ///

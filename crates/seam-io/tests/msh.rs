@@ -246,6 +246,29 @@ fn groups_by_name_and_by_number_are_the_same() {
     assert_eq!(square.surface(Some("interface")).unwrap(), square.surface(None).unwrap());
 }
 
+/// Face i of `surface(group)` is the element tagged `surface_face_tags(group)[i]`:
+/// the same nodes (in an order the outward orientation may reverse).
+#[test]
+fn surface_face_tags_name_the_faces_of_the_surface() {
+    for (fixture, group) in [("box_tet", Some("top")), ("box_hex", Some("12")), ("square_tri", None)] {
+        let msh = read(fixture, "v41.ascii");
+        let surface = msh.surface(group).unwrap();
+        let tags = msh.surface_face_tags(group).unwrap().expect("faces that are elements");
+        assert_eq!(tags.len(), surface.n_faces(), "{fixture}");
+        for (face, tag) in surface.faces().iter().zip(&tags) {
+            let element = msh.elements.iter().find(|e| e.tag == *tag).unwrap();
+            assert_eq!(element.dim, 2, "{fixture}: element {tag}");
+            let (mut a, mut b) = (face.nodes().to_vec(), element.nodes.clone());
+            a.sort_unstable();
+            b.sort_unstable();
+            assert_eq!(a, b, "{fixture}: element {tag}");
+        }
+    }
+    // The boundary of the volume cells: faces that are no elements of the file.
+    assert_eq!(read("box_tet", "v41.ascii").surface_face_tags(None).unwrap(), None);
+    assert!(read("box_tet", "v41.ascii").surface_face_tags(Some("lid")).is_err());
+}
+
 #[test]
 fn an_unknown_group_lists_the_available_ones() {
     let path = fixture_path("box_tet", "v22.ascii");

@@ -47,6 +47,21 @@ impl Msh {
         }
     }
 
+    /// The Gmsh element tags of the faces of [`Msh::surface`]`(group)`, in its
+    /// face order; `None` when those faces are the boundary of the volume
+    /// cells (`group = None` in a file with volume elements), which are no
+    /// elements of the file.
+    ///
+    /// # Errors
+    /// Unknown group, as [`Msh::surface`].
+    pub fn surface_face_tags(&self, group: Option<&str>) -> Result<Option<Vec<u64>>, MshError> {
+        Ok(match group {
+            Some(group) => Some(tags_of(&self.group_elements(2, self.group_tag(2, group)?))),
+            None if self.elements.iter().any(|e| e.dim == 3) => None,
+            None => Some(self.elements.iter().filter(|e| e.dim == 2).map(|e| e.tag).collect()),
+        })
+    }
+
     /// The faces of the dimension-2 physical group `group` (as in
     /// [`Msh::surface`]) as a surface of the body made of the cells of
     /// `volume` (see [`Msh::volume`]; `None`: all cells): each face is oriented
