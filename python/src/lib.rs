@@ -9,9 +9,11 @@
 //! | `seam.Mortar` | [`seam::Mortar`] + its [`seam::Transfer`] ([`mortar::PyMortar`]) |
 //! | `seam.solve`, `seam.Solution` | [`seam_case::solve`], GIL released ([`solve::PySolution`]) |
 //! | exceptions, `seam.OutputWarning` | [`error`] |
+//! | the `seam` command (`seam._cli`) | [`seam_cli::run`] ([`cli::cli`]) |
 #![forbid(unsafe_code)]
 
 mod check;
+mod cli;
 mod convert;
 mod error;
 mod mesh;
@@ -31,6 +33,7 @@ fn _seam(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check::check, m)?)?;
     m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
     m.add_function(wrap_pyfunction!(error::_panic_in, m)?)?;
+    m.add_function(wrap_pyfunction!(cli::cli, m)?)?;
     m.add("MeshError", py.get_type::<error::MeshError>())?;
     m.add("MshError", py.get_type::<error::MshError>())?;
     m.add("MortarError", py.get_type::<error::MortarError>())?;

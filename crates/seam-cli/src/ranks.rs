@@ -35,6 +35,16 @@ pub struct Ranks {
     world: SimpleCommunicator,
 }
 
+/// Whether an MPI launcher started this process (`mpirun`, `mpiexec`, `srun`:
+/// Open MPI's, PMI's or PMIx's variables are set). Without one seam is one
+/// process and does not start MPI, whose singleton start-up costs about a
+/// tenth of a second per command.
+pub fn launched() -> bool {
+    ["OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some())
+}
+
 impl Ranks {
     /// Initialises MPI (a singleton without `mpirun`), from the main thread.
     /// Calls to MPI come from one thread at a time ("serialized"): the

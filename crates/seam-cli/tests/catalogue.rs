@@ -6,7 +6,7 @@
 //! (on Unix): a reader that allocated what a corrupt header claims would abort
 //! instead of exiting with code 2.
 
-mod common;
+use crate::common;
 
 use base64::prelude::{Engine as _, BASE64_STANDARD};
 use common::{seam, stacked_case, stderr, write_block};

@@ -78,7 +78,7 @@
 //! the dual space contains the constants but not the linear functions (a
 //! local transformation cannot fix that: λ̃_e may only be a multiple of λ_e
 //! to keep its support).
-mod common;
+use crate::common;
 
 use common::manufactured::{exact, gradient, load, stress};
 use common::shell::{sector, L, R};

@@ -20,7 +20,7 @@
 //! roles are checked: quad slaves against triangle masters (ψ = λ^Q) and
 //! triangle slaves against quad masters (ψ = μ^T, B_pq = ∫ μ_p λ_q).
 //!
-//! Measured (`cargo test -p seam --test exact_segments -- --nocapture`),
+//! Measured (`cargo test -p seam --test main exact_segments:: -- --nocapture`),
 //! max |B − B_ref| / max |B_ref| and the same for D (standard multipliers):
 //!
 //! | quads | distortion ε ≤ | B before (straight in ξ_s) | B now | D now |
@@ -375,7 +375,7 @@ fn read_peer_mesh(path: &std::path::Path) -> SurfaceMesh {
 ///
 /// ```text
 /// python3 ../shared/peers/dune-grid-glue/gen_meshes.py /tmp/meshes --sizes 10000
-/// SEAM_PEER_MESHES=/tmp/meshes cargo test --release -p seam --test exact_segments -- --ignored --nocapture
+/// SEAM_PEER_MESHES=/tmp/meshes cargo test --release -p seam --test main exact_segments:: -- --ignored --nocapture
 /// ```
 ///
 /// Measured: B 5.1e-3 before (straight segments in ξ_s), 8.8e-15 now; D
