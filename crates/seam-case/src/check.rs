@@ -3,7 +3,7 @@
 //!
 //! [`check`] assembles the mortar operator with the given options and measures
 //! coverage, normal gaps, orientation, face quality and invariants on it: I1
-//! and I2 of DESIGN.md §2, and the bounds that catch D and B wrong together
+//! and I2 of docs/verification.md (invariants), and the bounds that catch D and B wrong together
 //! (the covered area and D's row sums at most the slave and nodal areas,
 //! linear fields reproduced on flat parts; see the `invariants` module), each
 //! with the slave faces where it fails. The [`CheckReport`] serializes to the

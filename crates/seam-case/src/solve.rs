@@ -1050,7 +1050,7 @@ fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> Interfa
 }
 
 /// Fields whose NaN marks "no value here" (off the contact points), as the
-/// README documents; any other non-finite value is an error.
+/// docs/cli.md documents; any other non-finite value is an error.
 const NAN_MARKS_NO_VALUE: [&str; 2] = ["gap", "initial_gap"];
 
 /// Nothing non-finite is written as a result (an overflow is reported with the

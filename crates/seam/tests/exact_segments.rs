@@ -1,9 +1,9 @@
-//! Issue 12, item 6: B and D exact on flat, strongly distorted quads.
+//! B and D exact on flat, strongly distorted quads.
 //!
-//! A segment used to be a straight triangle in the slave's reference
-//! coordinates (D2), while the preimage of a master edge under a
-//! non-parallelogram quad's bilinear map is curved: B was off by up to 5.5e-3
-//! (BENCHMARKS.md, `flatj`). The quadrature now lives in the projection plane.
+//! The preimage of a master edge under a non-parallelogram quad's bilinear map
+//! is curved, so a segment that is a straight triangle in the slave's
+//! reference coordinates (D2) misses part of the overlap (up to 5.5e-3 of B on
+//! `flatj`); the quadrature of such pairs lives in the projection plane.
 //!
 //! The reference here is independent of the operator's code: for a quad Q
 //! against a triangle T of the plane z = 0, with χ the quad's bilinear map,
