@@ -41,6 +41,9 @@ fn _seam(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("NoOverlapError", py.get_type::<error::NoOverlapError>())?;
     m.add("FactorizationError", py.get_type::<error::FactorizationError>())?;
     m.add("SolveError", py.get_type::<error::SolveError>())?;
+    m.add("CaseError", py.get_type::<error::CaseError>())?;
+    m.add("NoCouplingError", py.get_type::<error::NoCouplingError>())?;
+    m.add("ConvergenceError", py.get_type::<error::ConvergenceError>())?;
     m.add("OutputWarning", py.get_type::<error::OutputWarning>())?;
     seam_case::output::set_notice_handler(error::warn_notice);
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -329,7 +329,7 @@ pub fn check_files(c: &CheckFiles) -> Result<Checked, Failure> {
     let Check { report, coverage, normal_gaps } =
         check(&master, &slave.mesh, &c.options, (&names.0, &names.1), tags).map_err(|e| match e {
             CheckError::Assembly(e) => Failure::from_coupling(e, &pair.slave, &pair.master),
-            e => Failure::Error(e.into()),
+            e => Failure::error(&e),
         })?;
     let slave = slave.mesh;
     Ok(Checked { report, slave, coverage, normal_gaps, vtu: c.vtu.clone(), json: c.json.clone(), out })

@@ -28,7 +28,6 @@ mod transfer;
 
 use args::{Cli, Command};
 use clap::Parser;
-use seam_case::solve::one_line;
 use std::ffi::OsString;
 
 /// What went wrong, sorted by exit code (1, 2, 3).
@@ -46,7 +45,7 @@ where
     #[cfg(feature = "mpi")]
     let ranks = match ranks::launched().then(ranks::Ranks::initialize).transpose() {
         Ok(ranks) => ranks,
-        Err(e) => return exit(Err(Failure::Error(e))),
+        Err(e) => return exit(Err(e.into())),
     };
     #[cfg(feature = "mpi")]
     if let Some(ranks) = ranks.as_ref().filter(|r| r.size() > 1) {
@@ -99,7 +98,7 @@ fn over_ranks(ranks: &ranks::Ranks, args: &[OsString]) -> u8 {
             ranks::operators_over_ranks();
             let result = match s.solver {
                 args::SolverArg::Petsc => solve::run(&s, ranks.size()),
-                _ => Err(Failure::Error(anyhow::anyhow!(
+                _ => Err(Failure::Error(format!(
                     "on {} MPI ranks `seam solve` needs --solver petsc (the other solvers run on one process)",
                     ranks.size()
                 ))),
@@ -119,7 +118,7 @@ fn over_ranks(ranks: &ranks::Ranks, args: &[OsString]) -> u8 {
                 quiet
             }
         }
-        (_, 0) => exit(Err(Failure::Error(anyhow::anyhow!(
+        (_, 0) => exit(Err(Failure::Error(format!(
             "only `seam assemble` and `seam solve --solver petsc` run over MPI ranks ({} here): run other commands without mpirun or with -np 1",
             ranks.size()
         )))),
@@ -131,17 +130,14 @@ fn over_ranks(ranks: &ranks::Ranks, args: &[OsString]) -> u8 {
 fn exit(result: Result<(), Failure>) -> u8 {
     match result {
         Ok(()) => 0,
-        Err(Failure::NoCoupling(e)) => {
-            eprintln!("seam: {}", one_line(&e));
-            1
-        }
-        Err(Failure::Error(e)) => {
-            eprintln!("seam: error: {}", one_line(&e));
-            2
-        }
-        Err(Failure::CheckFailed(e)) => {
-            eprintln!("seam: check failed: {}", one_line(&e));
-            3
+        Err(e) => {
+            let prefix = match e {
+                Failure::NoCoupling(_) => "seam: ",
+                Failure::CheckFailed(_) => "seam: check failed: ",
+                Failure::Case(_) | Failure::Convergence(_) | Failure::Error(_) => "seam: error: ",
+            };
+            eprintln!("{prefix}{}", e.message());
+            e.exit_code()
         }
     }
 }
