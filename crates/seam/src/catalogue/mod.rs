@@ -21,8 +21,10 @@
 //! node count, reference coordinates in Gmsh's node order, corners, edges and
 //! their mid-edge nodes, face centres, local faces, shape functions and
 //! gradients, Gmsh type number, VTK type and node permutation. Readers,
-//! writers and integrators ask the kind instead of matching on it; adding a
-//! kind is one table and one line of the list that makes the enums.
+//! writers and integrators ask the kind instead of matching on it. Adding a
+//! kind is one table and one line of the list that makes the enums (a face
+//! kind with a new node count also needs its values in [`shape_values`], the
+//! fixed-size form the quadrature loops use).
 //!
 //! # Node order and reference cells
 //! Nodes are numbered as Gmsh numbers them: corners first (a face's corners in
