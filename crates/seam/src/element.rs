@@ -11,7 +11,8 @@
 //! Quads are bilinear patches and stay so when warped: nothing here splits or
 //! flattens them.
 
-use crate::catalogue::{shape_values, FaceKind, Xi};
+use crate::catalogue::faces::first_order_values;
+use crate::catalogue::{FaceKind, Xi};
 use crate::mesh::{Point3, SurfaceMesh};
 
 /// A face with its corner coordinates: the element-level view of one mesh face.
@@ -56,12 +57,7 @@ impl FaceElement {
     /// Shape functions λ_i(ξ); entry 3 is 0 for a triangle.
     #[inline]
     pub fn shape(&self, xi: Xi) -> [f64; 4] {
-        if self.kind == FaceKind::Tri3 {
-            let [a, b, c] = shape_values::<3>(xi);
-            [a, b, c, 0.0]
-        } else {
-            shape_values::<4>(xi)
-        }
+        first_order_values(self.kind == FaceKind::Tri3, xi)
     }
 
     /// The face map x(ξ) = Σ λ_i(ξ) x_i.
@@ -604,6 +600,7 @@ pub(crate) fn scale(a: Point3, s: f64) -> Point3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::catalogue::shape_values;
     use proptest::prelude::*;
 
     fn quad(x: [Point3; 4]) -> FaceElement {

@@ -245,6 +245,18 @@ fn quadratic_quad(xi: Xi, serendipity: bool) -> ShapeAndGradients {
     (n, g)
 }
 
+/// The first-order shape functions at ξ: Tri3's (`triangle`, fourth entry 0)
+/// or Quad4's; the form the first-order kernel computes with.
+#[inline(always)]
+pub(crate) fn first_order_values(triangle: bool, xi: Xi) -> [f64; 4] {
+    let [s, t] = xi;
+    if triangle {
+        [1.0 - s - t, s, t, 0.0]
+    } else {
+        [(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t]
+    }
+}
+
 /// Shape function values N_i(ξ) of the kind with `N` nodes (3 Tri3, 4 Quad4,
 /// 6 Tri6, 8 Quad8, 9 Quad9): [`shape_and_gradients`] without the gradients,
 /// sized for the quadrature loops.
@@ -253,8 +265,7 @@ pub fn shape_values<const N: usize>(xi: Xi) -> [f64; N] {
     let [s, t] = xi;
     let mut n = [0.0; N];
     match N {
-        3 => n.copy_from_slice(&[1.0 - s - t, s, t]),
-        4 => n.copy_from_slice(&[(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t]),
+        3 | 4 => n.copy_from_slice(&first_order_values(N == 3, xi)[..N]),
         6 => {
             let l0 = 1.0 - s - t;
             n.copy_from_slice(&[

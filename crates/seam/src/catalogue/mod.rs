@@ -252,8 +252,45 @@ macro_rules! catalogue {
             /// The kind's description.
             #[inline]
             pub const fn info(self) -> &'static $Type {
-                const TYPES: [&$Type; [$($n),*].len()] = [$(&$table),*];
-                TYPES[self as usize]
+                static TYPES: [$Type; [$($n),*].len()] = [$($table),*];
+                &TYPES[self as usize]
+            }
+
+            // The counts below are read from the tables at compile time, one
+            // constant per kind: as cheap as a hand-written match in the
+            // kernels' inner loops.
+
+            /// The number of nodes.
+            #[inline]
+            pub const fn n_nodes(self) -> usize {
+                match self {
+                    $( $Kind::$Variant => $n, )*
+                }
+            }
+
+            /// The number of corners.
+            #[inline]
+            pub const fn n_corners(self) -> usize {
+                match self {
+                    $( $Kind::$Variant => $table.corners, )*
+                }
+            }
+
+            /// The polynomial order: 1 or 2.
+            #[inline]
+            pub const fn order(self) -> usize {
+                match self {
+                    $( $Kind::$Variant => if $n > $table.corners { 2 } else { 1 }, )*
+                }
+            }
+
+            /// The first-order kind with the same reference cell and corners
+            /// (itself at first order).
+            #[inline]
+            pub const fn linear(self) -> $Kind {
+                match self {
+                    $( $Kind::$Variant => $table.linear, )*
+                }
             }
 
             /// The kind of an element.
@@ -272,27 +309,6 @@ macro_rules! catalogue {
                 self.info().name
             }
 
-            /// The number of nodes.
-            #[inline]
-            pub const fn n_nodes(self) -> usize {
-                self.info().nodes.len()
-            }
-
-            /// The number of corners.
-            #[inline]
-            pub const fn n_corners(self) -> usize {
-                self.info().corners
-            }
-
-            /// The polynomial order: 1 or 2.
-            #[inline]
-            pub const fn order(self) -> usize {
-                if self.n_nodes() > self.n_corners() {
-                    2
-                } else {
-                    1
-                }
-            }
         }
 
         $( const _: () = assert!($table.nodes.len() == $n, "the table lists the kind's nodes"); )*
@@ -312,6 +328,20 @@ macro_rules! catalogue {
                 match self {
                     $( $Elem::$Variant(n) => n, )*
                 }
+            }
+
+            /// The corner indices, in cyclic (faces) or Gmsh (cells) order.
+            #[inline]
+            pub fn corner_nodes(&self) -> &[usize] {
+                match self {
+                    $( $Elem::$Variant(n) => &n[..$table.corners], )*
+                }
+            }
+
+            /// The number of corners.
+            #[inline]
+            pub fn n_corners(&self) -> usize {
+                self.kind().n_corners()
             }
 
             /// The node indices, to change in place.
@@ -414,12 +444,6 @@ impl FaceKind {
         self.info().nodes
     }
 
-    /// The first-order kind through the same corners.
-    #[inline]
-    pub const fn linear(self) -> FaceKind {
-        self.info().linear
-    }
-
     /// True for Tri3 and Tri6.
     #[inline]
     pub const fn is_triangle(self) -> bool {
@@ -488,18 +512,6 @@ impl Face {
         false
     }
 
-    /// Number of corners (3 or 4).
-    #[inline]
-    pub fn n_corners(&self) -> usize {
-        self.kind().n_corners()
-    }
-
-    /// The corner indices, in cyclic order.
-    #[inline]
-    pub fn corner_nodes(&self) -> &[usize] {
-        &self.nodes()[..self.n_corners()]
-    }
-
     /// True for the second-order faces Tri6, Quad8 and Quad9.
     #[inline]
     pub fn is_curved(&self) -> bool {
@@ -558,10 +570,11 @@ impl CellKind {
         Cell::new(self, nodes)
     }
 
-    /// The first-order kind with the same reference cell and corners.
+    /// The family: the first-order kind with the same reference cell and
+    /// corners ([`CellKind::linear`]).
     #[inline]
     pub const fn family(self) -> CellKind {
-        self.info().linear
+        self.linear()
     }
 
     /// The reference shape.
@@ -680,18 +693,6 @@ impl Cell {
         let mut cell = *self;
         cell.nodes_mut().iter_mut().for_each(|n| *n = map(*n));
         cell
-    }
-
-    /// Number of corners (4, 5, 6 or 8).
-    #[inline]
-    pub fn n_corners(&self) -> usize {
-        self.kind().n_corners()
-    }
-
-    /// The corner indices, in Gmsh order.
-    #[inline]
-    pub fn corner_nodes(&self) -> &[usize] {
-        &self.nodes()[..self.n_corners()]
     }
 
     /// True for second-order cells.

@@ -878,7 +878,8 @@ impl PlaneSegment<'_> {
 /// The 3 (Tri3) or 4 (Quad4) shape functions at ξ.
 #[inline(always)]
 fn shape_of<const N: usize>(xi: Xi) -> [f64; N] {
-    crate::catalogue::shape_values::<N>(xi)
+    let l = crate::catalogue::faces::first_order_values(N == 3, xi);
+    std::array::from_fn(|i| l[i])
 }
 
 /// Σ a_i b_i over four entries (a triangle's fourth shape value is 0).
