@@ -9,24 +9,18 @@ use super::{Field, VtuError, VtuErrorKind};
 /// The numbers of components a written field may have.
 const COMPONENTS: [usize; 5] = [1, 2, 3, 6, 9];
 
-/// The file for a surface mesh: a triangle or quad cell per face, of the
-/// face kind's VTK type and node order ([`seam::FaceType`]).
+/// The file for a surface mesh: a triangle or quad cell per face.
 pub(super) fn surface_bytes(
     mesh: &SurfaceMesh,
     point_data: &[Field],
     cell_data: &[Field],
 ) -> Result<Vec<u8>, VtuError> {
-    let mut cells = GridCells::default();
-    for face in mesh.faces() {
-        let info = face.kind().info();
-        cells.push(info.vtk_type, info.vtk_order, face.nodes());
-    }
-    grid_bytes(mesh.points(), cells, point_data, cell_data)
+    let faces = mesh.faces().iter().map(|f| (f.kind().info().vtk_type, f.kind().info().vtk_order, f.nodes()));
+    grid_bytes(mesh.points(), GridCells::of(faces), point_data, cell_data)
 }
 
-/// The file for a volume mesh: a cell per cell, of the cell kind's VTK type
-/// and node order ([`seam::CellType`]). Gmsh's node orders of the corners of
-/// the tetrahedron, hexahedron, prism (VTK's wedge) and pyramid are VTK's: VTK
+/// The file for a volume mesh. Gmsh's node orders of the corners of the
+/// tetrahedron, hexahedron, prism (VTK's wedge) and pyramid are VTK's: VTK
 /// computes a positive volume for cells that are positive in Gmsh (checked by
 /// `tests/python`).
 pub(super) fn volume_bytes(
@@ -34,12 +28,8 @@ pub(super) fn volume_bytes(
     point_data: &[Field],
     cell_data: &[Field],
 ) -> Result<Vec<u8>, VtuError> {
-    let mut cells = GridCells::default();
-    for cell in mesh.cells() {
-        let info = cell.kind().info();
-        cells.push(info.vtk_type, info.vtk_order, cell.nodes());
-    }
-    grid_bytes(mesh.points(), cells, point_data, cell_data)
+    let cells = mesh.cells().iter().map(|c| (c.kind().info().vtk_type, c.kind().info().vtk_order, c.nodes()));
+    grid_bytes(mesh.points(), GridCells::of(cells), point_data, cell_data)
 }
 
 fn check_fields(fields: &[Field], n_entries: usize, on_cells: bool) -> Result<(), VtuError> {
@@ -76,11 +66,17 @@ struct GridCells {
 }
 
 impl GridCells {
-    /// A cell of VTK type `vtk_type` whose VTK node i is `nodes[order[i]]`.
-    fn push(&mut self, vtk_type: u8, order: &[usize], nodes: &[usize]) {
-        self.connectivity.extend(order.iter().map(|&i| nodes[i] as u64));
-        self.offsets.push(self.connectivity.len() as u64);
-        self.types.push(vtk_type);
+    /// A cell per element (VTK type, VTK node order, nodes) of the kind's
+    /// description ([`seam::FaceType`], [`seam::CellType`]): VTK node i is
+    /// `nodes[order[i]]`.
+    fn of<'a>(elements: impl Iterator<Item = (u8, &'a [usize], &'a [usize])>) -> GridCells {
+        let mut cells = GridCells::default();
+        for (vtk_type, order, nodes) in elements {
+            cells.connectivity.extend(order.iter().map(|&i| nodes[i] as u64));
+            cells.offsets.push(cells.connectivity.len() as u64);
+            cells.types.push(vtk_type);
+        }
+        cells
     }
 }
 
