@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The README's pictures: a field transferred across the curved, non-matching
+"""The pictures of docs/examples.md: a field transferred across the curved, non-matching
 interface of `seam example operator`, and the coverage / normal-gap map of
 `seam check` on the same interface.
 

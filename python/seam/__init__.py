@@ -11,6 +11,8 @@ See ``help(seam.assemble)``, ``help(seam.Mortar)``, ``help(seam.check)`` and ``h
 """
 
 from ._seam import (
+    CaseError,
+    ConvergenceError,
     FactorizationError,
     InvalidOptionError,
     Mesh,
@@ -18,6 +20,7 @@ from ._seam import (
     Mortar,
     MortarError,
     MshError,
+    NoCouplingError,
     NoOverlapError,
     OutputWarning,
     Solution,
@@ -31,6 +34,8 @@ from ._seam import (
 )
 
 __all__ = [
+    "CaseError",
+    "ConvergenceError",
     "FactorizationError",
     "InvalidOptionError",
     "Mesh",
@@ -38,6 +43,7 @@ __all__ = [
     "Mortar",
     "MortarError",
     "MshError",
+    "NoCouplingError",
     "NoOverlapError",
     "OutputWarning",
     "Solution",

@@ -11,6 +11,8 @@ import numpy.typing as npt
 import scipy.sparse
 
 __all__ = [
+    "CaseError",
+    "ConvergenceError",
     "FactorizationError",
     "InvalidOptionError",
     "Mesh",
@@ -18,6 +20,7 @@ __all__ = [
     "Mortar",
     "MortarError",
     "MshError",
+    "NoCouplingError",
     "NoOverlapError",
     "OutputWarning",
     "Solution",
@@ -344,6 +347,15 @@ def catalogue() -> _Catalogue:
 class SolveError(ValueError):
     """``solve`` could not solve the case or write its results (the one-line message of ``seam solve``)."""
 
+class CaseError(SolveError):
+    """The case (file or dict), an option of ``solve`` or an input file is wrong."""
+
+class NoCouplingError(SolveError):
+    """An interface whose surfaces do not meet: nothing to couple (``seam solve`` exits with 1)."""
+
+class ConvergenceError(SolveError):
+    """An iteration did not converge: PCG, PETSc's Krylov solver, or the contact active set."""
+
 @final
 class Solution:
     """A solved case (``solve``)."""
@@ -379,6 +391,10 @@ def solve(
     cargo feature ``petsc``); ``petsc_options`` as ``seam solve --petsc-options``.
 
     Raises:
-        SolveError: The one-line message of ``seam solve`` (also an rtol outside (0, 1)).
+        CaseError: A bad case, option (an rtol outside (0, 1)) or mesh.
+        NoCouplingError: An interface whose surfaces do not meet.
+        ConvergenceError: An iteration that did not converge.
+        SolveError: Anything else (a singular system, an unwritable output); the
+            base class of the three above. Messages are those of ``seam solve``.
         ValueError: An unknown solver, threads < 1.
     """

@@ -10,7 +10,10 @@
 //! | `MortarError::Factorization` | `seam.FactorizationError` (idem) |
 //! | `MortarError::NonFinite` | `seam.MortarError` |
 //! | `seam_case::CheckError` | as its `MortarError` |
-//! | `seam_case::solve::SolveFailure` | `seam.SolveError` (a `ValueError`) |
+//! | `seam_case::Failure::Case` | `seam.CaseError` (a `seam.SolveError`) |
+//! | `seam_case::Failure::NoCoupling` | `seam.NoCouplingError` (a `seam.SolveError`) |
+//! | `seam_case::Failure::Convergence` | `seam.ConvergenceError` (a `seam.SolveError`) |
+//! | `seam_case::Failure`, other classes | `seam.SolveError` (a `ValueError`) |
 //! | a panic (a bug) in the library | the entry point's class ([`Entry`]) |
 //!
 //! Messages are the Rust `Display` text, unchanged. Every call into the
@@ -67,6 +70,36 @@ create_exception!(
     PyValueError,
     "`seam.solve` could not solve the case or write its results (the one-line message of `seam solve`)."
 );
+
+create_exception!(
+    seam,
+    CaseError,
+    SolveError,
+    "The case (file or dict), an option of `seam.solve` or an input file is wrong."
+);
+create_exception!(
+    seam,
+    NoCouplingError,
+    SolveError,
+    "An interface whose surfaces do not meet: nothing to couple (`seam solve` exits with 1)."
+);
+create_exception!(
+    seam,
+    ConvergenceError,
+    SolveError,
+    "An iteration did not converge: PCG, PETSc's Krylov solver, or the contact active set."
+);
+
+/// The exception of a failed solve, by its class.
+pub fn failure_error(e: seam_case::Failure) -> PyErr {
+    use seam_case::Failure;
+    match e {
+        Failure::Case(m) => CaseError::new_err(m),
+        Failure::NoCoupling(m) => NoCouplingError::new_err(m),
+        Failure::Convergence(m) => ConvergenceError::new_err(m),
+        Failure::Error(m) | Failure::CheckFailed(m) => SolveError::new_err(m),
+    }
+}
 
 create_exception!(
     seam,

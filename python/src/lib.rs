@@ -10,10 +10,12 @@
 //! | `seam.solve`, `seam.Solution` | [`seam_case::solve`], GIL released ([`solve::PySolution`]) |
 //! | `seam.catalogue` | [`seam::catalogue`]: the element kinds and their tables |
 //! | exceptions, `seam.OutputWarning` | [`error`] |
+//! | the `seam` command (`seam._cli`) | [`seam_cli::run`] ([`cli::cli`]) |
 #![forbid(unsafe_code)]
 
 mod catalogue;
 mod check;
+mod cli;
 mod convert;
 mod error;
 mod mesh;
@@ -34,6 +36,7 @@ fn _seam(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(catalogue::catalogue, m)?)?;
     m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
     m.add_function(wrap_pyfunction!(error::_panic_in, m)?)?;
+    m.add_function(wrap_pyfunction!(cli::cli, m)?)?;
     m.add("MeshError", py.get_type::<error::MeshError>())?;
     m.add("MshError", py.get_type::<error::MshError>())?;
     m.add("MortarError", py.get_type::<error::MortarError>())?;
@@ -41,6 +44,9 @@ fn _seam(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("NoOverlapError", py.get_type::<error::NoOverlapError>())?;
     m.add("FactorizationError", py.get_type::<error::FactorizationError>())?;
     m.add("SolveError", py.get_type::<error::SolveError>())?;
+    m.add("CaseError", py.get_type::<error::CaseError>())?;
+    m.add("NoCouplingError", py.get_type::<error::NoCouplingError>())?;
+    m.add("ConvergenceError", py.get_type::<error::ConvergenceError>())?;
     m.add("OutputWarning", py.get_type::<error::OutputWarning>())?;
     seam_case::output::set_notice_handler(error::warn_notice);
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -6,20 +6,17 @@ use numpy::ndarray::Array2;
 use numpy::{PyArray1, ToPyArray};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat, PyList, PyTuple};
-use seam_case::solve::{LinearSolver, SolveFailure, SolveOptions, Solved};
+use seam_case::solve::{LinearSolver, SolveOptions, Solved};
 use seam_case::Case;
+use seam_case::Failure;
 
-use crate::error::{detach, guard, Entry, SolveError};
+use crate::error::{detach, failure_error, guard, CaseError, Entry, SolveError};
 use crate::mortar::thread_pool;
 
 /// A solved case: `summary`, `bodies`, `interfaces` and `write`.
 #[pyclass(name = "Solution", module = "seam", frozen)]
 pub struct PySolution {
     inner: Solved,
-}
-
-fn solve_error(e: SolveFailure) -> PyErr {
-    SolveError::new_err(e.message().to_string())
 }
 
 /// An (n, k) float64 array of `values` (k per row).
@@ -117,7 +114,7 @@ impl PySolution {
     ///     SolveError: an output exists without force, or cannot be written.
     #[pyo3(signature = (dir, force = false))]
     fn write<'py>(&self, py: Python<'py>, dir: PathBuf, force: bool) -> PyResult<Bound<'py, PyAny>> {
-        let summary = detach(py, Entry::Solve, || self.inner.write(&dir, force))?.map_err(solve_error)?;
+        let summary = detach(py, Entry::Solve, || self.inner.write(&dir, force))?.map_err(failure_error)?;
         let json = serde_json::to_string(&summary).map_err(|e| {
             pyo3::exceptions::PyValueError::new_err(format!("cannot convert the summary: {e}"))
         })?;
@@ -176,8 +173,11 @@ fn non_finite(value: &Bound<'_, PyAny>, path: &str) -> PyResult<Option<String>> 
 ///     A Solution: `summary`, `bodies`, `interfaces`, `write(dir, force)`.
 ///
 /// Raises:
-///     SolveError: with the one-line message of `seam solve` (a bad case,
-///         a missing mesh, surfaces that do not meet, a singular system, …).
+///     SolveError: with the one-line message of `seam solve`; its subclasses
+///         CaseError (a bad case, option or mesh), NoCouplingError (surfaces
+///         that do not meet) and ConvergenceError (an iteration that did not
+///         converge); SolveError itself for anything else (a singular
+///         system, an unwritable output, …).
 ///     ValueError: an unknown solver, threads < 1.
 #[pyfunction]
 #[pyo3(signature = (case, solver = "direct", threads = None, *, rtol = 1e-10, petsc_options = None))]
@@ -215,18 +215,18 @@ pub fn solve(
         Ok(dict) => {
             // JSON has no inf or NaN: name the field that holds one.
             if let Some(problem) = non_finite(dict.as_any(), "")? {
-                return Err(SolveError::new_err(format!("case dict: {problem}")));
+                return Err(CaseError::new_err(format!("case dict: {problem}")));
             }
             let json: String = py.import("json")?.call_method1("dumps", (dict,))?.extract()?;
             Err(json)
         }
         Err(_) => Ok(case.extract::<PathBuf>()?),
     };
-    let run = move || -> Result<Solved, SolveFailure> {
+    let run = move || -> Result<Solved, Failure> {
         match &source {
             Ok(path) => seam_case::solve::solve_case(path, &options),
             Err(json) => {
-                let bad = |e: seam_case::CaseError| SolveFailure::Error(format!("case dict: {e}"));
+                let bad = |e: seam_case::CaseError| Failure::Case(format!("case dict: {e}"));
                 let case = Case::from_json(json, Path::new("")).map_err(bad)?;
                 case.check_mesh_files().map_err(bad)?;
                 seam_case::solve::solve_checked_case(case, Path::new("<case dict>"), &options)
@@ -237,6 +237,6 @@ pub fn solve(
         Some(pool) => pool.install(run),
         None => run(),
     })?
-    .map_err(solve_error)?;
+    .map_err(failure_error)?;
     Ok(PySolution { inner: solved })
 }

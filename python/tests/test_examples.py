@@ -1,4 +1,4 @@
-"""The examples of python/examples run as the READMEs show them, and their
+"""The examples of python/examples run as python/README.md and docs/examples.md show them, and their
 answers are the exact ones."""
 
 import importlib.util

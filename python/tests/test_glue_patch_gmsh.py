@@ -1,4 +1,4 @@
-"""The glued patch test on Gmsh meshes (issue 31, item 4): exact to 1e-10.
+"""The glued patch test on Gmsh meshes exact to 1e-10.
 
 Two slabs [0,1]² × [1 − t_m, 1] (master, "lower") and [0,1]² × [1, 1 + t_s]
 (slave, "upper"), meshed apart by the gmsh module in its built-in kernel, as
@@ -6,8 +6,8 @@ a .geo file does (gmsh_meshes.py), with Mesh.Smoothing = 10: the interface
 z = 1 is n × n cells on the master side and m × m on the slave side, each
 slab one cell thick (t = 1/n, 1/m). Gmsh leaves the nodes up to ~2e-12 off
 the exact grid, and smoothing makes its grid lines zigzag by ~1e-12
-(test_gmsh_leaves_its_float_noise_on_the_grid). That is the noise of the
-user's case of issue 31 (structured hexahedra 32|24, dual: an error of
+(test_gmsh_leaves_its_float_noise_on_the_grid). That is the noise of a
+user's case (structured hexahedra 32|24, dual: an error of
 3.9e-3 where 8|6 and 16|12 were exact; so here), where the mortar kernel's
 near-degenerate clipping decisions went wrong. With Gmsh's default
 (Mesh.Smoothing = 1, the "unsmoothed" cases) the noise leaves the grid

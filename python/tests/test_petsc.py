@@ -57,7 +57,7 @@ def test_petsc_options_and_errors(case):
     # Options stay in PETSc's database for the process: set the default back.
     s = seam.solve(case, solver="petsc", petsc_options="-pc_type gamg").summary
     assert s["petsc"]["pc_type"] == "gamg"
-    with pytest.raises(seam.SolveError, match="DIVERGED_ITS after 1 iterations"):
+    with pytest.raises(seam.ConvergenceError, match="DIVERGED_ITS after 1 iterations"):
         seam.solve(case, solver="petsc", petsc_options="-ksp_max_it 1")
     seam.solve(case, solver="petsc", petsc_options="-ksp_max_it 10000")
     with pytest.raises(ValueError, match='petsc_options needs solver="petsc"'):

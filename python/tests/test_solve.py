@@ -102,7 +102,7 @@ def test_errors_are_the_one_line_messages_of_seam_solve(example, tmp_path):
     text = (example / "case.toml").read_text()
     missing = tmp_path / "missing.toml"
     missing.write_text(text.replace("lower.msh", "nowhere.msh"))
-    with pytest.raises(seam.SolveError) as e:
+    with pytest.raises(seam.CaseError) as e:
         seam.solve(missing)
     cli = run_cli("solve", missing, cwd=tmp_path)
     assert cli.returncode == 2
@@ -111,14 +111,45 @@ def test_errors_are_the_one_line_messages_of_seam_solve(example, tmp_path):
 
     bad = tmp_path / "bad.toml"
     bad.write_text("not_a_key = 1\n" + text)
-    with pytest.raises(seam.SolveError) as e:
+    with pytest.raises(seam.CaseError) as e:
         seam.solve(bad)
     cli = run_cli("solve", bad, cwd=tmp_path)
     assert cli.returncode == 2 and cli.stderr == f"seam: error: {e.value}\n"
     assert "not_a_key" in str(e.value)
 
-    with pytest.raises(seam.SolveError, match="not_a_key"):
+    with pytest.raises(seam.CaseError, match="not_a_key"):
         seam.solve({**tomllib.loads(text), "not_a_key": 1})
+
+
+def test_failures_are_classed_as_seam_solve_s_exit_codes(tmp_path):
+    """CaseError, NoCouplingError and ConvergenceError are SolveErrors, as the
+    CLI's exit codes 2, 1 and 2 sort the same failures."""
+    assert all(issubclass(c, seam.SolveError) for c in (seam.CaseError, seam.NoCouplingError, seam.ConvergenceError))
+    cases = {}
+    for name, args in EXAMPLES.items():
+        done = run_cli("example", name, "-o", name, *args, cwd=tmp_path)
+        assert done.returncode == 0, done.stderr
+        cases[name] = (tmp_path / name / "case.toml").read_text()
+    glue = cases["warped-glue"]
+    # The slave surface 1/2 away from the master's: nothing pairs within max_gap.
+    apart = tmp_path / "warped-glue" / "apart.toml"
+    apart.write_text(glue.replace('master = "lower:top"', 'master = "lower:bottom"\nmax_gap = 0.01'))
+    with pytest.raises(seam.NoCouplingError, match="lower:bottom") as e:
+        seam.solve(apart)
+    cli = run_cli("solve", apart, "--force", cwd=tmp_path)
+    assert cli.returncode == 1 and cli.stderr == f"seam: {e.value}\n", cli.stderr
+    # An interface naming a body the case does not have.
+    case = tomllib.loads(glue)
+    case["body"] = [{**b, "mesh": str(tmp_path / "warped-glue" / b["mesh"])} for b in case["body"] if b["name"] == "lower"]
+    with pytest.raises(seam.CaseError, match="upper"):
+        seam.solve(case)
+    # The active set of contact capped at one step.
+    capped = tmp_path / "bulging-contact" / "capped.toml"
+    capped.write_text(cases["bulging-contact"] + "\n[contact]\nmax_iterations = 1\n")
+    with pytest.raises(seam.ConvergenceError, match="did not settle in 1 steps") as e:
+        seam.solve(capped)
+    cli = run_cli("solve", capped, "--force", cwd=tmp_path)
+    assert cli.returncode == 2 and cli.stderr == f"seam: error: {e.value}\n", cli.stderr
 
 
 def test_rtol_is_that_of_seam_solve(example, tmp_path):
@@ -129,7 +160,7 @@ def test_rtol_is_that_of_seam_solve(example, tmp_path):
     assert cli.returncode == 0, cli.stderr
     written = json.loads((example / "out" / "summary.json").read_text())
     assert without_paths_and_times(solution.summary) == without_paths_and_times(written)
-    with pytest.raises(seam.SolveError, match=r"rtol 2(\.0)? must lie in \(0, 1\)"):
+    with pytest.raises(seam.CaseError, match=r"rtol 2(\.0)? must lie in \(0, 1\)"):
         seam.solve(example / "case.toml", solver="pcg", rtol=2.0)
     with pytest.raises(seam.SolveError, match=r"^rtol 1e-300 is below what double precision can reach: .*use 1e-14"):
         seam.solve(example / "case.toml", solver="pcg", rtol=1e-300)
@@ -155,8 +186,9 @@ def test_write_recovers_what_an_interrupted_run_left_with_one_warning(example, t
 def test_write_refuses_existing_files_without_force(example, tmp_path):
     solution = seam.solve(example / "case.toml")
     solution.write(tmp_path / "out")
-    with pytest.raises(seam.SolveError, match="already exists; pass --force"):
+    with pytest.raises(seam.SolveError, match="already exists; pass --force") as e:
         solution.write(tmp_path / "out")
+    assert type(e.value) is seam.SolveError
     solution.write(tmp_path / "out", force=True)
     with pytest.raises(ValueError, match="solver"):
         seam.solve(example / "case.toml", solver="lu")

@@ -36,10 +36,12 @@ VTK_CELL_TYPES = {"triangle": 5, "quad": 9}
 def run_rust_test(name, **env):
     """Runs one test of crates/seam-io/tests/vtu.rs with extra environment variables.
 
-    `--workspace --locked` as in scripts/test, so that cargo finds the test binary that
-    run already built (with `-p seam-io` alone its features differ and it would build
-    seam-io, seam and the test a second time)."""
-    command = ["cargo", "test", "--quiet", "--workspace", "--locked", "--test", "vtu", name, "--", "--exact"]
+    With the cargo arguments of scripts/test ($SEAM_CARGO_TEST_ARGS, by default
+    `--workspace --locked`), so that cargo finds the test binary that run already
+    built (with other packages or features it would build seam-io, seam and the
+    test a second time)."""
+    cargo_args = os.environ.get("SEAM_CARGO_TEST_ARGS", "--workspace --locked").split()
+    command = ["cargo", "test", "--quiet", *cargo_args, "--test", "main", f"vtu::{name}", "--", "--exact"]
     done = subprocess.run(
         command, cwd=ROOT, env={**os.environ, **env}, capture_output=True, text=True, timeout=1800
     )

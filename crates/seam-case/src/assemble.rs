@@ -130,8 +130,8 @@ pub trait Assembler {
     /// what each rank did when there were several.
     ///
     /// # Errors
-    /// A [`seam::MortarError`] (wrapped) when the surfaces do not couple;
-    /// anything else when a process failed.
+    /// The operator's own error (the surfaces do not couple, …), or a process
+    /// of the assembly that failed.
     fn assemble(
         &self,
         master: &SurfaceMesh,
@@ -139,7 +139,18 @@ pub trait Assembler {
         slave: &SurfaceMesh,
         options: &MortarOptions,
         progress: &dyn Progress,
-    ) -> anyhow::Result<(Mortar, Option<Vec<RankReport>>)>;
+    ) -> Result<(Mortar, Option<Vec<RankReport>>), AssemblerError>;
+}
+
+/// Why an [`Assembler`] produced no operator.
+#[derive(Debug, thiserror::Error)]
+pub enum AssemblerError {
+    /// The operator's own error: no overlap, bad options, …
+    #[error(transparent)]
+    Mortar(#[from] seam::MortarError),
+    /// A process of the assembly failed (one line).
+    #[error("{0}")]
+    Process(String),
 }
 
 /// The operator assembled in this process, on the current rayon pool.
@@ -153,7 +164,7 @@ impl Assembler for Here {
         slave: &SurfaceMesh,
         options: &MortarOptions,
         progress: &dyn Progress,
-    ) -> anyhow::Result<(Mortar, Option<Vec<RankReport>>)> {
+    ) -> Result<(Mortar, Option<Vec<RankReport>>), AssemblerError> {
         Ok((assemble_with_tree(master, tree, slave, options, &|n| progress.advance(n))?, None))
     }
 }
@@ -232,11 +243,9 @@ pub fn assemble_files_with(
     let t = Instant::now();
     progress.start(slave.n_faces());
     let (mortar, per_rank) =
-        assembler.assemble(&master, &tree, &slave, &options, progress).map_err(|e| match e
-            .downcast::<seam::MortarError>()
-        {
-            Ok(e) => Failure::from_coupling(e, &args.pair.slave, &args.pair.master),
-            Err(e) => Failure::Error(e),
+        assembler.assemble(&master, &tree, &slave, &options, progress).map_err(|e| match e {
+            AssemblerError::Mortar(e) => Failure::from_coupling(e, &args.pair.slave, &args.pair.master),
+            AssemblerError::Process(message) => Failure::Error(message),
         })?;
     progress.finish();
     // T is written when D is diagonal (dual, lumped); for standard multipliers it

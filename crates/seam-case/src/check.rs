@@ -3,7 +3,7 @@
 //!
 //! [`check`] assembles the mortar operator with the given options and measures
 //! coverage, normal gaps, orientation, face quality and invariants on it: I1
-//! and I2 of DESIGN.md §2, and the bounds that catch D and B wrong together
+//! and I2 of docs/verification.md (invariants), and the bounds that catch D and B wrong together
 //! (the covered area and D's row sums at most the slave and nodal areas,
 //! linear fields reproduced on flat parts; see the `invariants` module), each
 //! with the slave faces where it fails. The [`CheckReport`] serializes to the
@@ -329,7 +329,7 @@ pub fn check_files(c: &CheckFiles) -> Result<Checked, Failure> {
     let Check { report, coverage, normal_gaps } =
         check(&master, &slave.mesh, &c.options, (&names.0, &names.1), tags).map_err(|e| match e {
             CheckError::Assembly(e) => Failure::from_coupling(e, &pair.slave, &pair.master),
-            e => Failure::Error(e.into()),
+            e => Failure::error(&e),
         })?;
     let slave = slave.mesh;
     Ok(Checked { report, slave, coverage, normal_gaps, vtu: c.vtu.clone(), json: c.json.clone(), out })

@@ -46,4 +46,4 @@ pub use case::{
 };
 pub use check::{check, Check, CheckError, CheckReport, GapBin, Invariant, Quality};
 pub use expression::{Expression, ExpressionError};
-pub use failure::Failure;
+pub use failure::{in_context, one_line, Failure};

@@ -220,7 +220,7 @@ impl Staged {
                 Ok(()) => e.context("nothing was written and no file was changed"),
                 Err(u) => e.context(format!(
                     "the old files could not all be put back ({}): the next seam run writing into {} recovers a whole set",
-                    crate::solve::one_line(&u),
+                    crate::one_line(u.as_ref()),
                     dirs[0].display()
                 )),
             });

@@ -404,68 +404,17 @@ impl Default for SolveOptions {
     }
 }
 
-/// Why a case was not solved (or its results not written): one line naming
-/// the case file and the item at fault, sorted as the exit codes of `seam
-/// solve` sort them.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub enum SolveFailure {
-    /// An interface whose surfaces do not meet: the run found nothing to
-    /// couple (`seam solve` exits with 1).
-    #[error("{0}")]
-    NoCoupling(String),
-    /// Anything else: bad input, unreadable mesh, unwritable output, a
-    /// singular system, … (`seam solve` exits with 2).
-    #[error("{0}")]
-    Error(String),
-}
-
-impl SolveFailure {
-    /// The one-line message.
-    pub fn message(&self) -> &str {
-        match self {
-            SolveFailure::NoCoupling(m) | SolveFailure::Error(m) => m,
-        }
-    }
-}
-
-impl From<Failure> for SolveFailure {
-    fn from(f: Failure) -> Self {
-        match f {
-            Failure::NoCoupling(e) => SolveFailure::NoCoupling(one_line(&e)),
-            Failure::Error(e) | Failure::CheckFailed(e) => SolveFailure::Error(one_line(&e)),
-        }
-    }
-}
-
-/// The error and its causes on one line, "context: cause: cause", leaving out a
-/// cause whose text the line already holds (many errors quote their source):
-/// the messages of `seam` and of [`SolveFailure`].
-pub fn one_line(e: &anyhow::Error) -> String {
-    let mut line = String::new();
-    for cause in e.chain() {
-        let text = cause.to_string();
-        if line.contains(&text) {
-            continue;
-        }
-        if !line.is_empty() {
-            line.push_str(": ");
-        }
-        line.push_str(&text);
-    }
-    line.replace('\n', " ")
-}
-
 /// Reads the case file `case_path`, checks it, reads its meshes and solves
 /// it, on the current rayon pool, without writing anything
 /// ([`Solved::write`] writes the results).
 ///
 /// # Errors
-/// A [`SolveFailure`] naming the case file and the item at fault.
-pub fn solve_case(case_path: &Path, options: &SolveOptions) -> Result<Solved, SolveFailure> {
+/// A [`Failure`] naming the case file and the item at fault.
+pub fn solve_case(case_path: &Path, options: &SolveOptions) -> Result<Solved, Failure> {
     let start = Instant::now();
     check_rtol(options)?;
-    let case = Case::read(case_path).map_err(|e| SolveFailure::Error(e.to_string()))?;
-    Ok(run(case, case_path, options, start)?)
+    let case = Case::read(case_path).map_err(|e| Failure::Case(e.to_string()))?;
+    run(case, case_path, options, start)
 }
 
 /// Solves a case already read and checked (for example by
@@ -474,14 +423,10 @@ pub fn solve_case(case_path: &Path, options: &SolveOptions) -> Result<Solved, So
 ///
 /// # Errors
 /// As [`solve_case`].
-pub fn solve_checked_case(
-    case: Case,
-    case_path: &Path,
-    options: &SolveOptions,
-) -> Result<Solved, SolveFailure> {
+pub fn solve_checked_case(case: Case, case_path: &Path, options: &SolveOptions) -> Result<Solved, Failure> {
     let start = Instant::now();
     check_rtol(options)?;
-    Ok(run(case, case_path, options, start)?)
+    run(case, case_path, options, start)
 }
 
 /// `seam solve CASE.toml`: reads and checks the case, checks its output files
@@ -494,10 +439,10 @@ pub fn solve_case_to_output(
     case_path: &Path,
     options: &SolveOptions,
     force: bool,
-) -> Result<Solved, SolveFailure> {
+) -> Result<Solved, Failure> {
     let start = Instant::now();
     check_rtol(options)?;
-    let case = Case::read(case_path).map_err(|e| SolveFailure::Error(e.to_string()))?;
+    let case = Case::read(case_path).map_err(|e| Failure::Case(e.to_string()))?;
     let out_dir = case.resolve(&case.output.dir);
     let staged = prepare(&case, case_path, &out_dir, options.pieces, force)?;
     let mut solved = run(case, case_path, options, start)?;
@@ -505,10 +450,10 @@ pub fn solve_case_to_output(
     Ok(solved)
 }
 
-fn check_rtol(options: &SolveOptions) -> Result<(), SolveFailure> {
+fn check_rtol(options: &SolveOptions) -> Result<(), Failure> {
     match rtol_problem(options.rtol) {
         None => Ok(()),
-        Some(problem) => Err(SolveFailure::Error(format!("rtol {problem}"))),
+        Some(problem) => Err(Failure::Case(format!("rtol {problem}"))),
     }
 }
 
@@ -552,9 +497,9 @@ fn prepare(
 /// case, is [`crate::write`].
 ///
 /// # Errors
-/// A [`SolveFailure`] naming the case file, the body and the mesh file.
-pub fn read_problem(case: &Case, case_path: &Path) -> Result<Problem, SolveFailure> {
-    Ok(build_problem(case).map_err(|e| Failure::from(anyhow!("{}: {e:#}", case_path.display())))?)
+/// A [`Failure`] naming the case file, the body and the mesh file.
+pub fn read_problem(case: &Case, case_path: &Path) -> Result<Problem, Failure> {
+    build_problem(case).map_err(|e| Failure::Case(format!("{}: {e:#}", case_path.display())))
 }
 
 /// Solves `problem`, already in memory, which `case` (read from `case_path`)
@@ -569,17 +514,18 @@ pub fn solve_problem(
     case: Case,
     case_path: &Path,
     options: &SolveOptions,
-) -> Result<Solved, SolveFailure> {
+) -> Result<Solved, Failure> {
     let start = Instant::now();
     check_rtol(options)?;
-    Ok(run_problem(problem, case, case_path, options, (Seconds::default(), start))?)
+    run_problem(problem, case, case_path, options, (Seconds::default(), start))
 }
 
 /// The pipeline after the case check (module doc); `start` is when the run began.
 fn run(case: Case, case_path: &Path, options: &SolveOptions, start: Instant) -> Result<Solved, Failure> {
     let mut seconds = Seconds::default();
     let clock = Instant::now();
-    let problem = build_problem(&case).map_err(|e| anyhow!("{}: {e:#}", case_path.display()))?;
+    let problem =
+        build_problem(&case).map_err(|e| Failure::Case(format!("{}: {e:#}", case_path.display())))?;
     seconds.read = clock.elapsed().as_secs_f64();
     run_problem(problem, case, case_path, options, (seconds, start))
 }
@@ -601,7 +547,7 @@ fn run_problem(
         LinearSolver::Petsc => {
             // Idempotent: PETSc starts here unless the caller started it with options.
             seam_fem::petsc::initialize_petsc("")
-                .map_err(|e| Failure::Error(anyhow!("{}: {e}", case_path.display())))?;
+                .map_err(|e| Failure::Error(format!("{}: {e}", case_path.display())))?;
             seam_fem::Solver::Petsc(PetscOptions { rtol: options.rtol, ..PetscOptions::default() })
         }
     };
@@ -668,10 +614,10 @@ impl Solved {
     /// # Errors
     /// An output that exists without `force`, is an input or a directory, or
     /// cannot be written.
-    pub fn write(&self, dir: &Path, force: bool) -> Result<Summary, SolveFailure> {
+    pub fn write(&self, dir: &Path, force: bool) -> Result<Summary, Failure> {
         let start = Instant::now();
         let staged = prepare(&self.case, &self.case_path, dir, self.pieces, force)?;
-        Ok(self.write_staged(staged, dir, (self.summary.seconds.total, start))?)
+        self.write_staged(staged, dir, (self.summary.seconds.total, start))
     }
 
     /// Writes the staged outputs; the total time is `total.0` seconds plus
@@ -936,17 +882,17 @@ fn problem_failure(e: ProblemError, case: &Case, path: &Path) -> Failure {
             let what = case.interfaces[interface].describe(interface);
             match source {
                 e @ seam::MortarError::NoOverlap { .. } => {
-                    Failure::NoCoupling(anyhow!("{file}: {what}: {e} (check the surfaces, or max_gap)"))
+                    Failure::NoCoupling(format!("{file}: {what}: {e} (check the surfaces, or max_gap)"))
                 }
-                e => Failure::Error(anyhow!("{file}: {what}: {e}")),
+                e => Failure::Error(format!("{file}: {what}: {e}")),
             }
         }
         ProblemError::BadInterface { interface, what } if interface < case.interfaces.len() => {
-            Failure::Error(anyhow!("{file}: {}: {what}", case.interfaces[interface].describe(interface)))
+            Failure::Case(format!("{file}: {}: {what}", case.interfaces[interface].describe(interface)))
         }
         ProblemError::Assembly { body, source } => {
             let b = &case.bodies[body];
-            Failure::Error(anyhow!(
+            Failure::Case(format!(
                 "{file}: body \"{}\" ({}): {source}",
                 b.name,
                 case.resolve(&b.mesh).display()
@@ -954,7 +900,7 @@ fn problem_failure(e: ProblemError, case: &Case, path: &Path) -> Failure {
         }
         ProblemError::NonFiniteSolution { body, dof } => {
             let b = &case.bodies[body];
-            Failure::Error(anyhow!(
+            Failure::Error(format!(
                 "{file}: body \"{}\": the solution is not finite at point {} of {} (component {}): an overflow; \
                  check the magnitudes of loads, prescribed values and moduli",
                 b.name,
@@ -966,7 +912,7 @@ fn problem_failure(e: ProblemError, case: &Case, path: &Path) -> Failure {
         ProblemError::SharedSlavePoint { glue, contact, at, .. } => {
             let (g, c) = (&case.interfaces[glue], &case.interfaces[contact]);
             let body = SurfaceRef::parse(&g.slave, "").map(|r| r.body).unwrap_or_default();
-            Failure::Error(anyhow!(
+            Failure::Case(format!(
                 "{file}: {} and {}: the node at ({}, {}, {}) of body \"{body}\" is a slave node of both, glued and \
                  in contact; a node cannot be both (split the surfaces so that they share no node)",
                 g.describe(glue),
@@ -991,9 +937,18 @@ fn problem_failure(e: ProblemError, case: &Case, path: &Path) -> Failure {
                     soft.join(", ")
                 ),
             };
-            Failure::Error(anyhow!("{file}: {e}{hint}"))
+            Failure::Error(format!("{file}: {e}{hint}"))
         }
-        e => Failure::Error(anyhow!("{file}: {e}")),
+        e @ (ProblemError::ActiveSetNotSettled { .. }
+        | ProblemError::Solve(
+            seam_fem::SolveError::NotConverged { .. }
+            | seam_fem::SolveError::PetscNotConverged { .. }
+            | seam_fem::SolveError::ToleranceUnreachable { .. },
+        )) => Failure::Convergence(format!("{file}: {e}")),
+        e @ (ProblemError::BadInterface { .. } | ProblemError::BadBody { .. }) => {
+            Failure::Case(format!("{file}: {e}"))
+        }
+        e => Failure::Error(format!("{file}: {e}")),
     }
 }
 
@@ -1050,7 +1005,7 @@ fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> Interfa
 }
 
 /// Fields whose NaN marks "no value here" (off the contact points), as the
-/// README documents; any other non-finite value is an error.
+/// docs/cli.md documents; any other non-finite value is an error.
 const NAN_MARKS_NO_VALUE: [&str; 2] = ["gap", "initial_gap"];
 
 /// Nothing non-finite is written as a result (an overflow is reported with the
@@ -1333,7 +1288,7 @@ mod tests {
     fn bad_options_and_cases_fail_in_one_line_before_any_work() {
         let rtol = SolveOptions { solver: LinearSolver::Pcg, rtol: 2.0, pieces: 1 };
         let e = solve_case(Path::new("nowhere.toml"), &rtol).err().unwrap();
-        assert_eq!(e, SolveFailure::Error("rtol 2 must lie in (0, 1)".into()));
+        assert_eq!(e, Failure::Case("rtol 2 must lie in (0, 1)".into()));
         let tiny = SolveOptions { rtol: 1e-300, ..rtol };
         let e = solve_case(Path::new("nowhere.toml"), &tiny).err().unwrap();
         assert_eq!(
@@ -1343,10 +1298,8 @@ mod tests {
         );
         assert_eq!(rtol_problem(1e-14), None);
         let e = solve_case(Path::new("nowhere.toml"), &SolveOptions::default()).err().unwrap();
-        assert!(
-            matches!(&e, SolveFailure::Error(m) if m.contains("nowhere.toml") && !m.contains('\n')),
-            "{e}"
-        );
+        assert!(matches!(&e, Failure::Case(m) if m.contains("nowhere.toml") && !m.contains('\n')), "{e}");
+        assert_eq!(e.exit_code(), 2);
     }
 
     #[test]

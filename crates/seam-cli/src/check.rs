@@ -5,7 +5,6 @@
 use crate::args::CheckArgs;
 use crate::assemble::{options, pair, thread_pool};
 use crate::Failure;
-use anyhow::anyhow;
 use seam_case::check::{check_files, CheckFiles};
 use seam_case::{CheckReport, Invariant};
 
@@ -38,7 +37,7 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
             (n, true) => format!("{n} uncovered slave nodes"),
             (n, false) => format!("{n} uncovered slave nodes; violated: {}", violated.join("; ")),
         };
-        return Err(Failure::CheckFailed(anyhow!("{slave} and {master}: {reason} (--strict)")));
+        return Err(Failure::CheckFailed(format!("{slave} and {master}: {reason} (--strict)")));
     }
     Ok(())
 }

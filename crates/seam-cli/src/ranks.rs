@@ -22,7 +22,7 @@ use mpi::topology::{Communicator, SimpleCommunicator};
 use mpi::traits::{Destination, Source};
 use seam::parts::{assemble_here, assemble_parts, split, PartBlocks, PartJob};
 use seam::{FaceTree, Mortar, MortarError, MortarOptions, SurfaceMesh};
-use seam_case::assemble::{Assembler, Progress, RankReport};
+use seam_case::assemble::{Assembler, AssemblerError, Progress, RankReport};
 use std::cell::Cell;
 use std::time::Instant;
 
@@ -33,6 +33,16 @@ const CHUNK: usize = 1 << 30;
 pub struct Ranks {
     _universe: mpi::environment::Universe,
     world: SimpleCommunicator,
+}
+
+/// Whether an MPI launcher started this process (`mpirun`, `mpiexec`, `srun`:
+/// Open MPI's, PMI's or PMIx's variables are set). Without one seam is one
+/// process and does not start MPI, whose singleton start-up costs about a
+/// tenth of a second per command.
+pub fn launched() -> bool {
+    ["OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some())
 }
 
 impl Ranks {
@@ -117,12 +127,12 @@ pub fn operators_over_ranks() {
         let world = SimpleCommunicator::world();
         let assembler = OverRanks { world: &world, sent: Cell::new(false) };
         let tree = FaceTree::new(master);
-        assembler.assemble(master, &tree, slave, options, &()).map(|(mortar, _)| mortar).map_err(|e| {
-            match e.downcast::<MortarError>() {
-                Ok(e) => e,
-                Err(e) => MortarError::InvalidOption(format!("{e:#}")),
-            }
-        })
+        assembler.assemble(master, &tree, slave, options, &()).map(|(mortar, _)| mortar).map_err(
+            |e| match e {
+                AssemblerError::Mortar(e) => e,
+                AssemblerError::Process(message) => MortarError::InvalidOption(message),
+            },
+        )
     };
     // Set once, by main, before any solve.
     let _ = seam_fem::set_operator_assembler(Box::new(over_ranks));
@@ -155,7 +165,7 @@ impl Assembler for OverRanks<'_> {
         slave: &SurfaceMesh,
         options: &MortarOptions,
         progress: &dyn Progress,
-    ) -> anyhow::Result<(Mortar, Option<Vec<RankReport>>)> {
+    ) -> Result<(Mortar, Option<Vec<RankReport>>), AssemblerError> {
         let size = self.world.size() as usize;
         let parts = split(tree, slave, options, size);
         let mut reports = vec![RankReport::default(); size];
@@ -182,12 +192,13 @@ impl Assembler for OverRanks<'_> {
             let bytes = receive(&process);
             (report.seconds, _) = process.receive::<f64>();
             report.bytes_sent = bytes.len() as u64;
-            let part = PartBlocks::from_bytes(&bytes)
-                .map_err(|_| anyhow::anyhow!("MPI rank {r} could not assemble its part of the interface"));
+            let part = PartBlocks::from_bytes(&bytes).map_err(|_| {
+                AssemblerError::Process(format!("MPI rank {r} could not assemble its part of the interface"))
+            });
             progress.advance(part.as_ref().map_or(0, PartBlocks::len));
             blocks.push(part);
         }
-        let blocks = blocks.into_iter().collect::<anyhow::Result<Vec<_>>>()?;
+        let blocks = blocks.into_iter().collect::<Result<Vec<_>, _>>()?;
         Ok((assemble_parts(master, tree, slave, options, blocks)?, Some(reports)))
     }
 }

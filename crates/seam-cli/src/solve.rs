@@ -41,5 +41,4 @@ pub fn solve(args: &SolveArgs, pieces: usize) -> Result<Solved, Failure> {
     }
     let pool = crate::assemble::thread_pool(args.threads)?;
     pool.install(|| seam_case::solve::solve_case_to_output(&args.case, &options, args.force))
-        .map_err(Failure::from_solve)
 }

@@ -11,7 +11,10 @@ use std::path::Path;
 pub fn run(args: &TransferArgs) -> Result<(), Failure> {
     let options = options(&args.coupling)?;
     let values = match (&args.expr, &args.field) {
-        (Some(e), _) => Values::Expression(Box::new(Expression::parse(e)?), args.name.clone()),
+        (Some(e), _) => Values::Expression(
+            Box::new(Expression::parse(e).map_err(|e| Failure::case(&e))?),
+            args.name.clone(),
+        ),
         (None, Some(field)) => Values::Field(field.clone()),
         (None, None) => unreachable!("clap requires --field or --expr"),
     };

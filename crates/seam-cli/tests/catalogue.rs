@@ -1,4 +1,4 @@
-//! A catalogue of bad inputs over every command (issue 10): each must exit with
+//! A catalogue of bad inputs over every command: each must exit with
 //! its code (2 for an error, 1 for surfaces that do not couple), print exactly
 //! one line on stderr that says the true cause, never panic or abort, and leave
 //! every file the user had exactly as it was (inputs, earlier results, and
@@ -6,7 +6,7 @@
 //! (on Unix): a reader that allocated what a corrupt header claims would abort
 //! instead of exiting with code 2.
 
-mod common;
+use crate::common;
 
 use base64::prelude::{Engine as _, BASE64_STANDARD};
 use common::{seam, stacked_case, stderr, write_block};

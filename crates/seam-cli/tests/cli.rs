@@ -1,7 +1,7 @@
 //! The `seam` binary, run as a user would: in a temporary directory, checking
 //! exit codes, stderr and the files it leaves.
 
-mod common;
+use crate::common;
 
 use common::{json, seam, stderr};
 use seam_io::read_matrix_market_str;

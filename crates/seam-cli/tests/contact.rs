@@ -2,7 +2,7 @@
 //! blocks meshed independently (the interface does not match node for node),
 //! a case file, the binary, and its output files read back.
 
-mod common;
+use crate::common;
 
 use common::{assert_rejected, json, seam, stacked_case, stderr, vtu_field, write_block};
 use seam_fem::generate::Side;

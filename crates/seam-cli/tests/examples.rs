@@ -3,7 +3,7 @@
 //! summary.json, the pictures, Hertz's comparison, and no overwriting without
 //! `--force`.
 
-mod common;
+use crate::common;
 
 use common::{json, seam, stderr};
 use std::path::Path;

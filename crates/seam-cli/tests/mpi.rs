@@ -11,7 +11,7 @@
 //! another solver or a solve that does not converge stops every rank with
 //! one line.
 
-mod common;
+use crate::common;
 
 use common::{json, stacked_case, stderr, vtu_field, write_block};
 use seam::generate::{cylinder, flat, hyperbolic_paraboloid, patch, quadratic_patch, Pattern, Quadratic};

@@ -3,7 +3,7 @@
 //! its run, then the next run's recovery checked; two runs writing into one
 //! directory at once.
 
-mod common;
+use crate::common;
 
 use common::{seam, stacked_case, stderr, write_block};
 use seam_fem::generate::Side;

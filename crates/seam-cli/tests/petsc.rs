@@ -1,9 +1,9 @@
 //! `seam solve --solver petsc` (cargo feature `petsc`; `cargo test -p
-//! seam-cli --features petsc --test petsc`), run as a user would: the same
+//! seam-cli --features petsc --test main petsc::`), run as a user would: the same
 //! answers as the direct solver to the solver tolerance, the summary's PETSc
 //! report, PETSc's options from `--petsc-options` and `PETSC_OPTIONS`, and
 //! one-line errors with exit code 2 that leave nothing behind.
-mod common;
+use crate::common;
 
 use common::{json, seam, stderr, vtu_field};
 use std::path::Path;

@@ -1,7 +1,7 @@
 //! `seam solve CASE.toml` and `seam example warped-glue`, run as a user would:
 //! meshes written with seam-io's MSH writer, a case file, the binary.
 
-mod common;
+use crate::common;
 
 use common::{assert_rejected, json, seam, stacked_case, stderr, vtu_field, write_block};
 use seam_fem::generate::Side;

@@ -39,7 +39,7 @@
 //! ≤ 1e-12 (direct ≤ 5e-14), stack ≤ 1.2e-12 (the contact pressure; displacement and stress
 //! ≤ 6e-13), KKT ≤ 3e-15.
 
-mod common;
+use crate::common;
 
 use common::{json, seam, stderr, vtu_field};
 use seam::SurfaceMesh;

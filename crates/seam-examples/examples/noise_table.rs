@@ -1,5 +1,4 @@
-//! The noise table of issue 31 (BENCHMARKS.md, "The operator under
-//! coordinate noise"): the covered area 1ᵀD1 (standard multipliers) of
+//! The noise table (BENCHMARKS.md, the operator under coordinate noise): the covered area 1ᵀD1 (standard multipliers) of
 //! surfaces whose coordinates carry Gaussian noise of size ε, worst of three
 //! draws, against the noise-free value.
 //!

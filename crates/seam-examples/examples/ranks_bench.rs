@@ -1,4 +1,4 @@
-//! The MPI benchmark of BENCHMARKS.md (issue 15): `mpirun -np N seam
+//! The MPI benchmark of BENCHMARKS.md: `mpirun -np N seam
 //! assemble` on the cylinder problem of the transfer benchmark (the target's
 //! quads as slave, the source's triangles as master, dual multipliers, one
 //! thread per rank), seconds per phase, bytes exchanged, ghost master faces

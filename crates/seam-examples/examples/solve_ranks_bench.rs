@@ -1,4 +1,4 @@
-//! The benchmark of the solve over MPI ranks in BENCHMARKS.md (issue 15):
+//! The benchmark of the solve over MPI ranks in BENCHMARKS.md:
 //! `seam solve --solver petsc` on the warped-glue case (h_s/h_m = 4, rtol
 //! 10⁻⁸, one thread per rank) by one process and under `mpirun -np N`:
 //! seconds per phase (rank 0's own work, PETSc's matrix, setup and solve,

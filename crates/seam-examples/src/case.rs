@@ -32,10 +32,10 @@ pub fn solve_example(
         }
     }
     let case_path = write_problem_case(&problem, &o.output, about, o.force)?;
-    let case = Case::read(&case_path)?;
+    let case = Case::read(&case_path).map_err(|e| Failure::case(&e))?;
     let options = SolveOptions { solver: LinearSolver::Direct, rtol: 1e-10, pieces: 1 };
-    let mut solved = solve_problem(problem, case, &case_path, &options).map_err(Failure::from_solve)?;
+    let mut solved = solve_problem(problem, case, &case_path, &options)?;
     let out_dir = solved.out_dir.clone();
-    solved.summary = solved.write(&out_dir, o.force).map_err(Failure::from_solve)?;
+    solved.summary = solved.write(&out_dir, o.force)?;
     Ok(solved)
 }

@@ -87,7 +87,11 @@ pub fn run(args: &Options) -> Result<Vec<String>, Failure> {
     let text = markdown(&solved, &params, &table);
     let image = draw(&params, &nodes, &rows);
     write_files(
-        &[(csv, csv_text(&nodes).into_bytes()), (md, text.into_bytes()), (png, image.png()?)],
+        &[
+            (csv, csv_text(&nodes).into_bytes()),
+            (md, text.into_bytes()),
+            (png, image.png().map_err(|e| Failure::error(&e))?),
+        ],
         args.force,
     )?;
     let seconds = clock.elapsed().as_secs_f64();

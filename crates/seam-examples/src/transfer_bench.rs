@@ -1,6 +1,6 @@
 //! `seam bench-transfer`: the end-to-end transfer benchmark of BENCHMARKS.md.
 //!
-//! The cylinder problem of the comparison with preCICE (issue 13): a quarter
+//! The cylinder problem of the comparison with preCICE (BENCHMARKS.md, against preCICE): a quarter
 //! cylinder (radius 1, height 1), the source n_s × n_s cells of two jittered
 //! triangles, the target n × n quads with about 1.19 times fewer faces
 //! (238k source triangles for 200k target quads) and 0.3 h² farther out, h

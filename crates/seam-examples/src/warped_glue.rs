@@ -72,7 +72,7 @@ pub fn run(args: &Options) -> Result<Vec<String>, Failure> {
 
     let clock = std::time::Instant::now();
     let (image, magnification) = draw(&solved, &params)?;
-    write_files(&[(picture, image.png()?)], args.force)?;
+    write_files(&[(picture, image.png().map_err(|e| Failure::error(&e))?)], args.force)?;
     let seconds = clock.elapsed().as_secs_f64();
 
     Ok(report_lines(&args.output, &params, &solved, magnification, seconds))

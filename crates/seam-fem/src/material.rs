@@ -157,7 +157,7 @@ mod tests {
             "Poisson's ratio ν = 0.7 must lie in (-1, 0.5)"
         );
         assert!(Material::new(1.0, -0.99).is_ok());
-        // The ranges of issue 10: out of range and locking are their own errors.
+        // The ranges of the case checks: out of range and locking are their own errors.
         assert_eq!(Material::new(1e308, 0.3), Err(MaterialError::YoungOutOfRange(1e308)));
         assert_eq!(Material::new(f64::INFINITY, 0.3), Err(MaterialError::YoungOutOfRange(f64::INFINITY)));
         assert_eq!(Material::new(1e-300, 0.3), Err(MaterialError::YoungOutOfRange(1e-300)));

@@ -13,7 +13,7 @@
 //! - with an initial overlap −δ and the top held: the overlap is pushed out,
 //!   p = −δ / (½/E₁ + (½ + δ)/E₂) (springs in series).
 //!
-//! Measured (`cargo test -p seam-fem --test contact -- --nocapture`): see the
+//! Measured (`cargo test -p seam-fem --test main contact:: -- --nocapture`): see the
 //! printed lines; everything asserted to 1e-8 relative.
 use seam::Multiplier;
 use seam_fem::generate::BlockKind;
@@ -23,7 +23,7 @@ use seam_fem::{Solution, SolveOptions, Solver};
 
 const RTOL: f64 = 1e-8;
 
-mod common;
+use crate::common;
 use common::stack::Stack;
 
 fn cases() -> Vec<(&'static str, Stack)> {

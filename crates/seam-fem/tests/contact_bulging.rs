@@ -22,7 +22,7 @@
 //!   under refinement for a smooth pressure (h² p'' inside, about h^½ at a
 //!   square-root edge), while mesh-scale oscillations keep it.
 //!
-//! Measured (`cargo test -p seam-fem --test contact_bulging -- --nocapture`;
+//! Measured (`cargo test -p seam-fem --test main contact_bulging:: -- --nocapture`;
 //! slave cells 8 / 12 / 14, press −0.08):
 //!
 //! | | 8 | 12 (default) | 14 |

@@ -10,7 +10,7 @@
 //!   slave element of a;
 //! - under refinement the error of p₀ decreases.
 //!
-//! Measured (`cargo test --release -p seam-fem --test contact_hertz -- --nocapture`),
+//! Measured (`cargo test --release -p seam-fem --test main contact_hertz:: -- --nocapture`),
 //! h = 1.5a/n:
 //!
 //! | n | dofs | steps | active | p₀ error | a − a_Hertz | max \|p − p_Hertz\| / p₀ on the axes |
@@ -20,7 +20,7 @@
 //! | 8 | 61 050 | 10 | 30 | +0.17 % | −0.33 h | 0.057 |
 //!
 //! KKT residuals ≤ 3e-16, force errors ≤ 3e-13.
-mod common;
+use crate::common;
 
 use common::hertz::{solve, Measured};
 use seam_fem::scene::Hertz;

@@ -11,7 +11,7 @@
 //! λ_p of the dual function ψ_p (module doc of `seam_fem::contact`), a
 //! λ̃_p-weighted mean of the pressure around the pole.
 //!
-//! Measured (`cargo test --release -p seam-fem --test contact_hertz_second_order
+//! Measured (`cargo test --release -p seam-fem --test main contact_hertz_second_order::
 //! -- --ignored --nocapture`; p₀ error, a − a_Hertz in slave elements h, max
 //! |p − p_Hertz| / p₀ on the axes; KKT ≤ 4e-16, force errors ≤ 1.4e-12):
 //!
@@ -130,7 +130,7 @@
 //! weighted mean (−3.52 %, −2.28 % when no top diagonal meets the pole).
 //! Only the last split, symmetric under neither x ↔ y nor the reflections,
 //! puts Tet10 at n = 2 closer than Tet4 at n = 8, by throwing Tet4 off.
-mod common;
+use crate::common;
 
 use common::hertz::{pole_readings, solve, solve_scene, Measured};
 use seam::Multiplier;
@@ -216,7 +216,7 @@ fn curved_second_order_slaves() {
 
 /// The study behind the table of the module doc.
 #[test]
-#[ignore = "a study: cargo test --release -p seam-fem --test contact_hertz_second_order -- --ignored --nocapture"]
+#[ignore = "a study: cargo test --release -p seam-fem --test main contact_hertz_second_order:: -- --ignored --nocapture"]
 fn hertz_second_order_study() {
     for curved_slave in [false, true] {
         for cells in [BlockKind::Hex, BlockKind::Tet] {
@@ -234,7 +234,7 @@ fn hertz_second_order_study() {
 /// documents: Hex8 within 1 % of p₀ at every n, Tet4's error falling from
 /// n = 8 on and below 2 % at n = 16.
 #[test]
-#[ignore = "a study: cargo test --release -p seam-fem --test contact_hertz_second_order -- --ignored curved_slave_first_order --nocapture"]
+#[ignore = "a study: cargo test --release -p seam-fem --test main contact_hertz_second_order::curved_slave_first_order -- --ignored --nocapture"]
 fn curved_slave_first_order_refinement_study() {
     let mut tet = Vec::new();
     for n in [4, 8, 12, 16] {

@@ -16,7 +16,7 @@
 //! transformed λ̃_p, whose sum is one), and u = (ν x, ν y, −z) p/E per body
 //! plus the rigid shift of each upper body.
 //!
-//! Measured (`cargo test -p seam-fem --test contact_second_order -- --nocapture`):
+//! Measured (`cargo test -p seam-fem --test main contact_second_order:: -- --nocapture`):
 //! every case prints its pressure, displacement and resultant errors: pressure
 //! ≤ 2.2e-12, displacement ≤ 7.7e-13, resultant ≤ 1.2e-14, KKT residuals
 //! ≤ 4.9e-15 (PCG; ≤ 3.6e-16 direct); asserted to 1e-8.

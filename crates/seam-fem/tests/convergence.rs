@@ -9,7 +9,7 @@
 //! per side. Linear elements: ‖u − u_h‖_L2 = O(h²), |u − u_h|_H1 and the energy
 //! error O(h). The test prints the measured rates.
 
-mod common;
+use crate::common;
 
 use common::manufactured::{exact, gradient, load};
 use common::{error_sums, warp};

@@ -1,7 +1,7 @@
 //! Element geometry on distorted cells: quadrature volumes against the
 //! divergence theorem, orientation, and the zero modes of element stiffnesses.
 
-mod common;
+use crate::common;
 
 use common::{distorted, hybrid, kind_name, KINDS};
 use faer::{Mat, Side};

@@ -32,10 +32,10 @@
 //! (`patch_test_slave_dirichlet_on_interface_nodes`; dropping them, as seam
 //! did before, gave errors of 0.16 to 0.73).
 //!
-//! Measured (`cargo test -p seam-fem --test glue -- --nocapture`): all
+//! Measured (`cargo test -p seam-fem --test main glue:: -- --nocapture`): all
 //! standard and dual errors ≤ 4e-13 (traction; displacement and stress
 //! ≤ 5e-14), balances ≤ 2e-14; the file runs in about 0.5 s.
-mod common;
+use crate::common;
 
 use common::{max_abs, solve_two, stress_vector, Affine};
 use seam::{Face, Multiplier, Point3, SurfaceMesh, VolumeMesh};

@@ -20,7 +20,7 @@
 //! against log h_s over ≥ 4 levels, ≥ 1.8 (L2) and ≥ 0.9 (H1, energy), for
 //! h_s/h_m = 1 and 4, standard and dual multipliers, from the same levels for
 //! loaded and prescribed sides. Measured fitted rates L2 / H1 / energy
-//! (`cargo test -p seam-fem --test glue_convergence -- --nocapture` prints the
+//! (`cargo test -p seam-fem --test main glue_convergence:: -- --nocapture` prints the
 //! tables):
 //!
 //! | sides | h_s/h_m | levels n_s | standard | dual |
@@ -36,7 +36,7 @@
 //! were about twice as large (3.6e-2, 5.2e-2) and the coarse levels
 //! pre-asymptotic (dual fit 1.80 / 0.90 / 0.93 over 3 4 6 8 12), so that row
 //! needed levels 6 8 10 12.
-mod common;
+use crate::common;
 
 use common::manufactured::{exact, gradient, load, stress};
 use common::shell::{level, Sides, L};

@@ -47,7 +47,7 @@
 //! and its centroid at its node, so the dual space contains the linear
 //! functions on affine faces, and the errors are within 0.5 % of the standard
 //! ones. With the basis transformation of `seam::BASIS_ALPHA` applied to Quad9
-//! too (as before this test), the dual space contained the constants only (on
+//! too, the dual space contained the constants only (on
 //! two flat unit squares sharing a corner, x ∈ span ψ would need that corner's
 //! coefficient to be ∫x λ̃_v / ∫λ̃_v = ±α/18 / (1/36 + 2α/9) = ±0.154 from the
 //! two sides), and the rates were those of such a space, h^1.5 in H1: fitted
@@ -78,7 +78,7 @@
 //! the dual space contains the constants but not the linear functions (a
 //! local transformation cannot fix that: λ̃_e may only be a multiple of λ_e
 //! to keep its support).
-mod common;
+use crate::common;
 
 use common::manufactured::{exact, gradient, load, stress};
 use common::shell::{sector, L, R};

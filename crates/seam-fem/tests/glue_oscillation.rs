@@ -24,7 +24,7 @@
 //! 3. equilibrium: the resultant on the slave −Σ_p (Dλ)_p balances the load on
 //!    the top to 1e-10, and the master-side reactions Σ(Bᵀλ) equal it.
 //!
-//! Measured (`cargo test -p seam-fem --test glue_oscillation -- --nocapture`):
+//! Measured (`cargo test -p seam-fem --test main glue_oscillation:: -- --nocapture`):
 //!
 //! | | standard | dual |
 //! |---|---|---|
@@ -44,7 +44,7 @@
 //!
 //! Run time 16 s on a quiet 2-core machine, up to 45 s under load (dev
 //! profile): the reference (215k dofs) and two glued solves (116k dofs each).
-mod common;
+use crate::common;
 
 use common::stress_vector;
 use seam::{nodal_normals, Multiplier, Point3};

@@ -21,9 +21,9 @@
 //!   and master of B|C. The patch field, A clamped at z = 0, all other outer
 //!   faces loaded.
 //!
-//! Measured (`cargo test -p seam-fem --test glue_supports -- --nocapture`):
+//! Measured (`cargo test -p seam-fem --test main glue_supports:: -- --nocapture`):
 //! every error ≤ 3e-14.
-mod common;
+use crate::common;
 
 use common::{crossline_patch_error, rollers_patch_error};
 use seam::Multiplier;

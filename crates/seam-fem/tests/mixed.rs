@@ -20,9 +20,9 @@
 //! non-matching; KKT
 //! residuals ≤ 1e-10; the same bits on 1 and 2 threads.
 //!
-//! Measured (`cargo test -p seam-fem --test mixed -- --nocapture`): errors
+//! Measured (`cargo test -p seam-fem --test main mixed:: -- --nocapture`): errors
 //! ≤ 1e-13.
-mod common;
+use crate::common;
 
 use common::mixed::{Stack, RTOL};
 use seam::Multiplier;

@@ -3,7 +3,7 @@
 //! whether it is imposed by Dirichlet conditions on the whole boundary or by the
 //! exact traction σ·n with only the six conditions that remove rigid motions.
 
-mod common;
+use crate::common;
 
 use common::{
     affine, affine_stress, check_affine, distorted, hybrid, kind_name, material, max_abs, tensor, KINDS,

@@ -1,5 +1,5 @@
 //! The PETSc solver (`Solver::Petsc`, cargo feature `petsc`; `cargo test -p
-//! seam-fem --features petsc --test petsc`): the glued and contact patch
+//! seam-fem --features petsc --test main petsc::`): the glued and contact patch
 //! tests, the glued convergence study and Hertz give the direct solver's
 //! answers to the solver tolerance, and multigrid keeps the iterations
 //! bounded under refinement.
@@ -7,7 +7,7 @@
 //! Tolerances: the KSP stops at rtol = 1e-12 (1e-13 for the patch tests) in
 //! its preconditioned norm; the solutions then agree with the direct ones to
 //! 1e-9 relative (measured: see the printed lines).
-mod common;
+use crate::common;
 
 use common::hertz::solve_scene_with;
 use common::shell::{level, Sides};

@@ -3,7 +3,7 @@
 //! generator, patch tests on every second-order cell, and convergence rates of
 //! Tet10 and Hex27 on a manufactured solution.
 
-mod common;
+use crate::common;
 
 use common::manufactured::{exact, gradient, load};
 use common::{

@@ -1,6 +1,6 @@
 //! The global stiffness: rigid-body modes, symmetry, determinism, errors.
 
-mod common;
+use crate::common;
 
 use common::{distorted, hybrid, max_abs, KINDS};
 use seam::{Cell, CsrMatrix, VolumeMesh};

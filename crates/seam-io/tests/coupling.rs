@@ -1,5 +1,5 @@
 //! The mortar operator on meshes really made by Gmsh (unstructured triangles,
-//! mixed triangles and quads): invariants I1, I2, I4 and I7 of DESIGN.md §2.
+//! mixed triangles and quads): invariants I1, I2, I4 and I7 of docs/verification.md (invariants).
 
 use seam::{assemble, MortarOptions, Multiplier, SurfaceMesh};
 use std::path::PathBuf;

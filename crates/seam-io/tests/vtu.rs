@@ -1122,7 +1122,7 @@ fn hostile_file_child() {
     let result = read_vtu(&file.bytes[..]);
     let (_, peak) = resident_kb();
     match result {
-        // After a newline: libtest has written "test hostile_file_child ... ".
+        // After a newline: libtest has written "test vtu::hostile_file_child ... ".
         Ok(_) => println!("\nread without error"),
         Err(e) => println!("\nerror: {e}"),
     }
@@ -1142,7 +1142,7 @@ fn hostile_files_are_read_in_bounded_memory() {
             .arg("-c")
             .arg(r#"ulimit -v 400000 && exec "$0" "$@""#)
             .arg(&exe)
-            .args(["hostile_file_child", "--exact", "--nocapture", "--test-threads=1"])
+            .args(["vtu::hostile_file_child", "--exact", "--nocapture", "--test-threads=1"])
             .env("SEAM_VTU_HOSTILE", file.name)
             .output()
             .unwrap();

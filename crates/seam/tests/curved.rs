@@ -218,8 +218,8 @@ fn i9_transfer_error_falls_like_h_cubed_on_curved_interfaces() {
 /// parallelograms) fully covered by a non-matching Tri6 master, D is the
 /// exact mass matrix ∫ ψ_p ψ_q |J| (here a polynomial in ξ, integrated with
 /// degree 20 on the reference cell): the curved path's rule follows the fold
-/// ratio of the slave's chord (`CURVED_LADDER`). With the degree-8 rule alone
-/// D was 2e-7 to 1e-5 off.
+/// ratio of the slave's chord (`CURVED_LADDER`). A fixed degree-8 rule leaves
+/// D 2e-7 to 1e-5 off.
 #[test]
 fn d_is_exact_on_distorted_flat_second_order_quads() {
     let rule = seam::triangle_rule(20).unwrap();

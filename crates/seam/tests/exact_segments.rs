@@ -1,9 +1,9 @@
-//! Issue 12, item 6: B and D exact on flat, strongly distorted quads.
+//! B and D exact on flat, strongly distorted quads.
 //!
-//! A segment used to be a straight triangle in the slave's reference
-//! coordinates (D2), while the preimage of a master edge under a
-//! non-parallelogram quad's bilinear map is curved: B was off by up to 5.5e-3
-//! (BENCHMARKS.md, `flatj`). The quadrature now lives in the projection plane.
+//! The preimage of a master edge under a non-parallelogram quad's bilinear map
+//! is curved, so a segment that is a straight triangle in the slave's
+//! reference coordinates (D2) misses part of the overlap (up to 5.5e-3 of B on
+//! `flatj`); the quadrature of such pairs lives in the projection plane.
 //!
 //! The reference here is independent of the operator's code: for a quad Q
 //! against a triangle T of the plane z = 0, with χ the quad's bilinear map,
@@ -20,7 +20,7 @@
 //! roles are checked: quad slaves against triangle masters (ψ = λ^Q) and
 //! triangle slaves against quad masters (ψ = μ^T, B_pq = ∫ μ_p λ_q).
 //!
-//! Measured (`cargo test -p seam --test exact_segments -- --nocapture`),
+//! Measured (`cargo test -p seam --test main exact_segments:: -- --nocapture`),
 //! max |B − B_ref| / max |B_ref| and the same for D (standard multipliers):
 //!
 //! | quads | distortion ε ≤ | B before (straight in ξ_s) | B now | D now |
@@ -375,7 +375,7 @@ fn read_peer_mesh(path: &std::path::Path) -> SurfaceMesh {
 ///
 /// ```text
 /// python3 ../shared/peers/dune-grid-glue/gen_meshes.py /tmp/meshes --sizes 10000
-/// SEAM_PEER_MESHES=/tmp/meshes cargo test --release -p seam --test exact_segments -- --ignored --nocapture
+/// SEAM_PEER_MESHES=/tmp/meshes cargo test --release -p seam --test main exact_segments:: -- --ignored --nocapture
 /// ```
 ///
 /// Measured: B 5.1e-3 before (straight segments in ξ_s), 8.8e-15 now; D

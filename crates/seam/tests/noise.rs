@@ -1,5 +1,5 @@
-//! I10 of DESIGN.md: the operator under floating-point noise on the
-//! coordinates (issue 31). Meshes from mesh generators, CAD exports and
+//! I10 of docs/verification.md: the operator under floating-point noise on the
+//! coordinates. Meshes from mesh generators, CAD exports and
 //! coordinate transforms put master vertices within round-off of slave edges;
 //! the operator must move by O(ε) only.
 //!

@@ -1,4 +1,4 @@
-//! The invariants I1–I7 of DESIGN.md §2 on the scenes the operator must handle,
+//! The invariants I1–I7 of docs/verification.md (invariants) on the scenes the operator must handle,
 //! and a fixture with values derived by hand.
 
 use seam::generate::{cylinder, flat, hyperbolic_paraboloid, patch, Pattern};
@@ -7,7 +7,7 @@ use seam::{
     MortarOptions, Multiplier, SurfaceMesh,
 };
 
-/// "Exact" in DESIGN.md: to round-off, relative.
+/// "Exact" in docs/verification.md: to round-off, relative.
 const EXACT: f64 = 1e-13;
 
 const MULTIPLIERS: [Multiplier; 3] = [Multiplier::Standard, Multiplier::Dual, Multiplier::Lumped];
@@ -600,7 +600,7 @@ fn recorded_segments_tile_the_covered_area() {
 /// Where the coverage ends inside a general (non-parallelogram) slave quad, the
 /// edge of the covered region is curved in the slave's reference coordinates.
 /// The paper's segments, straight there (D2), missed it by an amount of the
-/// order of the quads' distortion (1.5e-4 of 0.5 here, issue 12 item 6); with
+/// order of the quads' distortion (1.5e-4 of 0.5 here); with
 /// the quadrature placed in the projection plane the covered area is the
 /// physical overlap to round-off.
 #[test]

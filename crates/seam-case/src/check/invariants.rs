@@ -2,7 +2,7 @@
 //! relative defect against a tolerance, and where each one fails: the slave
 //! points with the largest defects and the slave faces around them.
 //!
-//! Besides I1 and I2 of DESIGN.md §2 (which hold even when D and B are wrong
+//! Besides I1 and I2 of docs/verification.md (invariants) (which hold even when D and B are wrong
 //! together, for example when pieces of the intersection are counted twice)
 //! three invariants bound what D and B integrate:
 //!
@@ -27,9 +27,9 @@
 //! # Tolerances, and the figures behind them
 //!
 //! Each is "beyond round-off": far above what a correct operator shows, far
-//! below the defects the checks are for (errors of 1e-6 and more; the kernel
-//! defect of issue 31 put the covered area 1.5e-3 above the slave area and D
-//! row sums 20 % above the nodal areas). The figures come from the test
+//! below the defects the checks are for (errors of 1e-6 and more; a clipping
+//! defect under coordinate noise can put the covered area 1e-3 above the slave
+//! area and D row sums 20 % above the nodal areas). The figures come from the test
 //! `correct_operators_stay_within_the_tolerances` (which prints the worst
 //! value of each invariant): flat first-order scenes (matching, jittered,
 //! partially covered, with a gap, small and far from the origin), a warped
@@ -55,7 +55,7 @@ use seam::{
     SurfaceMesh, Transfer, MAX_TRIANGLE_DEGREE,
 };
 
-/// Tolerance of the invariants I1 and I2 on B and D: "exact" in DESIGN.md §2.
+/// Tolerance of the invariants I1 and I2 on B and D: "exact" in docs/verification.md (invariants).
 pub(super) const EXACT: f64 = 1e-13;
 
 /// Tolerance of T·1 = 1, one solve away from B and D.

@@ -1,0 +1,22 @@
+//! The integration tests of `seam-fem`, one module per subject, in one test
+//! binary (one link per crate).
+
+mod common;
+mod contact;
+mod contact_bulging;
+mod contact_hertz;
+mod contact_hertz_second_order;
+mod contact_second_order;
+mod convergence;
+mod element;
+mod glue;
+mod glue_convergence;
+mod glue_convergence_second_order;
+mod glue_oscillation;
+mod glue_supports;
+mod mixed;
+mod patch;
+#[cfg(feature = "petsc")]
+mod petsc;
+mod second_order;
+mod stiffness;

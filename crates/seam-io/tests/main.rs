@@ -1,0 +1,9 @@
+//! The integration tests of `seam-io`, one module per subject, in one test
+//! binary (one link per crate).
+
+mod coupling;
+mod fuzz_regressions;
+mod large_blocks;
+mod msh;
+mod msh_write;
+mod vtu;

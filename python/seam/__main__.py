@@ -1,0 +1,5 @@
+"""``python -m seam ARGS``: the ``seam`` command."""
+
+from ._cli import main
+
+main()
