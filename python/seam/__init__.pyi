@@ -27,6 +27,7 @@ __all__ = [
     "SolveError",
     "__version__",
     "assemble",
+    "catalogue",
     "check",
     "read_mesh",
     "solve",
@@ -306,6 +307,41 @@ def check(
     Raises:
         As ``assemble``; as ``read_mesh`` for a path; FactorizationError when
         T = D⁻¹B cannot be formed.
+    """
+
+class _ElementKind(TypedDict):
+    name: str
+    shape: str
+    order: int
+    linear: str
+    n_nodes: int
+    corners: int
+    gmsh_type: int
+    vtk_type: int
+    vtk_order: List[int]
+    reference_nodes: List[List[float]]
+    edges: List[List[int]]
+
+class _CellKind(_ElementKind):
+    faces: List[Tuple[str, List[int]]]
+
+class _Catalogue(TypedDict):
+    faces: List[_ElementKind]
+    cells: List[_CellKind]
+
+def catalogue() -> _Catalogue:
+    """The element kinds seam knows, each with its description from seam's element catalogue.
+
+    Nodes are in Gmsh's order. Reference coordinates are Gmsh's, except that
+    seam's quadrilateral faces live on [0, 1]² (Gmsh's [-1, 1]² mapped by
+    ξ ↦ (ξ + 1)/2).
+
+    Returns:
+        {"faces": [...], "cells": [...]}: per kind its name, shape, order,
+        linear kind, node and corner counts, Gmsh and VTK type numbers, VTK
+        node order, reference nodes, edges (corner pairs; edge k carries node
+        corners + k at second order) and, for cells, the local faces
+        ([kind name, local nodes], outward).
     """
 
 class SolveError(ValueError):

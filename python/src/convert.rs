@@ -78,7 +78,7 @@ const WIDTHS: &str = "3 (triangles), 4 (quads), 6 (Tri6), 8 (Quad8) or 9 (Quad9)
 
 /// Whether `n` nodes make a face: 3 (Tri3), 4 (Quad4), 6 (Tri6), 8 (Quad8), 9 (Quad9).
 fn is_face_width(n: usize) -> bool {
-    matches!(n, 3 | 4 | 6 | 8 | 9)
+    seam::FaceKind::with_nodes(n).is_some()
 }
 
 /// Faces from an m×k integer array (k = 3, 4, 6, 8 or 9: Tri3, Quad4, Tri6,
@@ -228,13 +228,14 @@ pub fn nodal_values_into(
 }
 
 /// An n×m int64 array from rows of indices.
-pub fn index_rows<const N: usize>(
+pub fn index_rows<'a>(
     py: Python<'_>,
-    rows: Vec<[usize; N]>,
+    width: usize,
+    rows: impl Iterator<Item = &'a [usize]>,
 ) -> PyResult<Bound<'_, PyArray2<i64>>> {
-    let n = rows.len();
-    let flat: Vec<i64> = rows.iter().flatten().map(|&i| i as i64).collect();
-    let array = Array2::from_shape_vec((n, N), flat).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let flat: Vec<i64> = rows.flatten().map(|&i| i as i64).collect();
+    let array = Array2::from_shape_vec((flat.len() / width, width), flat)
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
     Ok(array.into_pyarray(py))
 }
 

@@ -8,10 +8,12 @@
 //! | `seam.check` | [`seam_case::check()`], its report through `json.loads` |
 //! | `seam.Mortar` | [`seam::Mortar`] + its [`seam::Transfer`] ([`mortar::PyMortar`]) |
 //! | `seam.solve`, `seam.Solution` | [`seam_case::solve`], GIL released ([`solve::PySolution`]) |
+//! | `seam.catalogue` | [`seam::catalogue`]: the element kinds and their tables |
 //! | exceptions, `seam.OutputWarning` | [`error`] |
 //! | the `seam` command (`seam._cli`) | [`seam_cli::run`] ([`cli::cli`]) |
 #![forbid(unsafe_code)]
 
+mod catalogue;
 mod check;
 mod cli;
 mod convert;
@@ -31,6 +33,7 @@ fn _seam(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mortar::assemble, m)?)?;
     m.add_class::<solve::PySolution>()?;
     m.add_function(wrap_pyfunction!(check::check, m)?)?;
+    m.add_function(wrap_pyfunction!(catalogue::catalogue, m)?)?;
     m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
     m.add_function(wrap_pyfunction!(error::_panic_in, m)?)?;
     m.add_function(wrap_pyfunction!(cli::cli, m)?)?;

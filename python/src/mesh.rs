@@ -7,7 +7,7 @@ use numpy::{PyArray2, ToPyArray};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
-use seam::{Face, SurfaceMesh};
+use seam::{FaceKind, SurfaceMesh};
 
 use crate::convert::{faces_from, index_rows, points_from, short};
 use crate::error::{detach, mesh_error, msh_error, Entry};
@@ -114,13 +114,10 @@ impl<'py> MeshArg<'py> {
 }
 
 impl PyMesh {
-    /// The faces `pick` maps to rows, in face order, as an int64 array.
-    fn rows<'py, const N: usize>(
-        &self,
-        py: Python<'py>,
-        pick: impl Fn(&Face) -> Option<[usize; N]>,
-    ) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        index_rows(py, self.inner.faces().iter().filter_map(pick).collect())
+    /// The faces of `kind`, in face order, as an int64 array of their nodes.
+    fn rows<'py>(&self, py: Python<'py>, kind: FaceKind) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        let faces = self.inner.faces().iter().filter(|f| f.kind() == kind);
+        index_rows(py, kind.n_nodes(), faces.map(|f| f.nodes()))
     }
 }
 
@@ -144,30 +141,21 @@ impl PyMesh {
     /// point indices.
     #[getter]
     fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        self.rows(py, |f| match f {
-            Face::Tri3(n) => Some(*n),
-            _ => None,
-        })
+        self.rows(py, FaceKind::Tri3)
     }
 
     /// Bilinear quadrilaterals in face order, int64 array of shape (n, 4) of
     /// 0-based point indices.
     #[getter]
     fn quads<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        self.rows(py, |f| match f {
-            Face::Quad4(n) => Some(*n),
-            _ => None,
-        })
+        self.rows(py, FaceKind::Quad4)
     }
 
     /// Second-order 6-node triangles in face order, int64 array of shape
     /// (n, 6): corners, then the mid-edge nodes of edges 0-1, 1-2, 2-0.
     #[getter]
     fn tri6<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        self.rows(py, |f| match f {
-            Face::Tri6(n) => Some(*n),
-            _ => None,
-        })
+        self.rows(py, FaceKind::Tri6)
     }
 
     /// Second-order 8-node (serendipity) quadrilaterals in face order, int64
@@ -175,10 +163,7 @@ impl PyMesh {
     /// 1-2, 2-3, 3-0.
     #[getter]
     fn quad8<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        self.rows(py, |f| match f {
-            Face::Quad8(n) => Some(*n),
-            _ => None,
-        })
+        self.rows(py, FaceKind::Quad8)
     }
 
     /// Second-order 9-node (biquadratic) quadrilaterals in face order, int64
@@ -186,10 +171,7 @@ impl PyMesh {
     /// 2-3, 3-0, then the centre.
     #[getter]
     fn quad9<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
-        self.rows(py, |f| match f {
-            Face::Quad9(n) => Some(*n),
-            _ => None,
-        })
+        self.rows(py, FaceKind::Quad9)
     }
 
     /// Number of points (including points no face uses).
@@ -205,18 +187,15 @@ impl PyMesh {
     }
 
     fn __repr__(&self) -> String {
-        let faces = self.inner.faces();
-        let count = |kind: fn(&Face) -> bool| faces.iter().filter(|f| kind(f)).count();
-        let tris = count(|f| matches!(f, Face::Tri3(_)));
-        let quads = count(|f| matches!(f, Face::Quad4(_)));
-        let mut kinds = vec![format!("{tris} triangles"), format!("{quads} quads")];
-        for (name, n) in [
-            ("Tri6", count(|f| matches!(f, Face::Tri6(_)))),
-            ("Quad8", count(|f| matches!(f, Face::Quad8(_)))),
-            ("Quad9", count(|f| matches!(f, Face::Quad9(_)))),
-        ] {
-            if n > 0 {
-                kinds.push(format!("{n} {name}"));
+        // First-order faces always, as "triangles" and "quads"; the others
+        // by name where there are any.
+        let mut kinds = Vec::new();
+        for kind in FaceKind::ALL {
+            let n = self.inner.faces().iter().filter(|f| f.kind() == kind).count();
+            match kind.order() {
+                1 => kinds.push(format!("{n} {}", if kind.is_triangle() { "triangles" } else { "quads" })),
+                _ if n > 0 => kinds.push(format!("{n} {}", kind.name())),
+                _ => {}
             }
         }
         let used = self.inner.used_points().iter().filter(|&&u| u).count();

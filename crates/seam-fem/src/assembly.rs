@@ -16,19 +16,19 @@
 //! entry is the same sum in the same order whatever the number of threads. Loads
 //! are scattered in cell (face) order. The results are bitwise reproducible.
 
-use crate::element::{ElementKind, VolumeRule, Xi, MAX_NODES};
 use crate::material::Material;
 use rayon::prelude::*;
-use seam::curved::{CurvedFace, CurvedKind};
-use seam::{triangle_rule, CsrMatrix, Face, FaceElement, Point3, SurfaceMesh, VolumeMesh};
+use seam::curved::CurvedFace;
+use seam::{triangle_rule, CsrMatrix, FaceElement, Point3, SurfaceMesh, VolumeMesh};
+use seam::{CellKind, VolumeRule, Xi3 as Xi, MAX_CELL_NODES as MAX_NODES};
 
 /// Quadrature degree of body-force loads on first-order cells
-/// ([`ElementKind::rule`]): exact for N_i·b with b affine on affine cells.
+/// ([`CellKind::rule`]): exact for N_i·b with b affine on affine cells.
 pub const BODY_FORCE_DEGREE: usize = 2;
 
 /// The body-force quadrature degree of `kind`: order + 1 (2 on first-order,
 /// 3 on second-order cells), exact for N_i·b with b affine on affine cells.
-pub fn body_force_degree(kind: ElementKind) -> usize {
+pub fn body_force_degree(kind: CellKind) -> usize {
     BODY_FORCE_DEGREE + kind.order() - 1
 }
 
@@ -68,7 +68,7 @@ pub struct PointGeometry {
 }
 
 /// The map x(ξ) = Σ_i N_i(ξ) x_i of a cell with nodes `x` (Gmsh order).
-pub fn map_point(kind: ElementKind, x: &[Point3], xi: Xi) -> Point3 {
+pub fn map_point(kind: CellKind, x: &[Point3], xi: Xi) -> Point3 {
     let n = kind.shape(xi);
     let mut p = [0.0; 3];
     for (i, xi) in x.iter().enumerate() {
@@ -81,7 +81,7 @@ pub fn map_point(kind: ElementKind, x: &[Point3], xi: Xi) -> Point3 {
 
 /// det J and the physical gradients at ξ; `None` when the cell is degenerate
 /// there (|det J| ≤ [`DEGENERATE_RTOL`] · Π_l |J e_l|, or not finite).
-pub fn geometry(kind: ElementKind, x: &[Point3], xi: Xi) -> Option<PointGeometry> {
+pub fn geometry(kind: CellKind, x: &[Point3], xi: Xi) -> Option<PointGeometry> {
     debug_assert_eq!(x.len(), kind.n_nodes());
     let g = kind.gradients(xi);
     // J[k][l] = ∂x_k/∂ξ_l
@@ -128,17 +128,17 @@ pub fn geometry(kind: ElementKind, x: &[Point3], xi: Xi) -> Option<PointGeometry
 
 /// The geometry at every point of `rule`, or `None` if the cell is degenerate at
 /// one of them or det J changes sign between them.
-fn geometry_at_rule(kind: ElementKind, x: &[Point3], rule: &VolumeRule) -> Option<Vec<PointGeometry>> {
+fn geometry_at_rule(kind: CellKind, x: &[Point3], rule: &VolumeRule) -> Option<Vec<PointGeometry>> {
     let geo: Vec<PointGeometry> =
         rule.points.iter().map(|&xi| geometry(kind, x, xi)).collect::<Option<_>>()?;
     let positive = geo[0].det > 0.0;
     geo.iter().all(|g| (g.det > 0.0) == positive).then_some(geo)
 }
 
-/// Element stiffness ∫_e Bᵀ C B dV with [`ElementKind::stiffness_rule`], as a dense
+/// Element stiffness ∫_e Bᵀ C B dV with [`CellKind::stiffness_rule`], as a dense
 /// row-major (3n)×(3n) matrix in local dofs 3i + a. Cells of either orientation
 /// are accepted (|det J|). `None` for a degenerate or tangled cell.
-pub fn element_stiffness(kind: ElementKind, x: &[Point3], material: &Material) -> Option<Vec<f64>> {
+pub fn element_stiffness(kind: CellKind, x: &[Point3], material: &Material) -> Option<Vec<f64>> {
     let rule = kind.stiffness_rule();
     let geo = geometry_at_rule(kind, x, rule)?;
     let (lambda, mu) = material.lame();
@@ -175,20 +175,20 @@ pub fn element_stiffness(kind: ElementKind, x: &[Point3], material: &Material) -
 }
 
 /// The node coordinates of cell `c` (entries past its node count are 0) and its kind.
-pub(crate) fn corners(mesh: &VolumeMesh, c: usize) -> ([Point3; MAX_NODES], ElementKind) {
+pub(crate) fn corners(mesh: &VolumeMesh, c: usize) -> ([Point3; MAX_NODES], CellKind) {
     let cell = &mesh.cells()[c];
     let mut x = [[0.0; 3]; MAX_NODES];
     for (i, &p) in cell.nodes().iter().enumerate() {
         x[i] = mesh.points()[p];
     }
-    (x, ElementKind::of(cell))
+    (x, CellKind::of(cell))
 }
 
 /// Runs `f` on every cell (its kind and node coordinates) in parallel; the first
 /// (lowest) failing cell is the error.
 fn per_cell<T: Send>(
     mesh: &VolumeMesh,
-    f: impl Fn(ElementKind, &[Point3]) -> Option<T> + Sync,
+    f: impl Fn(CellKind, &[Point3]) -> Option<T> + Sync,
 ) -> Result<Vec<T>, AssemblyError> {
     let out: Vec<Option<T>> = (0..mesh.cells().len())
         .into_par_iter()
@@ -354,7 +354,7 @@ pub fn stiffness_times(mesh: &VolumeMesh, material: &Material, u: &[f64]) -> Res
 fn cell_blocks(
     mesh: &VolumeMesh,
     len: impl Fn(usize) -> usize,
-    fill: impl Fn(ElementKind, &[Point3], usize, &mut [f64]) -> bool + Sync,
+    fill: impl Fn(CellKind, &[Point3], usize, &mut [f64]) -> bool + Sync,
 ) -> Result<(Vec<usize>, Vec<f64>), AssemblyError> {
     let cells = mesh.cells();
     let mut start = Vec::with_capacity(cells.len() + 1);
@@ -389,7 +389,7 @@ pub(crate) fn split_mut<'a, T>(mut data: &'a mut [T], at: &[usize]) -> Vec<&'a m
         .collect()
 }
 
-/// Body-force load f_{3i+a} = ∫_Ω N_i b_a(x) dV, with [`ElementKind::rule`] of
+/// Body-force load f_{3i+a} = ∫_Ω N_i b_a(x) dV, with [`CellKind::rule`] of
 /// degree [`body_force_degree`]; length 3·n_points.
 ///
 /// # Errors
@@ -398,7 +398,7 @@ pub fn body_force(
     mesh: &VolumeMesh,
     b: impl Fn(Point3) -> [f64; 3] + Sync,
 ) -> Result<Vec<f64>, AssemblyError> {
-    let rules = ElementKind::ALL.map(|k| k.rule(body_force_degree(k)));
+    let rules = CellKind::ALL.map(|k| k.rule(body_force_degree(k)));
     let local = per_cell(mesh, |kind, x| {
         let rule = &rules[kind as usize];
         let geo = geometry_at_rule(kind, x, rule)?;
@@ -433,34 +433,24 @@ enum LoadFace {
     Curved(CurvedFace),
 }
 
-/// The two halves of the unit square, as reference triangles.
-const UNIT_SQUARE_HALVES: [[[f64; 2]; 3]; 2] =
-    [[[0., 0.], [1., 0.], [1., 1.]], [[0., 0.], [1., 1.], [0., 1.]]];
-/// The reference triangle.
-const UNIT_TRIANGLE: [[[f64; 2]; 3]; 1] = [[[0., 0.], [1., 0.], [0., 1.]]];
-
 impl LoadFace {
     fn of(surface: &SurfaceMesh, f: usize) -> LoadFace {
         let face = &surface.faces()[f];
-        let kind = match face {
-            Face::Tri3(_) | Face::Quad4(_) => return LoadFace::Flat(FaceElement::of(surface, f)),
-            Face::Tri6(_) => CurvedKind::Tri6,
-            Face::Quad8(_) => CurvedKind::Quad8,
-            Face::Quad9(_) => CurvedKind::Quad9,
-        };
+        if !face.is_curved() {
+            return LoadFace::Flat(FaceElement::of(surface, f));
+        }
         let mut x = [[0.0; 3]; 9];
         for (xi, &p) in x.iter_mut().zip(face.nodes()) {
             *xi = surface.points()[p];
         }
-        LoadFace::Curved(CurvedFace::new(kind, &x))
+        LoadFace::Curved(CurvedFace::new(face.kind(), &x))
     }
 
     /// The reference triangles covering the reference face, and the rule degree.
     fn triangles(&self) -> (&'static [[[f64; 2]; 3]], usize) {
         match self {
             LoadFace::Flat(e) => (e.reference_triangles(), TRACTION_DEGREE),
-            LoadFace::Curved(c) if c.kind == CurvedKind::Tri6 => (&UNIT_TRIANGLE, CURVED_TRACTION_DEGREE),
-            LoadFace::Curved(_) => (&UNIT_SQUARE_HALVES, CURVED_TRACTION_DEGREE),
+            LoadFace::Curved(c) => (c.kind.reference_triangles(), CURVED_TRACTION_DEGREE),
         }
     }
 
@@ -475,7 +465,7 @@ impl LoadFace {
             }
             LoadFace::Curved(c) => {
                 let (x, a, b) = c.map_and_tangents(xi);
-                (x, a, b, seam::curved::shape_and_gradients(c.kind, xi).0)
+                (x, a, b, c.kind.shape_and_gradients(xi).0)
             }
         };
         (x, [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]], n)
@@ -577,12 +567,13 @@ pub fn rigid_body_modes(points: &[Point3]) -> [Vec<f64>; 6] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use seam::{Face, FaceKind};
 
     #[test]
     fn unit_tet_stiffness_row_sums_vanish() {
         let x = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
         let m = Material::new(1.0, 0.25).unwrap();
-        let k = element_stiffness(ElementKind::Tet4, &x, &m).unwrap();
+        let k = element_stiffness(CellKind::Tet4, &x, &m).unwrap();
         for r in 0..12 {
             for a in 0..3 {
                 let s: f64 = (0..4).map(|j| k[r * 12 + 3 * j + a]).sum();
@@ -591,7 +582,7 @@ mod tests {
         }
         // Flat tet: degenerate.
         let flat = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]];
-        assert!(element_stiffness(ElementKind::Tet4, &flat, &m).is_none());
+        assert!(element_stiffness(CellKind::Tet4, &flat, &m).is_none());
     }
 
     /// Points that no cell uses (a file's other volumes) get empty rows, and
@@ -624,18 +615,18 @@ mod tests {
     #[test]
     fn second_order_face_loads_are_the_consistent_ones() {
         for (kind, face, expected) in [
-            (CurvedKind::Quad8, Face::Quad8(std::array::from_fn(|i| i)), vec![-1.0 / 12.0, 1.0 / 3.0]),
+            (FaceKind::Quad8, Face::Quad8(std::array::from_fn(|i| i)), vec![-1.0 / 12.0, 1.0 / 3.0]),
             (
-                CurvedKind::Quad9,
+                FaceKind::Quad9,
                 Face::Quad9(std::array::from_fn(|i| i)),
                 vec![1.0 / 36.0, 1.0 / 9.0, 4.0 / 9.0],
             ),
-            (CurvedKind::Tri6, Face::Tri6(std::array::from_fn(|i| i)), vec![0.0, 1.0 / 6.0]),
+            (FaceKind::Tri6, Face::Tri6(std::array::from_fn(|i| i)), vec![0.0, 1.0 / 6.0]),
         ] {
             let points: Vec<Point3> = kind.nodes().iter().map(|x| [x[0], x[1], 0.0]).collect();
             let surface = SurfaceMesh::new(points, vec![face]).unwrap();
             let f = traction(&surface, |_, n| n);
-            let corners = if kind == CurvedKind::Tri6 { 3 } else { 4 };
+            let corners = kind.n_corners();
             for i in 0..kind.n_nodes() {
                 let e = expected[if i < corners {
                     0

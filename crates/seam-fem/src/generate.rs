@@ -26,7 +26,7 @@
 //! [`raise_order`] turns a first-order mesh into a second-order one with the
 //! same geometry (module doc of the function).
 
-use crate::element::ElementKind;
+use seam::CellKind;
 use seam::{Cell, Face, MeshError, Point3, SurfaceMesh, VolumeMesh};
 use std::collections::HashMap;
 
@@ -266,39 +266,9 @@ pub enum RaiseError {
 }
 
 /// The local corners whose mean is each node's reference position, per node of
-/// `kind` in Gmsh order: the corner itself, the two ends of a mid-edge node's
-/// edge, the four corners of a quadrilateral face centre, all corners for the
-/// Hex27 centre. Edges and faces are those of [`Cell::local_faces`].
-pub fn node_supports(kind: ElementKind) -> Vec<Vec<usize>> {
-    let family = kind.family();
-    let corners = family.reference_nodes();
-    let probe = family.cell(&vec![0; corners.len()]).expect("the family's corner count");
-    let mut candidates: Vec<Vec<usize>> = Vec::new();
-    for face in probe.local_faces() {
-        for i in 0..face.len() {
-            let mut e = vec![face[i], face[(i + 1) % face.len()]];
-            e.sort_unstable();
-            if !candidates.contains(&e) {
-                candidates.push(e);
-            }
-        }
-    }
-    candidates.extend(probe.local_faces().iter().filter(|f| f.len() == 4).map(|f| f.to_vec()));
-    candidates.push((0..corners.len()).collect());
-    let mean = |set: &[usize]| -> [f64; 3] {
-        std::array::from_fn(|k| set.iter().map(|&c| corners[c][k]).sum::<f64>() / set.len() as f64)
-    };
-    kind.reference_nodes()
-        .iter()
-        .enumerate()
-        .map(|(i, x)| {
-            if i < corners.len() {
-                return vec![i];
-            }
-            let close = |set: &&Vec<usize>| (0..3).all(|k| (mean(set)[k] - x[k]).abs() < 1e-12);
-            candidates.iter().find(close).expect("every node is an edge, face or cell centre").clone()
-        })
-        .collect()
+/// `kind` in Gmsh order ([`CellKind::node_supports`]).
+pub fn node_supports(kind: CellKind) -> Vec<Vec<usize>> {
+    kind.node_supports()
 }
 
 /// The second-order mesh of a first-order one: Tet4 → Tet10, Hex8 → Hex20
@@ -316,21 +286,15 @@ pub fn node_supports(kind: ElementKind) -> Vec<Vec<usize>> {
 /// # Errors
 /// [`RaiseError::SecondOrder`] for a cell that is already of second order.
 pub fn raise_order(mesh: &VolumeMesh, complete: bool) -> Result<VolumeMesh, RaiseError> {
-    let target = |kind: ElementKind| match kind {
-        ElementKind::Tet4 => Some(ElementKind::Tet10),
-        ElementKind::Hex8 => Some(if complete { ElementKind::Hex27 } else { ElementKind::Hex20 }),
-        ElementKind::Prism6 => Some(if complete { ElementKind::Prism18 } else { ElementKind::Prism15 }),
-        ElementKind::Pyramid5 => Some(if complete { ElementKind::Pyramid14 } else { ElementKind::Pyramid13 }),
-        _ => None,
-    };
+    let target = |kind: CellKind| kind.second_order(complete);
     let supports: Vec<Vec<Vec<usize>>> =
-        ElementKind::ALL.iter().map(|&k| target(k).map(node_supports).unwrap_or_default()).collect();
+        CellKind::ALL.iter().map(|&k| target(k).map(node_supports).unwrap_or_default()).collect();
     let mut points = mesh.points().to_vec();
     // Key: the sorted global corners of a support, padded with usize::MAX.
     let mut index: HashMap<[usize; 8], usize> = HashMap::new();
     let mut cells = Vec::with_capacity(mesh.cells().len());
     for (c, cell) in mesh.cells().iter().enumerate() {
-        let kind = ElementKind::of(cell);
+        let kind = CellKind::of(cell);
         let high = target(kind).ok_or(RaiseError::SecondOrder { cell: c })?;
         let corners = cell.nodes();
         let mut nodes = [0usize; 27];

@@ -36,10 +36,10 @@
 //! built only by this module's tests.
 #![cfg_attr(not(feature = "petsc"), allow(dead_code))]
 
-use crate::element::ElementKind;
 use crate::material::Material;
 use crate::multibody::{Body, ProblemError};
 use crate::AssemblyError;
+use seam::CellKind;
 use seam::{CsrMatrix, VolumeMesh};
 
 /// The tag of a job's bytes (and of its version).
@@ -314,8 +314,8 @@ fn cell_part(bytes: &[u8]) -> Option<Vec<BodyPart>> {
 
 /// The element kind of a cell of `nodes` points (every kind has its own
 /// count).
-fn kind_with(nodes: usize) -> Option<ElementKind> {
-    ElementKind::FIRST_ORDER.into_iter().chain(ElementKind::SECOND_ORDER).find(|k| k.n_nodes() == nodes)
+fn kind_with(nodes: usize) -> Option<CellKind> {
+    CellKind::ALL.into_iter().find(|k| k.n_nodes() == nodes)
 }
 
 /// Little-endian fields, none read past the end.

@@ -1,6 +1,6 @@
 //! Stress recovery from a displacement field.
 //!
-//! Per cell, at the centroid ξ_c of the reference cell ([`ElementKind::centroid`],
+//! Per cell, at the centroid ξ_c of the reference cell ([`CellKind::centroid`],
 //! the physical centroid for affine cells):
 //!
 //! ```text
@@ -16,9 +16,9 @@
 //! ```
 
 use crate::assembly::{cell_volumes, corners as node_coordinates, geometry, point_cells, AssemblyError};
-use crate::element::ElementKind;
 use crate::material::Material;
 use rayon::prelude::*;
+use seam::CellKind;
 use seam::{Point3, VolumeMesh};
 
 /// Stresses of a displacement field (Voigt order xx yy zz yz xz xy).
@@ -43,7 +43,7 @@ pub fn von_mises(s: &[f64; 6]) -> f64 {
 
 /// The Voigt strain at the reference centroid of the cell with corners `x` and
 /// point indices `nodes`, from the displacement dofs `u`.
-fn strain_at(kind: ElementKind, x: &[Point3], nodes: &[usize], u: &[f64]) -> Option<[f64; 6]> {
+fn strain_at(kind: CellKind, x: &[Point3], nodes: &[usize], u: &[f64]) -> Option<[f64; 6]> {
     let g = geometry(kind, x, kind.centroid())?;
     // du[a][k] = ∂u_a/∂x_k
     let mut du = [[0.0; 3]; 3];

@@ -129,13 +129,7 @@ fn check(mesh: &SurfaceMesh, field: &[f64]) -> u64 {
 }
 
 fn vtk_type(face: &Face) -> u8 {
-    match face {
-        Face::Tri3(_) => 5,
-        Face::Quad4(_) => 9,
-        Face::Tri6(_) => 22,
-        Face::Quad8(_) => 23,
-        Face::Quad9(_) => 28,
-    }
+    face.kind().info().vtk_type
 }
 
 /// A VTU file with `<AppendedData encoding="raw">`, UInt64 headers, as ParaView

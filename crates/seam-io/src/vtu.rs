@@ -6,13 +6,15 @@
 //! # Writing
 //!
 //! [`write_vtu`] writes one piece with every point of the mesh, in order, and one
-//! cell per face: `VTK_TRIANGLE` (5) for [`Face::Tri3`], `VTK_QUAD` (9) for
+//! cell per face, of the face kind's VTK type ([`seam::FaceType::vtk_type`]):
+//! `VTK_TRIANGLE` (5) for [`Face::Tri3`], `VTK_QUAD` (9) for
 //! [`Face::Quad4`], `VTK_QUADRATIC_TRIANGLE` (22) for [`Face::Tri6`],
 //! `VTK_QUADRATIC_QUAD` (23) for [`Face::Quad8`] and `VTK_BIQUADRATIC_QUAD` (28)
 //! for [`Face::Quad9`] (VTK numbers the nodes of these as Gmsh and seam do), in
 //! face order, so point and cell numbers in ParaView are seam's 0-based indices.
 //! [`write_volume_vtu`] writes the cells of a volume mesh, the second-order ones
-//! as VTK's quadratic cells with their nodes in VTK's order (a
+//! as VTK's quadratic cells with their nodes in VTK's order
+//! ([`seam::CellType::vtk_order`]; a
 //! [`Cell::Pyramid14`](seam::Cell::Pyramid14) as the 13-node `VTK_QUADRATIC_PYRAMID`,
 //! VTK having no 14-node pyramid: its base centre is left out). Every data array is inline binary (`format="binary"`): base64,
 //! uncompressed, little-endian, with a `UInt64` size header (`version="1.0"`),
@@ -80,7 +82,7 @@ use std::fs::File;
 use std::io::{Read, Write};
 use std::path::Path;
 
-use seam::{Face, MeshError, SurfaceMesh, VolumeMesh};
+use seam::{Face, FaceKind, MeshError, SurfaceMesh, VolumeMesh, MAX_FACE_NODES};
 
 pub use error::{VtuError, VtuErrorKind};
 
@@ -323,28 +325,26 @@ impl Builder {
                 };
                 return Err(VtuErrorKind::InvalidMesh(problem).into());
             }
-            // VTK numbers the nodes of these faces as Gmsh, and so seam, does.
-            let len = match ty {
-                5 => 3,
-                9 => 4,
-                22 => 6,
-                23 => 8,
-                28 => 9,
-                1..=4 => continue,
-                other => return Err(VtuErrorKind::UnsupportedCell { cell, vtk_type: other }.into()),
+            let kind = match FaceKind::from_vtk(ty) {
+                Some(kind) => kind,
+                // Vertices and lines.
+                None if (1..=4).contains(&ty) => continue,
+                None => return Err(VtuErrorKind::UnsupportedCell { cell, vtk_type: ty }.into()),
             };
-            if nodes.len() != len {
+            let order = kind.info().vtk_order;
+            if nodes.len() != order.len() {
                 return Err(VtuError::malformed(format!(
                     "cell {cell} is {} but lists {} points",
                     error::describe_cell_type(ty),
                     nodes.len()
                 )));
             }
-            let mut face = [0usize; 9];
-            for (&node, slot) in nodes.iter().zip(&mut face) {
-                *slot = point_base + node;
+            // VTK node i is seam's node order[i].
+            let mut face = [0usize; MAX_FACE_NODES];
+            for (&node, &slot) in nodes.iter().zip(order) {
+                face[slot] = point_base + node;
             }
-            self.faces.push(Face::from_nodes(&face[..len]));
+            self.faces.push(Face::new(kind, &face[..order.len()]).expect("the kind's node count"));
             self.face_cells.push(cell);
             kept.push(i);
         }

@@ -6,311 +6,31 @@
 //! onto the true curved face (paper step D2 for isoparametric faces). The
 //! operator uses it for every pair with a second-order face.
 //!
-//! Reference cells and node order are those of the first-order faces
-//! ([`crate::FaceKind`]) and Gmsh:
-//! vertices first, then the mid-edge nodes of edges (0,1), (1,2), (2,0) or
-//! (0,1), (1,2), (2,3), (3,0), then (Quad9) the centre.
-//!
-//! | face | reference cell | shape functions |
-//! |---|---|---|
-//! | Tri6 | {(0,0), (1,0), (0,1)} | L_i(2L_i − 1) at vertices, 4 L_i L_j at mid-edges (L = 1−ξ−η, ξ, η) |
-//! | Quad9 | \[0,1\]² | tensor products of ℓ₀ = (1−s)(1−2s), ℓ₁ = s(2s−1), ℓ_m = 4s(1−s) |
-//! | Quad8 | \[0,1\]² | serendipity: Quad9 without the centre bubble, its share given to the others |
-//!
-//! Tri6 and Quad9 reproduce every quadratic polynomial in (ξ, η), Quad8 every
-//! one of degree 2 (and ξ²η, ξη²).
+//! Reference cells, node order and shape functions are those of the element
+//! catalogue ([`crate::catalogue`], [`FaceKind`]): Gmsh's node order, quads
+//! on \[0,1\]².
 
+use crate::catalogue::faces::MONOMIALS;
+pub use crate::catalogue::{shape_and_gradients, shape_values};
+use crate::catalogue::{FaceKind, Xi};
 use crate::clip::Frame;
-use crate::element::{cross, dot, norm, sub, Xi};
-use crate::mesh::{Face, Point3, SurfaceMesh};
+use crate::element::{cross, dot, norm, sub};
+use crate::mesh::{Point3, SurfaceMesh};
 
-/// A face type as an isoparametric map: the second-order ones and, as their
-/// flat special cases, Tri3 and Quad4.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CurvedKind {
-    /// 3-node triangle (Gmsh type 2).
-    Tri3,
-    /// 4-node bilinear quadrangle (Gmsh type 3).
-    Quad4,
-    /// 6-node triangle (Gmsh type 9).
-    Tri6,
-    /// 8-node serendipity quadrangle (Gmsh type 16).
-    Quad8,
-    /// 9-node Lagrange quadrangle (Gmsh type 10).
-    Quad9,
-}
-
-impl CurvedKind {
-    /// The number of nodes.
-    pub fn n_nodes(self) -> usize {
-        match self {
-            CurvedKind::Tri3 => 3,
-            CurvedKind::Quad4 => 4,
-            CurvedKind::Tri6 => 6,
-            CurvedKind::Quad8 => 8,
-            CurvedKind::Quad9 => 9,
-        }
-    }
-
-    /// The reference coordinates of the nodes, in node order.
-    pub fn nodes(self) -> &'static [Xi] {
-        const TRI6: [Xi; 6] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5]];
-        const QUAD9: [Xi; 9] = [
-            [0.0, 0.0],
-            [1.0, 0.0],
-            [1.0, 1.0],
-            [0.0, 1.0],
-            [0.5, 0.0],
-            [1.0, 0.5],
-            [0.5, 1.0],
-            [0.0, 0.5],
-            [0.5, 0.5],
-        ];
-        match self {
-            CurvedKind::Tri3 => &TRI6[..3],
-            CurvedKind::Quad4 => &QUAD9[..4],
-            CurvedKind::Tri6 => &TRI6,
-            CurvedKind::Quad8 => &QUAD9[..8],
-            CurvedKind::Quad9 => &QUAD9,
-        }
-    }
-
-    /// True for a point of the reference cell, enlarged by `tol`.
-    pub fn contains(self, xi: Xi, tol: f64) -> bool {
-        let [s, t] = xi;
-        match self {
-            CurvedKind::Tri3 | CurvedKind::Tri6 => s >= -tol && t >= -tol && s + t <= 1.0 + tol,
-            CurvedKind::Quad4 | CurvedKind::Quad8 | CurvedKind::Quad9 => {
-                (-tol..=1.0 + tol).contains(&s) && (-tol..=1.0 + tol).contains(&t)
-            }
-        }
-    }
-
-    /// The reference centroid.
-    pub fn centre(self) -> Xi {
-        if self.is_triangle() {
-            [1.0 / 3.0, 1.0 / 3.0]
-        } else {
-            [0.5, 0.5]
-        }
-    }
-
-    /// True for Tri3 and Tri6.
-    pub fn is_triangle(self) -> bool {
-        matches!(self, CurvedKind::Tri3 | CurvedKind::Tri6)
-    }
-
-    /// The kind of a mesh face.
-    pub fn of(face: &Face) -> CurvedKind {
-        match face {
-            Face::Tri3(_) => CurvedKind::Tri3,
-            Face::Quad4(_) => CurvedKind::Quad4,
-            Face::Tri6(_) => CurvedKind::Tri6,
-            Face::Quad8(_) => CurvedKind::Quad8,
-            Face::Quad9(_) => CurvedKind::Quad9,
-        }
-    }
-}
-
-/// (index along ξ, index along η) of each Quad9 node in the 3 × 3 tensor grid
-/// of 1D Lagrange functions.
-const QUAD9_GRID: [(usize, usize); 9] =
-    [(0, 0), (1, 0), (1, 1), (0, 1), (2, 0), (1, 2), (2, 1), (0, 2), (2, 2)];
-
-/// Quadratic Lagrange polynomials on [0, 1] with nodes 0, 1, 1/2 and their
-/// derivatives: ([ℓ₀, ℓ₁, ℓ_m], [ℓ₀', ℓ₁', ℓ_m']).
-#[inline]
-fn lagrange(s: f64) -> ([f64; 3], [f64; 3]) {
-    (
-        [(1.0 - s) * (1.0 - 2.0 * s), s * (2.0 * s - 1.0), 4.0 * s * (1.0 - s)],
-        [4.0 * s - 3.0, 4.0 * s - 1.0, 4.0 - 8.0 * s],
-    )
-}
-
-/// Shape functions N_i(ξ) and gradients ∂N_i/∂(ξ, η) of `kind`; entries past
-/// `kind.n_nodes()` are 0.
-#[inline(always)]
-pub fn shape_and_gradients(kind: CurvedKind, xi: Xi) -> ([f64; 9], [[f64; 2]; 9]) {
-    let (mut n, mut g) = ([0.0; 9], [[0.0; 2]; 9]);
-    match kind {
-        CurvedKind::Tri3 => {
-            let [s, t] = xi;
-            n[..3].copy_from_slice(&[1.0 - s - t, s, t]);
-            g[..3].copy_from_slice(&[[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]]);
-        }
-        CurvedKind::Quad4 => {
-            let [s, t] = xi;
-            n[..4].copy_from_slice(&shape_values::<4>(xi));
-            g[..4].copy_from_slice(&[[t - 1.0, s - 1.0], [1.0 - t, -s], [t, s], [-t, 1.0 - s]]);
-        }
-        CurvedKind::Tri6 => {
-            // Barycentric l = (1 − s − t, s, t): vertices l_i (2 l_i − 1),
-            // mid-edge nodes 4 l_i l_(i+1).
-            let [s, t] = xi;
-            let l0 = 1.0 - s - t;
-            n[..6].copy_from_slice(&shape_values::<6>(xi));
-            let (c0, c1, c2) = (4.0 * l0 - 1.0, 4.0 * s - 1.0, 4.0 * t - 1.0);
-            g[..6].copy_from_slice(&[
-                [-c0, -c0],
-                [c1, 0.0],
-                [0.0, c2],
-                [4.0 * (l0 - s), -4.0 * s],
-                [4.0 * t, 4.0 * s],
-                [-4.0 * t, 4.0 * (l0 - t)],
-            ]);
-        }
-        CurvedKind::Quad8 | CurvedKind::Quad9 => {
-            let ((a, da), (b, db)) = (lagrange(xi[0]), lagrange(xi[1]));
-            for (i, &(p, q)) in QUAD9_GRID.iter().enumerate() {
-                n[i] = a[p] * b[q];
-                g[i] = [da[p] * b[q], a[p] * db[q]];
-            }
-            if kind == CurvedKind::Quad8 {
-                // Serendipity: the bubble N₈ = ℓ_m ℓ_m goes back to the other
-                // nodes by its values there (−1/4 at vertices, +1/2 at mid-edges).
-                let (bubble, grad) = (n[8], g[8]);
-                for i in 0..8 {
-                    let w = if i < 4 { -0.25 } else { 0.5 };
-                    n[i] += w * bubble;
-                    g[i] = [g[i][0] + w * grad[0], g[i][1] + w * grad[1]];
-                }
-                n[8] = 0.0;
-                g[8] = [0.0; 2];
-            }
-        }
-    }
-    (n, g)
-}
-
-/// Shape function values N_i(ξ) of the kind with `N` nodes (3 Tri3, 4 Quad4,
-/// 6 Tri6, 8 Quad8, 9 Quad9): [`shape_and_gradients`] without the gradients,
-/// sized for the quadrature loops.
-#[inline(always)]
-pub fn shape_values<const N: usize>(xi: Xi) -> [f64; N] {
-    let [s, t] = xi;
-    let mut n = [0.0; N];
-    match N {
-        3 => n.copy_from_slice(&[1.0 - s - t, s, t]),
-        4 => n.copy_from_slice(&[(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t]),
-        6 => {
-            let l0 = 1.0 - s - t;
-            n.copy_from_slice(&[
-                l0 * (2.0 * l0 - 1.0),
-                s * (2.0 * s - 1.0),
-                t * (2.0 * t - 1.0),
-                4.0 * l0 * s,
-                4.0 * s * t,
-                4.0 * t * l0,
-            ]);
-        }
-        8 | 9 => {
-            let (a, b) = (lagrange(s).0, lagrange(t).0);
-            let mut all = [0.0; 9];
-            for (i, &(p, q)) in QUAD9_GRID.iter().enumerate() {
-                all[i] = a[p] * b[q];
-            }
-            if N == 8 {
-                // Serendipity: the bubble goes back to the other nodes.
-                let bubble = all[8];
-                for (i, v) in all.iter_mut().enumerate().take(8) {
-                    *v += if i < 4 { -0.25 } else { 0.5 } * bubble;
-                }
-            }
-            n.copy_from_slice(&all[..N]);
-        }
-        _ => unreachable!("faces have 3, 4, 6, 8 or 9 nodes"),
-    }
-    n
-}
+/// The face kinds, by their former name here.
+pub type CurvedKind = FaceKind;
 
 /// How many of the monomials of [`MonomialMap`] the map of a face with
-/// `n_nodes` nodes uses (they come in the order 1, s, t, s², st, t², s²t, st²,
-/// s²t²): Tri3 the first 3, Quad4 5 (no s², but st), Tri6 6, Quad8 8, Quad9
-/// 9. The coefficients of the others are zero.
+/// `n_nodes` nodes uses ([`crate::FaceType::n_monomials`]; they come in the
+/// order 1, s, t, s², st, t², s²t, st², s²t²): Tri3 the first 3, Quad4 5 (no
+/// s², but st), Tri6 6, Quad8 8, Quad9 9. The coefficients of the others are
+/// zero.
 pub const fn monomials_of(n_nodes: usize) -> usize {
-    match n_nodes {
-        3 => 3,
-        4 => 5,
-        6 => 6,
-        8 => 8,
-        _ => MONOMIALS,
+    match FaceKind::with_nodes(n_nodes) {
+        Some(kind) => kind.info().n_monomials,
+        None => MONOMIALS,
     }
 }
-
-/// The biquadratic monomials m(ξ) = (1, s, t, s², st, t², s²t, st², s²t²) in
-/// which every face map of this module is a polynomial (Tri6 uses the first
-/// six, Quad8 the first eight).
-const MONOMIALS: usize = 9;
-
-/// Row i: the coefficients of shape function N_i of `kind` in the monomials.
-const fn shape_monomials(kind: CurvedKind) -> [[f64; MONOMIALS]; 9] {
-    let mut c = [[0.0; MONOMIALS]; 9];
-    match kind {
-        CurvedKind::Tri3 => {
-            c[0] = [1.0, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-            c[1][1] = 1.0;
-            c[2][2] = 1.0;
-        }
-        CurvedKind::Quad4 => {
-            c[0] = [1.0, -1.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0];
-            c[1] = [0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0];
-            c[2][4] = 1.0;
-            c[3] = [0.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0];
-        }
-        CurvedKind::Tri6 => {
-            c[0] = [1.0, -3.0, -3.0, 2.0, 4.0, 2.0, 0.0, 0.0, 0.0];
-            c[1] = [0.0, -1.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-            c[2] = [0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0];
-            c[3] = [0.0, 4.0, 0.0, -4.0, -4.0, 0.0, 0.0, 0.0, 0.0];
-            c[4][4] = 4.0;
-            c[5] = [0.0, 0.0, 4.0, 0.0, -4.0, -4.0, 0.0, 0.0, 0.0];
-        }
-        CurvedKind::Quad8 | CurvedKind::Quad9 => {
-            // N_i = L_p(s) L_q(t) ([`QUAD9_GRID`]), L (`lagrange`) in powers
-            // of its variable; INDEX[a][b] is the monomial s^a t^b.
-            const L: [[f64; 3]; 3] = [[1.0, -3.0, 2.0], [0.0, -1.0, 2.0], [0.0, 4.0, -4.0]];
-            const INDEX: [[usize; 3]; 3] = [[0, 2, 5], [1, 4, 7], [3, 6, 8]];
-            let mut i = 0;
-            while i < 9 {
-                let (p, q) = QUAD9_GRID[i];
-                let mut a = 0;
-                while a < 3 {
-                    let mut b = 0;
-                    while b < 3 {
-                        c[i][INDEX[a][b]] = L[p][a] * L[q][b];
-                        b += 1;
-                    }
-                    a += 1;
-                }
-                i += 1;
-            }
-            if matches!(kind, CurvedKind::Quad8) {
-                // Serendipity: the bubble goes back to the other nodes.
-                let mut i = 0;
-                while i < 8 {
-                    let w = if i < 4 { -0.25 } else { 0.5 };
-                    let mut k = 0;
-                    while k < MONOMIALS {
-                        c[i][k] += w * c[8][k];
-                        k += 1;
-                    }
-                    i += 1;
-                }
-                c[8] = [0.0; MONOMIALS];
-            }
-        }
-    }
-    c
-}
-
-/// [`shape_monomials`] of every kind, by `CurvedKind as usize`.
-const SHAPE_MONOMIALS: [[[f64; MONOMIALS]; 9]; 5] = [
-    shape_monomials(CurvedKind::Tri3),
-    shape_monomials(CurvedKind::Quad4),
-    shape_monomials(CurvedKind::Tri6),
-    shape_monomials(CurvedKind::Quad8),
-    shape_monomials(CurvedKind::Quad9),
-];
 
 /// A face map x(ξ) = Σ_i N_i(ξ) x_i in `D` dimensions written in the
 /// monomials, x(ξ) = Σ_k c_k m_k(ξ): one branch-free evaluation for every
@@ -323,8 +43,8 @@ pub struct MonomialMap<const D: usize> {
 impl<const D: usize> MonomialMap<D> {
     /// The map of a face of `kind` with nodes `x` (entries past
     /// `kind.n_nodes()` ignored).
-    pub fn new(kind: CurvedKind, x: &[[f64; D]; 9]) -> MonomialMap<D> {
-        let table = &SHAPE_MONOMIALS[kind as usize];
+    pub fn new(kind: FaceKind, x: &[[f64; D]; 9]) -> MonomialMap<D> {
+        let table = &kind.info().monomials;
         let mut c = [[0.0; D]; MONOMIALS];
         for (row, xi) in table.iter().zip(x).take(kind.n_nodes()) {
             for (ck, &r) in c.iter_mut().zip(row) {
@@ -413,7 +133,7 @@ const NEWTON_FINAL_STEP: f64 = 1e-8;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CurvedFace {
     /// Tri6, Quad8 or Quad9.
-    pub kind: CurvedKind,
+    pub kind: FaceKind,
     /// The nodes, in node order.
     pub x: [Point3; 9],
 }
@@ -498,7 +218,7 @@ impl CurvedFace {
     ///
     /// # Panics
     /// If fewer nodes are given.
-    pub fn new(kind: CurvedKind, nodes: &[Point3]) -> CurvedFace {
+    pub fn new(kind: FaceKind, nodes: &[Point3]) -> CurvedFace {
         let mut x = [[0.0; 3]; 9];
         x[..kind.n_nodes()].copy_from_slice(&nodes[..kind.n_nodes()]);
         CurvedFace { kind, x }
@@ -511,7 +231,7 @@ impl CurvedFace {
         for (i, &n) in face.nodes().iter().enumerate() {
             x[i] = mesh.points()[n];
         }
-        CurvedFace { kind: CurvedKind::of(face), x }
+        CurvedFace { kind: FaceKind::of(face), x }
     }
 
     /// The nodes in use.
@@ -530,24 +250,23 @@ impl CurvedFace {
             std::array::from_fn(|k| 2.0 * m[k] - 0.5 * (a[k] + b[k]))
         };
         let mut c = *x;
-        match self.kind {
-            CurvedKind::Tri3 | CurvedKind::Quad4 => {}
-            CurvedKind::Tri6 => {
-                for i in 0..3 {
-                    c[3 + i] = inner(x[i], x[3 + i], x[(i + 1) % 3]);
-                }
-            }
-            CurvedKind::Quad8 | CurvedKind::Quad9 => {
-                let centre = self.map([0.5, 0.5]);
-                for i in 0..4 {
-                    c[4 + i] = inner(x[i], x[4 + i], x[(i + 1) % 4]);
-                }
-                // Along ξ through the middle row (nodes 7, 8, 5), then along η.
-                let middle = inner(x[7], centre, x[5]);
-                c[8] = inner(c[4], middle, c[6]);
-            }
+        if self.kind.order() == 1 {
+            return (c, self.kind.n_nodes());
         }
-        (c, if self.kind == CurvedKind::Quad8 { 9 } else { self.kind.n_nodes() })
+        if self.kind.is_triangle() {
+            for i in 0..3 {
+                c[3 + i] = inner(x[i], x[3 + i], x[(i + 1) % 3]);
+            }
+            return (c, 6);
+        }
+        let centre = self.map([0.5, 0.5]);
+        for i in 0..4 {
+            c[4 + i] = inner(x[i], x[4 + i], x[(i + 1) % 4]);
+        }
+        // Along ξ through the middle row (nodes 7, 8, 5), then along η.
+        let middle = inner(x[7], centre, x[5]);
+        c[8] = inner(c[4], middle, c[6]);
+        (c, 9)
     }
 
     /// The point ξ whose image projects to `target` in `frame`'s plane: the
@@ -665,123 +384,13 @@ impl CurvedFace {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::catalogue::tests::samples;
 
-    const KINDS: [CurvedKind; 3] = [CurvedKind::Tri6, CurvedKind::Quad8, CurvedKind::Quad9];
-
-    /// Points of the reference cell (and a little outside) to test at.
-    fn samples(kind: CurvedKind) -> Vec<Xi> {
-        let mut out = Vec::new();
-        for i in 0..=6 {
-            for j in 0..=6 {
-                let xi = [-0.1 + 1.2 * i as f64 / 6.0, -0.1 + 1.2 * j as f64 / 6.0];
-                if kind.contains(xi, 0.1) {
-                    out.push(xi);
-                }
-            }
-        }
-        out
-    }
-
-    #[test]
-    fn shape_functions_are_a_partition_of_unity_and_nodal() {
-        for kind in KINDS {
-            for xi in samples(kind) {
-                let (n, g) = shape_and_gradients(kind, xi);
-                assert!((n.iter().sum::<f64>() - 1.0).abs() < 1e-14, "{kind:?} {xi:?}");
-                for k in 0..2 {
-                    assert!(g.iter().map(|g| g[k]).sum::<f64>().abs() < 1e-13, "{kind:?} {xi:?}");
-                }
-            }
-            for (i, &node) in kind.nodes().iter().enumerate() {
-                let (n, _) = shape_and_gradients(kind, node);
-                for (j, &v) in n.iter().enumerate().take(kind.n_nodes()) {
-                    let expected = if i == j { 1.0 } else { 0.0 };
-                    assert!((v - expected).abs() < 1e-15, "{kind:?}: N_{j}(node {i}) = {v}");
-                }
-            }
-        }
-    }
-
-    /// The node order is Gmsh's: the reference nodes Gmsh reports for types
-    /// 9 (Tri6), 16 (Quad8) and 10 (Quad9), recorded by seam-io's fixture
-    /// script (Gmsh's quads live on [−1,1]², ours on [0,1]²).
-    #[test]
-    fn nodes_are_in_gmsh_order() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../seam-io/tests/data/second_order.txt");
-        let text = std::fs::read_to_string(path).unwrap();
-        for (gmsh_type, kind) in [(9, CurvedKind::Tri6), (16, CurvedKind::Quad8), (10, CurvedKind::Quad9)] {
-            let line = text.lines().find(|l| l.starts_with(&format!("ref {gmsh_type} "))).unwrap();
-            let gmsh: Vec<Xi> = line
-                .split_whitespace()
-                .nth(3)
-                .unwrap()
-                .split(';')
-                .map(|node| {
-                    let c: Vec<f64> = node.split(',').map(|v| v.parse().unwrap()).collect();
-                    match kind {
-                        CurvedKind::Tri6 => [c[0], c[1]],
-                        _ => [(c[0] + 1.0) / 2.0, (c[1] + 1.0) / 2.0],
-                    }
-                })
-                .collect();
-            assert_eq!(gmsh, kind.nodes(), "{kind:?}");
-        }
-    }
-
-    #[test]
-    fn gradients_match_finite_differences() {
-        let h = 1e-6;
-        for kind in KINDS {
-            for xi in samples(kind) {
-                let (_, g) = shape_and_gradients(kind, xi);
-                for k in 0..2 {
-                    let (mut a, mut b) = (xi, xi);
-                    a[k] += h;
-                    b[k] -= h;
-                    let (na, nb) = (shape_and_gradients(kind, a).0, shape_and_gradients(kind, b).0);
-                    for i in 0..9 {
-                        let fd = (na[i] - nb[i]) / (2.0 * h);
-                        assert!(
-                            (g[i][k] - fd).abs() < 1e-8,
-                            "{kind:?} {xi:?} ∂N_{i}/∂ξ_{k}: {} vs {fd}",
-                            g[i][k]
-                        );
-                    }
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn quadratic_fields_are_reproduced() {
-        // Every quadratic monomial (and, for the quads, ξ²η and ξη²; Quad9 also ξ²η²).
-        type Field = fn(f64, f64) -> f64;
-        let fields: [(Field, [bool; 3]); 9] = [
-            (|_, _| 1.0, [true; 3]),
-            (|s, _| s, [true; 3]),
-            (|_, t| t, [true; 3]),
-            (|s, _| s * s, [true; 3]),
-            (|s, t| s * t, [true; 3]),
-            (|_, t| t * t, [true; 3]),
-            (|s, t| s * s * t, [false, true, true]),
-            (|s, t| s * t * t, [false, true, true]),
-            (|s, t| s * s * t * t, [false, false, true]),
-        ];
-        for (f, exact_for) in fields {
-            for (k, kind) in KINDS.into_iter().enumerate().filter(|&(k, _)| exact_for[k]) {
-                let values: Vec<f64> = kind.nodes().iter().map(|x| f(x[0], x[1])).collect();
-                for xi in samples(kind) {
-                    let (n, _) = shape_and_gradients(kind, xi);
-                    let interpolated: f64 = values.iter().zip(&n).map(|(v, n)| v * n).sum();
-                    assert!((interpolated - f(xi[0], xi[1])).abs() < 1e-14, "{kind:?} field {k} at {xi:?}");
-                }
-            }
-        }
-    }
+    const KINDS: [FaceKind; 3] = [FaceKind::Tri6, FaceKind::Quad8, FaceKind::Quad9];
 
     /// A face of `kind` on the sphere of radius `r` around the origin over
     /// the angular patch θ ∈ [0, a], φ ∈ [−a/2, a/2] (nodes on the sphere).
-    fn sphere_face(kind: CurvedKind, r: f64, a: f64) -> CurvedFace {
+    fn sphere_face(kind: FaceKind, r: f64, a: f64) -> CurvedFace {
         let nodes: Vec<Point3> = kind
             .nodes()
             .iter()
@@ -816,8 +425,7 @@ mod tests {
 
     #[test]
     fn monomial_maps_are_the_shape_function_maps() {
-        let all =
-            [CurvedKind::Tri3, CurvedKind::Quad4, CurvedKind::Tri6, CurvedKind::Quad8, CurvedKind::Quad9];
+        let all = [FaceKind::Tri3, FaceKind::Quad4, FaceKind::Tri6, FaceKind::Quad8, FaceKind::Quad9];
         for kind in all {
             // Nodes on a sphere, moved off it so that no shape function hides.
             let mut face = sphere_face(kind, 1.0, 1.0);
@@ -898,7 +506,7 @@ mod tests {
                         w
                     } else {
                         let (a, b) = (bernstein(xi[0]), bernstein(xi[1]));
-                        QUAD9_GRID.iter().map(|&(p, q)| a[p] * b[q]).collect()
+                        crate::catalogue::faces::QUAD9_GRID.iter().map(|&(p, q)| a[p] * b[q]).collect()
                     };
                     assert_eq!(weights.len(), n, "{kind:?}");
                     assert!(weights.iter().all(|&w| w >= 0.0));
@@ -919,7 +527,7 @@ mod tests {
 
     #[test]
     fn a_line_that_misses_or_grazes_gives_no_inside_hit() {
-        let face = sphere_face(CurvedKind::Quad9, 1.0, 0.5);
+        let face = sphere_face(FaceKind::Quad9, 1.0, 0.5);
         // Parallel to the face's tangent plane at its centre, far above it.
         let (x, a, _) = face.map_and_tangents([0.5, 0.5]);
         let n = face.normal([0.5, 0.5]);
@@ -937,10 +545,12 @@ mod tests {
         // the quadratic face approximates it closely, and a flat face is exact.
         let a = 0.2f64;
         let exact = 2.0 * a * (0.5 * a).sin();
-        for kind in [CurvedKind::Quad8, CurvedKind::Quad9] {
+        for kind in [FaceKind::Quad8, FaceKind::Quad9] {
             let face = sphere_face(kind, 1.0, a);
             // 8-point Gauss–Legendre product rule on [0,1]².
-            let (x, w) = gauss(8);
+            let (x, w) = crate::gauss_legendre(8);
+            let (x, w): (Vec<f64>, Vec<f64>) =
+                x.iter().zip(&w).map(|(x, w)| (0.5 * (1.0 + x), 0.5 * w)).unzip();
             let mut area = 0.0;
             for i in 0..8 {
                 for j in 0..8 {
@@ -950,34 +560,9 @@ mod tests {
             assert!((area - exact).abs() < 1e-4 * exact, "{kind:?}: {area} vs {exact}");
         }
         let flat = CurvedFace::new(
-            CurvedKind::Quad9,
-            &CurvedKind::Quad9.nodes().iter().map(|&[s, t]| [2.0 * s, 3.0 * t, 0.0]).collect::<Vec<_>>(),
+            FaceKind::Quad9,
+            &FaceKind::Quad9.nodes().iter().map(|&[s, t]| [2.0 * s, 3.0 * t, 0.0]).collect::<Vec<_>>(),
         );
         assert!((flat.jacobian([0.3, 0.7]) - 6.0).abs() < 1e-14);
-    }
-
-    /// Gauss–Legendre points and weights on [0, 1], by Newton on P_n.
-    fn gauss(n: usize) -> (Vec<f64>, Vec<f64>) {
-        let (mut x, mut w) = (vec![0.0; n], vec![0.0; n]);
-        for i in 0..n {
-            let mut z = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-            let mut dp = 0.0;
-            for _ in 0..100 {
-                let (mut p0, mut p1) = (1.0, z);
-                for k in 2..=n {
-                    let p2 = ((2 * k - 1) as f64 * z * p1 - (k - 1) as f64 * p0) / k as f64;
-                    (p0, p1) = (p1, p2);
-                }
-                dp = n as f64 * (z * p1 - p0) / (z * z - 1.0);
-                let dz = p1 / dp;
-                z -= dz;
-                if dz.abs() < 1e-16 {
-                    break;
-                }
-            }
-            x[i] = 0.5 * (1.0 - z);
-            w[i] = 1.0 / ((1.0 - z * z) * dp * dp);
-        }
-        (x, w)
     }
 }

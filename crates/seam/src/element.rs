@@ -11,26 +11,17 @@
 //! Quads are bilinear patches and stay so when warped: nothing here splits or
 //! flattens them.
 
-use crate::mesh::{Face, Point3, SurfaceMesh};
-
-/// Reference coordinates (ξ, η).
-pub type Xi = [f64; 2];
-
-/// The two element types of a surface.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FaceKind {
-    /// Linear triangle.
-    Tri3,
-    /// Bilinear quadrilateral.
-    Quad4,
-}
+use crate::catalogue::faces::first_order_values;
+use crate::catalogue::{FaceKind, Xi};
+use crate::mesh::{Point3, SurfaceMesh};
 
 /// A face with its corner coordinates: the element-level view of one mesh face.
 ///
 /// For a triangle, `x[3]` repeats `x[2]` and is never used.
 #[derive(Clone, Copy, Debug)]
 pub struct FaceElement {
-    /// Element type.
+    /// Element type: [`FaceKind::Tri3`] or [`FaceKind::Quad4`] (every other
+    /// kind counts as a quad).
     pub kind: FaceKind,
     /// Corner coordinates in cyclic order.
     pub x: [Point3; 4],
@@ -45,18 +36,16 @@ impl FaceElement {
     /// The element of face `f` of `mesh`; for a second-order face, the
     /// first-order element through its corners (its chordal approximation).
     pub fn of(mesh: &SurfaceMesh, f: usize) -> Self {
-        let kind = match mesh.faces()[f] {
-            Face::Tri3(_) | Face::Tri6(_) => FaceKind::Tri3,
-            Face::Quad4(_) | Face::Quad8(_) | Face::Quad9(_) => FaceKind::Quad4,
-        };
-        FaceElement { kind, x: mesh.corners(f) }
+        FaceElement { kind: mesh.faces()[f].kind().linear(), x: mesh.corners(f) }
     }
 
     /// Number of corners (3 or 4).
+    #[inline]
     pub fn n_nodes(&self) -> usize {
-        match self.kind {
-            FaceKind::Tri3 => 3,
-            FaceKind::Quad4 => 4,
+        if self.kind == FaceKind::Tri3 {
+            3
+        } else {
+            4
         }
     }
 
@@ -68,7 +57,7 @@ impl FaceElement {
     /// Shape functions λ_i(ξ); entry 3 is 0 for a triangle.
     #[inline]
     pub fn shape(&self, xi: Xi) -> [f64; 4] {
-        shape(self.kind, xi)
+        first_order_values(self.kind == FaceKind::Tri3, xi)
     }
 
     /// The face map x(ξ) = Σ λ_i(ξ) x_i.
@@ -88,19 +77,17 @@ impl FaceElement {
     #[inline]
     pub fn tangents(&self, xi: Xi) -> (Point3, Point3) {
         let x = &self.x;
-        match self.kind {
-            FaceKind::Tri3 => (sub(x[1], x[0]), sub(x[2], x[0])),
-            FaceKind::Quad4 => {
-                let [s, t] = xi;
-                let mut a = [0.0; 3];
-                let mut b = [0.0; 3];
-                for k in 0..3 {
-                    a[k] = (1.0 - t) * (x[1][k] - x[0][k]) + t * (x[2][k] - x[3][k]);
-                    b[k] = (1.0 - s) * (x[3][k] - x[0][k]) + s * (x[2][k] - x[1][k]);
-                }
-                (a, b)
-            }
+        if self.kind == FaceKind::Tri3 {
+            return (sub(x[1], x[0]), sub(x[2], x[0]));
         }
+        let [s, t] = xi;
+        let mut a = [0.0; 3];
+        let mut b = [0.0; 3];
+        for k in 0..3 {
+            a[k] = (1.0 - t) * (x[1][k] - x[0][k]) + t * (x[2][k] - x[3][k]);
+            b[k] = (1.0 - s) * (x[3][k] - x[0][k]) + s * (x[2][k] - x[1][k]);
+        }
+        (a, b)
     }
 
     /// Surface Jacobian |∂x/∂ξ × ∂x/∂η| at ξ (constant for triangles).
@@ -118,16 +105,17 @@ impl FaceElement {
     pub fn jacobian_field(&self) -> JacobianField {
         let x = &self.x;
         let b = sub(x[1], x[0]);
-        let (c, d) = match self.kind {
-            FaceKind::Tri3 => (sub(x[2], x[0]), [0.0; 3]),
-            FaceKind::Quad4 => (
+        let (c, d) = if self.kind == FaceKind::Tri3 {
+            (sub(x[2], x[0]), [0.0; 3])
+        } else {
+            (
                 sub(x[3], x[0]),
                 [
                     x[0][0] - x[1][0] + x[2][0] - x[3][0],
                     x[0][1] - x[1][1] + x[2][1] - x[3][1],
                     x[0][2] - x[1][2] + x[2][2] - x[3][2],
                 ],
-            ),
+            )
         };
         let v = [cross(b, c), cross(b, d), cross(d, c)];
         if self.is_planar() {
@@ -143,9 +131,10 @@ impl FaceElement {
     /// Quad4, the unit normal at the centre, (x2−x0)×(x3−x1) normalised.
     pub fn normal(&self) -> Point3 {
         let x = &self.x;
-        let n = match self.kind {
-            FaceKind::Tri3 => cross(sub(x[1], x[0]), sub(x[2], x[0])),
-            FaceKind::Quad4 => cross(sub(x[2], x[0]), sub(x[3], x[1])),
+        let n = if self.kind == FaceKind::Tri3 {
+            cross(sub(x[1], x[0]), sub(x[2], x[0]))
+        } else {
+            cross(sub(x[2], x[0]), sub(x[3], x[1]))
         };
         scale(n, 1.0 / norm(n))
     }
@@ -177,18 +166,16 @@ impl FaceElement {
     /// Relative warp of a quad: the distance of its corners from their mean plane
     /// divided by its diameter, |(x0 − x1 + x2 − x3)·n| / (4 diam); 0 for a triangle.
     pub fn warp(&self) -> f64 {
-        match self.kind {
-            FaceKind::Tri3 => 0.0,
-            FaceKind::Quad4 => {
-                let x = &self.x;
-                let d = [
-                    x[0][0] - x[1][0] + x[2][0] - x[3][0],
-                    x[0][1] - x[1][1] + x[2][1] - x[3][1],
-                    x[0][2] - x[1][2] + x[2][2] - x[3][2],
-                ];
-                dot(d, self.normal()).abs() / (4.0 * self.diameter())
-            }
+        if self.kind == FaceKind::Tri3 {
+            return 0.0;
         }
+        let x = &self.x;
+        let d = [
+            x[0][0] - x[1][0] + x[2][0] - x[3][0],
+            x[0][1] - x[1][1] + x[2][1] - x[3][1],
+            x[0][2] - x[1][2] + x[2][2] - x[3][2],
+        ];
+        dot(d, self.normal()).abs() / (4.0 * self.diameter())
     }
 
     /// True for triangles and quads whose warp is below [`PLANAR_WARP`].
@@ -196,12 +183,10 @@ impl FaceElement {
         self.warp() < PLANAR_WARP
     }
 
-    /// The reference cell as triangles: one for Tri3, two for Quad4.
+    /// The reference cell as triangles: one for Tri3, two for Quad4
+    /// ([`FaceKind::reference_triangles`]).
     pub fn reference_triangles(&self) -> &'static [[Xi; 3]] {
-        match self.kind {
-            FaceKind::Tri3 => &[[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]],
-            FaceKind::Quad4 => &[[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]]],
-        }
+        self.kind.reference_triangles()
     }
 
     /// The face projected onto a plane by the linear map `project` (for seam,
@@ -226,7 +211,8 @@ impl FaceElement {
 /// inverting it costs a few flops.
 #[derive(Clone, Copy, Debug)]
 pub struct PlaneFace {
-    /// Element type.
+    /// Element type: [`FaceKind::Tri3`] or [`FaceKind::Quad4`] (every other
+    /// kind counts as a quad).
     pub kind: FaceKind,
     /// Projected corners; for a triangle `q[3]` repeats `q[2]`.
     pub q: [[f64; 2]; 4],
@@ -247,12 +233,10 @@ impl PlaneFace {
     pub fn new(kind: FaceKind, q: [[f64; 2]; 4]) -> PlaneFace {
         let a = q[0];
         let b = sub2(q[1], q[0]);
-        let (c, d) = match kind {
-            FaceKind::Tri3 => (sub2(q[2], q[0]), [0.0; 2]),
-            FaceKind::Quad4 => (
-                sub2(q[3], q[0]),
-                [q[0][0] - q[1][0] + q[2][0] - q[3][0], q[0][1] - q[1][1] + q[2][1] - q[3][1]],
-            ),
+        let (c, d) = if kind == FaceKind::Tri3 {
+            (sub2(q[2], q[0]), [0.0; 2])
+        } else {
+            (sub2(q[3], q[0]), [q[0][0] - q[1][0] + q[2][0] - q[3][0], q[0][1] - q[1][1] + q[2][1] - q[3][1]])
         };
         let r = 1.0 / (b[0] * c[1] - b[1] * c[0]);
         let inv = [[c[1] * r, -c[0] * r], [-b[1] * r, b[0] * r]];
@@ -263,9 +247,10 @@ impl PlaneFace {
 
     /// The projected corners actually used.
     pub fn corners(&self) -> &[[f64; 2]] {
-        match self.kind {
-            FaceKind::Tri3 => &self.q[..3],
-            FaceKind::Quad4 => &self.q,
+        if self.kind == FaceKind::Tri3 {
+            &self.q[..3]
+        } else {
+            &self.q
         }
     }
 
@@ -279,14 +264,14 @@ impl PlaneFace {
     pub fn inverse(&self, target: [f64; 2]) -> InverseMap {
         let e = sub2(target, self.a);
         let xi = self.apply_inv(e);
-        match self.kind {
-            FaceKind::Tri3 => InverseMap::classify(xi, FaceKind::Tri3),
-            FaceKind::Quad4 if self.affine => {
-                let st = xi[0] * xi[1];
-                let xi = self.apply_inv([e[0] - self.d[0] * st, e[1] - self.d[1] * st]);
-                InverseMap::classify(xi, FaceKind::Quad4)
-            }
-            FaceKind::Quad4 => self.newton(xi, e),
+        if self.kind == FaceKind::Tri3 {
+            InverseMap::classify(xi, FaceKind::Tri3)
+        } else if self.affine {
+            let st = xi[0] * xi[1];
+            let xi = self.apply_inv([e[0] - self.d[0] * st, e[1] - self.d[1] * st]);
+            InverseMap::classify(xi, FaceKind::Quad4)
+        } else {
+            self.newton(xi, e)
         }
     }
 
@@ -301,9 +286,10 @@ impl PlaneFace {
     /// whose vertices' reference coordinates are known starts next to its root.
     #[inline]
     pub fn inverse_near(&self, target: [f64; 2], guess: Xi) -> InverseMap {
-        match self.kind {
-            FaceKind::Quad4 if !self.affine => self.newton(guess, sub2(target, self.a)),
-            _ => self.inverse(target),
+        if self.kind != FaceKind::Tri3 && !self.affine {
+            self.newton(guess, sub2(target, self.a))
+        } else {
+            self.inverse(target)
         }
     }
 
@@ -385,10 +371,7 @@ impl PlaneFace {
 
     /// ±1: the sign of det ∂q/∂ξ at the centre of the reference cell.
     pub fn orientation(&self) -> f64 {
-        let m = match self.kind {
-            FaceKind::Tri3 => 1.0 / 3.0,
-            FaceKind::Quad4 => 0.5,
-        };
+        let m = if self.kind == FaceKind::Tri3 { 1.0 / 3.0 } else { 0.5 };
         let ja = [self.b[0] + self.d[0] * m, self.b[1] + self.d[1] * m];
         let jb = [self.c[0] + self.d[0] * m, self.c[1] + self.d[1] * m];
         if cross2(ja, jb) >= 0.0 {
@@ -518,9 +501,10 @@ impl InverseMap {
 
     fn classify(xi: Xi, kind: FaceKind) -> InverseMap {
         const TOL: f64 = 1e-10;
-        let inside = match kind {
-            FaceKind::Tri3 => xi[0] >= -TOL && xi[1] >= -TOL && xi[0] + xi[1] <= 1.0 + TOL,
-            FaceKind::Quad4 => xi.iter().all(|&v| (-TOL..=1.0 + TOL).contains(&v)),
+        let inside = if kind == FaceKind::Tri3 {
+            xi[0] >= -TOL && xi[1] >= -TOL && xi[0] + xi[1] <= 1.0 + TOL
+        } else {
+            xi.iter().all(|&v| (-TOL..=1.0 + TOL).contains(&v))
         };
         if inside {
             InverseMap::Inside(xi)
@@ -559,16 +543,6 @@ fn closed_form_bilinear(b: [f64; 2], c: [f64; 2], d: [f64; 2], e: [f64; 2]) -> O
     match (with_eta(roots[0]), with_eta(roots[1])) {
         (Some(x), Some(y)) => Some(if distance_to_square(x) <= distance_to_square(y) { x } else { y }),
         (x, y) => x.or(y),
-    }
-}
-
-/// Shape functions of `kind` at ξ; entry 3 is 0 for a triangle.
-#[inline]
-pub fn shape(kind: FaceKind, xi: Xi) -> [f64; 4] {
-    let [s, t] = xi;
-    match kind {
-        FaceKind::Tri3 => [1.0 - s - t, s, t, 0.0],
-        FaceKind::Quad4 => [(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t],
     }
 }
 
@@ -626,6 +600,7 @@ pub(crate) fn scale(a: Point3, s: f64) -> Point3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::catalogue::shape_values;
     use proptest::prelude::*;
 
     fn quad(x: [Point3; 4]) -> FaceElement {
@@ -649,17 +624,15 @@ mod tests {
     #[test]
     fn shape_functions_are_a_partition_of_unity_and_nodal() {
         for kind in [FaceKind::Tri3, FaceKind::Quad4] {
-            let corners: &[Xi] = match kind {
-                FaceKind::Tri3 => &[[0., 0.], [1., 0.], [0., 1.]],
-                FaceKind::Quad4 => &[[0., 0.], [1., 0.], [1., 1.], [0., 1.]],
-            };
+            let face = FaceElement { kind, x: [[0.0; 3]; 4] };
+            let corners = kind.nodes();
             for (i, &c) in corners.iter().enumerate() {
-                let l = shape(kind, c);
+                let l = face.shape(c);
                 for (j, &v) in l.iter().enumerate().take(corners.len()) {
                     assert_eq!(v, if i == j { 1.0 } else { 0.0 });
                 }
             }
-            let l = shape(kind, [0.3, 0.2]);
+            let l = face.shape([0.3, 0.2]);
             assert!((l.iter().sum::<f64>() - 1.0).abs() < 1e-15);
         }
     }
@@ -713,7 +686,7 @@ mod tests {
         let q = [[0., 0.], [1., 0.], [0.05, 0.06], [0., 1.]];
         let target = [0.04, 0.05];
         let xi = PlaneFace::new(FaceKind::Quad4, q).inverse(target).xi();
-        let l = shape(FaceKind::Quad4, xi);
+        let l = shape_values::<4>(xi);
         let p = [
             l[0] * q[0][0] + l[1] * q[1][0] + l[2] * q[2][0] + l[3] * q[3][0],
             l[0] * q[0][1] + l[1] * q[1][1] + l[2] * q[2][1] + l[3] * q[3][1],

@@ -4,6 +4,7 @@
 //! Points are numbered row by row, `j·(nu+1) + i` for the grid point (i, j).
 //! Faces are counter-clockwise in (u, v), so their normals follow ∂x/∂u × ∂x/∂v.
 
+use crate::catalogue::FaceKind;
 use crate::mesh::{Face, Point3, SurfaceMesh};
 
 /// How the grid cells are filled.
@@ -83,16 +84,10 @@ fn grid_parameters(nu: usize, nv: usize, jitter: Option<(f64, u64)>) -> Vec<[f64
     uv
 }
 
-/// The second-order face types of [`quadratic_patch`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Quadratic {
-    /// Two Tri6 per cell, the diagonal alternating like a chequerboard.
-    Tri6,
-    /// One Quad8 per cell (the cell centres are points no face uses).
-    Quad8,
-    /// One Quad9 per cell.
-    Quad9,
-}
+/// The face kinds of [`quadratic_patch`]: two Tri6 per cell, the diagonal
+/// alternating like a chequerboard; one Quad8 per cell (the cell centres are
+/// points no face uses); or one Quad9 per cell.
+pub type Quadratic = FaceKind;
 
 /// A patch of `nu × nv` cells of second-order faces on the map `x`: every
 /// node, mid-edge and centre ones included, is a point of the surface, at the
@@ -103,7 +98,8 @@ pub enum Quadratic {
 /// (i, j).
 ///
 /// # Panics
-/// If `nu` or `nv` is zero, or the map makes a degenerate face.
+/// If `nu` or `nv` is zero, `kind` is not of second order, or the map makes a
+/// degenerate face.
 pub fn quadratic_patch(
     nu: usize,
     nv: usize,
@@ -112,6 +108,7 @@ pub fn quadratic_patch(
     x: impl Fn(f64, f64) -> Point3,
 ) -> SurfaceMesh {
     assert!(nu > 0 && nv > 0, "a patch needs at least one cell in each direction");
+    assert!(kind.order() == 2, "a quadratic patch has Tri6, Quad8 or Quad9 faces, not {kind:?}");
     let corners = grid_parameters(nu, nv, jitter);
     let (mu, mv) = (2 * nu + 1, 2 * nv + 1);
     let corner = |i: usize, j: usize| corners[j * (nu + 1) + i];
@@ -143,18 +140,21 @@ pub fn quadratic_patch(
             let [c0, c1, c2, c3] = [id(i, j), id(i + 2, j), id(i + 2, j + 2), id(i, j + 2)];
             let [m0, m1, m2, m3] = [id(i + 1, j), id(i + 2, j + 1), id(i + 1, j + 2), id(i, j + 1)];
             let centre = id(i + 1, j + 1);
-            match kind {
-                Quadratic::Quad9 => faces.push(Face::Quad9([c0, c1, c2, c3, m0, m1, m2, m3, centre])),
-                Quadratic::Quad8 => faces.push(Face::Quad8([c0, c1, c2, c3, m0, m1, m2, m3])),
+            if !kind.is_triangle() {
+                // Quad9's nodes; Quad8 has all but the centre.
+                let nodes = [c0, c1, c2, c3, m0, m1, m2, m3, centre];
+                faces.push(Face::new(kind, &nodes[..kind.n_nodes()]).expect("the kind's node count"));
+            } else if (i + j) % 4 == 0 {
                 // The diagonal's mid node is the cell's centre point.
-                Quadratic::Tri6 if (i + j) % 4 == 0 => faces.extend([
+                faces.extend([
                     Face::Tri6([c0, c1, c2, m0, m1, centre]),
                     Face::Tri6([c0, c2, c3, centre, m2, m3]),
-                ]),
-                Quadratic::Tri6 => faces.extend([
+                ]);
+            } else {
+                faces.extend([
                     Face::Tri6([c0, c1, c3, m0, centre, m3]),
                     Face::Tri6([c1, c2, c3, m1, m2, centre]),
-                ]),
+                ]);
             }
         }
     }

@@ -11,10 +11,11 @@
 //!
 //! | stage | module | paper |
 //! |---|---|---|
+//! | the element catalogue: [`FaceKind`], [`CellKind`] and their descriptions | [`catalogue`] | |
 //! | plain data: [`SurfaceMesh`], [`VolumeMesh`] | `mesh` | |
 //! | reference elements, inverse projection | `element` | D1–D2 |
 //! | second-order (curved) faces: Tri6, Quad8, Quad9 maps, control nets, inverse projection | [`curved`] | D1–D2 |
-//! | triangle quadrature rules | `quadrature` | D3 |
+//! | triangle quadrature rules; volume rules: [`volume_rule`] | `quadrature` | D3 |
 //! | proximity search: [`FaceTree`] | `search` | A1 |
 //! | Householder frame, projection, polygon clipping | `clip` | C2–C4 |
 //! | assembly of B, D; multipliers; transfer: [`assemble`], [`Mortar`], [`Transfer`] | `mortar` | A2–D5 |
@@ -45,6 +46,7 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+pub mod catalogue;
 pub mod clip;
 pub mod curved;
 mod element;
@@ -60,14 +62,18 @@ mod search;
 mod sparse;
 mod wire;
 
+pub use catalogue::{
+    Cell, CellKind, CellType, Face, FaceKind, FaceType, LocalFace, Shape, Xi, Xi3, MAX_CELL_NODES,
+    MAX_FACE_NODES,
+};
 pub use clip::{
     clip_polygon_polygon, convex_hull, face_polygon, fan_triangles, make_strictly_convex, orient,
     polygon_area, stable_fan, ConvexClipper, Frame, Point2, Polygon, MAX_POLYGON, NEAR_COLLINEAR,
 };
-pub use element::{shape, FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
+pub use element::{FaceElement, InverseMap, JacobianField, PlaneFace, PLANAR_WARP};
 pub use mesh::{
-    area_vector, is_proper_face, Cell, Face, FaceOwner, MeshError, Point3, SurfaceMesh, VolumeMesh,
-    MAX_MAGNITUDE, MIN_FACE_SIZE, ZERO_AREA_RTOL,
+    area_vector, is_proper_face, FaceOwner, MeshError, Point3, SurfaceMesh, VolumeMesh, MAX_MAGNITUDE,
+    MIN_FACE_SIZE, ZERO_AREA_RTOL,
 };
 pub use mortar::{
     assemble, assemble_with_tree, face_integrals, face_quality, master_side, nodal_areas, nodal_normals,
@@ -75,7 +81,9 @@ pub use mortar::{
     FaceQuality, FaceStats, Facing, MasterSide, MaxGap, Mortar, MortarError, MortarOptions, MortarSummary,
     Multiplier, Segment, Transfer, BASIS_ALPHA, COVERED_FRACTION, TRI6_ALPHA, WARPED_RTOL,
 };
-pub use quadrature::{triangle_rule, TriangleRule, MAX_TRIANGLE_DEGREE};
+pub use quadrature::{
+    gauss_legendre, triangle_rule, volume_rule, TriangleRule, VolumeRule, MAX_TRIANGLE_DEGREE,
+};
 pub use search::{face_box, swept_box, FaceTree};
 pub use sparse::CsrMatrix;
 pub use wire::WireError;

@@ -48,7 +48,7 @@
 //! 1.7e-7 at 45°): the bound takes a rule of degree 20 instead
 //! ([`face_moments`]) and [`QUADRATURE`] as the allowance.
 
-use seam::curved::{shape_and_gradients, CurvedFace, CurvedKind};
+use seam::curved::{shape_and_gradients, CurvedFace};
 use seam::vec3::{dot, norm, sub};
 use seam::{
     area_vector, face_integrals, triangle_rule, warped_quad_degree, FaceElement, Mortar, Multiplier,
@@ -304,16 +304,11 @@ pub(super) fn face_moments(mesh: &SurfaceMesh, f: usize) -> [f64; 9] {
         let m = face_integrals(&e, degree);
         return std::array::from_fn(|p| if p < 4 { m[p] } else { 0.0 });
     }
-    let kind = CurvedKind::of(face);
+    let kind = face.kind();
     let curved = CurvedFace::of(mesh, f);
     let rule = triangle_rule(MAX_TRIANGLE_DEGREE).expect("tabulated");
-    let cell: &[[[f64; 2]; 3]] = if kind.is_triangle() {
-        &[[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]]
-    } else {
-        &[[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]]]
-    };
     let mut m = [0.0; 9];
-    for &[a, b, c] in cell {
+    for &[a, b, c] in kind.reference_triangles() {
         for (pt, &w) in rule.points.iter().zip(rule.weights) {
             let l0 = 1.0 - pt[0] - pt[1];
             let xi = std::array::from_fn(|i| l0 * a[i] + pt[0] * b[i] + pt[1] * c[i]);
@@ -418,7 +413,7 @@ fn largest_coordinate(mesh: &SurfaceMesh) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::super::{check, CheckReport};
-    use seam::generate::{cylinder, flat, hyperbolic_paraboloid, patch, quadratic_patch, Pattern, Quadratic};
+    use seam::generate::{cylinder, flat, hyperbolic_paraboloid, patch, quadratic_patch, Pattern};
     use seam::vec3::{norm, sub};
     use seam::{BasisTransformation, MortarOptions, Multiplier, Point3, SurfaceMesh};
 
@@ -456,7 +451,7 @@ mod tests {
                 ..Default::default()
             },
         ];
-        if !slave.faces().iter().any(|f| matches!(f, seam::Face::Tri6(_) | seam::Face::Quad8(_))) {
+        if slave.faces().iter().all(|f| f.kind().info().positive_integrals) {
             o.push(MortarOptions { multiplier: Multiplier::Lumped, ..Default::default() });
         }
         o
@@ -464,7 +459,7 @@ mod tests {
 
     /// The scenes of the module doc: (name, master, slave).
     fn scenes() -> Vec<(String, SurfaceMesh, SurfaceMesh)> {
-        use Quadratic::{Quad8, Quad9, Tri6};
+        use seam::FaceKind::{Quad8, Quad9, Tri6};
         let mut s: Vec<(String, SurfaceMesh, SurfaceMesh)> = Vec::new();
         let square = flat(1.0, 1.0);
         s.push((
@@ -576,7 +571,7 @@ mod tests {
     /// quadrature allowance on curved faces.
     #[test]
     fn row_sums_are_the_nodal_areas_of_covered_nodes() {
-        use Quadratic::{Quad8, Quad9, Tri6};
+        use seam::FaceKind::{Quad8, Quad9, Tri6};
         let square = flat(1.0, 1.0);
         let bent = cylinder(1.0, 3.0 * 19f64.to_radians(), 1.0);
         let scenes = [
@@ -603,7 +598,7 @@ mod tests {
                     options.multiplier == Multiplier::Dual
                         && slave.faces()[0].is_curved()
                         && (options.transformation == BasisTransformation::All
-                            || !matches!(slave.faces()[0], seam::Face::Quad9(_)))
+                            || !slave.faces()[0].kind().info().positive_integrals)
                 );
                 for (p, d1) in m.d.row_sums().into_iter().enumerate().filter(|&(p, _)| m.on_surface[p]) {
                     let allowance: f64 = s.around[p]

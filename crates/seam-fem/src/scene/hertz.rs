@@ -2,11 +2,11 @@
 //! elastic block, force-controlled, against the analytic solution.
 
 use super::block_body;
-use crate::element::ElementKind;
 use crate::generate::{block, node_supports, raise_order, BlockKind, Grid, RaiseError, Side};
 use crate::material::Material;
 use crate::multibody::Coupling;
 use crate::problem::{Load, Problem, ProblemInterface, Support, SurfaceId};
+use seam::CellKind;
 use seam::{Facing, MaxGap, MeshError, MortarOptions, Multiplier, Point3, VolumeMesh};
 
 /// Parameters of [`hertz`]. Lengths in units of the sphere radius R.
@@ -176,7 +176,7 @@ fn raise_mapped(
     let mut points = raised.points().to_vec();
     let mut placed = vec![false; points.len()];
     for cell in raised.cells() {
-        let kind = ElementKind::of(cell);
+        let kind = CellKind::of(cell);
         let nodes = cell.nodes();
         for (i, support) in node_supports(kind).iter().enumerate().filter(|&(i, _)| nodes[i] >= first) {
             if !std::mem::replace(&mut placed[nodes[i]], true) {

@@ -206,11 +206,11 @@ impl MshBuilder {
 
 #[cfg(test)]
 mod tests {
-    use super::super::element_types::{element_type, TRI3};
+    use super::super::element_types::element_type;
     use super::*;
 
     fn record<'r>(tag: u64, physical_tags: &'r [i32], node_tags: &'r [u64]) -> ElementRecord<'r> {
-        ElementRecord { tag, element_type: element_type(TRI3).unwrap(), entity: 1, physical_tags, node_tags }
+        ElementRecord { tag, element_type: element_type(2).unwrap(), entity: 1, physical_tags, node_tags }
     }
 
     fn builder(version: MshVersion) -> MshBuilder {

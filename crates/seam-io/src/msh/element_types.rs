@@ -2,22 +2,11 @@
 //!
 //! The table lists every fixed-size type Gmsh 4.15 knows (from
 //! `gmsh.model.mesh.getElementProperties`); binary files need it to know how many
-//! node tags follow an element tag.
+//! node tags follow an element tag, also of the types seam does not compute on.
+//! Those it does are the kinds of seam's element catalogue
+//! ([`seam::FaceKind::from_gmsh`], [`seam::CellKind::from_gmsh`]).
 
-/// The reference shape of an element type.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Shape {
-    Point,
-    Line,
-    Triangle,
-    Quadrangle,
-    Tetrahedron,
-    Hexahedron,
-    Prism,
-    Pyramid,
-}
-
-use Shape::*;
+use seam::Shape::{self, *};
 
 /// What the reader needs to know about one Gmsh element type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,39 +63,6 @@ const TYPES: &[(u32, Shape, u16, bool)] = &[
     (137, Tetrahedron, 16, false),
 ];
 
-/// Gmsh type number of the 3-node triangle.
-pub(crate) const TRI3: u32 = 2;
-/// Gmsh type number of the 4-node quadrangle.
-pub(crate) const QUAD4: u32 = 3;
-/// Gmsh type number of the 4-node tetrahedron.
-pub(crate) const TET4: u32 = 4;
-/// Gmsh type number of the 8-node hexahedron.
-pub(crate) const HEX8: u32 = 5;
-/// Gmsh type number of the 6-node prism.
-pub(crate) const PRISM6: u32 = 6;
-/// Gmsh type number of the 5-node pyramid.
-pub(crate) const PYRAMID5: u32 = 7;
-/// Gmsh type number of the 6-node (second-order) triangle.
-pub(crate) const TRI6: u32 = 9;
-/// Gmsh type number of the 8-node (serendipity) quadrangle.
-pub(crate) const QUAD8: u32 = 16;
-/// Gmsh type number of the 9-node (biquadratic) quadrangle.
-pub(crate) const QUAD9: u32 = 10;
-/// Gmsh type number of the 10-node tetrahedron.
-pub(crate) const TET10: u32 = 11;
-/// Gmsh type number of the 20-node (serendipity) hexahedron.
-pub(crate) const HEX20: u32 = 17;
-/// Gmsh type number of the 27-node (triquadratic) hexahedron.
-pub(crate) const HEX27: u32 = 12;
-/// Gmsh type number of the 15-node (serendipity) prism.
-pub(crate) const PRISM15: u32 = 18;
-/// Gmsh type number of the 18-node prism.
-pub(crate) const PRISM18: u32 = 13;
-/// Gmsh type number of the 13-node (serendipity) pyramid.
-pub(crate) const PYRAMID13: u32 = 19;
-/// Gmsh type number of the 14-node pyramid.
-pub(crate) const PYRAMID14: u32 = 14;
-
 /// Looks up a Gmsh element type number.
 pub(crate) fn element_type(number: u32) -> Option<ElementType> {
     TYPES.iter().find(|&&(n, ..)| n == number).map(|&(number, shape, nodes, incomplete)| ElementType {
@@ -120,29 +76,17 @@ pub(crate) fn element_type(number: u32) -> Option<ElementType> {
 impl ElementType {
     /// The dimension of the reference shape (0 to 3).
     pub fn dim(&self) -> u8 {
-        match self.shape {
-            Point => 0,
-            Line => 1,
-            Triangle | Quadrangle => 2,
-            Tetrahedron | Hexahedron | Prism | Pyramid => 3,
-        }
+        self.shape.dim()
     }
 
     /// The type in words with its article: "a point", "a 6-node triangle",
     /// "an 8-node hexahedron".
     pub fn describe(&self) -> String {
-        let shape = match self.shape {
-            Point => return "a point".to_string(),
-            Line => "line",
-            Triangle => "triangle",
-            Quadrangle => "quadrangle",
-            Tetrahedron => "tetrahedron",
-            Hexahedron => "hexahedron",
-            Prism => "prism",
-            Pyramid => "pyramid",
-        };
+        if self.shape == Point {
+            return "a point".to_string();
+        }
         let incomplete = if self.incomplete { " (incomplete)" } else { "" };
-        format!("{} {}-node {shape}{incomplete}", article(self.nodes), self.nodes)
+        format!("{} {}-node {}{incomplete}", article(self.nodes), self.nodes, self.shape.noun())
     }
 }
 
@@ -167,25 +111,17 @@ pub(crate) fn describe_type(number: u32) -> String {
 mod tests {
     use super::*;
 
+    /// The catalogue's Gmsh numbers name the types of its kinds' shapes and
+    /// node counts.
     #[test]
     fn supported_types_have_their_node_counts() {
-        let corners = [(TRI3, 3), (QUAD4, 4), (TET4, 4), (HEX8, 8), (PRISM6, 6), (PYRAMID5, 5), (15, 1)];
-        let second_order = [
-            (TRI6, 6),
-            (QUAD8, 8),
-            (QUAD9, 9),
-            (TET10, 10),
-            (HEX20, 20),
-            (HEX27, 27),
-            (PRISM15, 15),
-            (PRISM18, 18),
-            (PYRAMID13, 13),
-            (PYRAMID14, 14),
-        ];
-        for (number, nodes) in corners.into_iter().chain(second_order) {
-            assert_eq!(element_type(number).unwrap().nodes, nodes);
+        let faces = seam::FaceKind::ALL.map(|k| (k.info().gmsh_type, k.info().shape, k.n_nodes()));
+        let cells = seam::CellKind::ALL.map(|k| (k.info().gmsh_type, k.reference_shape(), k.n_nodes()));
+        for (number, shape, nodes) in faces.into_iter().chain(cells) {
+            let t = element_type(number).unwrap();
+            assert_eq!((t.shape, t.nodes, t.incomplete), (shape, nodes, false), "type {number}");
         }
-        assert_eq!(element_type(TET4).unwrap().dim(), 3);
+        assert_eq!(element_type(4).unwrap().dim(), 3);
         assert_eq!(element_type(15).unwrap().dim(), 0);
     }
 
@@ -199,7 +135,7 @@ mod tests {
     #[test]
     fn types_read_in_words() {
         assert_eq!(describe_type(9), "a 6-node triangle");
-        assert_eq!(describe_type(HEX8), "an 8-node hexahedron");
+        assert_eq!(describe_type(5), "an 8-node hexahedron");
         assert_eq!(describe_type(10), "a 9-node quadrangle");
         assert_eq!(describe_type(18), "a 15-node prism");
         assert_eq!(describe_type(24), "a 15-node triangle (incomplete)");

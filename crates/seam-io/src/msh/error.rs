@@ -63,7 +63,7 @@ pub enum Degeneracy {
     },
     /// A face of the cell on the boundary of the volume is degenerate.
     BoundaryFace {
-        /// The face within the cell, in the order of [`seam::Cell::local_faces`].
+        /// The face within the cell, in the order of [`seam::CellType::faces`].
         local_face: usize,
         /// "has zero area" or "is too small".
         why: &'static str,

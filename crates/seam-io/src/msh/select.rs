@@ -3,12 +3,8 @@
 
 use std::collections::BTreeMap;
 
-use seam::{Cell, Face, FaceOwner, MeshError, SurfaceMesh, VolumeMesh};
+use seam::{Cell, CellKind, Face, FaceKind, FaceOwner, MeshError, SurfaceMesh, VolumeMesh};
 
-use super::element_types::{
-    HEX20, HEX27, HEX8, PRISM15, PRISM18, PRISM6, PYRAMID13, PYRAMID14, PYRAMID5, QUAD4, QUAD8, QUAD9, TET10,
-    TET4, TRI3, TRI6,
-};
 use super::{Degeneracy, GroupId, Msh, MshElement, MshError, MshErrorKind};
 
 const FACE_TYPES: &str = "triangles (3 or 6 nodes) and quadrangles (4, 8 or 9 nodes)";
@@ -280,44 +276,24 @@ fn tags_of(elements: &[&MshElement]) -> Vec<u64> {
 
 /// The face of a 2D element (seam's node order is Gmsh's).
 fn face_of(element: &MshElement) -> Result<Face, MshError> {
-    match element.gmsh_type {
-        TRI3 => Ok(Face::Tri3(nodes(element)?)),
-        QUAD4 => Ok(Face::Quad4(nodes(element)?)),
-        TRI6 => Ok(Face::Tri6(nodes(element)?)),
-        QUAD8 => Ok(Face::Quad8(nodes(element)?)),
-        QUAD9 => Ok(Face::Quad9(nodes(element)?)),
-        _ => Err(unsupported(element, FACE_TYPES)),
-    }
+    let kind = FaceKind::from_gmsh(element.gmsh_type).ok_or_else(|| unsupported(element, FACE_TYPES))?;
+    Face::new(kind, &element.nodes).ok_or_else(|| wrong_node_count(element))
 }
 
 /// The cell of a 3D element (seam's node order is Gmsh's).
 fn cell_of(element: &MshElement) -> Result<Cell, MshError> {
-    match element.gmsh_type {
-        TET4 => Ok(Cell::Tet4(nodes(element)?)),
-        HEX8 => Ok(Cell::Hex8(nodes(element)?)),
-        PRISM6 => Ok(Cell::Prism6(nodes(element)?)),
-        PYRAMID5 => Ok(Cell::Pyramid5(nodes(element)?)),
-        TET10 => Ok(Cell::Tet10(nodes(element)?)),
-        HEX20 => Ok(Cell::Hex20(nodes(element)?)),
-        HEX27 => Ok(Cell::Hex27(nodes(element)?)),
-        PRISM15 => Ok(Cell::Prism15(nodes(element)?)),
-        PRISM18 => Ok(Cell::Prism18(nodes(element)?)),
-        PYRAMID13 => Ok(Cell::Pyramid13(nodes(element)?)),
-        PYRAMID14 => Ok(Cell::Pyramid14(nodes(element)?)),
-        _ => Err(unsupported(element, CELL_TYPES)),
-    }
+    let kind = CellKind::from_gmsh(element.gmsh_type).ok_or_else(|| unsupported(element, CELL_TYPES))?;
+    Cell::new(kind, &element.nodes).ok_or_else(|| wrong_node_count(element))
 }
 
-/// The element's nodes as an array of the size its type needs.
-fn nodes<const N: usize>(element: &MshElement) -> Result<[usize; N], MshError> {
-    element.nodes.as_slice().try_into().map_err(|_| {
-        let kind = MshErrorKind::WrongNodeCount {
-            element_tag: element.tag,
-            gmsh_type: element.gmsh_type,
-            found: element.nodes.len(),
-        };
-        kind.into()
-    })
+/// An element whose node list is not as long as its type needs.
+fn wrong_node_count(element: &MshElement) -> MshError {
+    let kind = MshErrorKind::WrongNodeCount {
+        element_tag: element.tag,
+        gmsh_type: element.gmsh_type,
+        found: element.nodes.len(),
+    };
+    kind.into()
 }
 
 fn unsupported(element: &MshElement, supported: &'static str) -> MshError {

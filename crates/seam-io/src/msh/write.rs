@@ -82,32 +82,15 @@ struct Entity<'a> {
     blocks: Vec<(u32, Vec<&'a [usize]>)>,
 }
 
-/// The Gmsh element type number of a face.
+/// The Gmsh element type number of a face ([`seam::FaceType::gmsh_type`]).
 pub fn face_type(face: &Face) -> u32 {
-    match face {
-        Face::Tri3(_) => 2,
-        Face::Quad4(_) => 3,
-        Face::Tri6(_) => 9,
-        Face::Quad8(_) => 16,
-        Face::Quad9(_) => 10,
-    }
+    face.kind().info().gmsh_type
 }
 
-/// The Gmsh element type number of a cell (seam's node order is Gmsh's).
+/// The Gmsh element type number of a cell ([`seam::CellType::gmsh_type`];
+/// seam's node order is Gmsh's).
 pub fn cell_type(cell: &Cell) -> u32 {
-    match cell {
-        Cell::Tet4(_) => 4,
-        Cell::Hex8(_) => 5,
-        Cell::Prism6(_) => 6,
-        Cell::Pyramid5(_) => 7,
-        Cell::Tet10(_) => 11,
-        Cell::Hex20(_) => 17,
-        Cell::Hex27(_) => 12,
-        Cell::Prism15(_) => 18,
-        Cell::Prism18(_) => 13,
-        Cell::Pyramid13(_) => 19,
-        Cell::Pyramid14(_) => 14,
-    }
+    cell.kind().info().gmsh_type
 }
 
 /// Faces as blocks of consecutive faces of one Gmsh type, keeping their order.

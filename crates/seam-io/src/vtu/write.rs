@@ -2,39 +2,12 @@
 //! `UInt64` byte count followed by the little-endian values, uncompressed).
 
 use base64::prelude::{Engine as _, BASE64_STANDARD};
-use seam::{Cell, Face, SurfaceMesh, VolumeMesh};
+use seam::{SurfaceMesh, VolumeMesh};
 
 use super::{Field, VtuError, VtuErrorKind};
 
 /// The numbers of components a written field may have.
 const COMPONENTS: [usize; 5] = [1, 2, 3, 6, 9];
-
-/// VTK cell type numbers.
-const VTK_TRIANGLE: u8 = 5;
-const VTK_QUAD: u8 = 9;
-const VTK_TETRA: u8 = 10;
-const VTK_HEXAHEDRON: u8 = 12;
-const VTK_WEDGE: u8 = 13;
-const VTK_PYRAMID: u8 = 14;
-const VTK_QUADRATIC_TRIANGLE: u8 = 22;
-const VTK_QUADRATIC_QUAD: u8 = 23;
-const VTK_QUADRATIC_TETRA: u8 = 24;
-const VTK_QUADRATIC_HEXAHEDRON: u8 = 25;
-const VTK_QUADRATIC_WEDGE: u8 = 26;
-const VTK_QUADRATIC_PYRAMID: u8 = 27;
-const VTK_BIQUADRATIC_QUAD: u8 = 28;
-const VTK_TRIQUADRATIC_HEXAHEDRON: u8 = 29;
-const VTK_BIQUADRATIC_QUADRATIC_WEDGE: u8 = 32;
-
-/// VTK's node order of the second-order cells as positions in Gmsh's order:
-/// VTK node i is Gmsh node `order[i]`. Both put the corners first; they differ
-/// in how they number edges and face centres. A Pyramid14 is written as VTK's
-/// 13-node pyramid (VTK has no 14-node one): its base centre stays a point.
-const TET10_VTK: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8];
-const HEX27_VTK: [usize; 27] =
-    [0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15, 22, 23, 21, 24, 20, 25, 26];
-const PRISM18_VTK: [usize; 18] = [0, 1, 2, 3, 4, 5, 6, 9, 7, 12, 14, 13, 8, 10, 11, 15, 17, 16];
-const PYRAMID13_VTK: [usize; 13] = [0, 1, 2, 3, 4, 5, 8, 10, 6, 7, 9, 11, 12];
 
 /// The file for a surface mesh: a triangle or quad cell per face.
 pub(super) fn surface_bytes(
@@ -42,47 +15,21 @@ pub(super) fn surface_bytes(
     point_data: &[Field],
     cell_data: &[Field],
 ) -> Result<Vec<u8>, VtuError> {
-    let mut cells = GridCells::default();
-    for face in mesh.faces() {
-        // Gmsh and VTK number the nodes of these faces alike.
-        let kind = match face {
-            Face::Tri3(_) => VTK_TRIANGLE,
-            Face::Quad4(_) => VTK_QUAD,
-            Face::Tri6(_) => VTK_QUADRATIC_TRIANGLE,
-            Face::Quad8(_) => VTK_QUADRATIC_QUAD,
-            Face::Quad9(_) => VTK_BIQUADRATIC_QUAD,
-        };
-        cells.push(kind, face.nodes());
-    }
-    grid_bytes(mesh.points(), cells, point_data, cell_data)
+    let faces = mesh.faces().iter().map(|f| (f.kind().info().vtk_type, f.kind().info().vtk_order, f.nodes()));
+    grid_bytes(mesh.points(), GridCells::of(faces), point_data, cell_data)
 }
 
-/// The file for a volume mesh. Gmsh's node orders of the tetrahedron,
-/// hexahedron, prism (VTK's wedge) and pyramid are VTK's: VTK computes a positive
-/// volume for cells that are positive in Gmsh (checked by `tests/python`).
+/// The file for a volume mesh. Gmsh's node orders of the corners of the
+/// tetrahedron, hexahedron, prism (VTK's wedge) and pyramid are VTK's: VTK
+/// computes a positive volume for cells that are positive in Gmsh (checked by
+/// `tests/python`).
 pub(super) fn volume_bytes(
     mesh: &VolumeMesh,
     point_data: &[Field],
     cell_data: &[Field],
 ) -> Result<Vec<u8>, VtuError> {
-    let mut cells = GridCells::default();
-    for cell in mesh.cells() {
-        let (kind, order): (u8, &[usize]) = match cell {
-            Cell::Tet4(_) => (VTK_TETRA, &TET10_VTK[..4]),
-            Cell::Hex8(_) => (VTK_HEXAHEDRON, &HEX27_VTK[..8]),
-            Cell::Prism6(_) => (VTK_WEDGE, &PRISM18_VTK[..6]),
-            Cell::Pyramid5(_) => (VTK_PYRAMID, &PYRAMID13_VTK[..5]),
-            Cell::Tet10(_) => (VTK_QUADRATIC_TETRA, &TET10_VTK),
-            Cell::Hex20(_) => (VTK_QUADRATIC_HEXAHEDRON, &HEX27_VTK[..20]),
-            Cell::Hex27(_) => (VTK_TRIQUADRATIC_HEXAHEDRON, &HEX27_VTK),
-            Cell::Prism15(_) => (VTK_QUADRATIC_WEDGE, &PRISM18_VTK[..15]),
-            Cell::Prism18(_) => (VTK_BIQUADRATIC_QUADRATIC_WEDGE, &PRISM18_VTK),
-            Cell::Pyramid13(_) | Cell::Pyramid14(_) => (VTK_QUADRATIC_PYRAMID, &PYRAMID13_VTK),
-        };
-        let nodes = cell.nodes();
-        cells.push_ordered(kind, order.iter().map(|&i| nodes[i]));
-    }
-    grid_bytes(mesh.points(), cells, point_data, cell_data)
+    let cells = mesh.cells().iter().map(|c| (c.kind().info().vtk_type, c.kind().info().vtk_order, c.nodes()));
+    grid_bytes(mesh.points(), GridCells::of(cells), point_data, cell_data)
 }
 
 fn check_fields(fields: &[Field], n_entries: usize, on_cells: bool) -> Result<(), VtuError> {
@@ -119,14 +66,17 @@ struct GridCells {
 }
 
 impl GridCells {
-    fn push(&mut self, kind: u8, nodes: &[usize]) {
-        self.push_ordered(kind, nodes.iter().copied());
-    }
-
-    fn push_ordered(&mut self, kind: u8, nodes: impl Iterator<Item = usize>) {
-        self.connectivity.extend(nodes.map(|n| n as u64));
-        self.offsets.push(self.connectivity.len() as u64);
-        self.types.push(kind);
+    /// A cell per element (VTK type, VTK node order, nodes) of the kind's
+    /// description ([`seam::FaceType`], [`seam::CellType`]): VTK node i is
+    /// `nodes[order[i]]`.
+    fn of<'a>(elements: impl Iterator<Item = (u8, &'a [usize], &'a [usize])>) -> GridCells {
+        let mut cells = GridCells::default();
+        for (vtk_type, order, nodes) in elements {
+            cells.connectivity.extend(order.iter().map(|&i| nodes[i] as u64));
+            cells.offsets.push(cells.connectivity.len() as u64);
+            cells.types.push(vtk_type);
+        }
+        cells
     }
 }
 

@@ -4,8 +4,9 @@
 use super::isoparametric::{self, MAX_NODES};
 use super::rows::basis_transformation;
 use super::{face_integrals, warped_quad_degree, Mortar, Transfer, COVERED_FRACTION};
+use crate::catalogue::FaceKind;
 use crate::curved::CurvedFace;
-use crate::element::{cross, dot, norm, sub, FaceElement, FaceKind, PLANAR_WARP};
+use crate::element::{cross, dot, norm, sub, FaceElement, PLANAR_WARP};
 use crate::mesh::{Point3, SurfaceMesh};
 use rayon::prelude::*;
 

@@ -40,11 +40,10 @@
 
 use super::kernel::{add_point, barycentric, edge_midpoints, signed_area, Piece};
 use super::{FaceStats, Facing, Segment};
+use crate::catalogue::{shape_and_gradients, shape_values, FaceKind, Xi};
 use crate::clip::{face_polygon, polygon_area, stable_fan, ConvexClipper, Frame, MAX_POLYGON};
-use crate::curved::{
-    monomials_of, shape_and_gradients, shape_values, CurvedFace, CurvedKind, MonomialMap, ProjectedFace,
-};
-use crate::element::{cross, dot, norm, FaceKind, PlaneFace, Xi};
+use crate::curved::{monomials_of, CurvedFace, MonomialMap, ProjectedFace};
+use crate::element::{cross, dot, norm, PlaneFace};
 use crate::mesh::Point3;
 use crate::quadrature::TriangleRule;
 use arrayvec::ArrayVec;
@@ -79,17 +78,16 @@ type SubFace = ArrayVec<Xi, 4>;
 
 /// The first-order sub-faces of the reference cell of `kind`, `k` (1 or
 /// [`SUBDIVISION`]) per edge, corners counter-clockwise (tabulated once).
-fn reference_subfaces(kind: CurvedKind, k: usize) -> &'static [SubFace] {
-    type Table = [[ArrayVec<SubFace, MAX_SUB>; 2]; 5];
+fn reference_subfaces(kind: FaceKind, k: usize) -> &'static [SubFace] {
+    type Table = [[ArrayVec<SubFace, MAX_SUB>; 2]; FaceKind::ALL.len()];
     static TABLE: std::sync::OnceLock<Table> = std::sync::OnceLock::new();
-    let kinds = [CurvedKind::Tri3, CurvedKind::Quad4, CurvedKind::Tri6, CurvedKind::Quad8, CurvedKind::Quad9];
-    let table = TABLE.get_or_init(|| kinds.map(|kind| [1, SUBDIVISION].map(|k| subdivide(kind, k))));
+    let table = TABLE.get_or_init(|| FaceKind::ALL.map(|kind| [1, SUBDIVISION].map(|k| subdivide(kind, k))));
     &table[kind as usize][usize::from(k != 1)]
 }
 
-fn subdivide(kind: CurvedKind, k: usize) -> ArrayVec<SubFace, MAX_SUB> {
+fn subdivide(kind: FaceKind, k: usize) -> ArrayVec<SubFace, MAX_SUB> {
     // A first-order face's projection is its own polygon: no sub-faces.
-    let k = if matches!(kind, CurvedKind::Tri3 | CurvedKind::Quad4) { 1 } else { k };
+    let k = if kind.order() == 1 { 1 } else { k };
     let at = |i: usize, j: usize| [i as f64 / k as f64, j as f64 / k as f64];
     let mut out = ArrayVec::new();
     for j in 0..k {
@@ -118,7 +116,7 @@ fn centroid(sub: &SubFace) -> Xi {
 /// The projected sub-faces of `face` of `kind`: (reference corners, convex
 /// polygon, the first-order map of a quad sub-face for its fold ratio).
 fn projected_subfaces(
-    kind: CurvedKind,
+    kind: FaceKind,
     face: &ProjectedFace,
     k: usize,
 ) -> ArrayVec<(&'static SubFace, crate::clip::Polygon, Option<PlaneFace>), MAX_SUB> {
@@ -353,7 +351,7 @@ struct CurvedSegment<'a> {
     master: &'a ProjectedFace,
     /// The master sub-face's first-order map, its corner ξ₀ and side (quads).
     master_chord: Option<&'a (PlaneFace, Xi, f64)>,
-    kinds: (CurvedKind, CurvedKind),
+    kinds: (FaceKind, FaceKind),
     ladder: &'a [TriangleRule; CURVED_LADDER.len()],
     stats: &'a mut FaceStats,
 }
@@ -509,7 +507,7 @@ mod tests {
 
     #[test]
     fn sub_faces_tile_the_reference_cell() {
-        for kind in [CurvedKind::Tri6, CurvedKind::Quad9] {
+        for kind in [FaceKind::Tri6, FaceKind::Quad9] {
             let area: f64 = reference_subfaces(kind, SUBDIVISION)
                 .iter()
                 .map(|s| {

@@ -12,9 +12,10 @@ use super::isoparametric::{self, CurvedBlock, CurvedSlave, MAX_NODES};
 use super::multiplier::{apply_multiplier, FaceMeasures};
 use super::rows::Blocks;
 use super::{face_integrals, warped_quad_degree, FaceStats, MortarOptions, Segment};
+use crate::catalogue::{FaceKind, Xi};
 use crate::clip::{face_polygon, fan_triangles, polygon_area, stable_fan, ConvexClipper, Frame, MAX_POLYGON};
 use crate::curved::CurvedFace;
-use crate::element::{FaceElement, FaceKind, InverseMap, JacobianField, PlaneFace, Xi, PLANAR_WARP};
+use crate::element::{FaceElement, InverseMap, JacobianField, PlaneFace, PLANAR_WARP};
 use crate::mesh::{Point3, SurfaceMesh};
 use crate::quadrature::{triangle_rule, TriangleRule};
 use crate::search::{swept_box, FaceTree};
@@ -108,8 +109,8 @@ impl Rules {
     fn select(&self, slave: &SlaveFace, master: FaceKind) -> TriangleRule {
         match (slave.element.kind, master) {
             (FaceKind::Tri3, FaceKind::Tri3) => self.tri_tri,
-            (FaceKind::Tri3, FaceKind::Quad4) => self.tri_quad,
-            (FaceKind::Quad4, _) => match slave.warped_rule {
+            (FaceKind::Tri3, _) => self.tri_quad,
+            _ => match slave.warped_rule {
                 Some(warped) => warped,
                 None if slave.jacobian.is_constant() => self.parallelogram,
                 None => self.planar_quad,
@@ -293,7 +294,7 @@ impl<'a> Kernel<'a> {
         };
         stats.area += full.iter().sum::<f64>();
         scratch.merge_columns(n_s);
-        let kind = crate::curved::CurvedKind::of(&self.slave.faces()[s]);
+        let kind = self.slave.faces()[s].kind();
         let measures = FaceMeasures::new(kind, self.transform, &d, &full);
         let dual_fallback =
             apply_multiplier(self.options.multiplier, kind, self.transform, &mut d, &mut scratch.b);
@@ -344,9 +345,10 @@ impl<'a> Kernel<'a> {
             let rule = self.rules.select(&sf, FaceKind::Tri3);
             let mut block = [[0.0; 4]; 4];
             for &(ts, area_ref) in &scratch.straight {
-                match sf.element.kind {
-                    FaceKind::Tri3 => accumulate_d::<3>(&sf.jacobian, ts, area_ref, &rule, &mut block),
-                    FaceKind::Quad4 => accumulate_d::<4>(&sf.jacobian, ts, area_ref, &rule, &mut block),
+                if sf.element.kind == FaceKind::Tri3 {
+                    accumulate_d::<3>(&sf.jacobian, ts, area_ref, &rule, &mut block)
+                } else {
+                    accumulate_d::<4>(&sf.jacobian, ts, area_ref, &rule, &mut block)
                 }
             }
             for p in 0..n_s {
@@ -614,15 +616,12 @@ impl<'a> Kernel<'a> {
 /// (1 + δ_pr)/24 with ξ = λ₁, η = λ₂; on [0,1]² ∫λ_p = 1/4 and ∫λ_p ξ is 1/6
 /// for the two corners at ξ = 1, 1/12 for the others (likewise η).
 fn affine_face_integrals(kind: FaceKind, [j0, j1, j2]: [f64; 3]) -> [f64; 4] {
-    match kind {
-        FaceKind::Tri3 => {
-            let m = |p: usize, r: usize| if p == r { 2.0 / 24.0 } else { 1.0 / 24.0 };
-            std::array::from_fn(|p| if p < 3 { j0 / 6.0 + j1 * m(p, 1) + j2 * m(p, 2) } else { 0.0 })
-        }
-        FaceKind::Quad4 => {
-            let m = |at_one: bool| if at_one { 1.0 / 6.0 } else { 1.0 / 12.0 };
-            std::array::from_fn(|p| j0 / 4.0 + j1 * m(p == 1 || p == 2) + j2 * m(p == 2 || p == 3))
-        }
+    if kind == FaceKind::Tri3 {
+        let m = |p: usize, r: usize| if p == r { 2.0 / 24.0 } else { 1.0 / 24.0 };
+        std::array::from_fn(|p| if p < 3 { j0 / 6.0 + j1 * m(p, 1) + j2 * m(p, 2) } else { 0.0 })
+    } else {
+        let m = |at_one: bool| if at_one { 1.0 / 6.0 } else { 1.0 / 12.0 };
+        std::array::from_fn(|p| j0 / 4.0 + j1 * m(p == 1 || p == 2) + j2 * m(p == 2 || p == 3))
     }
 }
 
@@ -670,9 +669,9 @@ fn integrate_segment(
     let j = &sf.jacobian;
     match (sf.element.kind, master) {
         (FaceKind::Tri3, FaceKind::Tri3) => accumulate::<3, 3>(j, ts, tm, area_ref, rule, block),
-        (FaceKind::Tri3, FaceKind::Quad4) => accumulate::<3, 4>(j, ts, tm, area_ref, rule, block),
-        (FaceKind::Quad4, FaceKind::Tri3) => accumulate::<4, 3>(j, ts, tm, area_ref, rule, block),
-        (FaceKind::Quad4, FaceKind::Quad4) => accumulate::<4, 4>(j, ts, tm, area_ref, rule, block),
+        (FaceKind::Tri3, _) => accumulate::<3, 4>(j, ts, tm, area_ref, rule, block),
+        (_, FaceKind::Tri3) => accumulate::<4, 3>(j, ts, tm, area_ref, rule, block),
+        _ => accumulate::<4, 4>(j, ts, tm, area_ref, rule, block),
     }
 }
 
@@ -727,36 +726,32 @@ fn accumulate_d<const NS: usize>(
 /// otherwise) and ∫f_p f_q ξ (1/4 when both are ξ, 1/12 otherwise).
 fn face_mass(kind: FaceKind, [j0, j1, j2]: [f64; 3]) -> [[f64; 4]; 4] {
     let mut m = [[0.0; 4]; 4];
-    match kind {
-        FaceKind::Tri3 => {
-            let factorial = [1.0, 1.0, 2.0, 6.0];
-            let moment = |a: usize, b: usize, c: Option<usize>| {
-                let mut e = [0usize; 3];
-                for i in [Some(a), Some(b), c].into_iter().flatten() {
-                    e[i] += 1;
-                }
-                let order = e.iter().sum::<usize>();
-                e.iter().map(|&k| factorial[k]).product::<f64>() / if order == 2 { 24.0 } else { 120.0 }
-            };
-            for p in 0..3 {
-                for q in 0..3 {
-                    m[p][q] =
-                        j0 * moment(p, q, None) + j1 * moment(p, q, Some(1)) + j2 * moment(p, q, Some(2));
-                }
+    if kind == FaceKind::Tri3 {
+        let factorial = [1.0, 1.0, 2.0, 6.0];
+        let moment = |a: usize, b: usize, c: Option<usize>| {
+            let mut e = [0usize; 3];
+            for i in [Some(a), Some(b), c].into_iter().flatten() {
+                e[i] += 1;
+            }
+            let order = e.iter().sum::<usize>();
+            e.iter().map(|&k| factorial[k]).product::<f64>() / if order == 2 { 24.0 } else { 120.0 }
+        };
+        for p in 0..3 {
+            for q in 0..3 {
+                m[p][q] = j0 * moment(p, q, None) + j1 * moment(p, q, Some(1)) + j2 * moment(p, q, Some(2));
             }
         }
-        FaceKind::Quad4 => {
-            // λ_p = f_p(ξ) g_p(η): f_p = ξ for p = 1, 2; g_p = η for p = 2, 3.
-            let (fx, gy) = (|p: usize| p == 1 || p == 2, |p: usize| p == 2 || p == 3);
-            let plain = |a: bool, b: bool| if a == b { 1.0 / 3.0 } else { 1.0 / 6.0 };
-            let moment = |a: bool, b: bool| if a && b { 1.0 / 4.0 } else { 1.0 / 12.0 };
-            for p in 0..4 {
-                for q in 0..4 {
-                    let (f, g) = ((fx(p), fx(q)), (gy(p), gy(q)));
-                    m[p][q] = j0 * plain(f.0, f.1) * plain(g.0, g.1)
-                        + j1 * moment(f.0, f.1) * plain(g.0, g.1)
-                        + j2 * plain(f.0, f.1) * moment(g.0, g.1);
-                }
+    } else {
+        // λ_p = f_p(ξ) g_p(η): f_p = ξ for p = 1, 2; g_p = η for p = 2, 3.
+        let (fx, gy) = (|p: usize| p == 1 || p == 2, |p: usize| p == 2 || p == 3);
+        let plain = |a: bool, b: bool| if a == b { 1.0 / 3.0 } else { 1.0 / 6.0 };
+        let moment = |a: bool, b: bool| if a && b { 1.0 / 4.0 } else { 1.0 / 12.0 };
+        for p in 0..4 {
+            for q in 0..4 {
+                let (f, g) = ((fx(p), fx(q)), (gy(p), gy(q)));
+                m[p][q] = j0 * plain(f.0, f.1) * plain(g.0, g.1)
+                    + j1 * moment(f.0, f.1) * plain(g.0, g.1)
+                    + j2 * plain(f.0, f.1) * moment(g.0, g.1);
             }
         }
     }
@@ -817,9 +812,9 @@ impl PlaneSegment<'_> {
     fn integrate(&mut self, master: FaceKind, piece: Piece, block: &mut PairBlock) {
         match (self.slave.element.kind, master) {
             (FaceKind::Tri3, FaceKind::Tri3) => self.adaptive::<3, 3>(piece, 0, block),
-            (FaceKind::Tri3, FaceKind::Quad4) => self.adaptive::<3, 4>(piece, 0, block),
-            (FaceKind::Quad4, FaceKind::Tri3) => self.adaptive::<4, 3>(piece, 0, block),
-            (FaceKind::Quad4, FaceKind::Quad4) => self.adaptive::<4, 4>(piece, 0, block),
+            (FaceKind::Tri3, _) => self.adaptive::<3, 4>(piece, 0, block),
+            (_, FaceKind::Tri3) => self.adaptive::<4, 3>(piece, 0, block),
+            _ => self.adaptive::<4, 4>(piece, 0, block),
         }
     }
 
@@ -883,8 +878,7 @@ impl PlaneSegment<'_> {
 /// The 3 (Tri3) or 4 (Quad4) shape functions at ξ.
 #[inline(always)]
 fn shape_of<const N: usize>(xi: Xi) -> [f64; N] {
-    let kind = if N == 3 { FaceKind::Tri3 } else { FaceKind::Quad4 };
-    let l = crate::element::shape(kind, xi);
+    let l = crate::catalogue::faces::first_order_values(N == 3, xi);
     std::array::from_fn(|i| l[i])
 }
 
@@ -1036,7 +1030,7 @@ impl Scratch {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::curved::{shape_and_gradients, CurvedKind};
+    use crate::catalogue::shape_and_gradients;
 
     /// [∫_T λ_p λ_r (χ⁻¹(q)) dq] and [∫_T λ_p(χ⁻¹(q)) f(q) dq] for f = 1, q_x,
     /// q_y and the shape functions λ of `kind` (Quad4 or Quad9), over plane
@@ -1044,7 +1038,7 @@ mod tests {
     /// depth) gives no rule.
     fn moments(
         face: &PlaneFace,
-        kind: CurvedKind,
+        kind: FaceKind,
         t: [[f64; 2]; 3],
         plan: &dyn Fn(f64, u32) -> Option<TriangleRule>,
         depth: u32,
@@ -1086,7 +1080,7 @@ mod tests {
     /// fold ratio of 0.1, and at least twice). Returns the worst error and
     /// the number of triangles cut.
     fn ladder_accuracy(
-        kind: CurvedKind,
+        kind: FaceKind,
         ladder: &[(f64, usize)],
         max_depth: u32,
         mut seed: u64,
@@ -1173,13 +1167,10 @@ mod tests {
             for t in e.reference_triangles() {
                 let m = edge_midpoints(*t);
                 for c in [[t[0], m[0], m[2]], [m[0], t[1], m[1]], [m[2], m[1], t[2]], [m[1], m[2], m[0]]] {
-                    match e.kind {
-                        FaceKind::Tri3 => {
-                            accumulate_d::<3>(&jacobian, c, triangle_area(c), &fine, &mut reference)
-                        }
-                        FaceKind::Quad4 => {
-                            accumulate_d::<4>(&jacobian, c, triangle_area(c), &fine, &mut reference)
-                        }
+                    if e.kind == FaceKind::Tri3 {
+                        accumulate_d::<3>(&jacobian, c, triangle_area(c), &fine, &mut reference)
+                    } else {
+                        accumulate_d::<4>(&jacobian, c, triangle_area(c), &fine, &mut reference)
                     }
                 }
             }
@@ -1198,7 +1189,7 @@ mod tests {
     /// least as fine as the pair's polynomial rule).
     #[test]
     fn plane_ladder_accuracy() {
-        let (worst, cut) = ladder_accuracy(CurvedKind::Quad4, &PLANE_LADDER, PLANE_MAX_DEPTH, 7);
+        let (worst, cut) = ladder_accuracy(FaceKind::Quad4, &PLANE_LADDER, PLANE_MAX_DEPTH, 7);
         assert!(cut >= 10, "some triangles are cut: {cut}");
         eprintln!("plane ladder: worst relative error {worst:e}, {cut} triangles cut");
     }
@@ -1209,7 +1200,7 @@ mod tests {
     #[test]
     fn curved_ladder_accuracy() {
         let (worst, cut) = ladder_accuracy(
-            CurvedKind::Quad9,
+            FaceKind::Quad9,
             &isoparametric::CURVED_LADDER,
             isoparametric::CURVED_MAX_DEPTH,
             11,

@@ -539,11 +539,11 @@ fn check_inputs(
 ) -> Result<(), MortarError> {
     check_options(options)?;
     if options.multiplier == Multiplier::Lumped {
-        let refused = slave.faces().iter().enumerate().find_map(|(f, face)| match face {
-            crate::mesh::Face::Tri6(_) => Some((f, "Tri6")),
-            crate::mesh::Face::Quad8(_) => Some((f, "Quad8")),
-            _ => None,
-        });
+        // Lumping needs ∫ λ_p > 0 for every shape function.
+        let refused =
+            slave.faces().iter().enumerate().find_map(|(f, face)| {
+                (!face.kind().info().positive_integrals).then(|| (f, face.kind().name()))
+            });
         if let Some((face, kind)) = refused {
             return Err(MortarError::LumpedSecondOrder { face, kind });
         }

@@ -13,7 +13,7 @@
 
 use super::isoparametric::MAX_NODES;
 use super::Multiplier;
-use crate::curved::CurvedKind;
+use crate::catalogue::FaceKind;
 use nalgebra::{SMatrix, SVector};
 
 /// Smallest ratio of a Cholesky pivot to the largest diagonal entry of M_e
@@ -73,13 +73,13 @@ pub(super) fn transformation_weight(
 ) -> Option<f64> {
     use crate::mesh::Face;
     let transformed = |f: &Face| match which {
-        super::BasisTransformation::Needed => matches!(f, Face::Tri6(_) | Face::Quad8(_)),
+        super::BasisTransformation::Needed => !f.kind().info().positive_integrals,
         super::BasisTransformation::All => f.is_curved(),
     };
     if !slave.faces().iter().any(transformed) {
         return None;
     }
-    let quads = slave.faces().iter().any(|f| matches!(f, Face::Quad8(_) | Face::Quad9(_)));
+    let quads = slave.faces().iter().any(|f| f.is_curved() && !f.kind().is_triangle());
     Some(if quads { BASIS_ALPHA } else { TRI6_ALPHA })
 }
 
@@ -87,12 +87,12 @@ pub(super) fn transformation_weight(
 /// `alpha` ([`transformation_weight`]), as (column, value) pairs; identity
 /// for first-order faces and without a weight.
 pub(super) fn transformation_row(
-    kind: CurvedKind,
+    kind: FaceKind,
     alpha: Option<f64>,
     p: usize,
 ) -> impl Iterator<Item = (usize, f64)> {
-    let k = if kind.is_triangle() { 3 } else { 4 };
-    let second = matches!(kind, CurvedKind::Tri6 | CurvedKind::Quad8 | CurvedKind::Quad9);
+    let k = kind.n_corners();
+    let second = kind.order() == 2;
     let entries: [(usize, f64); 3] = match (alpha.filter(|_| second), p) {
         (None, _) => [(p, 1.0), (0, 0.0), (0, 0.0)],
         // Corner p: its two edges are k + p (to p + 1) and k + (p + k − 1) % k.
@@ -104,7 +104,7 @@ pub(super) fn transformation_row(
 }
 
 /// Q_e as a matrix.
-fn transformation<const N: usize>(kind: CurvedKind, alpha: f64) -> SMatrix<f64, N, N> {
+fn transformation<const N: usize>(kind: FaceKind, alpha: f64) -> SMatrix<f64, N, N> {
     let mut q = SMatrix::zeros();
     for p in 0..N {
         for (c, v) in transformation_row(kind, Some(alpha), p) {
@@ -127,7 +127,7 @@ pub(super) struct FaceMeasures {
 impl FaceMeasures {
     /// From a face's standard D block (stride [`MAX_NODES`]) and full integrals.
     pub(super) fn new(
-        kind: CurvedKind,
+        kind: FaceKind,
         alpha: Option<f64>,
         d: &[f64; MAX_NODES * MAX_NODES],
         full: &[f64; MAX_NODES],
@@ -156,7 +156,7 @@ impl FaceMeasures {
 /// back to lumping.
 pub(super) fn apply_multiplier(
     multiplier: Multiplier,
-    kind: CurvedKind,
+    kind: FaceKind,
     alpha: Option<f64>,
     d: &mut [f64; MAX_NODES * MAX_NODES],
     b: &mut [f64],
@@ -185,7 +185,7 @@ pub(super) fn apply_multiplier(
 /// A = diag(M 1) M⁻¹,
 /// D_e = diag(M 1), B_e ← A B_e.
 fn dual<const N: usize>(
-    kind: CurvedKind,
+    kind: FaceKind,
     alpha: Option<f64>,
     d: &mut [f64; MAX_NODES * MAX_NODES],
     b: &mut [f64],
@@ -263,7 +263,7 @@ mod tests {
         let mut d = tri_mass();
         // One master column equal to M·e_0 (B block of an identical master face).
         let mut b = vec![2.0 / 24.0, 1.0 / 24.0, 1.0 / 24.0];
-        assert!(!apply_multiplier(Multiplier::Dual, CurvedKind::Tri3, Some(BASIS_ALPHA), &mut d, &mut b));
+        assert!(!apply_multiplier(Multiplier::Dual, FaceKind::Tri3, Some(BASIS_ALPHA), &mut d, &mut b));
         for p in 0..3 {
             assert!((d[p * N + p] - 1.0 / 6.0).abs() < 1e-16);
             let expected = if p == 0 { 1.0 / 6.0 } else { 0.0 };
@@ -275,7 +275,7 @@ mod tests {
     fn lumped_is_the_row_sum() {
         let mut d = tri_mass();
         let mut b = vec![1.0, 2.0, 3.0];
-        apply_multiplier(Multiplier::Lumped, CurvedKind::Tri3, Some(BASIS_ALPHA), &mut d, &mut b);
+        apply_multiplier(Multiplier::Lumped, FaceKind::Tri3, Some(BASIS_ALPHA), &mut d, &mut b);
         assert_eq!(d[0], 4.0 / 24.0);
         assert_eq!(d[1], 0.0);
         assert_eq!(b, vec![1.0, 2.0, 3.0]);
@@ -290,7 +290,7 @@ mod tests {
             }
         }
         let mut b = vec![1.0, 1.0, 1.0];
-        assert!(apply_multiplier(Multiplier::Dual, CurvedKind::Tri3, Some(BASIS_ALPHA), &mut d, &mut b));
+        assert!(apply_multiplier(Multiplier::Dual, FaceKind::Tri3, Some(BASIS_ALPHA), &mut d, &mut b));
         assert_eq!(d[0], 3.0);
         assert_eq!(d[1], 0.0);
     }
@@ -298,11 +298,11 @@ mod tests {
     #[test]
     fn transformed_basis_sums_to_one_and_has_positive_integrals() {
         // Integrals of the Lagrange functions on a unit-area flat face.
-        let cases: [(CurvedKind, f64, Vec<f64>); 4] = [
-            (CurvedKind::Tri6, BASIS_ALPHA, [[0.0; 3], [1.0 / 3.0; 3]].concat()),
-            (CurvedKind::Tri6, TRI6_ALPHA, [[0.0; 3], [1.0 / 3.0; 3]].concat()),
-            (CurvedKind::Quad8, BASIS_ALPHA, [[-1.0 / 12.0; 4], [1.0 / 3.0; 4]].concat()),
-            (CurvedKind::Quad9, BASIS_ALPHA, [&[1.0 / 36.0; 4][..], &[1.0 / 9.0; 4], &[4.0 / 9.0]].concat()),
+        let cases: [(FaceKind, f64, Vec<f64>); 4] = [
+            (FaceKind::Tri6, BASIS_ALPHA, [[0.0; 3], [1.0 / 3.0; 3]].concat()),
+            (FaceKind::Tri6, TRI6_ALPHA, [[0.0; 3], [1.0 / 3.0; 3]].concat()),
+            (FaceKind::Quad8, BASIS_ALPHA, [[-1.0 / 12.0; 4], [1.0 / 3.0; 4]].concat()),
+            (FaceKind::Quad9, BASIS_ALPHA, [&[1.0 / 36.0; 4][..], &[1.0 / 9.0; 4], &[4.0 / 9.0]].concat()),
         ];
         for (kind, alpha, integrals) in cases {
             let n = kind.n_nodes();
@@ -337,7 +337,7 @@ mod tests {
                 let l = [1.0 - pt[0] - pt[1], pt[0], pt[1]];
                 let p = [0, 1].map(|i| (0..3).map(|v| l[v] * x[v][i]).sum::<f64>() - x[c][i]);
                 let value: f64 =
-                    transformation_row(CurvedKind::Tri6, Some(alpha), c).map(|(q, a)| a * phi[q]).sum();
+                    transformation_row(FaceKind::Tri6, Some(alpha), c).map(|(q, a)| a * phi[q]).sum();
                 let wv = 0.5 * w * area2 * value;
                 for (k, f) in [1.0, p[0] * p[0], p[0] * p[1], p[1] * p[1]].into_iter().enumerate() {
                     m[k] += wv * f;

@@ -10,7 +10,7 @@ use super::isoparametric::MAX_NODES;
 use super::multiplier::{transformation_row, transformation_weight, FaceMeasures};
 use super::BasisTransformation;
 use super::{FaceStats, Mortar, MortarSummary, Multiplier, Segment, COVERED_FRACTION};
-use crate::curved::CurvedKind;
+
 use crate::mesh::SurfaceMesh;
 use crate::sparse::CsrMatrix;
 use crate::wire::{Reader, WireError, Writer};
@@ -357,7 +357,7 @@ pub(super) fn basis_transformation(slave: &SurfaceMesh, alpha: f64) -> CsrMatrix
     let n = slave.n_points();
     let mut entries: Vec<(usize, usize, f64)> = Vec::new();
     for face in slave.faces() {
-        let kind = CurvedKind::of(face);
+        let kind = face.kind();
         let nodes = face.nodes();
         for p in 0..nodes.len() {
             entries.extend(transformation_row(kind, Some(alpha), p).map(|(c, v)| (nodes[p], nodes[c], v)));

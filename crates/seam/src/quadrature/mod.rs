@@ -1,4 +1,6 @@
-//! Fully symmetric quadrature rules on the reference triangle.
+//! Quadrature rules: fully symmetric rules on the reference triangle (this
+//! module) and rules on the reference cells of the volume elements
+//! ([`volume`]).
 //!
 //! # Convention
 //!
@@ -92,6 +94,11 @@
 //!    rules for the triangle*, International Journal for Numerical Methods in
 //!    Engineering 21 (1985) 1129–1148, doi:10.1002/nme.1620210612. The rules
 //!    of degree 2, 4, 5, 6, 8 and 9 above coincide with Dunavant's.
+
+pub mod volume;
+
+pub(crate) use volume::stiffness_rule;
+pub use volume::{gauss_legendre, volume_rule, VolumeRule};
 
 /// Highest polynomial degree for which a tabulated triangle rule exists.
 pub const MAX_TRIANGLE_DEGREE: usize = 20;
