@@ -360,7 +360,8 @@ impl Checked {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use seam::generate::{flat, patch, quadratic_patch, Pattern, Quadratic};
+    use seam::generate::{flat, patch, quadratic_patch, Pattern};
+    use seam::FaceKind;
     use seam::Multiplier;
 
     fn run(master: &SurfaceMesh, slave: &SurfaceMesh) -> Check {
@@ -522,10 +523,10 @@ mod tests {
         }
         // Second order: the top right Quad9 of the master twice, under Tri6
         // and Quad8 slaves (dual: transformed bases).
-        let (points, mut faces) = quadratic_patch(2, 2, Quadratic::Quad9, None, flat(1.0, 1.0)).into_parts();
+        let (points, mut faces) = quadratic_patch(2, 2, FaceKind::Quad9, None, flat(1.0, 1.0)).into_parts();
         faces.push(faces[3]);
         let quad9_master = SurfaceMesh::new(points, faces).unwrap();
-        for kind in [Quadratic::Tri6, Quadratic::Quad8] {
+        for kind in [FaceKind::Tri6, FaceKind::Quad8] {
             let slave = quadratic_patch(4, 4, kind, None, flat(1.0, 1.0));
             for multiplier in [Multiplier::Standard, Multiplier::Dual] {
                 let options = MortarOptions { multiplier, ..Default::default() };
@@ -562,7 +563,7 @@ mod tests {
     fn the_master_area_of_curved_faces_is_that_of_the_faces() {
         // A quarter of a cylinder of radius 1, height 1, in 3 × 2 Quad9 faces.
         let quarter = seam::generate::cylinder(1.0, std::f64::consts::FRAC_PI_2, 1.0);
-        let mesh = seam::generate::quadratic_patch(3, 2, seam::generate::Quadratic::Quad9, None, quarter);
+        let mesh = seam::generate::quadratic_patch(3, 2, seam::FaceKind::Quad9, None, quarter);
         let r = run(&mesh, &mesh).report;
         // The slave area is the assembly's, by a rule of lower degree.
         assert!((r.master_area - r.slave_area).abs() < 1e-10, "{} against {}", r.master_area, r.slave_area);

@@ -14,7 +14,8 @@
 use crate::common;
 
 use common::{json, stacked_case, stderr, vtu_field, write_block};
-use seam::generate::{cylinder, flat, hyperbolic_paraboloid, patch, quadratic_patch, Pattern, Quadratic};
+use seam::generate::{cylinder, flat, hyperbolic_paraboloid, patch, quadratic_patch, Pattern};
+use seam::FaceKind;
 use seam::SurfaceMesh;
 use seam_fem::generate::Side;
 use std::path::Path;
@@ -124,8 +125,8 @@ fn ranks_write_the_bytes_of_one_process() {
     });
     same_files_on_ranks("warped", &master, &slave, &["--multiplier", "dual"]);
     // Second order: Tri6 slave (the basis transformation, Q.mtx) against Quad9.
-    let slave = quadratic_patch(9, 8, Quadratic::Tri6, None, cylinder(1.0, 1.2, 1.0));
-    let master = quadratic_patch(7, 7, Quadratic::Quad9, Some((0.2, 5)), cylinder(1.0, 1.2, 1.0));
+    let slave = quadratic_patch(9, 8, FaceKind::Tri6, None, cylinder(1.0, 1.2, 1.0));
+    let master = quadratic_patch(7, 7, FaceKind::Quad9, Some((0.2, 5)), cylinder(1.0, 1.2, 1.0));
     same_files_on_ranks("second order", &master, &slave, &["--multiplier", "dual"]);
 }
 

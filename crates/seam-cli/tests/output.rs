@@ -142,6 +142,11 @@ fn solve_killed_at_any_moment_leaves_a_whole_set_after_the_next_run() {
         child.kill().unwrap(); // SIGKILL
         child.wait().unwrap();
         kills += usize::from(!finished);
+        if finished {
+            // The machine got faster than when `whole` was measured (other
+            // tests ended): aim the later kills earlier.
+            whole = whole.mul_f64(0.8);
+        }
         let mut left = entries(&out);
         left.remove(".seam.lock"); // left by a killed run
         let hidden: Vec<String> = left.keys().filter(|n| n.starts_with('.')).cloned().collect();

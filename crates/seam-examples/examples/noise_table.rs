@@ -11,8 +11,8 @@
 //! height 1) and Quad9 faces on it (the error against the noise-free
 //! assembly, relative).
 
-use seam::generate::{cylinder, flat, patch, quadratic_patch, Pattern, Quadratic};
-use seam::{assemble, MortarOptions, SurfaceMesh};
+use seam::generate::{cylinder, flat, patch, quadratic_patch, Pattern};
+use seam::{assemble, FaceKind, MortarOptions, SurfaceMesh};
 
 /// SplitMix64 with Box–Muller: standard normal numbers.
 struct Gauss(u64);
@@ -52,7 +52,7 @@ fn main() {
     let flat_quads: Make = Box::new(|n| patch(n, n, Pattern::Quads, flat(1.0, 1.0)));
     let cylinder_quads: Make = Box::new(|n| patch(n, n, Pattern::Quads, cylinder(1.0, 1.0, 1.0)));
     let cylinder_quad9: Make =
-        Box::new(|n| quadratic_patch(n, n, Quadratic::Quad9, None, cylinder(1.0, 1.0, 1.0)));
+        Box::new(|n| quadratic_patch(n, n, FaceKind::Quad9, None, cylinder(1.0, 1.0, 1.0)));
     let rows: [(&str, &Make, usize, usize, bool); 8] = [
         ("flat quads 32 \\| 24", &flat_quads, 32, 24, true),
         ("flat quads 16 \\| 12", &flat_quads, 16, 12, true),

@@ -8,8 +8,8 @@
 //! prints one Markdown table ([`HEADER`], [`Row::table_line`]).
 
 use anyhow::{bail, Context};
-use seam::generate::{cylinder, flat, patch, quadratic_patch, Pattern, Quadratic};
-use seam::{assemble_with_tree, FaceTree, MaxGap, MortarOptions, SurfaceMesh};
+use seam::generate::{cylinder, flat, patch, quadratic_patch, Pattern};
+use seam::{assemble_with_tree, FaceKind, FaceTree, MaxGap, MortarOptions, SurfaceMesh};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -118,8 +118,8 @@ fn meshes(shape: Shape, faces: usize) -> (SurfaceMesh, SurfaceMesh) {
             patch(n, n, Pattern::Quads, cylinder(1.0, QUARTER, 1.0)),
         ),
         Shape::CylinderQuadratic => (
-            quadratic_patch(m, m, Quadratic::Tri6, Some((0.2, 42)), cylinder(1.001, QUARTER, 1.0)),
-            quadratic_patch(n, n, Quadratic::Quad9, None, cylinder(1.0, QUARTER, 1.0)),
+            quadratic_patch(m, m, FaceKind::Tri6, Some((0.2, 42)), cylinder(1.001, QUARTER, 1.0)),
+            quadratic_patch(n, n, FaceKind::Quad9, None, cylinder(1.0, QUARTER, 1.0)),
         ),
         Shape::CoarseSlave => {
             let m = (((faces / 2) as f64).sqrt().round() as usize).max(1);

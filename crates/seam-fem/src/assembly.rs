@@ -20,7 +20,7 @@ use crate::material::Material;
 use rayon::prelude::*;
 use seam::curved::CurvedFace;
 use seam::{triangle_rule, CsrMatrix, FaceElement, Point3, SurfaceMesh, VolumeMesh};
-use seam::{CellKind, VolumeRule, Xi3 as Xi, MAX_CELL_NODES as MAX_NODES};
+use seam::{CellKind, VolumeRule, Xi3, MAX_CELL_NODES};
 
 /// Quadrature degree of body-force loads on first-order cells
 /// ([`CellKind::rule`]): exact for N_i·b with b affine on affine cells.
@@ -64,11 +64,11 @@ pub struct PointGeometry {
     /// det J, J = ∂x/∂ξ (negative for a cell of negative orientation).
     pub det: f64,
     /// Physical gradients ∇_x N_i = J⁻ᵀ ∇_ξ N_i; entries past the node count are 0.
-    pub grads: [[f64; 3]; MAX_NODES],
+    pub grads: [[f64; 3]; MAX_CELL_NODES],
 }
 
 /// The map x(ξ) = Σ_i N_i(ξ) x_i of a cell with nodes `x` (Gmsh order).
-pub fn map_point(kind: CellKind, x: &[Point3], xi: Xi) -> Point3 {
+pub fn map_point(kind: CellKind, x: &[Point3], xi: Xi3) -> Point3 {
     let n = kind.shape(xi);
     let mut p = [0.0; 3];
     for (i, xi) in x.iter().enumerate() {
@@ -81,7 +81,7 @@ pub fn map_point(kind: CellKind, x: &[Point3], xi: Xi) -> Point3 {
 
 /// det J and the physical gradients at ξ; `None` when the cell is degenerate
 /// there (|det J| ≤ [`DEGENERATE_RTOL`] · Π_l |J e_l|, or not finite).
-pub fn geometry(kind: CellKind, x: &[Point3], xi: Xi) -> Option<PointGeometry> {
+pub fn geometry(kind: CellKind, x: &[Point3], xi: Xi3) -> Option<PointGeometry> {
     debug_assert_eq!(x.len(), kind.n_nodes());
     let g = kind.gradients(xi);
     // J[k][l] = ∂x_k/∂ξ_l
@@ -117,7 +117,7 @@ pub fn geometry(kind: CellKind, x: &[Point3], xi: Xi) -> Option<PointGeometry> {
         return None;
     }
     // J⁻¹ = cof(J)ᵀ / det, so ∇_x N = J⁻ᵀ ∇_ξ N = cof(J) ∇_ξ N / det.
-    let mut grads = [[0.0; 3]; MAX_NODES];
+    let mut grads = [[0.0; 3]; MAX_CELL_NODES];
     for i in 0..x.len() {
         for k in 0..3 {
             grads[i][k] = (cof[k][0] * g[i][0] + cof[k][1] * g[i][1] + cof[k][2] * g[i][2]) / det;
@@ -175,9 +175,9 @@ pub fn element_stiffness(kind: CellKind, x: &[Point3], material: &Material) -> O
 }
 
 /// The node coordinates of cell `c` (entries past its node count are 0) and its kind.
-pub(crate) fn corners(mesh: &VolumeMesh, c: usize) -> ([Point3; MAX_NODES], CellKind) {
+pub(crate) fn corners(mesh: &VolumeMesh, c: usize) -> ([Point3; MAX_CELL_NODES], CellKind) {
     let cell = &mesh.cells()[c];
-    let mut x = [[0.0; 3]; MAX_NODES];
+    let mut x = [[0.0; 3]; MAX_CELL_NODES];
     for (i, &p) in cell.nodes().iter().enumerate() {
         x[i] = mesh.points()[p];
     }
@@ -402,7 +402,7 @@ pub fn body_force(
     let local = per_cell(mesh, |kind, x| {
         let rule = &rules[kind as usize];
         let geo = geometry_at_rule(kind, x, rule)?;
-        let mut f = [[0.0; 3]; MAX_NODES];
+        let mut f = [[0.0; 3]; MAX_CELL_NODES];
         for ((&xi, w), g) in rule.points.iter().zip(&rule.weights).zip(&geo) {
             let n = kind.shape(xi);
             let bx = b(map_point(kind, x, xi));

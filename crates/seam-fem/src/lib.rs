@@ -66,7 +66,7 @@ pub use assembly::{
     body_force, cell_volumes, rigid_body_modes, stiffness, stiffness_times, traction, AssemblyError,
 };
 pub use contact::{ActiveSetStep, Kkt};
-pub use element::{ElementKind, VolumeRule};
+pub use element::{CellKind, VolumeRule};
 pub use material::{Material, MaterialError};
 pub use multibody::{
     set_operator_assembler, Body, Coupling, Interface, OperatorAssembler, ProblemError, Solver, Timings,

@@ -7,7 +7,7 @@ use common::{distorted, hybrid, kind_name, KINDS};
 use faer::{Mat, Side};
 use seam::{triangle_rule, Cell, FaceElement, FaceKind, Point3, VolumeMesh};
 use seam_fem::assembly::{element_stiffness, geometry};
-use seam_fem::{cell_volumes, ElementKind, Material};
+use seam_fem::{cell_volumes, CellKind, Material};
 
 /// |e| = ⅓ ∮ x·n dA over the cell's (outward) faces. On a bilinear face
 /// x(ξ)·(∂x/∂ξ × ∂x/∂η) has degree 3, so the degree-3 triangle rule is exact.
@@ -68,7 +68,7 @@ fn generated_cells_are_positively_oriented() {
     for kind in KINDS {
         let (mesh, _) = distorted(kind, 3, 0.2);
         for cell in mesh.cells() {
-            let k = ElementKind::of(cell);
+            let k = CellKind::of(cell);
             let x: Vec<Point3> = cell.nodes().iter().map(|&p| mesh.points()[p]).collect();
             for &xi in &k.stiffness_rule().points {
                 assert!(geometry(k, &x, xi).unwrap().det > 0.0, "{kind:?}");
@@ -82,12 +82,12 @@ fn generated_cells_are_positively_oriented() {
 #[test]
 fn element_stiffness_has_exactly_six_zero_modes() {
     let m = Material::new(1.0, 0.3).unwrap();
-    let mut cells: Vec<(ElementKind, Vec<Point3>)> = Vec::new();
+    let mut cells: Vec<(CellKind, Vec<Point3>)> = Vec::new();
     for kind in KINDS {
         let (mesh, _) = distorted(kind, 2, 0.25);
         // A cell touching the moved interior point.
         let cell = mesh.cells().iter().find(|c| c.nodes().contains(&13)).unwrap();
-        cells.push((ElementKind::of(cell), cell.nodes().iter().map(|&p| mesh.points()[p]).collect()));
+        cells.push((CellKind::of(cell), cell.nodes().iter().map(|&p| mesh.points()[p]).collect()));
     }
     for (kind, x) in cells {
         let k = element_stiffness(kind, &x, &m).unwrap();

@@ -1,5 +1,5 @@
-//! Second-order elements: shape functions against Gmsh's reference nodes,
-//! completeness, face traces, element stiffness kernels, the order raising
+//! Second-order elements (their shape functions are checked against Gmsh in
+//! `seam::catalogue`): completeness, face traces, element stiffness kernels, the order raising
 //! generator, patch tests on every second-order cell, and convergence rates of
 //! Tet10 and Hex27 on a manufactured solution.
 
@@ -11,105 +11,30 @@ use common::{
     tensor, warp, Rng, KINDS,
 };
 use faer::{Mat, Side as EigSide};
+use seam::Xi3;
 use seam::{Cell, Point3, VolumeMesh};
 use seam_fem::assembly::element_stiffness;
-use seam_fem::element::Xi;
 use seam_fem::generate::{block, node_supports, raise_order, BlockKind, Grid, RaiseError};
 use seam_fem::solve::solve;
 use seam_fem::{
-    body_force, cell_volumes, rigid_body_modes, stiffness, traction, Dirichlet, ElementKind, Material,
+    body_force, cell_volumes, rigid_body_modes, stiffness, traction, CellKind, Dirichlet, Material,
 };
 
-const GMSH_REFERENCE: &str = include_str!("../../seam-io/tests/data/second_order.txt");
-
-/// Gmsh's reference nodes of the 3D second-order types, from the fixture file.
-fn gmsh_nodes() -> Vec<(ElementKind, Vec<Xi>)> {
-    GMSH_REFERENCE
-        .lines()
-        .filter_map(|l| l.strip_prefix("ref "))
-        .filter_map(|l| {
-            let mut w = l.split_whitespace();
-            let kind = match w.next()? {
-                "11" => ElementKind::Tet10,
-                "12" => ElementKind::Hex27,
-                "13" => ElementKind::Prism18,
-                "14" => ElementKind::Pyramid14,
-                "17" => ElementKind::Hex20,
-                "18" => ElementKind::Prism15,
-                "19" => ElementKind::Pyramid13,
-                _ => return None,
-            };
-            let coords = w.nth(1)?;
-            let nodes = coords
-                .split(';')
-                .map(|p| {
-                    let v: Vec<f64> = p.split(',').map(|c| c.parse().unwrap()).collect();
-                    [v[0], v[1], v[2]]
-                })
-                .collect();
-            Some((kind, nodes))
-        })
-        .collect()
-}
-
 /// Points strictly inside the reference cell of `kind`.
-fn samples(kind: ElementKind) -> Vec<Xi> {
+fn samples(kind: CellKind) -> Vec<Xi3> {
     match kind.family() {
-        ElementKind::Tet4 => vec![[0.1, 0.2, 0.3], [0.25, 0.25, 0.25], [0.6, 0.1, 0.05]],
-        ElementKind::Hex8 => vec![[0.1, -0.7, 0.3], [0.0; 3], [0.9, 0.8, -0.95]],
-        ElementKind::Prism6 => vec![[0.1, 0.2, 0.3], [0.5, 0.3, -0.9], [0.2, 0.7, 0.6]],
+        CellKind::Tet4 => vec![[0.1, 0.2, 0.3], [0.25, 0.25, 0.25], [0.6, 0.1, 0.05]],
+        CellKind::Hex8 => vec![[0.1, -0.7, 0.3], [0.0; 3], [0.9, 0.8, -0.95]],
+        CellKind::Prism6 => vec![[0.1, 0.2, 0.3], [0.5, 0.3, -0.9], [0.2, 0.7, 0.6]],
         _ => vec![[0.1, -0.2, 0.3], [0.5, 0.3, 0.1], [-0.05, 0.02, 0.9], [0.0, 0.0, 0.5]],
     }
 }
 
-#[test]
-fn reference_nodes_are_gmsh_and_shape_functions_interpolate() {
-    let all = gmsh_nodes();
-    assert_eq!(all.len(), 7, "seven second-order volume types in the fixture");
-    for (kind, nodes) in all {
-        assert_eq!(kind.reference_nodes(), &nodes[..], "{kind:?}: node order");
-        for (j, &p) in nodes.iter().enumerate() {
-            let n = kind.shape(p);
-            for (i, &v) in n.iter().enumerate() {
-                let expected = (i == j) as u8 as f64;
-                assert!((v - expected).abs() < 1e-13, "{kind:?}: N_{i}(node {j}) = {v}");
-            }
-        }
-    }
-}
-
-#[test]
-fn partition_of_unity_and_finite_difference_gradients() {
-    let h = 1e-6;
-    for kind in ElementKind::SECOND_ORDER {
-        for xi in samples(kind) {
-            let n = kind.shape(xi);
-            assert!((n.iter().sum::<f64>() - 1.0).abs() < 1e-13, "{kind:?} at {xi:?}");
-            let g = kind.gradients(xi);
-            for k in 0..3 {
-                assert!(g.iter().map(|gi| gi[k]).sum::<f64>().abs() < 1e-12, "{kind:?}");
-                let (mut a, mut b) = (xi, xi);
-                a[k] += h;
-                b[k] -= h;
-                let (na, nb) = (kind.shape(a), kind.shape(b));
-                for i in 0..kind.n_nodes() {
-                    let fd = (na[i] - nb[i]) / (2.0 * h);
-                    assert!(
-                        (fd - g[i][k]).abs() < 1e-7,
-                        "{kind:?} ∂N_{i}/∂ξ_{k} at {xi:?}: {fd} vs {}",
-                        g[i][k]
-                    );
-                }
-            }
-        }
-    }
-}
-
 /// A random polynomial of total degree ≤ `degree` (1 or 2) and its gradient.
-fn polynomial(rng: &mut Rng, degree: usize) -> impl Fn(Xi) -> (f64, [f64; 3]) {
+fn polynomial(rng: &mut Rng, degree: usize) -> impl Fn(Xi3) -> (f64, [f64; 3]) {
     let c: [f64; 10] = std::array::from_fn(|_| rng.symmetric());
     let q = if degree >= 2 { 1.0 } else { 0.0 };
-    move |[x, y, z]: Xi| {
+    move |[x, y, z]: Xi3| {
         let v = c[0]
             + c[1] * x
             + c[2] * y
@@ -129,7 +54,7 @@ fn polynomial(rng: &mut Rng, degree: usize) -> impl Fn(Xi) -> (f64, [f64; 3]) {
 #[test]
 fn quadratic_fields_are_reproduced() {
     let mut rng = Rng(7);
-    for kind in ElementKind::SECOND_ORDER {
+    for kind in CellKind::SECOND_ORDER {
         for degree in [1, 2] {
             let p = polynomial(&mut rng, degree);
             let values: Vec<f64> = kind.reference_nodes().iter().map(|&x| p(x).0).collect();
@@ -153,17 +78,17 @@ fn quadratic_fields_are_reproduced() {
 #[test]
 fn traces_on_faces_depend_on_face_nodes_only() {
     let mut rng = Rng(11);
-    for kind in ElementKind::SECOND_ORDER {
+    for kind in CellKind::SECOND_ORDER {
         let nodes = kind.reference_nodes();
         let probe = kind.cell(&(0..kind.n_nodes()).collect::<Vec<_>>()).unwrap();
         for face in probe.faces() {
             let on: Vec<usize> = face.nodes().to_vec();
-            let corners: Vec<Xi> = face.corner_nodes().iter().map(|&c| nodes[c]).collect();
+            let corners: Vec<Xi3> = face.corner_nodes().iter().map(|&c| nodes[c]).collect();
             for _ in 0..5 {
                 // A random convex combination of the face's corners.
                 let w: Vec<f64> = corners.iter().map(|_| 0.5 * (rng.symmetric() + 1.0) + 0.05).collect();
                 let s: f64 = w.iter().sum();
-                let xi: Xi =
+                let xi: Xi3 =
                     std::array::from_fn(|k| corners.iter().zip(&w).map(|(c, w)| c[k] * w).sum::<f64>() / s);
                 let n = kind.shape(xi);
                 for i in (0..kind.n_nodes()).filter(|i| !on.contains(i)) {
@@ -178,8 +103,8 @@ fn traces_on_faces_depend_on_face_nodes_only() {
 /// each kind, has exactly the six rigid-body zero eigenvalues.
 #[test]
 fn element_stiffness_has_exactly_six_zero_modes() {
-    let mut cells: Vec<(ElementKind, Vec<Point3>)> =
-        ElementKind::SECOND_ORDER.iter().map(|&k| (k, k.reference_nodes().to_vec())).collect();
+    let mut cells: Vec<(CellKind, Vec<Point3>)> =
+        CellKind::SECOND_ORDER.iter().map(|&k| (k, k.reference_nodes().to_vec())).collect();
     // And a distorted cell of each kind, touching a moved interior point.
     for (kind, mesh, grid) in patch_meshes() {
         let inner = grid.point(1, 1, 1);
@@ -243,22 +168,22 @@ fn raise_order_shares_nodes_and_keeps_the_geometry() {
     // V − E + F − C = 1 with C = 48 tets, F = (4·48 + boundary 48) / 2 = 120.
     assert_eq!(tets.points().len(), 27 + (27 + 120 - 48 - 1));
     assert!(matches!(raise_order(&tets, true), Err(RaiseError::SecondOrder { cell: 0 })));
-    assert_eq!(node_supports(ElementKind::Hex27)[26], (0..8).collect::<Vec<_>>());
+    assert_eq!(node_supports(CellKind::Hex27)[26], (0..8).collect::<Vec<_>>());
 }
 
 /// The second-order meshes of the patch tests: distorted 3³ blocks raised,
 /// (kind, mesh, grid) for all seven second-order kinds.
-fn patch_meshes() -> Vec<(ElementKind, VolumeMesh, Grid)> {
+fn patch_meshes() -> Vec<(CellKind, VolumeMesh, Grid)> {
     let mut out = Vec::new();
     for kind in KINDS {
         let (mesh, grid) = distorted(kind, 3, 0.25);
         for complete in if kind == BlockKind::Tet { vec![false] } else { vec![false, true] } {
             let high = raise_order(&mesh, complete).unwrap();
-            out.push((ElementKind::of(&high.cells()[0]), high, grid));
+            out.push((CellKind::of(&high.cells()[0]), high, grid));
         }
     }
-    let kinds: Vec<ElementKind> = out.iter().map(|m| m.0).collect();
-    for k in ElementKind::SECOND_ORDER {
+    let kinds: Vec<CellKind> = out.iter().map(|m| m.0).collect();
+    for k in CellKind::SECOND_ORDER {
         assert!(kinds.contains(&k), "{k:?} has a patch mesh");
     }
     out
@@ -317,7 +242,7 @@ fn displacement_patch_test_on_curved_hexes_and_prisms() {
     for kind in [BlockKind::Hex, BlockKind::Prism] {
         for complete in [false, true] {
             let mesh = curved_block(3, kind, complete);
-            let label = format!("curved {:?}", ElementKind::of(&mesh.cells()[0]));
+            let label = format!("curved {:?}", CellKind::of(&mesh.cells()[0]));
             displacement_patch(&mesh, &label);
         }
     }

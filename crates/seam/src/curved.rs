@@ -17,9 +17,6 @@ use crate::clip::Frame;
 use crate::element::{cross, dot, norm, sub};
 use crate::mesh::{Point3, SurfaceMesh};
 
-/// The face kinds, by their former name here.
-pub type CurvedKind = FaceKind;
-
 /// How many of the monomials of [`MonomialMap`] the map of a face with
 /// `n_nodes` nodes uses ([`crate::FaceType::n_monomials`]; they come in the
 /// order 1, s, t, s², st, t², s²t, st², s²t²): Tri3 the first 3, Quad4 5 (no

@@ -84,11 +84,6 @@ fn grid_parameters(nu: usize, nv: usize, jitter: Option<(f64, u64)>) -> Vec<[f64
     uv
 }
 
-/// The face kinds of [`quadratic_patch`]: two Tri6 per cell, the diagonal
-/// alternating like a chequerboard; one Quad8 per cell (the cell centres are
-/// points no face uses); or one Quad9 per cell.
-pub type Quadratic = FaceKind;
-
 /// A patch of `nu × nv` cells of second-order faces on the map `x`: every
 /// node, mid-edge and centre ones included, is a point of the surface, at the
 /// parameter midpoint of its edge or cell (so faces are curved where the map
@@ -103,7 +98,7 @@ pub type Quadratic = FaceKind;
 pub fn quadratic_patch(
     nu: usize,
     nv: usize,
-    kind: Quadratic,
+    kind: FaceKind,
     jitter: Option<(f64, u64)>,
     x: impl Fn(f64, f64) -> Point3,
 ) -> SurfaceMesh {

@@ -5,13 +5,13 @@
 
 use seam::{assemble, MaxGap, Mortar, MortarOptions, Multiplier, Point3, SurfaceMesh};
 
-use seam::generate::Quadratic as Kind;
+use seam::FaceKind;
 
-const KINDS: [Kind; 3] = [Kind::Tri6, Kind::Quad8, Kind::Quad9];
+const KINDS: [FaceKind; 3] = [FaceKind::Tri6, FaceKind::Quad8, FaceKind::Quad9];
 
 /// A structured second-order mesh of `n`×`n` cells of the parameter square
 /// [a, b]² on `map`.
-fn patch(kind: Kind, n: usize, (a, b): (f64, f64), map: impl Fn(f64, f64) -> Point3) -> SurfaceMesh {
+fn patch(kind: FaceKind, n: usize, (a, b): (f64, f64), map: impl Fn(f64, f64) -> Point3) -> SurfaceMesh {
     seam::generate::quadratic_patch(n, n, kind, None, |u, v| map(a + (b - a) * u, a + (b - a) * v))
 }
 
@@ -82,7 +82,7 @@ fn rows_agree_and_the_covered_area_is_the_true_curved_area() {
     // Slave: a cylinder patch of radius 2 over [0,1]² (area 2 exactly);
     // master: a coarser, larger patch of radius 2.0005 (fully covering).
     for ks in KINDS {
-        for km in [Kind::Tri6, Kind::Quad9] {
+        for km in [FaceKind::Tri6, FaceKind::Quad9] {
             let slave = patch(ks, 4, (0.0, 1.0), cylinder(2.0));
             let master = patch(km, 3, (-0.1, 1.1), cylinder(2.0005));
             for multiplier in [Multiplier::Standard, Multiplier::Dual] {
@@ -172,7 +172,7 @@ fn flat_interfaces_reproduce_quadratic_fields_on_affine_faces_and_linear_ones_on
 type Surface = dyn Fn(f64) -> Box<dyn Fn(f64, f64) -> Point3>;
 
 /// I9 for one surface and one (slave, master) kind pair.
-fn i9_rate(surface: &Surface, ks: Kind, km: Kind, multiplier: Multiplier) -> f64 {
+fn i9_rate(surface: &Surface, ks: FaceKind, km: FaceKind, multiplier: Multiplier) -> f64 {
     let levels = [3usize, 6, 12, 24];
     let mut h = Vec::new();
     let mut e = Vec::new();
@@ -200,11 +200,11 @@ fn i9_transfer_error_falls_like_h_cubed_on_curved_interfaces() {
     let surfaces: [(&str, &Surface); 2] = [("cylinder", &cyl), ("sphere", &sph)];
     for (name, surface) in surfaces {
         for (ks, km) in [
-            (Kind::Quad9, Kind::Tri6),
-            (Kind::Quad8, Kind::Tri6),
-            (Kind::Tri6, Kind::Tri6),
-            (Kind::Tri6, Kind::Quad9),
-            (Kind::Tri6, Kind::Quad8),
+            (FaceKind::Quad9, FaceKind::Tri6),
+            (FaceKind::Quad8, FaceKind::Tri6),
+            (FaceKind::Tri6, FaceKind::Tri6),
+            (FaceKind::Tri6, FaceKind::Quad9),
+            (FaceKind::Tri6, FaceKind::Quad8),
         ] {
             for multiplier in [Multiplier::Standard, Multiplier::Dual] {
                 let rate = i9_rate(surface, ks, km, multiplier);
@@ -223,12 +223,13 @@ fn i9_transfer_error_falls_like_h_cubed_on_curved_interfaces() {
 #[test]
 fn d_is_exact_on_distorted_flat_second_order_quads() {
     let rule = seam::triangle_rule(20).unwrap();
-    for ks in [Kind::Quad9, Kind::Quad8] {
+    for ks in [FaceKind::Quad9, FaceKind::Quad8] {
         for amplitude in [0.05, 0.3] {
             let slave = seam::generate::quadratic_patch(6, 6, ks, Some((amplitude, 7)), |u, v| [u, v, 0.0]);
-            let master = seam::generate::quadratic_patch(7, 7, Kind::Tri6, Some((amplitude, 3)), |u, v| {
-                [-0.05 + 1.1 * u, -0.05 + 1.1 * v, 0.0]
-            });
+            let master =
+                seam::generate::quadratic_patch(7, 7, FaceKind::Tri6, Some((amplitude, 3)), |u, v| {
+                    [-0.05 + 1.1 * u, -0.05 + 1.1 * v, 0.0]
+                });
             let mortar = assemble(&master, &slave, &options(Multiplier::Standard)).unwrap();
             let n = slave.n_points();
             let mut exact = vec![0.0; n * n];
@@ -267,7 +268,7 @@ fn d_is_exact_on_distorted_flat_second_order_quads() {
 fn partly_covered_curved_faces_end_where_the_master_ends() {
     // θ = 0.2 + u, φ = v − 0.5 over u, v ∈ [0.23, 0.71]: R² Δθ (sin φ₂ − sin φ₁).
     let exact = 0.48 * ((0.21f64).sin() + (0.27f64).sin());
-    for (ks, km) in [(Kind::Quad9, Kind::Tri6), (Kind::Tri6, Kind::Quad9)] {
+    for (ks, km) in [(FaceKind::Quad9, FaceKind::Tri6), (FaceKind::Tri6, FaceKind::Quad9)] {
         let mut h = Vec::new();
         let mut e = Vec::new();
         for n in [4usize, 8, 16] {
@@ -290,12 +291,12 @@ fn partly_covered_curved_faces_end_where_the_master_ends() {
 fn dual_d_is_diagonal_and_positive_and_lumped_is_refused_where_its_diagonal_is_not() {
     for ks in KINDS {
         let slave = patch(ks, 3, (0.0, 1.0), sphere(1.5));
-        let master = patch(Kind::Tri6, 4, (-0.1, 1.1), sphere(1.5001));
+        let master = patch(FaceKind::Tri6, 4, (-0.1, 1.1), sphere(1.5001));
         let dual = assemble(&master, &slave, &options(Multiplier::Dual)).unwrap();
         assert!(dual.d.is_diagonal(), "{ks:?}");
         // Tri6 and Quad8 need the basis transformation; Quad9 keeps the plain
         // dual basis (its ∫λ_p are positive).
-        let transformed = matches!(ks, Kind::Tri6 | Kind::Quad8);
+        let transformed = matches!(ks, FaceKind::Tri6 | FaceKind::Quad8);
         assert_eq!(dual.basis.is_some(), transformed, "{ks:?}: transformed basis");
         let used = slave.used_points();
         for (p, &v) in dual.d.diagonal().iter().enumerate() {
@@ -313,7 +314,7 @@ fn dual_d_is_diagonal_and_positive_and_lumped_is_refused_where_its_diagonal_is_n
         let lumped = assemble(&master, &slave, &options(Multiplier::Lumped));
         match ks {
             // ∫λ of a Tri6 corner is 0 up to curvature, of a Quad8 corner < 0.
-            Kind::Tri6 | Kind::Quad8 => {
+            FaceKind::Tri6 | FaceKind::Quad8 => {
                 let e = lumped.unwrap_err();
                 assert!(matches!(e, seam::MortarError::LumpedSecondOrder { face: 0, .. }), "{ks:?}: {e}");
                 assert!(e.to_string().contains("use dual multipliers"), "{e}");
@@ -333,9 +334,9 @@ fn nodal_d_of_the_transformed_dual_basis_constrains_nodal_values() {
     // (a linear field on a flat interface), and D_nodal 1 = D 1 (I1).
     let flat = |u: f64, v: f64| -> Point3 { [u, v + 0.1 * u * u, 0.0] };
     let linear = |x: Point3| 0.5 + x[0] - 2.0 * x[1];
-    for ks in [Kind::Tri6, Kind::Quad8] {
+    for ks in [FaceKind::Tri6, FaceKind::Quad8] {
         let slave = patch(ks, 3, (0.1, 0.9), flat);
-        let master = patch(Kind::Quad9, 4, (0.0, 1.0), flat);
+        let master = patch(FaceKind::Quad9, 4, (0.0, 1.0), flat);
         let mortar = assemble(&master, &slave, &options(Multiplier::Dual)).unwrap();
         let nodal = mortar.nodal_d();
         let us: Vec<f64> = slave.points().iter().map(|&x| linear(x)).collect();
@@ -354,9 +355,9 @@ fn nodal_d_of_the_transformed_dual_basis_constrains_nodal_values() {
 /// jittered, non-matching Tri6 master with a gap.
 #[test]
 fn curved_operators_conserve_and_do_not_depend_on_the_thread_count() {
-    for (ks, n) in [(Kind::Quad9, 24), (Kind::Tri6, 17)] {
+    for (ks, n) in [(FaceKind::Quad9, 24), (FaceKind::Tri6, 17)] {
         let slave = patch(ks, n, (0.0, 1.0), cylinder(2.0));
-        let master = seam::generate::quadratic_patch(19, 19, Kind::Tri6, Some((0.2, 5)), |u, v| {
+        let master = seam::generate::quadratic_patch(19, 19, FaceKind::Tri6, Some((0.2, 5)), |u, v| {
             cylinder(2.0 + 1e-4)(-0.1 + 1.2 * u, -0.1 + 1.2 * v)
         });
         assert!(slave.n_faces() > 512, "{}", slave.n_faces());

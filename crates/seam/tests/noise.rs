@@ -22,7 +22,8 @@
 
 use num_rational::BigRational;
 use num_traits::{Signed, ToPrimitive, Zero};
-use seam::curved::{shape_and_gradients, CurvedFace, CurvedKind};
+use seam::curved::{shape_and_gradients, CurvedFace};
+use seam::FaceKind;
 use seam::{
     assemble, clip_polygon_polygon, face_polygon, polygon_area, triangle_rule, Face, Mortar, MortarOptions,
     Multiplier, Point2, Point3, Polygon, SurfaceMesh,
@@ -362,7 +363,7 @@ fn nodal_and_support_areas(slave: &SurfaceMesh) -> (Vec<f64>, Vec<f64>) {
     let rule = triangle_rule(20).expect("tabulated");
     let (mut nodal, mut support) = (vec![0.0; slave.n_points()], vec![0.0; slave.n_points()]);
     for (f, face) in slave.faces().iter().enumerate() {
-        let kind = CurvedKind::of(face);
+        let kind = FaceKind::of(face);
         let curved = CurvedFace::of(slave, f);
         let cell: &[[[f64; 2]; 3]] = if kind.is_triangle() {
             &[[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]]

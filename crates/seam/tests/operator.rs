@@ -633,7 +633,8 @@ fn covered_area_of_partly_covered_general_quads() {
 /// projection's stretch, O(gap × curvature).
 #[test]
 fn master_side_agrees_with_the_operator_of_the_other_side() {
-    use seam::generate::{quadratic_patch, Quadratic};
+    use seam::generate::quadratic_patch;
+    use seam::FaceKind;
     let lifted = |a: f64, z: f64| move |u: f64, v: f64| [a * u, v, z];
     let scenes = [
         // (target, source, gap, tolerance on the coverage, a fraction)
@@ -644,8 +645,8 @@ fn master_side_agrees_with_the_operator_of_the_other_side() {
             EXACT,
         ),
         (
-            quadratic_patch(5, 5, Quadratic::Tri6, None, flat(1.0, 1.0)),
-            quadratic_patch(4, 6, Quadratic::Quad9, None, lifted(0.6, -0.02)),
+            quadratic_patch(5, 5, FaceKind::Tri6, None, flat(1.0, 1.0)),
+            quadratic_patch(4, 6, FaceKind::Quad9, None, lifted(0.6, -0.02)),
             -0.02,
             EXACT,
         ),

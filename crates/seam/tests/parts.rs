@@ -2,9 +2,9 @@
 //! as bytes, assembled part by part and put back together, it is the whole
 //! assembly's B, D and totals bit for bit, for any number of parts.
 
-use seam::generate::{cylinder, flat, hyperbolic_paraboloid, patch, quadratic_patch, Pattern, Quadratic};
+use seam::generate::{cylinder, flat, hyperbolic_paraboloid, patch, quadratic_patch, Pattern};
 use seam::parts::{assemble_here, assemble_parts, bisect, split, PartBlocks, PartJob};
-use seam::{assemble, CsrMatrix, FaceTree, MaxGap, Mortar, MortarOptions, Multiplier, SurfaceMesh};
+use seam::{assemble, CsrMatrix, FaceKind, FaceTree, MaxGap, Mortar, MortarOptions, Multiplier, SurfaceMesh};
 
 fn same_bits(a: &CsrMatrix, b: &CsrMatrix, what: &str) {
     assert_eq!((a.nrows, a.ncols), (b.nrows, b.ncols), "{what}: shape");
@@ -94,8 +94,8 @@ fn partly_overlapping_surfaces_in_parts_are_the_whole() {
 #[test]
 fn second_order_surfaces_in_parts_are_the_whole() {
     let surface = cylinder(1.0, 1.2, 1.0);
-    let slave = quadratic_patch(5, 4, Quadratic::Tri6, None, &surface);
-    let master = quadratic_patch(4, 4, Quadratic::Quad9, Some((0.2, 3)), cylinder(1.0, 1.2, 1.0));
+    let slave = quadratic_patch(5, 4, FaceKind::Tri6, None, &surface);
+    let master = quadratic_patch(4, 4, FaceKind::Quad9, Some((0.2, 3)), cylinder(1.0, 1.2, 1.0));
     // Dual multipliers on Tri6: the basis transformation, decided for the whole surface.
     check("second order", &master, &slave, &options(Multiplier::Dual));
     check("second order, reversed", &slave, &master, &options(Multiplier::Standard));

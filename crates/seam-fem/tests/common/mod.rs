@@ -4,7 +4,7 @@
 use seam::{nodal_normals, Cell, Face, Facing, MortarOptions, Multiplier, Point3, SurfaceMesh, VolumeMesh};
 use seam_fem::assembly::{geometry, map_point};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
-use seam_fem::{recover_stresses, traction, Dirichlet, ElementKind, Material};
+use seam_fem::{recover_stresses, traction, CellKind, Dirichlet, Material};
 use seam_fem::{solve_coupled, Body, Coupling, Interface, Solution, SolveOptions, Solver};
 
 /// A smooth, non-affine map of the unit cube (positive Jacobian).
@@ -223,7 +223,7 @@ pub fn error_sums(
     gradient: impl Fn(Point3) -> [[f64; 3]; 3],
 ) -> ErrorSums {
     let (l, mu) = m.lame();
-    let rules = ElementKind::ALL.map(|k| k.rule(5));
+    let rules = CellKind::ALL.map(|k| k.rule(5));
     let mut s = ErrorSums::default();
     let energy = |g: &[[f64; 3]; 3]| {
         let eps: [[f64; 3]; 3] = std::array::from_fn(|a| std::array::from_fn(|k| 0.5 * (g[a][k] + g[k][a])));
@@ -233,7 +233,7 @@ pub fn error_sums(
         l * tr * tr + 2.0 * mu * dd
     };
     for cell in mesh.cells() {
-        let kind = ElementKind::of(cell);
+        let kind = CellKind::of(cell);
         let x: Vec<Point3> = cell.nodes().iter().map(|&p| mesh.points()[p]).collect();
         let rule = &rules[kind as usize];
         for (xi, w) in rule.iter() {
