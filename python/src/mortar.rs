@@ -6,7 +6,7 @@ use numpy::PyArray1;
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use seam::{Facing, MaxGap, MortarOptions, Multiplier, Transfer};
+use seam::{MaxGap, MortarOptions, Named, Transfer};
 
 use crate::convert::{csr_matrix, finite, nodal_values_from, nodal_values_into, short};
 use crate::error::{detach, mortar_error, Entry};
@@ -29,31 +29,9 @@ fn json_scalar(py: Python<'_>, value: serde_json::Value) -> PyResult<Bound<'_, P
     }
 }
 
-fn multiplier_name(m: Multiplier) -> &'static str {
-    match m {
-        Multiplier::Standard => "standard",
-        Multiplier::Dual => "dual",
-        Multiplier::Lumped => "lumped",
-    }
-}
-
-fn parse_multiplier(name: &str) -> PyResult<Multiplier> {
-    match name {
-        "standard" => Ok(Multiplier::Standard),
-        "dual" => Ok(Multiplier::Dual),
-        "lumped" => Ok(Multiplier::Lumped),
-        _ => Err(PyValueError::new_err(format!(
-            "unknown multiplier {name:?}: expected \"standard\", \"dual\" or \"lumped\""
-        ))),
-    }
-}
-
-fn parse_facing(name: &str) -> PyResult<Facing> {
-    match name {
-        "any" => Ok(Facing::Any),
-        "opposite" => Ok(Facing::Opposite),
-        _ => Err(PyValueError::new_err(format!("unknown facing {name:?}: expected \"any\" or \"opposite\""))),
-    }
+/// The value of a [`Named`] option called `name`; a `ValueError` naming the others.
+pub(crate) fn parse<T: Named>(name: &str) -> PyResult<T> {
+    T::from_name(name).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 /// The coupling options `assemble` and `check` share, checked, and the worker
@@ -74,8 +52,8 @@ impl Coupling {
         warped_quad_degree: Option<usize>,
     ) -> PyResult<Self> {
         let options = MortarOptions {
-            multiplier: parse_multiplier(multiplier)?,
-            facing: parse_facing(facing)?,
+            multiplier: parse(multiplier)?,
+            facing: parse(facing)?,
             max_gap: max_gap.map_or(MaxGap::DEFAULT, MaxGap::Absolute),
             max_angle_degrees: max_angle,
             warped_quad_degree,
@@ -287,7 +265,7 @@ impl PyMortar {
             }
             other => return Err(PyValueError::new_err(format!("cannot convert the summary: {other:?}"))),
         };
-        d.set_item("multiplier", multiplier_name(self.inner.multiplier))?;
+        d.set_item("multiplier", self.inner.multiplier.name())?;
         Ok(d)
     }
 
@@ -323,7 +301,7 @@ impl PyMortar {
     /// "lumped".
     #[getter]
     fn multiplier(&self) -> &'static str {
-        multiplier_name(self.inner.multiplier)
+        self.inner.multiplier.name()
     }
 
     /// (n_slave_points, n_master_points), the shape of B and T.
@@ -337,7 +315,7 @@ impl PyMortar {
         format!(
             "<seam.Mortar: {} multipliers, {} slave × {} master points, B nnz {}, D nnz {}, \
              covered area {} of {}, {} uncovered slave nodes>",
-            multiplier_name(self.inner.multiplier),
+            self.inner.multiplier.name(),
             self.inner.b.nrows,
             self.inner.b.ncols,
             self.inner.b.nnz(),

@@ -81,20 +81,15 @@ impl PySolution {
             items.set_item("slave", &f.slave)?;
             items.set_item("kind", f.kind)?;
             items.set_item("points", rows(py, r.mesh.points().iter().flatten().copied().collect(), 3)?)?;
-            let vectors = |v: &[[f64; 3]]| v.iter().flatten().copied().collect::<Vec<f64>>();
-            items.set_item("traction", rows(py, vectors(&r.traction), 3)?)?;
-            items.set_item("normal_traction", PyArray1::from_slice(py, &r.normal_traction))?;
-            items.set_item("tangential_traction", rows(py, vectors(&r.tangential_traction), 3)?)?;
-            items.set_item("normal", rows(py, vectors(&r.normal), 3)?)?;
-            items.set_item("displacement", rows(py, vectors(&r.displacement), 3)?)?;
-            items.set_item("constrained", PyArray1::from_slice(py, &r.constrained))?;
-            let body_point: Vec<i64> = r.body_point.iter().map(|&p| p as i64).collect();
-            items.set_item("body_point", PyArray1::from_vec(py, body_point))?;
-            if let Some(c) = &r.contact {
-                items.set_item("contact_pressure", PyArray1::from_slice(py, &c.pressure))?;
-                items.set_item("gap", PyArray1::from_slice(py, &c.gap))?;
-                items.set_item("initial_gap", PyArray1::from_slice(py, &c.initial_gap))?;
-                items.set_item("active", PyArray1::from_slice(py, &c.active))?;
+            for field in &r.fields {
+                match (field.name.as_str(), field.components) {
+                    ("body_point", _) => {
+                        let body_point: Vec<i64> = r.body_point.iter().map(|&p| p as i64).collect();
+                        items.set_item("body_point", PyArray1::from_vec(py, body_point))?
+                    }
+                    (name, 1) => items.set_item(name, PyArray1::from_slice(py, &field.values))?,
+                    (name, k) => items.set_item(name, rows(py, field.values.clone(), k)?)?,
+                }
             }
             out.append(namespace(py, &items)?)?;
         }
@@ -189,16 +184,7 @@ pub fn solve(
     rtol: f64,
     petsc_options: Option<&str>,
 ) -> PyResult<PySolution> {
-    let solver = match solver {
-        "direct" => LinearSolver::Direct,
-        "pcg" => LinearSolver::Pcg,
-        "petsc" => LinearSolver::Petsc,
-        other => {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "solver must be \"direct\", \"pcg\" or \"petsc\", got {other:?}"
-            )))
-        }
-    };
+    let solver: LinearSolver = crate::mortar::parse(solver)?;
     match (solver, petsc_options) {
         (LinearSolver::Petsc, options) => {
             guard(Entry::Solve, || seam_case::solve::initialize_petsc(options.unwrap_or("")))?

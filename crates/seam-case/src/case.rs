@@ -53,6 +53,7 @@
 //! orientation is allowed, so a refused case always has a valid one: swap
 //! master and slave of an interface of the cycle.
 
+use seam::Multiplier;
 use serde::Deserialize;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
@@ -161,18 +162,6 @@ pub enum InterfaceKind {
     Contact,
 }
 
-/// The multiplier basis of an interface.
-#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-pub enum CaseMultiplier {
-    /// ψ_p = λ_p.
-    Standard,
-    /// Biorthogonal: D diagonal.
-    Dual,
-    /// D replaced by its row sums.
-    Lumped,
-}
-
 /// An `[[interface]]` table.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -185,7 +174,7 @@ pub struct Interface {
     pub kind: InterfaceKind,
     /// As written; [`Interface::multiplier`] applies the default of the kind.
     #[serde(rename = "multiplier")]
-    pub multiplier_given: Option<CaseMultiplier>,
+    pub multiplier_given: Option<Multiplier>,
     /// Largest normal distance between paired points (default: half a slave face).
     pub max_gap: Option<f64>,
 }
@@ -265,14 +254,17 @@ impl Interface {
         format!("interface {} ({} → {})", index + 1, self.slave, self.master)
     }
 
-    /// The multiplier: as written, else "standard" for glue and "lumped" for
-    /// contact. Solving applies one more default that needs the meshes
-    /// (`seam_case::solve`): contact on a slave surface with second-order
-    /// faces takes "dual" unless one is written.
-    pub fn multiplier(&self) -> CaseMultiplier {
+    /// The multiplier, the one place its default is decided: as written,
+    /// else "standard" for glue and "lumped" for contact, except that contact
+    /// on a slave surface with second-order faces takes "dual" (with Popp et
+    /// al.'s basis transformation D is diagonal and positive there, while
+    /// lumping is refused on Tri6 and Quad8 faces). A written "lumped" stays
+    /// as written.
+    pub fn multiplier(&self, second_order_slave: bool) -> Multiplier {
         self.multiplier_given.unwrap_or(match self.kind {
-            InterfaceKind::Glue => CaseMultiplier::Standard,
-            InterfaceKind::Contact => CaseMultiplier::Lumped,
+            InterfaceKind::Glue => Multiplier::Standard,
+            InterfaceKind::Contact if second_order_slave => Multiplier::Dual,
+            InterfaceKind::Contact => Multiplier::Lumped,
         })
     }
 }
@@ -433,7 +425,7 @@ impl Case {
                     self.interfaces[j].describe(j)
                 ));
             }
-            if f.kind == InterfaceKind::Contact && f.multiplier() == CaseMultiplier::Standard {
+            if f.kind == InterfaceKind::Contact && f.multiplier_given == Some(Multiplier::Standard) {
                 return fail(format!(
                     "{}: contact needs multiplier \"lumped\" (the default) or \"dual\"",
                     f.describe(i)
@@ -710,7 +702,7 @@ dir = "out"
         let tmp = tempfile::tempdir().unwrap();
         let c = case(tmp.path(), GOOD).unwrap();
         assert_eq!(c.bodies.len(), 2);
-        assert_eq!(c.interfaces[0].multiplier(), CaseMultiplier::Dual);
+        assert_eq!(c.interfaces[0].multiplier(false), Multiplier::Dual);
         assert!(!c.is_contact());
         assert_eq!(c.contact.max_iterations, 50);
         assert_eq!(c.dirichlet[0].components(), vec![(0, 0.0), (1, 0.0), (2, 0.0)]);
@@ -849,10 +841,10 @@ dir = "out"
         // The upper body has no Dirichlet condition: it is held through the contact.
         let c = case(tmp.path(), &text).unwrap();
         assert!(c.is_contact());
-        assert_eq!(c.interfaces[0].multiplier(), CaseMultiplier::Lumped);
+        assert_eq!(c.interfaces[0].multiplier(false), Multiplier::Lumped);
         assert_eq!(c.contact.max_iterations, 7);
         // Glue keeps its default.
         let c = case(tmp.path(), &GOOD.replace("multiplier = \"dual\"\n", "")).unwrap();
-        assert_eq!(c.interfaces[0].multiplier(), CaseMultiplier::Standard);
+        assert_eq!(c.interfaces[0].multiplier(false), Multiplier::Standard);
     }
 }

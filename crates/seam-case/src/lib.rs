@@ -41,8 +41,7 @@ pub mod transfer;
 pub mod write;
 
 pub use case::{
-    Body, Case, CaseError, CaseMultiplier, ContactSettings, Dirichlet, Interface, InterfaceKind, Output,
-    SurfaceRef, Traction,
+    Body, Case, CaseError, ContactSettings, Dirichlet, Interface, InterfaceKind, Output, SurfaceRef, Traction,
 };
 pub use check::{check, Check, CheckError, CheckReport, GapBin, Invariant, Quality};
 pub use expression::{Expression, ExpressionError};

@@ -115,11 +115,11 @@ pub fn report(s: &Solved) -> Vec<String> {
         "results    max |u| {:.4e} (in {}), max von Mises {:.4e}",
         body.max_displacement, s.problem.bodies[b].name, vm
     ));
-    let t = &m.seconds;
+    let (t, p) = (&m.seconds, &m.seconds.solver);
     lines.push(format!(
         "seconds    read {:.2}, assembly {:.2}, mortar {:.2}, setup {:.2}, factorization {:.2}, solve {:.2}, \
          stresses {:.2}, output {:.2}, total {:.2} on {} threads",
-        t.read, t.assembly, t.mortar, t.setup, t.factorization, t.solve, t.stresses, t.output, t.total, m.threads
+        t.read, p.assembly, p.mortar, p.setup, p.factorization, p.solve, p.stresses, t.output, t.total, m.threads
     ));
     let mut files: Vec<String> = m.bodies.iter().map(|b| b.file.clone()).collect();
     files.extend(m.interfaces.iter().map(|f| f.file.clone()));

@@ -41,10 +41,10 @@
 
 use crate::output::Staged;
 use crate::Failure;
-use crate::{Case, CaseMultiplier, InterfaceKind, SurfaceRef};
+use crate::{Case, InterfaceKind, SurfaceRef};
 use anyhow::{anyhow, Context};
 use rayon::prelude::*;
-use seam::{Face, Facing, MaxGap, MortarOptions, MortarSummary, Multiplier, Point3, SurfaceMesh};
+use seam::{Face, Facing, MaxGap, MortarOptions, MortarSummary, Multiplier, Named, Point3, SurfaceMesh};
 use seam_fem::pcg::PcgOptions;
 pub use seam_fem::petsc::initialize_petsc;
 use seam_fem::petsc::PetscOptions;
@@ -76,44 +76,28 @@ pub struct Solved {
     pieces: usize,
     /// Per body: the point and cell fields of its VTU file.
     body_files: Vec<(Vec<Field>, Vec<Field>)>,
-    /// Per interface: the point fields of its VTU file.
-    interface_files: Vec<Vec<Field>>,
 }
 
-/// One interface's result on its slave surface, on the surface's own points.
+/// One interface's result on its slave surface, on the surface's own points:
+/// the point fields of its VTU file (docs/cli.md names them).
 pub struct InterfaceResult {
     /// The slave surface, compacted to the points its faces use.
     pub mesh: SurfaceMesh,
     /// Index of each compacted point in the slave body's mesh.
     pub body_point: Vec<usize>,
-    /// Per point: traction exerted by the master on the slave (−λ; for
-    /// contact −λ n).
-    pub traction: Vec<[f64; 3]>,
-    /// Per point: the slave's outward unit normal (for contact, at a contact
-    /// point, the normal of its constraint).
-    pub normal: Vec<Point3>,
-    /// Per point: t·n.
-    pub normal_traction: Vec<f64>,
-    /// Per point: t − (t·n) n.
-    pub tangential_traction: Vec<[f64; 3]>,
-    /// Per point: the slave body's displacement.
-    pub displacement: Vec<[f64; 3]>,
-    /// Per point: 1 when this interface constrains it (is a contact point), else 0.
-    pub constrained: Vec<f64>,
-    /// The contact fields of a contact interface.
-    pub contact: Option<ContactFields>,
+    /// The point fields, in the file's order: `traction`, for contact
+    /// `contact_pressure`, `gap`, `initial_gap` (NaN off the contact points)
+    /// and `active`, then `normal_traction`, `tangential_traction`, `normal`,
+    /// `displacement`, `constrained` and `body_point`.
+    pub fields: Vec<Field>,
 }
 
-/// A contact interface's fields, per point of [`InterfaceResult::mesh`].
-pub struct ContactFields {
-    /// The contact pressure λ ≥ 0.
-    pub pressure: Vec<f64>,
-    /// The gap after deformation (NaN off the contact points).
-    pub gap: Vec<f64>,
-    /// The initial gap (NaN off the contact points).
-    pub initial_gap: Vec<f64>,
-    /// 1 in the final active set, else 0.
-    pub active: Vec<f64>,
+impl InterfaceResult {
+    /// The values of the point field `name` (`components` per point), if the
+    /// interface has it.
+    pub fn field(&self, name: &str) -> Option<&[f64]> {
+        self.fields.iter().find(|f| f.name == name).map(|f| &f.values[..])
+    }
 }
 
 /// `summary.json`. For a case with contact `constraints` counts the glued
@@ -337,23 +321,16 @@ pub struct InterfaceSummary {
     pub mortar: MortarSummary,
 }
 
-/// The `seconds` object of `summary.json`: wall-clock seconds per phase.
+/// The `seconds` object of `summary.json`: wall-clock seconds per phase,
+/// the solver's ([`seam_fem::Timings`]) between reading and output.
 #[derive(Serialize, Default, Clone, Copy)]
 pub struct Seconds {
     /// Reading the meshes.
     pub read: f64,
-    /// Assembling the stiffness matrices.
-    pub assembly: f64,
-    /// Assembling the mortar operators.
-    pub mortar: f64,
-    /// Setting up the system.
-    pub setup: f64,
-    /// Factorizing.
-    pub factorization: f64,
-    /// Solving.
-    pub solve: f64,
-    /// Recovering stresses and interface results.
-    pub stresses: f64,
+    /// Assembly, mortar operators, setup, factorization, solve; `stresses`
+    /// includes the interface results.
+    #[serde(flatten)]
+    pub solver: seam_fem::Timings,
     /// Preparing and writing the output files.
     pub output: f64,
     /// The whole run.
@@ -362,28 +339,27 @@ pub struct Seconds {
 
 /// The linear solver of the glued system, or of each active-set step of contact.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum LinearSolver {
-    /// A sparse direct factorization.
+    /// Sparse direct: Cholesky of the reduced system (dual, lumped
+    /// multipliers) or LDLᵀ of the saddle-point system (standard, or when the
+    /// elimination would fill in).
     #[default]
     Direct,
-    /// Preconditioned conjugate gradients ([`SolveOptions::rtol`]).
+    /// Preconditioned conjugate gradients on the reduced system (any
+    /// multiplier, matrix-free, to the relative residual rtol): for large
+    /// problems.
     Pcg,
-    /// A PETSc KSP, by default CG + GAMG ([`SolveOptions::rtol`]; PETSc's
-    /// options from [`seam_fem::petsc::initialize_petsc`] and
-    /// `PETSC_OPTIONS`); needs the cargo feature `petsc`.
+    /// A PETSc KSP: by default CG with algebraic multigrid (GAMG, the
+    /// rigid-body modes as near-nullspace) on the reduced system (dual and
+    /// lumped multipliers) and each active-set step of contact, FGMRES with a
+    /// Schur-complement field split on saddle points (standard multipliers);
+    /// any PETSc option via PETSC_OPTIONS or --petsc-options (Python:
+    /// petsc_options). Needs a build with the cargo feature `petsc`.
     Petsc,
 }
 
-impl LinearSolver {
-    /// The name written to summary.json: "direct", "pcg" or "petsc".
-    pub fn name(self) -> &'static str {
-        match self {
-            LinearSolver::Direct => "direct",
-            LinearSolver::Pcg => "pcg",
-            LinearSolver::Petsc => "petsc",
-        }
-    }
-}
+seam::named!(LinearSolver, "solver", { Direct => "direct", Pcg => "pcg", Petsc => "petsc" });
 
 /// How a case is solved.
 #[derive(Clone, Copy, Debug)]
@@ -554,14 +530,12 @@ fn run_problem(
     let fem_options = seam_fem::SolveOptions { solver, max_active_set_steps: case.contact.max_iterations };
     let solution =
         seam_fem::solve(&problem, &fem_options).map_err(|e| problem_failure(e, &case, case_path))?;
-    let t = solution.report.seconds;
-    (seconds.assembly, seconds.mortar, seconds.setup, seconds.factorization, seconds.solve) =
-        (t.assembly, t.mortar, t.setup, t.factorization, t.solve);
+    seconds.solver = solution.report.seconds;
 
     let clock = Instant::now();
     let interfaces: Vec<InterfaceResult> =
         (0..case.interfaces.len()).map(|i| interface_result(&problem, &solution, i)).collect();
-    seconds.stresses = t.stresses + clock.elapsed().as_secs_f64();
+    seconds.solver.stresses += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
     let mut body_files = Vec::with_capacity(problem.bodies.len());
@@ -572,15 +546,12 @@ fn run_problem(
         check_results(&cell, &what, "cell")?;
         body_files.push((point, cell));
     }
-    let mut interface_files = Vec::with_capacity(interfaces.len());
     for (i, r) in interfaces.iter().enumerate() {
-        let fields = interface_fields(r);
         check_results(
-            &fields,
+            &r.fields,
             &format!("{}: {}", case_path.display(), case.interfaces[i].describe(i)),
             "point",
         )?;
-        interface_files.push(fields);
     }
     seconds.output = clock.elapsed().as_secs_f64();
     let out_dir = case.resolve(&case.output.dir);
@@ -598,7 +569,6 @@ fn run_problem(
         case_path: case_path.to_path_buf(),
         pieces: options.pieces,
         body_files,
-        interface_files,
     })
 }
 
@@ -652,9 +622,9 @@ impl Solved {
                 seam_io::write_pvtu_file(p, &sources, point, cell).map_err(std::io::Error::other)
             })?;
         }
-        for ((r, fields), path) in self.interfaces.iter().zip(&self.interface_files).zip(&names.interfaces) {
+        for (r, path) in self.interfaces.iter().zip(&names.interfaces) {
             out.write(path, |p| {
-                seam_io::write_vtu_file(p, &r.mesh, fields, &[]).map_err(std::io::Error::other)
+                seam_io::write_vtu_file(p, &r.mesh, &r.fields, &[]).map_err(std::io::Error::other)
             })?;
         }
         let mut summary = self.summary.clone();
@@ -852,25 +822,9 @@ fn build_problem(case: &Case) -> anyhow::Result<Problem> {
     Ok(problem)
 }
 
-/// The interface's multiplier ([`crate::case::Interface::multiplier`]), except
-/// that contact without a written multiplier on a slave surface with
-/// second-order faces takes dual multipliers (with Popp et al.'s basis
-/// transformation D is diagonal and positive there, while lumping is refused
-/// on Tri6 and Quad8 faces). A written "lumped" stays as written.
+/// The interface's multiplier ([`crate::case::Interface::multiplier`]) on its slave surface.
 fn effective_multiplier(f: &crate::case::Interface, slave: &SurfaceMesh) -> Multiplier {
-    let second_order = slave.faces().iter().any(|face| face.is_curved());
-    match f.multiplier_given {
-        None if f.kind == InterfaceKind::Contact && second_order => Multiplier::Dual,
-        _ => multiplier(f.multiplier()),
-    }
-}
-
-fn multiplier(m: CaseMultiplier) -> Multiplier {
-    match m {
-        CaseMultiplier::Standard => Multiplier::Standard,
-        CaseMultiplier::Dual => Multiplier::Dual,
-        CaseMultiplier::Lumped => Multiplier::Lumped,
-    }
+    f.multiplier(slave.faces().iter().any(|face| face.is_curved()))
 }
 
 /// A solver error in the case's terms: bodies and interfaces by name. An
@@ -971,7 +925,8 @@ fn own_points(surface: &SurfaceMesh) -> (SurfaceMesh, Vec<usize>) {
     (mesh, body_point)
 }
 
-/// Interface `i`'s results on its slave surface's own points.
+/// Interface `i`'s results on its slave surface's own points (for contact,
+/// the pressure is the first scalar field: the one ParaView shows first).
 fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> InterfaceResult {
     let f = &problem.interfaces[i];
     let (mesh, body_point) = own_points(problem.surface(f.slave));
@@ -980,28 +935,29 @@ fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> Interfa
     let pick = |v: &[f64]| -> Vec<f64> { body_point.iter().map(|&p| v[p]).collect() };
     let pick3 = |v: &[[f64; 3]]| -> Vec<[f64; 3]> { body_point.iter().map(|&p| v[p]).collect() };
     let one = |v: &[bool]| -> Vec<f64> { body_point.iter().map(|&p| if v[p] { 1.0 } else { 0.0 }).collect() };
-    let contact = s.contact.as_ref().map(|c| {
+    let mut fields = vec![Field::vectors("traction", &pick3(&s.traction))];
+    if let Some(c) = &s.contact {
         let at_contact = |v: &[f64]| -> Vec<f64> {
             body_point.iter().map(|&p| if c.contact[p] { v[p] } else { f64::NAN }).collect()
         };
-        ContactFields {
-            pressure: pick(&c.pressure),
-            gap: at_contact(&c.gap),
-            initial_gap: at_contact(&c.initial_gap),
-            active: one(&c.active),
-        }
-    });
-    InterfaceResult {
-        traction: pick3(&s.traction),
-        normal: pick3(&s.normal),
-        normal_traction: pick(&s.normal_traction),
-        tangential_traction: pick3(&s.tangential_traction),
-        displacement: body_point.iter().map(|&p| [u[3 * p], u[3 * p + 1], u[3 * p + 2]]).collect(),
-        constrained: one(&s.constrained),
-        contact,
-        mesh,
-        body_point,
+        fields.extend([
+            Field::scalars("contact_pressure", pick(&c.pressure)),
+            Field::scalars("gap", at_contact(&c.gap)),
+            Field::scalars("initial_gap", at_contact(&c.initial_gap)),
+            Field::scalars("active", one(&c.active)),
+        ]);
     }
+    let displacement: Vec<[f64; 3]> =
+        body_point.iter().map(|&p| [u[3 * p], u[3 * p + 1], u[3 * p + 2]]).collect();
+    fields.extend([
+        Field::scalars("normal_traction", pick(&s.normal_traction)),
+        Field::vectors("tangential_traction", &pick3(&s.tangential_traction)),
+        Field::vectors("normal", &pick3(&s.normal)),
+        Field::vectors("displacement", &displacement),
+        Field::scalars("constrained", one(&s.constrained)),
+        Field::scalars("body_point", body_point.iter().map(|&p| p as f64).collect()),
+    ]);
+    InterfaceResult { mesh, body_point, fields }
 }
 
 /// Fields whose NaN marks "no value here" (off the contact points), as the
@@ -1039,29 +995,6 @@ fn body_fields(u: &[f64], s: &Stresses) -> (Vec<Field>, Vec<Field>) {
     (point, cell)
 }
 
-/// Point fields of an interface's VTU file (for contact, the pressure is the
-/// first scalar field: the one ParaView shows first).
-fn interface_fields(r: &InterfaceResult) -> Vec<Field> {
-    let mut fields = vec![Field::vectors("traction", &r.traction)];
-    if let Some(c) = &r.contact {
-        fields.extend([
-            Field::scalars("contact_pressure", c.pressure.clone()),
-            Field::scalars("gap", c.gap.clone()),
-            Field::scalars("initial_gap", c.initial_gap.clone()),
-            Field::scalars("active", c.active.clone()),
-        ]);
-    }
-    fields.extend([
-        Field::scalars("normal_traction", r.normal_traction.clone()),
-        Field::vectors("tangential_traction", &r.tangential_traction),
-        Field::vectors("normal", &r.normal),
-        Field::vectors("displacement", &r.displacement),
-        Field::scalars("constrained", r.constrained.clone()),
-        Field::scalars("body_point", r.body_point.iter().map(|&p| p as f64).collect()),
-    ]);
-    fields
-}
-
 fn sum3(v: &[f64]) -> [f64; 3] {
     let mut s = [0.0; 3];
     for (k, x) in v.iter().enumerate() {
@@ -1076,10 +1009,6 @@ fn norm3(v: [f64; 3]) -> f64 {
 
 fn max_norm(u: &[f64]) -> f64 {
     u.chunks_exact(3).map(|c| norm3([c[0], c[1], c[2]])).fold(0.0, f64::max)
-}
-
-fn multiplier_name(m: Multiplier) -> String {
-    format!("{m:?}").to_lowercase()
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -1148,7 +1077,7 @@ fn summary(
                     Coupling::Contact => "contact",
                 },
                 file: file_name(&names.interfaces[i]),
-                multiplier: multiplier_name(f.options.multiplier),
+                multiplier: f.options.multiplier.name().to_string(),
                 constrained_nodes: s.constrained_points(),
                 force: s.force,
                 covered_fraction: mortar.summary.covered_area / mortar.summary.slave_area,
@@ -1275,8 +1204,8 @@ mod tests {
         for (kind, given, surface, expected) in [
             (Contact, None, &tri6, Multiplier::Dual),
             (Contact, None, &tri3, Multiplier::Lumped),
-            (Contact, Some(CaseMultiplier::Lumped), &tri6, Multiplier::Lumped),
-            (Contact, Some(CaseMultiplier::Dual), &tri3, Multiplier::Dual),
+            (Contact, Some(Multiplier::Lumped), &tri6, Multiplier::Lumped),
+            (Contact, Some(Multiplier::Dual), &tri3, Multiplier::Dual),
             (Glue, None, &tri6, Multiplier::Standard),
         ] {
             let f = interface(kind, given);

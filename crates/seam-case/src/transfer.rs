@@ -7,20 +7,26 @@ use crate::input::{check_finite, Surface};
 use crate::output::Staged;
 use crate::{Expression, Failure};
 use anyhow::{bail, Context};
-use seam::{assemble, normal_gaps_from, Mortar, MortarOptions, Multiplier};
+use seam::{assemble, normal_gaps_from, Mortar, MortarOptions, Multiplier, Named};
 use seam_io::Field;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 use std::time::Instant;
 
 /// Values (consistent) or loads (conservative).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Mode {
-    /// Nodal values by T, TARGET the slave side.
+    /// Values (temperatures, displacements): TARGET is the slave side and gets
+    /// T·(source values); constants stay constants.
+    #[default]
     Consistent,
-    /// Nodal loads by Tᵀ, SOURCE the slave side.
+    /// Nodal loads (forces, fluxes): SOURCE is the slave side and the loads are
+    /// mapped with Tᵀ, so the total is kept exactly.
     Conservative,
 }
+
+seam::named!(Mode, "mode", { Consistent => "consistent", Conservative => "conservative" });
 
 /// What is moved.
 pub enum Values {
@@ -304,11 +310,8 @@ pub fn transfer_files(args: &Transfer) -> Result<Summary, Failure> {
         target: args.target.display().to_string(),
         field: name,
         components: k,
-        mode: match args.mode {
-            Mode::Consistent => "consistent",
-            Mode::Conservative => "conservative",
-        },
-        multiplier: format!("{:?}", options.multiplier).to_lowercase(),
+        mode: args.mode.name(),
+        multiplier: options.multiplier.name().to_string(),
         source_nodes: view.source_nodes,
         target_nodes: view.target_nodes,
         target_area: view.area,

@@ -14,7 +14,7 @@
 use crate::output::Staged;
 use crate::CaseError;
 use anyhow::Result;
-use seam::{Facing, MaxGap, MortarOptions, Multiplier};
+use seam::{Facing, MaxGap, MortarOptions, Multiplier, Named};
 use seam_fem::{Coupling, Problem};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -235,12 +235,10 @@ fn multiplier(options: &MortarOptions, contact: bool) -> Result<&'static str, Ca
     if options.warped_quad_degree.is_some() {
         refuse!("a case chooses the quadrature degree of warped quads itself");
     }
-    Ok(match options.multiplier {
-        Multiplier::Standard if contact => refuse!("contact needs lumped or dual multipliers"),
-        Multiplier::Standard => "standard",
-        Multiplier::Dual => "dual",
-        Multiplier::Lumped => "lumped",
-    })
+    if contact && options.multiplier == Multiplier::Standard {
+        refuse!("contact needs lumped or dual multipliers");
+    }
+    Ok(options.multiplier.name())
 }
 
 #[cfg(test)]

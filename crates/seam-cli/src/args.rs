@@ -1,6 +1,10 @@
 //! Command-line definitions (clap derive); help texts live on the flags.
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use seam::{Facing, Multiplier};
+use seam_case::solve::LinearSolver;
+use seam_case::transfer::Mode;
+use seam_examples::bench::Shape;
 use std::path::PathBuf;
 
 /// Mortar coupling between non-matching warped interfaces: the operators
@@ -39,43 +43,20 @@ pub enum Command {
     BenchTransfer(BenchTransferArgs),
 }
 
-/// The multiplier basis ψ_p.
-#[derive(Clone, Copy, Debug, Default, ValueEnum)]
-pub enum MultiplierArg {
-    /// ψ_p = λ_p; D is the slave mass matrix on the covered part (T is applied
-    /// by solving with D, conjugate gradients, and not written).
-    #[default]
-    Standard,
-    /// Biorthogonal basis: D diagonal, T = D⁻¹B written.
-    Dual,
-    /// D replaced by its row sums: diagonal, T written.
-    Lumped,
-}
-
-/// Which normal orientations may be paired.
-#[derive(Clone, Copy, Debug, Default, ValueEnum)]
-pub enum FacingArg {
-    /// Either orientation (surface meshes whose normals may point either way).
-    #[default]
-    Any,
-    /// Only faces whose normals point at each other (two bodies, outward normals).
-    Opposite,
-}
-
 /// How the two surfaces are coupled: the options `assemble`, `transfer` and
 /// `check` share.
 #[derive(Args, Debug, Clone)]
 pub struct CouplingArgs {
     /// Lagrange multiplier basis.
     #[arg(long, value_enum, default_value_t)]
-    pub multiplier: MultiplierArg,
+    pub multiplier: Multiplier,
     /// Largest normal distance between paired points, as a length
     /// [default: half the diameter of each slave face].
     #[arg(long, value_name = "X", allow_negative_numbers = true)]
     pub max_gap: Option<f64>,
     /// Which normal orientations may be paired.
     #[arg(long, value_enum, default_value_t)]
-    pub facing: FacingArg,
+    pub facing: Facing,
     /// Largest angle between slave and master face normals, in degrees.
     #[arg(long, value_name = "DEG", default_value_t = 45.0, allow_negative_numbers = true)]
     pub max_angle: f64,
@@ -124,18 +105,6 @@ pub struct AssembleArgs {
     pub force: bool,
 }
 
-/// How a field crosses the interface.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
-pub enum ModeArg {
-    /// Values (temperatures, displacements): TARGET is the slave side and gets
-    /// T·(source values); constants stay constants.
-    #[default]
-    Consistent,
-    /// Nodal loads (forces, fluxes): SOURCE is the slave side and the loads are
-    /// mapped with Tᵀ, so the total is kept exactly.
-    Conservative,
-}
-
 #[derive(Args, Debug)]
 #[command(group(clap::ArgGroup::new("values").required(true).args(["field", "expr"])))]
 pub struct TransferArgs {
@@ -161,7 +130,7 @@ pub struct TransferArgs {
     pub name: String,
     /// Consistent (values) or conservative (loads) transfer.
     #[arg(long, value_enum, default_value_t)]
-    pub mode: ModeArg,
+    pub mode: Mode,
     /// Physical surface of SOURCE (MSH), by name or number.
     #[arg(long, value_name = "G")]
     pub source_group: Option<String>,
@@ -195,26 +164,6 @@ pub struct CheckArgs {
     pub force: bool,
 }
 
-/// How the linear systems (glued, or each active-set step of contact) are solved.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
-pub enum SolverArg {
-    /// Sparse direct: Cholesky of the reduced system (dual, lumped
-    /// multipliers) or LDLᵀ of the saddle-point system (standard, or when the
-    /// elimination would fill in).
-    #[default]
-    Direct,
-    /// Preconditioned conjugate gradients on the reduced system (any
-    /// multiplier, matrix-free): for large problems.
-    Pcg,
-    /// A PETSc KSP: by default CG with algebraic multigrid (GAMG, the
-    /// rigid-body modes as near-nullspace) on the reduced system (dual and
-    /// lumped multipliers) and each active-set step of contact, FGMRES with a
-    /// Schur-complement field split on saddle points (standard multipliers);
-    /// any PETSc option via PETSC_OPTIONS or --petsc-options. Needs a build
-    /// with `--features petsc`.
-    Petsc,
-}
-
 #[derive(Args, Debug, Clone)]
 pub struct SolveArgs {
     /// The case file (TOML; schema in the README). Meshes and the output
@@ -222,7 +171,7 @@ pub struct SolveArgs {
     pub case: PathBuf,
     /// How the linear systems (glued, or each active-set step of contact) are solved.
     #[arg(long, value_enum, default_value_t)]
-    pub solver: SolverArg,
+    pub solver: LinearSolver,
     /// PCG and PETSc: stop when ‖r‖₂ ≤ RTOL ‖b‖₂ (PETSc: in its KSP's norm).
     #[arg(long, default_value_t = 1e-10, value_name = "RTOL", allow_negative_numbers = true)]
     pub rtol: f64,
@@ -291,37 +240,11 @@ pub struct ExampleArgs {
     pub order: Option<usize>,
 }
 
-/// Surfaces of the benchmark.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum BenchShape {
-    /// The unit square.
-    Flat,
-    /// A quarter cylinder (radius 1, height 1), the master at radius 1.001.
-    Cylinder,
-    /// The quarter cylinder with Quad9 slave and Tri6 master faces.
-    #[value(name = "cylinder-o2")]
-    CylinderO2,
-    /// 30 × 30 slave quads over a fine master: the size is the number of
-    /// master faces.
-    CoarseSlave,
-}
-
-impl BenchShape {
-    pub fn name(&self) -> &'static str {
-        match self {
-            BenchShape::Flat => "flat",
-            BenchShape::Cylinder => "cylinder",
-            BenchShape::CylinderO2 => "cylinder-o2",
-            BenchShape::CoarseSlave => "coarse-slave",
-        }
-    }
-}
-
 #[derive(Args, Debug)]
 pub struct BenchArgs {
     /// Surfaces.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [BenchShape::Flat, BenchShape::Cylinder])]
-    pub shapes: Vec<BenchShape>,
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Shape::Flat, Shape::Cylinder])]
+    pub shapes: Vec<Shape>,
     /// Approximate numbers of slave faces (of master faces for coarse-slave).
     #[arg(long, value_delimiter = ',', default_values_t = [10_000, 100_000, 1_000_000])]
     pub sizes: Vec<usize>,
@@ -333,7 +256,7 @@ pub struct BenchArgs {
 #[derive(Args, Debug)]
 pub struct BenchCaseArgs {
     #[arg(long, value_enum)]
-    pub shape: BenchShape,
+    pub shape: Shape,
     #[arg(long)]
     pub faces: usize,
     #[arg(long)]
@@ -346,12 +269,52 @@ pub struct BenchTransferArgs {
     #[arg(long, value_delimiter = ',', default_values_t = [10_000, 100_000, 200_000])]
     pub sizes: Vec<usize>,
     /// Modes.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [ModeArg::Consistent, ModeArg::Conservative])]
-    pub modes: Vec<ModeArg>,
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Mode::Consistent, Mode::Conservative])]
+    pub modes: Vec<Mode>,
     /// Multipliers.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [MultiplierArg::Standard, MultiplierArg::Dual])]
-    pub multipliers: Vec<MultiplierArg>,
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Multiplier::Standard, Multiplier::Dual])]
+    pub multipliers: Vec<Multiplier>,
     /// Thread counts.
     #[arg(long, value_delimiter = ',', default_values_t = [1, 2])]
     pub threads: Vec<usize>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use seam::Named;
+
+    /// One name per value: clap's (the command line), serde's (case files,
+    /// where the enum is read) and `Named::name` (summaries, Python) agree.
+    fn names_agree<T: Named + ValueEnum + PartialEq + std::fmt::Debug>() {
+        for &v in T::ALL {
+            let clap = v.to_possible_value().map(|p| p.get_name().to_string());
+            assert_eq!(clap.as_deref(), Some(v.name()), "{v:?}");
+            assert_eq!(T::from_name(v.name()), Ok(v));
+            assert_eq!(<T as ValueEnum>::from_str(v.name(), false), Ok(v));
+        }
+        assert_eq!(T::value_variants().len(), T::ALL.len());
+        let e = T::from_name("nonsense").unwrap_err().to_string();
+        assert!(e.starts_with(&format!("unknown {} \"nonsense\": expected \"", T::WHAT)), "{e}");
+    }
+
+    #[test]
+    fn option_names_are_one_vocabulary() {
+        names_agree::<Multiplier>();
+        names_agree::<Facing>();
+        names_agree::<Mode>();
+        names_agree::<LinearSolver>();
+        for &m in Multiplier::ALL {
+            let read: Multiplier = serde_json::from_str(&format!("\"{}\"", m.name())).unwrap();
+            assert_eq!(read, m);
+        }
+        for &f in Facing::ALL {
+            let read: Facing = serde_json::from_str(&format!("\"{}\"", f.name())).unwrap();
+            assert_eq!(read, f);
+        }
+        assert_eq!(
+            Multiplier::from_name("mortar").unwrap_err().to_string(),
+            r#"unknown multiplier "mortar": expected "standard", "dual" or "lumped""#
+        );
+    }
 }

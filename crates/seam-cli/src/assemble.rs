@@ -1,11 +1,11 @@
 //! `seam assemble MASTER SLAVE -o DIR`: flags and the progress bar; the
 //! pipeline (read, search, assemble, write) is [`seam_case::assemble`].
 
-use crate::args::{AssembleArgs, CouplingArgs, FacingArg, MultiplierArg, PairArgs};
+use crate::args::{AssembleArgs, CouplingArgs, PairArgs};
 use crate::Failure;
 use anyhow::Context;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use seam::{Facing, MaxGap, MortarOptions, Multiplier};
+use seam::{MaxGap, MortarOptions};
 use seam_case::assemble::{assemble_files, Assemble, Pair, Progress};
 use std::sync::OnceLock;
 
@@ -71,15 +71,8 @@ pub fn options(args: &CouplingArgs) -> anyhow::Result<MortarOptions> {
         None => MaxGap::DEFAULT,
     };
     Ok(MortarOptions {
-        multiplier: match args.multiplier {
-            MultiplierArg::Standard => Multiplier::Standard,
-            MultiplierArg::Dual => Multiplier::Dual,
-            MultiplierArg::Lumped => Multiplier::Lumped,
-        },
-        facing: match args.facing {
-            FacingArg::Any => Facing::Any,
-            FacingArg::Opposite => Facing::Opposite,
-        },
+        multiplier: args.multiplier,
+        facing: args.facing,
         max_gap,
         max_angle_degrees: args.max_angle,
         warped_quad_degree: args.quad_order,

@@ -4,12 +4,12 @@
 //! `seam bench-transfer`: `seam transfer` end to end
 //! ([`seam_examples::transfer_bench`]), one process per run.
 
-use crate::args::{BenchArgs, BenchCaseArgs, BenchShape, BenchTransferArgs};
+use crate::args::{BenchArgs, BenchCaseArgs, BenchTransferArgs};
 use crate::assemble::thread_pool;
 use crate::Failure;
 use anyhow::Context;
-use clap::ValueEnum;
-use seam_examples::bench::{measure, Row, Shape, HEADER};
+use seam::Named;
+use seam_examples::bench::{measure, Row, HEADER};
 use seam_examples::transfer_bench;
 use std::path::Path;
 use std::process::Command;
@@ -38,13 +38,7 @@ pub fn run(args: &BenchArgs) -> Result<(), Failure> {
 
 pub fn run_case(args: &BenchCaseArgs) -> Result<(), Failure> {
     let pool = thread_pool(Some(args.threads))?;
-    let shape = match args.shape {
-        BenchShape::Flat => Shape::Flat,
-        BenchShape::Cylinder => Shape::Cylinder,
-        BenchShape::CylinderO2 => Shape::CylinderQuadratic,
-        BenchShape::CoarseSlave => Shape::CoarseSlave,
-    };
-    let row = pool.install(|| measure(shape, args.faces, args.threads))?;
+    let row = pool.install(|| measure(args.shape, args.faces, args.threads))?;
     println!("{}", serde_json::to_string(&row).context("row")?);
     Ok(())
 }
@@ -65,14 +59,11 @@ fn transfer_table(exe: &Path, dir: &Path, args: &BenchTransferArgs) -> Result<()
     for line in transfer_bench::HEADER {
         println!("{line}");
     }
-    let name = |v: &dyn Fn() -> Option<clap::builder::PossibleValue>| v().map(|p| p.get_name().to_string());
     for &faces in &args.sizes {
         let files = transfer_bench::write_problem(faces, dir)?;
         let out = dir.join("out.vtu");
-        for mode in &args.modes {
-            let mode = name(&|| mode.to_possible_value()).unwrap_or_default();
-            for multiplier in &args.multipliers {
-                let multiplier = name(&|| multiplier.to_possible_value()).unwrap_or_default();
+        for mode in args.modes.iter().map(|m| m.name()) {
+            for multiplier in args.multipliers.iter().map(|m| m.name()) {
                 for &threads in &args.threads {
                     let start = Instant::now();
                     run_child(
@@ -80,7 +71,7 @@ fn transfer_table(exe: &Path, dir: &Path, args: &BenchTransferArgs) -> Result<()
                             .arg("transfer")
                             .args([&files.source, &files.target])
                             .args(["-o".as_ref(), out.as_os_str()])
-                            .args(["--field", "f", "--mode", &mode, "--multiplier", &multiplier])
+                            .args(["--field", "f", "--mode", mode, "--multiplier", multiplier])
                             .args(["--threads", &threads.to_string(), "--force"]),
                     )?;
                     let all_in = start.elapsed().as_secs_f64();
@@ -89,14 +80,8 @@ fn transfer_table(exe: &Path, dir: &Path, args: &BenchTransferArgs) -> Result<()
                     )
                     .context("the transfer's summary")?;
                     let phases = serde_json::from_value(summary["phases"].clone()).context("its phases")?;
-                    let row = transfer_bench::Row {
-                        files: &files,
-                        mode: &mode,
-                        multiplier: &multiplier,
-                        threads,
-                        phases,
-                        all_in,
-                    };
+                    let row =
+                        transfer_bench::Row { files: &files, mode, multiplier, threads, phases, all_in };
                     println!("{}", row.table_line());
                 }
             }

@@ -97,7 +97,7 @@ fn over_ranks(ranks: &ranks::Ranks, args: &[OsString]) -> u8 {
             seam_fem::petsc::lead_petsc();
             ranks::operators_over_ranks();
             let result = match s.solver {
-                args::SolverArg::Petsc => solve::run(&s, ranks.size()),
+                seam_case::solve::LinearSolver::Petsc => solve::run(&s, ranks.size()),
                 _ => Err(Failure::Error(format!(
                     "on {} MPI ranks `seam solve` needs --solver petsc (the other solvers run on one process)",
                     ranks.size()

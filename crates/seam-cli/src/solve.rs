@@ -1,7 +1,7 @@
 //! `seam solve CASE.toml`: flags and the report; the pipeline (reading,
 //! solving, writing; the files written) is [`seam_case::solve`].
 
-use crate::args::{SolveArgs, SolverArg};
+use crate::args::SolveArgs;
 use crate::Failure;
 use anyhow::anyhow;
 use seam_case::report::report;
@@ -24,17 +24,9 @@ pub fn solve(args: &SolveArgs, pieces: usize) -> Result<Solved, Failure> {
     if let Some(problem) = seam_case::solve::rtol_problem(args.rtol) {
         return Err(anyhow!("--rtol {problem}").into());
     }
-    let options = SolveOptions {
-        solver: match args.solver {
-            SolverArg::Direct => LinearSolver::Direct,
-            SolverArg::Pcg => LinearSolver::Pcg,
-            SolverArg::Petsc => LinearSolver::Petsc,
-        },
-        rtol: args.rtol,
-        pieces,
-    };
+    let options = SolveOptions { solver: args.solver, rtol: args.rtol, pieces };
     match (args.solver, &args.petsc_options) {
-        (SolverArg::Petsc, options) => seam_fem::petsc::initialize_petsc(options.as_deref().unwrap_or(""))
+        (LinearSolver::Petsc, options) => seam_fem::petsc::initialize_petsc(options.as_deref().unwrap_or(""))
             .map_err(|e| anyhow!("--solver petsc: {e}"))?,
         (_, Some(_)) => return Err(anyhow!("--petsc-options needs --solver petsc").into()),
         (_, None) => {}

@@ -1,10 +1,10 @@
 //! `seam transfer SOURCE TARGET -o OUT.vtu`: flags and the report; the
 //! pipeline is [`seam_case::transfer`].
 
-use crate::args::{ModeArg, TransferArgs};
+use crate::args::TransferArgs;
 use crate::assemble::{options, thread_pool};
 use crate::Failure;
-use seam_case::transfer::{transfer_files, Mode, Summary, Transfer, Values};
+use seam_case::transfer::{transfer_files, Summary, Transfer, Values};
 use seam_case::Expression;
 use std::path::Path;
 
@@ -25,10 +25,7 @@ pub fn run(args: &TransferArgs) -> Result<(), Failure> {
         source_group: args.source_group.clone(),
         target_group: args.target_group.clone(),
         values,
-        mode: match args.mode {
-            ModeArg::Consistent => Mode::Consistent,
-            ModeArg::Conservative => Mode::Conservative,
-        },
+        mode: args.mode,
         options,
         output: args.output.clone(),
         force: args.force,

@@ -13,7 +13,7 @@
 //! mpirun), multipliers. SEAM names the binary (default
 //! target/release/seam); SEAM_BENCH_DIR keeps the cases.
 
-use seam::Multiplier;
+use seam::{Multiplier, Named};
 use seam_fem::scene::{warped_glue, WarpedGlue};
 use std::process::Command;
 
@@ -31,11 +31,7 @@ fn main() -> anyhow::Result<()> {
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &cells in &sizes {
         for multiplier in multipliers.split(',') {
-            let multiplier = match multiplier {
-                "dual" => Multiplier::Dual,
-                "standard" => Multiplier::Standard,
-                other => anyhow::bail!("unknown multiplier {other}"),
-            };
+            let multiplier = Multiplier::from_name(multiplier)?;
             let params = WarpedGlue { slave_cells: cells, ratio: 4, multiplier, ..WarpedGlue::default() };
             let case_dir = dir.join(format!("wg{cells}-{multiplier:?}"));
             std::fs::create_dir_all(&case_dir)?;

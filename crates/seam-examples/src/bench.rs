@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 /// The surfaces of the benchmark.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Shape {
     /// The unit square.
     Flat,
@@ -22,6 +22,7 @@ pub enum Shape {
     Cylinder,
     /// The quarter cylinder with second-order faces: Quad9 slaves against
     /// jittered Tri6 masters, at the face counts of `Cylinder`.
+    #[value(name = "cylinder-o2")]
     CylinderQuadratic,
     /// 30 × 30 slave quads on the unit square over a fine master of jittered
     /// triangles; the size is the number of master faces (the sweep of the

@@ -92,18 +92,21 @@ fn draw(s: &Solved, p: &BulgingContact) -> anyhow::Result<Image> {
     cut_x.title = vec!["von Mises stress, cut x = 1/2".into(), "deformed, true scale".into()];
 
     let f = s.interfaces.first().ok_or_else(|| anyhow!("the example has an interface"))?;
-    let c = f.contact.as_ref().ok_or_else(|| anyhow!("the example's interface is a contact interface"))?;
+    let contact =
+        |name| f.field(name).ok_or_else(|| anyhow!("the example's interface is a contact interface"));
+    let (pressure_at, gap_at, active_at) =
+        (contact("contact_pressure")?, contact("gap")?, contact("active")?);
     let xy = |q: usize| [f.mesh.points()[q][0], f.mesh.points()[q][1]];
     let mut gap0 = from_above(f, |q| gap(xy(q)[0], xy(q)[1]));
-    let mut pressure = from_above(f, |q| c.pressure[q]);
-    let mut gap1 = from_above(f, |q| if c.gap[q].is_finite() { c.gap[q] } else { 0.0 });
-    pressure.lines = outline(f, &c.active);
+    let mut pressure = from_above(f, |q| pressure_at[q]);
+    let mut gap1 = from_above(f, |q| if gap_at[q].is_finite() { gap_at[q] } else { 0.0 });
+    pressure.lines = outline(f, active_at);
     gap1.lines = pressure.lines.clone();
     let [tx, ty] = p.touching_point();
     gap0.title = vec!["initial gap s-t, from above".into(), format!("touching at ({tx:.3}, {ty:.3})")];
-    let active = c.active.iter().filter(|&&a| a > 0.0).count();
+    let active = active_at.iter().filter(|&&a| a > 0.0).count();
     pressure.title =
-        vec!["contact pressure, from above".into(), format!("{active} of {} points active", c.active.len())];
+        vec!["contact pressure, from above".into(), format!("{active} of {} points active", active_at.len())];
     gap1.title = vec!["gap after deformation".into(), "active zone outlined".into()];
 
     let (w, h, header) = (520, 560, 44);

@@ -102,7 +102,9 @@ pub fn run(args: &Options) -> Result<Vec<String>, Failure> {
 /// The slave nodes on the symmetry axes, sorted by axis and r.
 fn axis_nodes(s: &Solved, p: &Hertz) -> anyhow::Result<Vec<AxisNode>> {
     let f = s.interfaces.first().ok_or_else(|| anyhow!("the example has an interface"))?;
-    let c = f.contact.as_ref().ok_or_else(|| anyhow!("the example's interface is a contact interface"))?;
+    let contact =
+        |name| f.field(name).ok_or_else(|| anyhow!("the example's interface is a contact interface"));
+    let (pressure, active) = (contact("contact_pressure")?, contact("active")?);
     let tol = 1e-9 * p.block_size();
     let mut nodes = Vec::new();
     for (axis, along, across) in [("x", 0, 1), ("y", 1, 0)] {
@@ -116,9 +118,9 @@ fn axis_nodes(s: &Solved, p: &Hertz) -> anyhow::Result<Vec<AxisNode>> {
                     x,
                     y,
                     r,
-                    pressure: c.pressure[q],
+                    pressure: pressure[q],
                     hertz: p.pressure(r),
-                    active: c.active[q] > 0.0,
+                    active: active[q] > 0.0,
                 }
             })
             .collect();

@@ -97,12 +97,15 @@ fn draw(s: &Solved, params: &WarpedGlue) -> anyhow::Result<(Image, f64)> {
     u1.title = vec!["u_1 on the cut y = 1/2".into(), h.clone()];
     u3.title = vec!["u_3 on the cut y = 1/2".into(), h];
     let f = s.interfaces.first().ok_or_else(|| anyhow!("the example has an interface"))?;
+    let traction = |name| f.field(name).ok_or_else(|| anyhow!("the interface has no field {name}"));
+    let (normal_traction, tangential_traction) =
+        (traction("normal_traction")?, traction("tangential_traction")?);
     let (mut normal, mut tangential) = (Plot::default(), Plot::default());
     for piece in f.mesh.faces().iter().flat_map(|face| face.linear_pieces()) {
         let corners: Vec<P2> =
             piece.iter().map(|&p| [f.mesh.points()[p][0], f.mesh.points()[p][1]]).collect();
-        let tn: Vec<f64> = piece.iter().map(|&p| f.normal_traction[p]).collect();
-        let tt: Vec<f64> = piece.iter().map(|&p| f.tangential_traction[p][0]).collect();
+        let tn: Vec<f64> = piece.iter().map(|&p| normal_traction[p]).collect();
+        let tt: Vec<f64> = piece.iter().map(|&p| tangential_traction[3 * p]).collect();
         normal.add_polygon(&corners, &tn);
         tangential.add_polygon(&corners, &tt);
     }

@@ -23,7 +23,7 @@
 mod common;
 
 use common::{flag_sizes, flag_value, peak_mb, petsc, petsc_columns};
-use seam::Multiplier;
+use seam::{Multiplier, Named};
 use seam_fem::pcg::PcgOptions;
 use seam_fem::scene::{warped_glue, WarpedGlue};
 use seam_fem::{SolveOptions, Solver};
@@ -32,11 +32,7 @@ use std::time::Instant;
 
 fn row(s: usize, solver: &str) {
     let (multiplier, method) = solver.split_once('-').expect("solver is multiplier-method");
-    let multiplier = match multiplier {
-        "standard" => Multiplier::Standard,
-        "dual" => Multiplier::Dual,
-        other => panic!("unknown multiplier {other}"),
-    };
+    let multiplier = Multiplier::from_name(multiplier).unwrap_or_else(|e| panic!("{e}"));
     let solver = match method {
         "direct" => Solver::Direct,
         "pcg" => Solver::Pcg(PcgOptions { rtol: 1e-8, ..PcgOptions::default() }),

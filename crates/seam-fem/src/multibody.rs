@@ -212,6 +212,7 @@ pub enum ProblemError {
 
 /// Wall-clock seconds per phase.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Timings {
     /// Stiffness assembly of all bodies.
     pub assembly: f64,

@@ -57,6 +57,7 @@ pub mod vec3 {
 pub mod generate;
 mod mesh;
 mod mortar;
+mod named;
 mod quadrature;
 mod search;
 mod sparse;
@@ -81,6 +82,7 @@ pub use mortar::{
     FaceQuality, FaceStats, Facing, MasterSide, MaxGap, Mortar, MortarError, MortarOptions, MortarSummary,
     Multiplier, Segment, Transfer, BASIS_ALPHA, COVERED_FRACTION, TRI6_ALPHA, WARPED_RTOL,
 };
+pub use named::{Named, UnknownName};
 pub use quadrature::{
     gauss_legendre, triangle_rule, volume_rule, TriangleRule, VolumeRule, MAX_TRIANGLE_DEGREE,
 };

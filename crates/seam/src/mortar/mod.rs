@@ -43,6 +43,8 @@ use rows::{Blocks, ChunkedBlocks};
 
 /// The Lagrange multiplier basis ψ_p.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Deserialize), serde(rename_all = "lowercase"))]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Multiplier {
     /// ψ_p = λ_p: D is the slave mass matrix of the covered part (SPD).
     #[default]
@@ -56,6 +58,8 @@ pub enum Multiplier {
 
 /// Which normal orientations may be paired.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Deserialize), serde(rename_all = "lowercase"))]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Facing {
     /// |n_s·n_m| ≥ cos(max angle): either orientation (a surface mesh's normals may
     /// point either way).
@@ -65,6 +69,9 @@ pub enum Facing {
     /// normals).
     Opposite,
 }
+
+crate::named!(Multiplier, "multiplier", { Standard => "standard", Dual => "dual", Lumped => "lumped" });
+crate::named!(Facing, "facing", { Any => "any", Opposite => "opposite" });
 
 /// The largest normal distance |(x_m − x_s)·n_s| allowed between paired points.
 #[derive(Clone, Copy, Debug, PartialEq)]
