@@ -195,7 +195,7 @@ pub fn solve(
         }
         (_, None) => {}
     }
-    let options = SolveOptions { solver, rtol, pieces: 1 };
+    let options = SolveOptions { solver, rtol, ..SolveOptions::default() };
     let pool = thread_pool(threads)?;
     let source = match case.cast::<PyDict>() {
         Ok(dict) => {

@@ -23,7 +23,8 @@
 //! [`report`]. Failures sorted by exit code: [`Failure`].
 //!
 //! And what both front ends report: [`check()`], how two surfaces meet
-//! (`seam check`, `seam.check`).
+//! (`seam check`, `seam.check`). With the feature `mpi`: the protocol of a
+//! run over MPI ranks (`ranks`).
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
@@ -34,6 +35,8 @@ pub mod expression;
 mod failure;
 pub mod input;
 pub mod output;
+#[cfg(feature = "mpi")]
+pub mod ranks;
 pub mod report;
 pub mod solve;
 pub mod threads;

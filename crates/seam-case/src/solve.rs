@@ -372,11 +372,20 @@ pub struct SolveOptions {
     /// over N MPI ranks) writes `<body>.pvtu` and its N pieces
     /// `<body>_<r>.vtu` (module doc).
     pub pieces: usize,
+    /// How the interfaces' operators are assembled: here, or by an assembler
+    /// such as the binary's over MPI ranks.
+    pub operators: seam_fem::Operators,
 }
 
 impl Default for SolveOptions {
+    /// Direct, rtol 1e-10, one piece, operators assembled here.
     fn default() -> Self {
-        SolveOptions { solver: LinearSolver::Direct, rtol: 1e-10, pieces: 1 }
+        SolveOptions {
+            solver: LinearSolver::Direct,
+            rtol: 1e-10,
+            pieces: 1,
+            operators: seam_fem::Operators::Here,
+        }
     }
 }
 
@@ -527,7 +536,11 @@ fn run_problem(
             seam_fem::Solver::Petsc(PetscOptions { rtol: options.rtol, ..PetscOptions::default() })
         }
     };
-    let fem_options = seam_fem::SolveOptions { solver, max_active_set_steps: case.contact.max_iterations };
+    let fem_options = seam_fem::SolveOptions {
+        solver,
+        max_active_set_steps: case.contact.max_iterations,
+        operators: options.operators,
+    };
     let solution =
         seam_fem::solve(&problem, &fem_options).map_err(|e| problem_failure(e, &case, case_path))?;
     seconds.solver = solution.report.seconds;
@@ -1215,7 +1228,7 @@ mod tests {
 
     #[test]
     fn bad_options_and_cases_fail_in_one_line_before_any_work() {
-        let rtol = SolveOptions { solver: LinearSolver::Pcg, rtol: 2.0, pieces: 1 };
+        let rtol = SolveOptions { solver: LinearSolver::Pcg, rtol: 2.0, ..SolveOptions::default() };
         let e = solve_case(Path::new("nowhere.toml"), &rtol).err().unwrap();
         assert_eq!(e, Failure::Case("rtol 2 must lie in (0, 1)".into()));
         let tiny = SolveOptions { rtol: 1e-300, ..rtol };

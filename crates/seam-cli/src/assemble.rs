@@ -18,11 +18,11 @@ pub fn run(args: &AssembleArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Rank 0 of `mpirun -np N seam assemble` ([`crate::ranks`]): the same files.
+/// Rank 0 of `mpirun -np N seam assemble` ([`seam_case::ranks`]): the same files.
 /// MPI is called from this (the main) thread only; the work runs on rayon's
 /// global pool, sized by `--threads`.
 #[cfg(feature = "mpi")]
-pub fn run_over_ranks(args: &AssembleArgs, ranks: &crate::ranks::Ranks) -> Result<(), Failure> {
+pub fn run_over_ranks(args: &AssembleArgs, ranks: &seam_case::ranks::Ranks) -> Result<(), Failure> {
     let assembler = ranks.assembler();
     let result = global_pool(args.coupling.threads)
         .map_err(Failure::from)

@@ -21,13 +21,13 @@ mod assemble;
 mod bench;
 mod check;
 mod example;
-#[cfg(feature = "mpi")]
-mod ranks;
 mod solve;
 mod transfer;
 
 use args::{Cli, Command};
 use clap::Parser;
+#[cfg(feature = "mpi")]
+use seam_case::ranks;
 use std::ffi::OsString;
 
 /// What went wrong, sorted by exit code (1, 2, 3).
@@ -45,7 +45,7 @@ where
     #[cfg(feature = "mpi")]
     let ranks = match ranks::launched().then(ranks::Ranks::initialize).transpose() {
         Ok(ranks) => ranks,
-        Err(e) => return exit(Err(e.into())),
+        Err(e) => return exit(Err(e)),
     };
     #[cfg(feature = "mpi")]
     if let Some(ranks) = ranks.as_ref().filter(|r| r.size() > 1) {
@@ -59,7 +59,7 @@ where
         Command::Assemble(a) => assemble::run(&a),
         Command::Transfer(t) => transfer::run(&t),
         Command::Check(c) => check::run(&c),
-        Command::Solve(s) => solve::run(&s, 1),
+        Command::Solve(s) => solve::run(&s, 1, seam_fem::Operators::Here),
         Command::Example(e) => example::run(&e),
         Command::Bench(b) => bench::run(&b),
         Command::BenchCase(c) => bench::run_case(&c),
@@ -95,9 +95,10 @@ fn over_ranks(ranks: &ranks::Ranks, args: &[OsString]) -> u8 {
         },
         (Command::Solve(s), 0) => {
             seam_fem::petsc::lead_petsc();
-            ranks::operators_over_ranks();
             let result = match s.solver {
-                seam_case::solve::LinearSolver::Petsc => solve::run(&s, ranks.size()),
+                seam_case::solve::LinearSolver::Petsc => {
+                    solve::run(&s, ranks.size(), ranks::operators_over_ranks())
+                }
                 _ => Err(Failure::Error(format!(
                     "on {} MPI ranks `seam solve` needs --solver petsc (the other solvers run on one process)",
                     ranks.size()

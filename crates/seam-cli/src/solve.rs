@@ -6,11 +6,13 @@ use crate::Failure;
 use anyhow::anyhow;
 use seam_case::report::report;
 use seam_case::solve::{LinearSolver, SolveOptions, Solved};
+use seam_fem::Operators;
 
 /// `pieces`: the pieces of each body's output (the MPI ranks; 1 writes
-/// `<body>.vtu`, more `<body>.pvtu`).
-pub fn run(args: &SolveArgs, pieces: usize) -> Result<(), Failure> {
-    let solved = solve(args, pieces)?;
+/// `<body>.vtu`, more `<body>.pvtu`); `operators`: how the interfaces'
+/// operators are assembled (here, or over the ranks).
+pub fn run(args: &SolveArgs, pieces: usize, operators: Operators) -> Result<(), Failure> {
+    let solved = solve(args, pieces, operators)?;
     println!("seam solve {} → {}", args.case.display(), solved.out_dir.display());
     for line in report(&solved) {
         println!("  {line}");
@@ -20,11 +22,11 @@ pub fn run(args: &SolveArgs, pieces: usize) -> Result<(), Failure> {
 
 /// Reads, checks, solves and writes the case ([`seam_case::solve::solve_case_to_output`])
 /// on `--threads` worker threads.
-pub fn solve(args: &SolveArgs, pieces: usize) -> Result<Solved, Failure> {
+pub fn solve(args: &SolveArgs, pieces: usize, operators: Operators) -> Result<Solved, Failure> {
     if let Some(problem) = seam_case::solve::rtol_problem(args.rtol) {
         return Err(anyhow!("--rtol {problem}").into());
     }
-    let options = SolveOptions { solver: args.solver, rtol: args.rtol, pieces };
+    let options = SolveOptions { solver: args.solver, rtol: args.rtol, pieces, operators };
     match (args.solver, &args.petsc_options) {
         (LinearSolver::Petsc, options) => seam_fem::petsc::initialize_petsc(options.as_deref().unwrap_or(""))
             .map_err(|e| anyhow!("--solver petsc: {e}"))?,

@@ -3,7 +3,7 @@
 
 use crate::{Failure, Options};
 use anyhow::anyhow;
-use seam_case::solve::{solve_problem, LinearSolver, SolveOptions, Solved};
+use seam_case::solve::{solve_problem, SolveOptions, Solved};
 use seam_case::write::{write_problem_case, CaseFiles};
 use seam_case::Case;
 use seam_fem::Problem;
@@ -33,7 +33,7 @@ pub fn solve_example(
     }
     let case_path = write_problem_case(&problem, &o.output, about, o.force)?;
     let case = Case::read(&case_path).map_err(|e| Failure::case(&e))?;
-    let options = SolveOptions { solver: LinearSolver::Direct, rtol: 1e-10, pieces: 1 };
+    let options = SolveOptions::default();
     let mut solved = solve_problem(problem, case, &case_path, &options)?;
     let out_dir = solved.out_dir.clone();
     solved.summary = solved.write(&out_dir, o.force)?;

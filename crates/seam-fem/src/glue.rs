@@ -53,9 +53,10 @@
 //! λ = C_S⁻ᵀ (f − K u)_S. −λ is the traction the master exerts on the slave
 //! (force per area); the resultant on the slave is −Σ_p (D λ)_p.
 
+use crate::backend::Solver;
 use crate::constraints::{full_prolongation, matrix_free, prolongation, saddle_point, triple_product};
 use crate::constraints::{Constraints, Elimination, Solved, NONE};
-use crate::multibody::{free_dofs_of, Body, ProblemError, Solver, System, Timings};
+use crate::multibody::{free_dofs_of, Body, ProblemError, System, Timings};
 use crate::petsc::{augmented, rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, Augmented};
 use crate::petsc::{PetscOptions, PetscSummary, Split};
 use crate::solution::InterfaceSolution;

@@ -1,7 +1,8 @@
 //! # seam-fem — linear elasticity on volume meshes
 //!
-//! Small-strain isotropic linear elasticity with Tet4, Hex8, Prism6 and Pyramid5
-//! cells (possibly mixed) on a [`seam::VolumeMesh`]: find u with
+//! Small-strain isotropic linear elasticity on every cell kind of seam's
+//! catalogue, first and second order, possibly mixed, on a
+//! [`seam::VolumeMesh`]: find u with
 //!
 //! ```text
 //! −div σ(u) = b in Ω,   σ = C ε(u),   u = ū on Γ_D,   σ n = t on Γ_N,
@@ -19,7 +20,8 @@
 //! | gluing (paper's first application) | [`glue`] |
 //! | glued bodies over MPI ranks: K where its cells are | [`partition`] |
 //! | frictionless contact, mixed with glue (second application) | [`contact`] |
-//! | one solve and one solution for any mix of glue and contact | [`solution`], [`problem`] |
+//! | how the linear systems are solved: [`Solver`] | [`backend`] |
+//! | one solve for any mix of glue and contact, and its solution | [`coupled`], [`solution`], [`problem`] |
 //! | cell, nodal and von Mises stresses | [`stress`] |
 //! | structured blocks for tests and examples | [`generate`] |
 //!
@@ -47,8 +49,10 @@
 #![deny(missing_docs)]
 
 pub mod assembly;
+pub mod backend;
 mod constraints;
 pub mod contact;
+pub mod coupled;
 pub mod element;
 pub mod generate;
 pub mod glue;
@@ -65,15 +69,14 @@ pub mod stress;
 pub use assembly::{
     body_force, cell_volumes, rigid_body_modes, stiffness, stiffness_times, traction, AssemblyError,
 };
-pub use contact::{ActiveSetStep, Kkt};
+pub use backend::Solver;
+pub use coupled::solve_coupled;
 pub use element::{CellKind, VolumeRule};
 pub use material::{Material, MaterialError};
-pub use multibody::{
-    set_operator_assembler, Body, Coupling, Interface, OperatorAssembler, ProblemError, Solver, Timings,
-};
+pub use multibody::{Body, Coupling, Interface, OperatorAssembler, Operators, ProblemError, Timings};
 pub use problem::{solve, Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
 pub use solution::{
-    solve_coupled, ContactFields, ContactReport, InterfaceSolution, Report, Solution, SolveOptions,
+    ActiveSetStep, ContactFields, ContactReport, InterfaceSolution, Kkt, Report, Solution, SolveOptions,
 };
 pub use solve::{Dirichlet, SolveError};
 pub use stress::{recover_stresses, von_mises, Stresses};

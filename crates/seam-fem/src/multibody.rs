@@ -9,12 +9,9 @@
 //! PᵀKP matrix-free.
 
 use crate::material::Material;
-use crate::pcg::PcgOptions;
-use crate::petsc::PetscOptions;
 use crate::solve::{Dirichlet, SolveError};
 use crate::{stiffness, AssemblyError};
 use seam::{BasisTransformation, CsrMatrix, Mortar, MortarError, MortarOptions, SurfaceMesh, VolumeMesh};
-use std::sync::OnceLock;
 use std::time::Instant;
 
 /// An assembler of an interface's operator (B, D; A1–D5) from the master
@@ -22,31 +19,50 @@ use std::time::Instant;
 pub type OperatorAssembler =
     dyn Fn(&SurfaceMesh, &SurfaceMesh, &MortarOptions) -> Result<Mortar, MortarError> + Send + Sync;
 
-/// The assembler the solves of this process use, when a program set one.
-static OPERATOR: OnceLock<Box<OperatorAssembler>> = OnceLock::new();
-
-/// Makes every later solve of this process assemble its interfaces' operators
-/// with `assembler` instead of [`seam::assemble`] (the binary under MPI: over
-/// the ranks, with the same B and D bit for bit). Interfaces are assembled
-/// one after the other, never concurrently. Once per process: a second call
-/// returns `assembler` back.
-///
-/// # Errors
-/// An assembler was already set: `assembler` itself.
-pub fn set_operator_assembler(assembler: Box<OperatorAssembler>) -> Result<(), Box<OperatorAssembler>> {
-    OPERATOR.set(assembler)
+/// How a solve assembles its interfaces' operators.
+#[derive(Clone, Copy, Default)]
+pub enum Operators {
+    /// By [`seam::assemble`] in this process.
+    #[default]
+    Here,
+    /// By this assembler, with the same B and D bit for bit (the binary under
+    /// MPI: over the ranks). Interfaces are assembled one after the other,
+    /// never concurrently.
+    By(&'static OperatorAssembler),
 }
 
-/// An interface's operator, by the assembler set for this process or by
-/// [`seam::assemble`].
-fn assemble_operator(
-    master: &SurfaceMesh,
-    slave: &SurfaceMesh,
-    options: &MortarOptions,
-) -> Result<Mortar, MortarError> {
-    match OPERATOR.get() {
-        Some(assemble) => assemble(master, slave, options),
-        None => seam::assemble(master, slave, options),
+impl Operators {
+    /// An interface's operator.
+    fn assemble(
+        self,
+        master: &SurfaceMesh,
+        slave: &SurfaceMesh,
+        options: &MortarOptions,
+    ) -> Result<Mortar, MortarError> {
+        match self {
+            Operators::Here => seam::assemble(master, slave, options),
+            Operators::By(assemble) => assemble(master, slave, options),
+        }
+    }
+}
+
+impl std::fmt::Debug for Operators {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Operators::Here => "Here",
+            Operators::By(_) => "By(assembler)",
+        })
+    }
+}
+
+impl PartialEq for Operators {
+    /// The same way: both here, or the same assembler.
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Operators::Here, Operators::Here) => true,
+            (Operators::By(a), Operators::By(b)) => std::ptr::addr_eq(*a, *b),
+            _ => false,
+        }
     }
 }
 
@@ -90,23 +106,6 @@ pub struct Interface<'a> {
     pub options: MortarOptions,
     /// Glue or contact.
     pub kind: Coupling,
-}
-
-/// How the glued system is solved (module doc).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Solver {
-    /// Sparse Cholesky of the reduced system (dual, lumped) or sparse LU of the
-    /// saddle point (standard).
-    Direct,
-    /// Preconditioned conjugate gradients on the reduced system PᵀKP,
-    /// matrix-free.
-    Pcg(PcgOptions),
-    /// A PETSc KSP on the reduced system PᵀKP, assembled (dual and lumped
-    /// multipliers: by default CG + GAMG with the rigid-body modes), on the
-    /// saddle point (standard multipliers: FGMRES with a Schur-complement
-    /// field split), and on each active-set step of contact
-    /// ([`crate::petsc`]; cargo feature `petsc`).
-    Petsc(PetscOptions),
 }
 
 /// Why a multi-body problem (glued, in contact, or both) could not be solved.
@@ -248,12 +247,12 @@ pub(crate) struct System {
 
 /// Assembles K_b per body (timed as `assembly`; `stiffness` false: K is
 /// left empty, 0 × 0, for MPI ranks to assemble, [`crate::partition`]), the
-/// mortar operator per interface (`mortar`), and joins them into one
-/// [`System`] (`setup`).
+/// mortar operator per interface by `operators` (`mortar`), and joins them
+/// into one [`System`] (`setup`).
 pub(crate) fn assemble_system(
     bodies: &[Body],
     interfaces: &[Interface],
-    stiffness: bool,
+    (stiffness, operators): (bool, Operators),
     seconds: &mut Timings,
 ) -> Result<System, ProblemError> {
     let clock = Instant::now();
@@ -274,7 +273,8 @@ pub(crate) fn assemble_system(
                 Coupling::Contact => MortarOptions { transformation: BasisTransformation::All, ..f.options },
                 Coupling::Glue => f.options,
             };
-            assemble_operator(f.master_surface, f.slave_surface, &options)
+            operators
+                .assemble(f.master_surface, f.slave_surface, &options)
                 .map_err(|source| ProblemError::Mortar { interface: i, source })
         })
         .collect::<Result<Vec<_>, _>>()?;

@@ -7,9 +7,10 @@
 //! hands them to [`solve_coupled`].
 
 use crate::assembly::{body_force, traction};
+use crate::coupled::solve_coupled;
 use crate::material::Material;
 use crate::multibody::{Body, Coupling, Interface, ProblemError};
-use crate::solution::{solve_coupled, Solution, SolveOptions};
+use crate::solution::{Solution, SolveOptions};
 use crate::solve::Dirichlet;
 use seam::{MortarOptions, SurfaceMesh, VolumeMesh};
 

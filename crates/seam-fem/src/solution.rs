@@ -1,23 +1,12 @@
-//! One solve for every multi-body problem — glued interfaces, contact
-//! interfaces, or both — and one solution: per body its displacement and
+//! What a solve of a multi-body problem gives: per body its displacement and
 //! stresses, per interface its traction (with normal and tangential parts),
-//! resultant force and, for contact, pressure, gaps and active set.
-//!
-//! [`solve_coupled`] takes the solver's view (loads as vectors, [`Body`],
-//! [`Interface`]); [`crate::problem::solve`] the named [`crate::Problem`] of a
-//! case file or an example. Glue only: the glued system ([`crate::glue`]).
-//! With contact: the active-set method ([`crate::contact`]) with the glued
-//! interfaces eliminated or as saddle-point rows.
+//! resultant force and, for contact, pressure, gaps and active set; and the
+//! report of how it was solved. The solve itself: [`crate::coupled`].
 
-use crate::constraints::Constraints;
-use crate::contact::{add_contact_fields, check_couplings, solve_contact, ActiveSetStep, Kkt};
-use crate::glue::{add_tractions, solve_glued};
-use crate::multibody::{assemble_system, check_input, Body, Coupling, Interface};
-use crate::multibody::{ProblemError, Solver, Timings};
-use crate::stress::{recover_stresses, Stresses};
-use rayon::prelude::*;
+use crate::backend::Solver;
+use crate::multibody::{Coupling, Operators, Timings};
+use crate::stress::Stresses;
 use seam::{Mortar, Point3};
-use std::time::Instant;
 
 /// How a problem is solved.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,12 +15,14 @@ pub struct SolveOptions {
     pub solver: Solver,
     /// Contact: the cap on active-set steps.
     pub max_active_set_steps: usize,
+    /// How the interfaces' operators are assembled.
+    pub operators: Operators,
 }
 
 impl Default for SolveOptions {
-    /// Direct solves, at most 50 active-set steps.
+    /// Direct solves, at most 50 active-set steps, operators assembled here.
     fn default() -> Self {
-        SolveOptions { solver: Solver::Direct, max_active_set_steps: 50 }
+        SolveOptions { solver: Solver::Direct, max_active_set_steps: 50, operators: Operators::Here }
     }
 }
 
@@ -78,7 +69,7 @@ pub struct InterfaceSolution {
 
 impl InterfaceSolution {
     /// An interface with no traction yet, on a slave body of `n` points.
-    fn new(kind: Coupling, mortar: Mortar, n: usize) -> InterfaceSolution {
+    pub(crate) fn new(kind: Coupling, mortar: Mortar, n: usize) -> InterfaceSolution {
         InterfaceSolution {
             kind,
             mortar,
@@ -168,104 +159,41 @@ pub struct ContactReport {
     pub kkt: Kkt,
 }
 
-/// Solves bodies coupled by glued and contact `interfaces` (module doc).
-///
-/// # Errors
-/// [`ProblemError`] for inconsistent input (an interface to a missing body,
-/// loads or supports that do not fit a mesh, standard multipliers for
-/// contact, a point that is slave of a glued and of a contact interface), a
-/// failed assembly, an interface with no overlap, a singular system, an
-/// active set that does not settle, or a non-finite solution.
-pub fn solve_coupled(
-    bodies: &[Body],
-    interfaces: &[Interface],
-    options: &SolveOptions,
-) -> Result<Solution, ProblemError> {
-    check_input(bodies, interfaces)?;
-    check_couplings(interfaces)?;
-    let mut seconds = Timings::default();
-    // Under mpirun, glued bodies are assembled by the ranks (`partition`):
-    // K is not formed here.
-    let over_ranks = matches!(options.solver, Solver::Petsc(_))
-        && crate::petsc::petsc_ranks() > 1
-        && interfaces.iter().all(|f| f.kind == Coupling::Glue);
-    let mut system = assemble_system(bodies, interfaces, !over_ranks, &mut seconds)?;
-    let clock = Instant::now();
-    let constraints = Constraints::new(interfaces, &system.mortars, &system.offsets, &system.dirichlet);
-    seconds.setup += clock.elapsed().as_secs_f64();
-    let used = |b: &Body| b.mesh.used_points().into_iter().filter(|&u| u).count();
-    let (dofs, n_constraints) = (bodies.iter().map(|b| 3 * used(b)).sum(), constraints.rows.len());
-
-    let mut steps = match interfaces.iter().any(|f| f.kind == Coupling::Contact) {
-        true => Some(solve_contact(bodies, interfaces, options, &mut system, &constraints, &mut seconds)?),
-        false => None,
-    };
-    let (u, lambda, method, iterations, residual, contact, petsc) = match &mut steps {
-        Some(s) => {
-            let report = ContactReport {
-                contact_points: s.points.len(),
-                active: s.active.iter().filter(|&&on| on).count(),
-                steps: s.steps.clone(),
-                kkt: s.kkt,
-            };
-            let (u, lambda) = (std::mem::take(&mut s.u), std::mem::take(&mut s.lambda));
-            (u, lambda, s.method, s.steps.len(), s.kkt.max(), Some(report), s.petsc.take())
-        }
-        None => {
-            let g =
-                solve_glued(bodies, &mut system, &constraints, (options.solver, over_ranks), &mut seconds)?;
-            (g.u, g.lambda, g.method, g.iterations, g.residual, None, g.petsc)
-        }
-    };
-    let offsets = &system.offsets;
-    let displacement: Vec<Vec<f64>> =
-        (0..bodies.len()).map(|b| u[offsets[b]..offsets[b + 1]].to_vec()).collect();
-    for (body, u) in displacement.iter().enumerate() {
-        if let Some(dof) = u.iter().position(|v| !v.is_finite()) {
-            return Err(ProblemError::NonFiniteSolution { body, dof });
-        }
-    }
-
-    let clock = Instant::now();
-    let mut out: Vec<InterfaceSolution> = system
-        .mortars
-        .into_iter()
-        .zip(interfaces)
-        .map(|(mortar, f)| InterfaceSolution::new(f.kind, mortar, f.slave_surface.n_points()))
-        .collect();
-    add_tractions(&mut out, &constraints, &lambda);
-    if let Some(steps) = &steps {
-        add_contact_fields(&mut out, steps);
-    }
-    for (s, f) in out.iter_mut().zip(interfaces) {
-        normal_parts(s, &seam::nodal_normals(f.slave_surface));
-    }
-    let stresses = bodies
-        .par_iter()
-        .zip(&displacement)
-        .enumerate()
-        .map(|(b, (body, u))| {
-            recover_stresses(body.mesh, &body.material, u)
-                .map_err(|source| ProblemError::Assembly { body: b, source })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    seconds.stresses = clock.elapsed().as_secs_f64();
-    let report =
-        Report { dofs, constraints: n_constraints, method, iterations, residual, contact, petsc, seconds };
-    Ok(Solution { displacement, stresses, interfaces: out, report })
+/// One active-set step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ActiveSetStep {
+    /// Active points during the step's solve.
+    pub active: usize,
+    /// Points that become active after it.
+    pub added: usize,
+    /// Points that become inactive after it.
+    pub removed: usize,
+    /// PCG iterations of the step (0 for a direct solve).
+    pub linear_iterations: usize,
+    /// Solved to the requested tolerance: every direct step; of an iterative
+    /// solver's, those from the first whose solution to 10⁻³ leaves the active
+    /// set unchanged, which then goes on to the full tolerance (the earlier
+    /// ones stop at 10⁻³, `active_set_method`).
+    pub full_tolerance: bool,
 }
 
-/// The normal (the nodal normal where no contact constraint set one) and the
-/// normal and tangential parts of the traction.
-fn normal_parts(s: &mut InterfaceSolution, nodal: &[Point3]) {
-    let contact = s.contact.as_ref().map(|c| &c.contact);
-    for p in 0..s.traction.len() {
-        if !contact.is_some_and(|c| c[p]) {
-            s.normal[p] = nodal[p];
-        }
-        let (t, n) = (s.traction[p], s.normal[p]);
-        let tn = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
-        s.normal_traction[p] = tn;
-        s.tangential_traction[p] = std::array::from_fn(|k| t[k] - tn * n[k]);
+/// How well the solution meets the discrete KKT conditions, each relative.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Kkt {
+    /// ‖(f − Ku − Cᵀλ)_F‖∞ over the free dofs F, relative to the size of the
+    /// terms, max(‖f_F‖∞, max_i Σ_j |K_ij u_j|).
+    pub equilibrium: f64,
+    /// max_p (−λ_p)⁺ / max_p |λ_p|: negative pressure.
+    pub pressure: f64,
+    /// max_p (w_p − g_p)⁺ / max(‖u‖∞, max |g|): penetration.
+    pub penetration: f64,
+    /// max_p |λ_p (g_p − w_p)| / (max |λ| · max(‖u‖∞, max |g|)).
+    pub complementarity: f64,
+}
+
+impl Kkt {
+    /// The largest of the four.
+    pub fn max(&self) -> f64 {
+        self.equilibrium.max(self.pressure).max(self.penetration).max(self.complementarity)
     }
 }

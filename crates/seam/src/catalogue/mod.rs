@@ -53,8 +53,6 @@ pub(crate) mod tests;
 pub use cells::{CellBasis, Space, Term, MAX_CELL_NODES};
 pub use faces::{shape_and_gradients, shape_values, ShapeAndGradients, MAX_FACE_NODES};
 
-use crate::quadrature::VolumeRule;
-
 /// Reference coordinates (ξ, η) on a face.
 pub type Xi = [f64; 2];
 
@@ -666,23 +664,6 @@ impl CellKind {
             CellBasis::Closed { gradients, .. } => gradients(xi),
             CellBasis::Nodal(_) => cells::nodal_shape(self, xi).1,
         }
-    }
-
-    /// The rule the stiffness is integrated with ([`CellType::stiffness`]):
-    /// 1, 8, 6 and 8 points for first-order kinds; 4 (Tet10), 27 (hexes),
-    /// 18 (prisms) and 27 (pyramids) for second-order kinds.
-    pub fn stiffness_rule(self) -> &'static VolumeRule {
-        crate::quadrature::stiffness_rule(self)
-    }
-
-    /// A rule exact for polynomials of total degree ≤ `degree` on the reference
-    /// cell ([`volume_rule`](crate::volume_rule)); second-order kinds use the
-    /// rule of their family.
-    ///
-    /// # Panics
-    /// Prisms with `degree > seam::MAX_TRIANGLE_DEGREE`.
-    pub fn rule(self, degree: usize) -> VolumeRule {
-        crate::quadrature::volume_rule(self.reference_shape(), degree)
     }
 }
 

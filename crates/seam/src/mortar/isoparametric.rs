@@ -38,7 +38,7 @@
 //! I1 (D·1 = B·1) and I2 hold to round-off whatever the rule, since D and B
 //! use the same points and Σ_q λ^m_q = 1.
 
-use super::kernel::{add_point, barycentric, edge_midpoints, signed_area, Piece};
+use super::pieces::{add_point, barycentric, edge_midpoints, signed_area, Piece};
 use super::{FaceStats, Facing, Segment};
 use crate::catalogue::{shape_and_gradients, shape_values, FaceKind, Xi};
 use crate::clip::{face_polygon, polygon_area, stable_fan, ConvexClipper, Frame, MAX_POLYGON};

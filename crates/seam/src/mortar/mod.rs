@@ -22,6 +22,7 @@ mod isoparametric;
 mod kernel;
 mod multiplier;
 pub mod parts;
+mod pieces;
 mod rows;
 mod transfer;
 
@@ -135,9 +136,9 @@ pub fn face_integrals(e: &FaceElement, degree: usize) -> [f64; 4] {
     let jacobian = e.jacobian_field();
     let mut full = [0.0; 4];
     for t in e.reference_triangles() {
-        let area_ref = kernel::triangle_area(*t);
+        let area_ref = pieces::triangle_area(*t);
         for (pt, &w) in rule.points.iter().zip(rule.weights) {
-            let xi = kernel::barycentric(*t, *pt);
+            let xi = pieces::barycentric(*t, *pt);
             let wj = w * area_ref * jacobian.at(xi);
             let phi = e.shape(xi);
             for p in 0..4 {

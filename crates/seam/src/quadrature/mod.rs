@@ -97,7 +97,6 @@
 
 pub mod volume;
 
-pub(crate) use volume::stiffness_rule;
 pub use volume::{gauss_legendre, volume_rule, VolumeRule};
 
 /// Highest polynomial degree for which a tabulated triangle rule exists.

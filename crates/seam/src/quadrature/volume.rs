@@ -78,6 +78,26 @@ static STIFFNESS_RULES: LazyLock<[VolumeRule; CellKind::ALL.len()]> = LazyLock::
     })
 });
 
+/// The rules of a cell kind (here, so that the catalogue needs no quadrature).
+impl CellKind {
+    /// The rule the stiffness is integrated with ([`crate::CellType::stiffness`]):
+    /// 1, 8, 6 and 8 points for first-order kinds; 4 (Tet10), 27 (hexes),
+    /// 18 (prisms) and 27 (pyramids) for second-order kinds.
+    pub fn stiffness_rule(self) -> &'static VolumeRule {
+        stiffness_rule(self)
+    }
+
+    /// A rule exact for polynomials of total degree ≤ `degree` on the reference
+    /// cell ([`volume_rule`]); second-order kinds use the
+    /// rule of their family.
+    ///
+    /// # Panics
+    /// Prisms with `degree > seam::MAX_TRIANGLE_DEGREE`.
+    pub fn rule(self, degree: usize) -> VolumeRule {
+        volume_rule(self.reference_shape(), degree)
+    }
+}
+
 /// The rule `kind`'s stiffness is integrated with ([`CellKind::stiffness_rule`]).
 pub(crate) fn stiffness_rule(kind: CellKind) -> &'static VolumeRule {
     &STIFFNESS_RULES[kind as usize]

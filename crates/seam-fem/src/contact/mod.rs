@@ -1,5 +1,7 @@
 //! Frictionless two-body contact with the mortar operator (the paper's second
-//! application), solved by a primal-dual active set method.
+//! application), solved by a primal-dual active set method: the iteration
+//! and its linear solves here; the contact points, their nodal frames and the
+//! changes of variables in `frames`.
 //!
 //! # The discrete problem
 //! Each contact interface pairs a master and a slave surface of two bodies. Its
@@ -33,7 +35,7 @@
 //!
 //! # Second-order slave faces (Popp, Wohlmuth, Gee & Wall 2012)
 //! Dual multipliers on Tri6, Quad8 and Quad9 slave faces live in the
-//! transformed basis λ̃ = Q λ ([`Mortar::basis`]; corner: λ_c + α Σ λ_e over
+//! transformed basis λ̃ = Q λ ([`seam::Mortar::basis`]; corner: λ_c + α Σ λ_e over
 //! its edge nodes, edge node: (1 − 2α) λ_e, Quad9 centre unchanged; α is
 //! [`seam::BASIS_ALPHA`], or [`seam::TRI6_ALPHA`] on surfaces of Tri6 faces; contact
 //! interfaces are assembled with [`seam::BasisTransformation::All`], so Quad9
@@ -48,7 +50,7 @@
 //! constraints C̃ = C P_b (Q mixes the nodes of one face, so the sparsity
 //! pattern does not change), and everything above applies to ũ as to a
 //! first-order u: one contact point per transformed node p, its frame at
-//! p's nodal normal n_p ([`nodal_normals`]: the area vectors of the corner
+//! p's nodal normal n_p ([`seam::nodal_normals`]: the area vectors of the corner
 //! polygons of the faces around p, mid-edge and centre nodes included; exact
 //! on flat surfaces, an approximation of the normal at p on curved ones),
 //! t_row = row p of D⁻¹B and the gap
@@ -107,80 +109,26 @@
 //! [`ActiveSetStep::full_tolerance`]): about a third of the iterations of
 //! exact steps (Hertz at 96k unknowns with GAMG: 1 349 → 476).
 
+mod frames;
+
+use crate::backend::Solver;
 use crate::constraints::{free_dofs, matrix_free, saddle_point, triple_product};
-use crate::constraints::{Constraints, Elimination, Row, NONE};
-use crate::multibody::{bodies_stiffness, Body, Coupling, Interface, ProblemError, Solver, System, Timings};
+use crate::constraints::{Constraints, Elimination, Row};
+use crate::multibody::{bodies_stiffness, Body, Coupling, Interface, ProblemError, System, Timings};
 use crate::pcg::{solve_pcg_from, PcgOptions};
 use crate::petsc::{rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, PetscOptions, PetscSummary};
-use crate::solution::{ContactFields, InterfaceSolution, SolveOptions};
+use crate::solution::{ActiveSetStep, ContactFields, InterfaceSolution, Kkt, SolveOptions};
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use rayon::prelude::*;
-use seam::vec3::{cross, dot, norm, sub};
-use seam::{nodal_normals, CsrMatrix, Mortar, Multiplier, Point3};
+use seam::{CsrMatrix, Multiplier, Point3};
 use std::borrow::Cow;
 use std::time::Instant;
 
-/// One active-set step.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ActiveSetStep {
-    /// Active points during the step's solve.
-    pub active: usize,
-    /// Points that become active after it.
-    pub added: usize,
-    /// Points that become inactive after it.
-    pub removed: usize,
-    /// PCG iterations of the step (0 for a direct solve).
-    pub linear_iterations: usize,
-    /// Solved to the requested tolerance: every direct step; of an iterative
-    /// solver's, those from the first whose solution to 10⁻³ leaves the active
-    /// set unchanged, which then goes on to the full tolerance (the earlier
-    /// ones stop at 10⁻³, `active_set_method`).
-    pub full_tolerance: bool,
-}
-
-/// How well the solution meets the discrete KKT conditions, each relative.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Kkt {
-    /// ‖(f − Ku − Cᵀλ)_F‖∞ over the free dofs F, relative to the size of the
-    /// terms, max(‖f_F‖∞, max_i Σ_j |K_ij u_j|).
-    pub equilibrium: f64,
-    /// max_p (−λ_p)⁺ / max_p |λ_p|: negative pressure.
-    pub pressure: f64,
-    /// max_p (w_p − g_p)⁺ / max(‖u‖∞, max |g|): penetration.
-    pub penetration: f64,
-    /// max_p |λ_p (g_p − w_p)| / (max |λ| · max(‖u‖∞, max |g|)).
-    pub complementarity: f64,
-}
-
-impl Kkt {
-    /// The largest of the four.
-    pub fn max(&self) -> f64 {
-        self.equilibrium.max(self.pressure).max(self.penetration).max(self.complementarity)
-    }
-}
-
-/// A contact point: slave point `point` of interface `interface`, its dofs
-/// `first_dof` … + 2 (x, y, z in the global numbering), reinterpreted as
-/// (w, v₁, v₂).
-#[derive(Clone, Debug)]
-pub(crate) struct ContactPoint {
-    interface: usize,
-    point: usize,
-    first_dof: usize,
-    /// n, t₁, t₂.
-    frame: [Point3; 3],
-    /// d_p.
-    d: f64,
-    /// g_p.
-    gap: f64,
-    /// (global master dof of component 0, T_pq).
-    t_row: Vec<(usize, f64)>,
-    /// n_p·(T u_m)_p = Σ a_j y_j in the unknowns y left after the glued
-    /// interfaces' elimination, u = P_g y: (j, a_j).
-    a_row: Vec<(usize, f64)>,
-}
+use frames::{
+    contact_points, normal_row, point_index, rotated_dirichlet, rotation, ContactPoint, SlaveBasis,
+};
 
 /// Solves the frictionless contact problem (module doc): `system` with the
 /// constraints of its glued interfaces and the contact interfaces, after
@@ -250,170 +198,6 @@ fn active_set_steps(
         rotated_steps(bodies, interfaces, options, (system, reform), constraints, seconds)
     } else {
         saddle_steps(bodies, interfaces, options, system, constraints, seconds)
-    }
-}
-
-/// The change of variables u = P_b ũ on the slave points of the contact
-/// interfaces whose mortar has a basis transformation Q (dual multipliers on
-/// second-order slave faces, module doc): u_s = Qᵀ ũ_s per component there,
-/// the identity elsewhere.
-struct SlaveBasis {
-    /// P_b, n × n.
-    p: CsrMatrix,
-    /// The Dirichlet conditions in ũ.
-    dirichlet: Dirichlet,
-}
-
-impl SlaveBasis {
-    /// None when no contact interface has a basis transformation.
-    ///
-    /// # Errors
-    /// [`ProblemError::BadInterface`] for a point transformed by two
-    /// interfaces, or a prescribed component that does not carry over to ũ
-    /// (an edge node's, with a corner of its edge free in that component).
-    fn new(
-        bodies: &[Body],
-        interfaces: &[Interface],
-        system: &System,
-    ) -> Result<Option<SlaveBasis>, ProblemError> {
-        let n = *system.offsets.last().expect("at least the leading zero");
-        let mut rows: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n / 3];
-        let mut owner = vec![NONE; n / 3];
-        let contact = interfaces
-            .iter()
-            .zip(&system.mortars)
-            .enumerate()
-            .filter(|(_, (f, _))| f.kind == Coupling::Contact);
-        let mut any = false;
-        for (i, (f, m)) in contact {
-            let Some(q) = &m.basis else { continue };
-            any = true;
-            let base = system.offsets[f.slave] / 3;
-            let qt = q.transpose();
-            for r in (0..qt.nrows).filter(|&r| m.on_surface[r]) {
-                let (cols, vals) = qt.row(r);
-                if cols == [r] && vals == [1.0] {
-                    continue;
-                }
-                if owner[base + r] != NONE {
-                    let at = bodies[f.slave].mesh.points()[r];
-                    let what = format!(
-                        "slave point {r} at ({}, {}, {}) is on the second-order slave faces of contact interfaces {} and {i}: \
-                         their dual bases cannot share a point (split the surfaces)",
-                        at[0], at[1], at[2], owner[base + r]
-                    );
-                    return Err(ProblemError::BadInterface { interface: i, what });
-                }
-                owner[base + r] = i;
-                rows[base + r] = cols.iter().zip(vals).map(|(&p, &v)| (base + p, v)).collect();
-            }
-        }
-        if !any {
-            return Ok(None);
-        }
-        let contact = interfaces.iter().enumerate().filter(|(_, f)| f.kind == Coupling::Contact);
-        for (i, f) in contact {
-            let base = system.offsets[f.master] / 3;
-            let used = f.master_surface.used_points();
-            if let Some(q) = (0..used.len()).find(|&q| used[q] && owner[base + q] != NONE) {
-                let at = bodies[f.master].mesh.points()[q];
-                let what = format!(
-                    "master point {q} at ({}, {}, {}) is on the second-order slave faces of contact interface {}: \
-                     a contact master surface cannot share points with a transformed slave surface",
-                    at[0], at[1], at[2], owner[base + q]
-                );
-                return Err(ProblemError::BadInterface { interface: i, what });
-            }
-        }
-        let dirichlet = Self::transformed_dirichlet(bodies, system, &rows, &owner)?;
-        let mut p = CsrMatrix::zeros(0, n);
-        for dof in 0..n {
-            let (point, comp) = (dof / 3, dof % 3);
-            if rows[point].is_empty() {
-                p.indices.push(dof);
-                p.values.push(1.0);
-            } else {
-                let mut row: Vec<(usize, f64)> =
-                    rows[point].iter().map(|&(q, a)| (3 * q + comp, a)).collect();
-                row.sort_unstable_by_key(|e| e.0);
-                p.indices.extend(row.iter().map(|e| e.0));
-                p.values.extend(row.iter().map(|e| e.1));
-            }
-            p.indptr.push(p.indices.len());
-            p.nrows += 1;
-        }
-        Ok(Some(SlaveBasis { p, dirichlet }))
-    }
-
-    /// The prescribed values in ũ: u_r,k = Σ_q a_q ũ_q,k prescribed at a
-    /// corner (u_c = ũ_c) carries over; at an edge node, when both corners
-    /// of its edge have component k prescribed too, ũ_e,k = (u_e,k − Σ_c a_c
-    /// u_c,k) / a_e. Anything else is refused.
-    fn transformed_dirichlet(
-        bodies: &[Body],
-        system: &System,
-        rows: &[Vec<(usize, f64)>],
-        owner: &[usize],
-    ) -> Result<Dirichlet, ProblemError> {
-        let dirichlet = &system.dirichlet;
-        let mut out = Dirichlet::new();
-        for (dof, v) in dirichlet.iter() {
-            let (point, comp) = (dof / 3, dof % 3);
-            let row = &rows[point];
-            if row.is_empty() {
-                out.fix_dof(dof, v);
-                continue;
-            }
-            let mut value = v;
-            let mut own = 1.0;
-            for &(q, a) in row {
-                if q == point {
-                    own = a;
-                    continue;
-                }
-                // q is a corner: u_q = ũ_q.
-                match dirichlet.value(3 * q + comp).filter(|_| rows[q].iter().all(|&(c, _)| c == q)) {
-                    Some(uq) => value -= a * uq / rows[q].first().map_or(1.0, |e| e.1),
-                    None => {
-                        let body = system.offsets.partition_point(|&o| o <= dof) - 1;
-                        let local = point - system.offsets[body] / 3;
-                        let corner = q - system.offsets[body] / 3;
-                        let at = bodies[body].mesh.points()[local];
-                        let what = format!(
-                            "slave point {local} at ({}, {}, {}) has component {comp} prescribed, but point {corner}, a \
-                             corner of its edge, does not: with second-order slave faces the contact unknowns \
-                             mix an edge node with its corners (Popp et al. 2012), so a prescribed component must \
-                             be prescribed on the whole edge",
-                            at[0], at[1], at[2]
-                        );
-                        return Err(ProblemError::BadInterface { interface: owner[point], what });
-                    }
-                }
-            }
-            out.fix_dof(dof, value / own);
-        }
-        Ok(out)
-    }
-
-    /// C P_b for a matrix C with n columns.
-    fn times(&self, c: &CsrMatrix) -> CsrMatrix {
-        let mut out = CsrMatrix::zeros(0, c.ncols);
-        let mut row: Vec<(usize, f64)> = Vec::new();
-        for i in 0..c.nrows {
-            row.clear();
-            let (cols, vals) = c.row(i);
-            for (&j, &v) in cols.iter().zip(vals) {
-                let (pc, pv) = self.p.row(j);
-                row.extend(pc.iter().zip(pv).map(|(&k, &a)| (k, v * a)));
-            }
-            for (j, v) in merged(&mut row) {
-                out.indices.push(j);
-                out.values.push(v);
-            }
-            out.indptr.push(out.indices.len());
-            out.nrows += 1;
-        }
-        out
     }
 }
 
@@ -827,198 +611,6 @@ fn length_scale(bodies: &[Body]) -> f64 {
     bodies.iter().map(|b| diagonal(b.mesh.points())).fold(0.0, f64::max)
 }
 
-/// The contact points of all interfaces, in interface and point order: covered
-/// slave points not claimed by an earlier interface whose normal is not
-/// prescribed.
-fn contact_points(
-    bodies: &[Body],
-    interfaces: &[Interface],
-    mortars: &[Mortar],
-    offsets: &[usize],
-    dirichlet: &Dirichlet,
-    p_g: Option<&CsrMatrix>,
-) -> Result<Vec<ContactPoint>, ProblemError> {
-    let n = *offsets.last().unwrap();
-    let mut claimed = vec![false; n / 3];
-    let mut points = Vec::new();
-    let contact =
-        interfaces.iter().zip(mortars).enumerate().filter(|(_, (f, _))| f.kind == Coupling::Contact);
-    for (i, (f, m)) in contact {
-        let (os, om) = (offsets[f.slave], offsets[f.master]);
-        let normals = nodal_normals(f.slave_surface);
-        let (xs, xm) = (bodies[f.slave].mesh.points(), bodies[f.master].mesh.points());
-        // The slave positions in the transformed basis, x̃_s = Q⁻ᵀ x_s = D⁻¹ (D Q⁻ᵀ) x_s.
-        let nodal_d = m.basis.as_ref().map(|_| m.nodal_d());
-        let position = |p: usize, d: f64| -> Point3 {
-            match &nodal_d {
-                None => xs[p],
-                Some(n) => {
-                    let (cols, vals) = n.row(p);
-                    std::array::from_fn(|c| cols.iter().zip(vals).map(|(&r, &v)| v / d * xs[r][c]).sum())
-                }
-            }
-        };
-        for p in (0..m.covered.len()).filter(|&p| m.covered[p]) {
-            let first_dof = os + 3 * p;
-            if claimed[first_dof / 3] {
-                continue;
-            }
-            let fixed: [bool; 3] = std::array::from_fn(|c| dirichlet.value(first_dof + c).is_some());
-            let Some(frame) = frame(normals[p], fixed) else { continue };
-            claimed[first_dof / 3] = true;
-            let d = m.d.get(p, p);
-            let (cols, vals) = m.b.row(p);
-            let t_row: Vec<(usize, f64)> =
-                cols.iter().zip(vals).map(|(&q, &b)| (om + 3 * q, b / d)).collect();
-            let txm: Point3 =
-                std::array::from_fn(|c| cols.iter().zip(vals).map(|(&q, &b)| b / d * xm[q][c]).sum());
-            let gap = dot(frame[0], sub(txm, position(p, d)));
-            let a_row = normal_row(&t_row, frame[0], p_g);
-            points.push(ContactPoint { interface: i, point: p, first_dof, frame, d, gap, t_row, a_row });
-        }
-    }
-    let slave_point: Vec<bool> = {
-        let mut s = vec![false; n / 3];
-        points.iter().for_each(|c| s[c.first_dof / 3] = true);
-        s
-    };
-    for c in &points {
-        if let Some(&(q, _)) = c.t_row.iter().find(|(q, _)| slave_point[q / 3]) {
-            let what = format!(
-                "master point {} is also a contact point of another interface; chains of contact \
-                 through one point are not supported",
-                (q - offsets[interfaces[c.interface].master]) / 3
-            );
-            return Err(ProblemError::BadInterface { interface: c.interface, what });
-        }
-    }
-    Ok(points)
-}
-
-/// n·(T u_m)_p in the unknowns y, u = P_g y: the entries (q + k, T_pq n_k) of
-/// `t_row`, each expanded through its row of P_g when a glued interface
-/// eliminates it.
-fn normal_row(t_row: &[(usize, f64)], n: Point3, p_g: Option<&CsrMatrix>) -> Vec<(usize, f64)> {
-    let mut row = Vec::new();
-    for &(q, t) in t_row {
-        for k in 0..3 {
-            let a = t * n[k];
-            match p_g {
-                None => row.push((q + k, a)),
-                Some(p) => {
-                    let (cols, vals) = p.row(q + k);
-                    row.extend(cols.iter().zip(vals).map(|(&j, &v)| (j, a * v)));
-                }
-            }
-        }
-    }
-    merged(&mut row)
-}
-
-/// The entries of `row` sorted by index, those with equal indices summed.
-fn merged(row: &mut [(usize, f64)]) -> Vec<(usize, f64)> {
-    row.sort_by_key(|e| e.0);
-    let mut merged: Vec<(usize, f64)> = Vec::with_capacity(row.len());
-    for &(j, v) in row.iter() {
-        match merged.last_mut() {
-            Some(last) if last.0 == j => last.1 += v,
-            _ => merged.push((j, v)),
-        }
-    }
-    merged
-}
-
-/// The nodal frame (n, t₁, t₂): n the normal with its prescribed components
-/// removed, t₁, t₂ an orthonormal basis of n⊥ containing the prescribed axes.
-/// None when the normal is (nearly) prescribed: the point cannot move along it.
-fn frame(normal: Point3, fixed: [bool; 3]) -> Option<[Point3; 3]> {
-    let mut n = normal;
-    for c in (0..3).filter(|&c| fixed[c]) {
-        n[c] = 0.0;
-    }
-    let length = norm(n);
-    if length < 0.5 || length.is_nan() {
-        return None;
-    }
-    n = n.map(|v| v / length);
-    let axis = |c: usize| std::array::from_fn(|i| if i == c { 1.0 } else { 0.0 });
-    // t₁: a prescribed axis if any, else the axis most orthogonal to n, made orthogonal.
-    let t1 = match (0..3).find(|&c| fixed[c]) {
-        Some(c) => axis(c),
-        None => {
-            let c = (0..3).min_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs())).unwrap();
-            let e: Point3 = axis(c);
-            let t = sub(e, n.map(|v| v * n[c]));
-            let l = norm(t);
-            t.map(|v| v / l)
-        }
-    };
-    Some([n, t1, cross(n, t1)])
-}
-
-/// Per mesh point of the n dofs: the index of its contact point, or `NONE`.
-fn point_index(n: usize, points: &[ContactPoint]) -> Vec<usize> {
-    let mut at = vec![NONE; n / 3];
-    for (i, c) in points.iter().enumerate() {
-        at[c.first_dof / 3] = i;
-    }
-    at
-}
-
-/// P (n × n): the identity except at contact points, whose rows read
-/// u_s,p = n (w + Σ_q T_pq n·u_m,q) + t₁ v₁ + t₂ v₂ (module doc).
-fn rotation(n: usize, points: &[ContactPoint]) -> CsrMatrix {
-    let at = point_index(n, points);
-    let mut p = CsrMatrix::zeros(0, n);
-    let mut row: Vec<(usize, f64)> = Vec::new();
-    for dof in 0..n {
-        row.clear();
-        match at[dof / 3] {
-            NONE => row.push((dof, 1.0)),
-            i => {
-                let c = &points[i];
-                let comp = dof % 3;
-                let [nn, t1, t2] = c.frame;
-                row.extend([
-                    (c.first_dof, nn[comp]),
-                    (c.first_dof + 1, t1[comp]),
-                    (c.first_dof + 2, t2[comp]),
-                ]);
-                // Zeros stay: whole 3 × 3 blocks keep the point graph for the ordering.
-                row.extend(c.a_row.iter().map(|&(j, a)| (j, nn[comp] * a)));
-                row.sort_unstable_by_key(|e| e.0);
-            }
-        }
-        p.indices.extend(row.iter().map(|e| e.0));
-        p.values.extend(row.iter().map(|e| e.1));
-        p.indptr.push(p.indices.len());
-        p.nrows += 1;
-    }
-    p
-}
-
-/// The Dirichlet conditions in x: unchanged off the contact points; at a
-/// contact point a prescribed axis is ±t₁ or ±t₂ (see [`frame`]), so the
-/// value, with that sign, moves to v₁ or v₂.
-fn rotated_dirichlet(n: usize, dirichlet: &Dirichlet, points: &[ContactPoint]) -> Dirichlet {
-    let at = point_index(n, points);
-    let mut out = Dirichlet::new();
-    for (dof, v) in dirichlet.iter() {
-        match at[dof / 3] {
-            NONE => out.fix_dof(dof, v),
-            i => {
-                let c = &points[i];
-                let axis = dof % 3;
-                let k =
-                    (1..3).find(|&k| c.frame[k][axis].abs() == 1.0).expect("prescribed axes are tangents");
-                // t_k = ±e_axis (t₂ = n × t₁ may point along −e_axis).
-                out.fix_dof(c.first_dof + k, v * c.frame[k][axis])
-            }
-        };
-    }
-    out
-}
-
 /// The primal-dual active set iteration (module doc) around `step`, which
 /// returns, for an active set, the step number and whether the linear solve
 /// must meet its full tolerance, (w, μ, linear iterations) per contact
@@ -1348,7 +940,7 @@ pub(crate) fn add_contact_fields(out: &mut [InterfaceSolution], steps: &Steps) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::multibody::{assemble_system, bodies_stiffness};
+    use crate::multibody::{assemble_system, bodies_stiffness, Operators};
     use crate::scene::{bulging_contact, BulgingContact};
 
     /// The saddle point per step (used with glued interfaces that do not
@@ -1363,7 +955,8 @@ mod tests {
         let (bodies, interfaces) = (problem.solver_bodies(&prepared), problem.coupled());
         let options = SolveOptions::default();
         let mut seconds = Timings::default();
-        let mut system = assemble_system(&bodies, &interfaces, true, &mut seconds).unwrap();
+        let mut system =
+            assemble_system(&bodies, &interfaces, (true, Operators::Here), &mut seconds).unwrap();
         let constraints = Constraints::new(&interfaces, &system.mortars, &system.offsets, &system.dirichlet);
         let reform = || bodies_stiffness(&bodies);
         let a =

@@ -1,5 +1,7 @@
-//! `mpirun -np N seam assemble …` (cargo feature `mpi`): the operator over
-//! MPI ranks, by the library's parts ([`seam::parts`]).
+//! Runs over MPI ranks (cargo feature `mpi`): `mpirun -np N seam assemble …`
+//! assembles the operator over the ranks, by the library's parts
+//! ([`seam::parts`]); the binary drives this protocol, and any other program
+//! linking seam-case can.
 //!
 //! Rank 0 reads both surfaces, splits the slave faces by recursive coordinate
 //! bisection, and sends each rank its faces and the master faces of its
@@ -18,13 +20,20 @@
 //! an empty message, and every rank exits: rank 0 with its one-line error and
 //! code 2, the others silently with code 2.
 
+use crate::assemble::{Assembler, AssemblerError, Progress, RankReport};
+use crate::Failure;
 use mpi::topology::{Communicator, SimpleCommunicator};
 use mpi::traits::{Destination, Source};
 use seam::parts::{assemble_here, assemble_parts, split, PartBlocks, PartJob};
 use seam::{FaceTree, Mortar, MortarError, MortarOptions, SurfaceMesh};
-use seam_case::assemble::{Assembler, AssemblerError, Progress, RankReport};
 use std::cell::Cell;
 use std::time::Instant;
+
+/// A rank other than 0 could not do its share: rank 0 failed first (and
+/// says why), or the part it sent could not be read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("this MPI rank could not do its share of the run (rank 0 says why)")]
+pub struct Abandoned;
 
 /// The largest message MPI is handed at once.
 const CHUNK: usize = 1 << 30;
@@ -50,9 +59,12 @@ impl Ranks {
     /// Calls to MPI come from one thread at a time ("serialized"): the
     /// operator's from the main thread, PETSc's from whichever thread of the
     /// solve holds PETSc's lock.
-    pub fn initialize() -> anyhow::Result<Ranks> {
+    ///
+    /// # Errors
+    /// MPI was initialised before in this process.
+    pub fn initialize() -> Result<Ranks, Failure> {
         let (universe, _) = mpi::initialize_with_threading(mpi::Threading::Serialized)
-            .ok_or_else(|| anyhow::anyhow!("MPI was initialised twice"))?;
+            .ok_or_else(|| Failure::Error("MPI was initialised twice".into()))?;
         let world = universe.world();
         Ok(Ranks { _universe: universe, world })
     }
@@ -72,7 +84,7 @@ impl Ranks {
     /// rank 0 yields for it ([`operators_over_ranks`]) and the stiffness of
     /// the cells rank 0 sends it ([`seam_fem::partition::answer`]), until
     /// rank 0 ends. `Err` when a PETSc call failed here (rank 0 has failed too).
-    pub fn follow(&self) -> Result<(), ()> {
+    pub fn follow(&self) -> Result<(), Abandoned> {
         loop {
             match seam_fem::petsc::follow_petsc() {
                 Ok(seam_fem::petsc::Followed::Released) => return Ok(()),
@@ -81,7 +93,7 @@ impl Ranks {
                     let _ = self.work();
                 }
                 Ok(seam_fem::petsc::Followed::Job(cells)) => seam_fem::partition::answer(&cells),
-                Err(_) => return Err(()),
+                Err(_) => return Err(Abandoned),
             }
         }
     }
@@ -94,17 +106,17 @@ impl Ranks {
     /// A rank other than 0: waits for its part, assembles it on rayon's
     /// global pool and sends the blocks back. `Err` when there was no part
     /// (rank 0 failed) or it could not be read.
-    pub fn work(&self) -> Result<(), ()> {
+    pub fn work(&self) -> Result<(), Abandoned> {
         let root = self.world.process_at_rank(0);
         let bytes = receive(&root);
         let job = match bytes.is_empty() {
-            true => return Err(()),
+            true => return Err(Abandoned),
             false => PartJob::from_bytes(&bytes),
         };
         let Ok(job) = job else {
             send(&root, &[]);
             root.send(&0.0f64);
-            return Err(());
+            return Err(Abandoned);
         };
         let start = Instant::now();
         let blocks = job.assemble().to_bytes();
@@ -115,11 +127,12 @@ impl Ranks {
     }
 }
 
-/// Rank 0 of `mpirun -np N seam solve`: every interface's operator is
+/// Rank 0 of `mpirun -np N seam solve`: how every interface's operator is
 /// assembled over the ranks ([`OverRanks`], the same B and D bit for bit),
 /// the other ranks handed over by PETSc's followers for it
-/// ([`Ranks::follow`]).
-pub fn operators_over_ranks() {
+/// ([`Ranks::follow`]). For [`crate::solve::SolveOptions::operators`]; MPI
+/// must be initialised ([`Ranks::initialize`]) for as long as solves use it.
+pub fn operators_over_ranks() -> seam_fem::Operators {
     let over_ranks = |master: &SurfaceMesh, slave: &SurfaceMesh, options: &MortarOptions| {
         seam_fem::petsc::yield_petsc();
         // MPI is initialised for the whole run (`main`); this thread is the
@@ -134,8 +147,8 @@ pub fn operators_over_ranks() {
             },
         )
     };
-    // Set once, by main, before any solve.
-    let _ = seam_fem::set_operator_assembler(Box::new(over_ranks));
+    // One closure for the whole process (a few bytes), referred to by solves.
+    seam_fem::Operators::By(Box::leak(Box::new(over_ranks)))
 }
 
 /// Rank 0's side of [`Ranks::work`] ([`Assembler`]).
