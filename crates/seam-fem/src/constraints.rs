@@ -279,7 +279,10 @@ pub(crate) fn from_transposed(x: SparseColMat<usize, f64>) -> CsrMatrix {
 }
 
 /// CᵀC, by a sparse product (faer, sorted output).
-pub(crate) fn gram(c: &CsrMatrix) -> CsrMatrix {
+///
+/// # Errors
+/// [`SolveError::ProductOutOfMemory`] when the product cannot be allocated.
+pub(crate) fn gram(c: &CsrMatrix) -> Result<CsrMatrix, SolveError> {
     // As CSC: view(C) = Cᵀ and view(Cᵀ) = C, so their product is CᵀC, whose
     // CSR is its (symmetric) transpose's CSC.
     let ct = c.transpose();
@@ -289,8 +292,8 @@ pub(crate) fn gram(c: &CsrMatrix) -> CsrMatrix {
         1.0,
         Par::rayon(0),
     )
-    .expect("sparse product fits in memory");
-    from_transposed(a)
+    .map_err(|_| SolveError::ProductOutOfMemory { rows: c.nrows, entries: c.nnz() })?;
+    Ok(from_transposed(a))
 }
 
 /// PᵀKP row by row (Gustavson): row i is Σ_k P_ki Σ_l K_kl P_l·, summed in a

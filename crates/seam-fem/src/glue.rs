@@ -318,7 +318,7 @@ fn saddle_over_ranks(
     };
     let diagonal = crate::partition::stiffness_diagonal(bodies, &constrained)?;
     let Augmented { c, g, ct, ctc, gamma } =
-        augmented((&constraints.c, &constraints.g), free, &w, |i| diagonal[i]);
+        augmented((&constraints.c, &constraints.g), free, &w, |i| diagonal[i])?;
     let m = c.nrows;
     let mut extra = Vec::with_capacity(n - q.indices.len() + ctc.nnz() + 2 * c.nnz());
     for i in 0..n {

@@ -295,7 +295,7 @@ pub(crate) fn solve_petsc_saddle(
     }
     let diagonal_k = k.diagonal();
     let Augmented { c: c_free, g: g_free, ct, ctc, gamma } =
-        augmented((c, g), &active, &prescribed, |i| diagonal_k[i]);
+        augmented((c, g), &active, &prescribed, |i| diagonal_k[i])?;
     let ctg = ct.mul_vec(&g_free, 1);
     let mut a = Rows::new(n + m, n + m, k.nnz() + ctc.nnz() + 2 * c_free.nnz())?;
     for i in 0..n {
@@ -364,15 +364,18 @@ pub(crate) fn solve_petsc_saddle(
 
 /// The constraints of a saddle point on the free dofs (`active`): C there,
 /// g − C_D ū, Cᵀ, CᵀC, and the augmentation's γ, which balances CᵀC's
-/// diagonal against K's (`k_diagonal(i)`) where the constraints act
-/// (measured on warped-glue, standard multipliers: 10× and 0.1× this need
-/// 1.7× and 1.5× the iterations; larger γ makes K_γ harder for multigrid).
+/// diagonal against K's (`k_diagonal(i)`) where the constraints act: a
+/// larger γ makes K_γ harder for multigrid, a smaller one weakens the
+/// augmentation (both cost iterations).
+///
+/// # Errors
+/// [`SolveError::ProductOutOfMemory`] when CᵀC cannot be allocated.
 pub(crate) fn augmented(
     (c, g): (&CsrMatrix, &[f64]),
     active: &[bool],
     prescribed: &[f64],
     k_diagonal: impl Fn(usize) -> f64,
-) -> Augmented {
+) -> Result<Augmented, SolveError> {
     let n = active.len();
     let mut c_free = CsrMatrix::zeros(0, n);
     let mut g_free = g.to_vec();
@@ -390,7 +393,7 @@ pub(crate) fn augmented(
         c_free.nrows += 1;
     }
     let ct = c_free.transpose();
-    let ctc = crate::constraints::gram(&c_free);
+    let ctc = crate::constraints::gram(&c_free)?;
     let (sum_k, sum_c) = ctc
         .diagonal()
         .iter()
@@ -398,7 +401,7 @@ pub(crate) fn augmented(
         .filter(|(_, &d)| d > 0.0)
         .fold((0.0, 0.0), |(sk, sc), (i, &d)| (sk + k_diagonal(i), sc + d));
     let gamma = if sum_c > 0.0 { sum_k / sum_c } else { 0.0 };
-    Augmented { c: c_free, g: g_free, ct, ctc, gamma }
+    Ok(Augmented { c: c_free, g: g_free, ct, ctc, gamma })
 }
 
 /// A saddle point's constraints on the free dofs ([`augmented`]).

@@ -93,6 +93,15 @@ pub enum SolveError {
     /// The Cholesky factor (or its workspace) could not be allocated.
     #[error("out of memory for the sparse Cholesky factor")]
     OutOfMemory,
+    /// The sparse product CᵀC of a saddle point's constraints (PETSc's
+    /// augmented system) could not be allocated, or its size overflows.
+    #[error("out of memory for the product CᵀC of the constraints ({rows} rows, {entries} entries)")]
+    ProductOutOfMemory {
+        /// Rows of C.
+        rows: usize,
+        /// Entries of C.
+        entries: usize,
+    },
     /// The conjugate gradient iteration reached its iteration cap with
     /// ‖r‖ > rtol ‖b‖.
     #[error("conjugate gradients did not converge: relative residual {relative_residual:.1e} after {iterations} iterations")]
