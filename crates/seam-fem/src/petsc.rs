@@ -189,9 +189,26 @@ pub(crate) fn solve_petsc_from(
     start: Option<&[f64]>,
     summary: &mut PetscSummary,
 ) -> Result<Vec<f64>, SolveError> {
+    let (mut u, a, b) = free_rows(k, f, dirichlet, start)?;
+    ksp_solve(a, &b, &mut u, (Split::None, modes), options, start.is_some(), summary)?;
+    for (dof, v) in dirichlet.iter() {
+        u[dof] = v;
+    }
+    Ok(u)
+}
+
+/// K u = f with the values of `dirichlet` as PETSc gets it: the start (its
+/// free entries, 0 elsewhere), A = K on the free rows and columns and the
+/// identity elsewhere, and b = f − K ū on the free rows, 0 elsewhere. An
+/// owned K is dropped once A is built.
+fn free_rows(
+    k: Cow<'_, CsrMatrix>,
+    f: &[f64],
+    dirichlet: &Dirichlet,
+    start: Option<&[f64]>,
+) -> Result<(Vec<f64>, Rows, Vec<f64>), SolveError> {
     let n = k.nrows;
     let (active, b) = free_system(&k, f, dirichlet, start)?;
-    // A = K on the free rows and columns, the identity elsewhere.
     let mut a = Rows::new(n, n, k.nnz())?;
     for i in 0..n {
         if active[i] {
@@ -205,15 +222,39 @@ pub(crate) fn solve_petsc_from(
         a.end_row()?;
     }
     drop(k); // an owned K (a reduced system) is not needed any more: PETSc gets A
-    let mut u: Vec<f64> = match start {
+    let u: Vec<f64> = match start {
         Some(s) => s.iter().zip(&active).map(|(&v, &a)| if a { v } else { 0.0 }).collect(),
         None => vec![0.0; n],
     };
-    ksp_solve(a, &b, &mut u, (Split::None, modes), options, start.is_some(), summary)?;
-    for (dof, v) in dirichlet.iter() {
-        u[dof] = v;
+    Ok((u, a, b))
+}
+
+/// A x = b, A any square matrix regular on the free dofs, with the values
+/// of `fixed` by a PETSc KSP from `start`: by default FGMRES (right
+/// preconditioning: the tolerance is on the true residual) with block
+/// Jacobi, ILU(0) per rank (GAMG's default Chebyshev smoothing diverges on
+/// systems that are not symmetric; `-pc_type gamg -mg_levels_pc_type sor`
+/// is the multigrid choice), `modes` the near-nullspace a multigrid gets; the
+/// solve is appended to `summary`.
+///
+/// # Errors
+/// As [`solve_petsc_from`].
+pub(crate) fn solve_petsc_general(
+    a: &CsrMatrix,
+    b: &[f64],
+    fixed: &Dirichlet,
+    modes: &[Vec<f64>],
+    options: &PetscOptions,
+    start: Option<&[f64]>,
+    summary: &mut PetscSummary,
+) -> Result<Vec<f64>, SolveError> {
+    let (x, rows, rhs) = free_rows(Cow::Borrowed(a), b, fixed, start)?;
+    let mut x = x;
+    ksp_solve(rows, &rhs, &mut x, (Split::General, modes), options, start.is_some(), summary)?;
+    for (dof, v) in fixed.iter() {
+        x[dof] = v;
     }
-    Ok(u)
+    Ok(x)
 }
 
 /// A matrix in compressed rows with PETSc's indices (32 bits), built row by
@@ -427,6 +468,8 @@ pub(crate) enum Split {
     None,
     /// A saddle point whose first unknowns are the points'.
     Saddle(usize),
+    /// Points of 3 unknowns, a matrix that is not symmetric.
+    General,
 }
 
 #[cfg(feature = "petsc")]
@@ -458,6 +501,10 @@ fn structure_and_config(
     let base = KspConfig { rtol: options.rtol, max_iterations: options.max_iter, ..KspConfig::default() };
     match split {
         Split::None => (Structure::Blocks(if n % 3 == 0 { 3 } else { 1 }), base),
+        Split::General => (
+            Structure::Blocks(if n % 3 == 0 { 3 } else { 1 }),
+            KspConfig { ksp_type: "fgmres".into(), pc_type: "bjacobi".into(), symmetric: false, ..base },
+        ),
         Split::Saddle(first) => (
             Structure::Saddle { first, block_size: 3 },
             KspConfig { ksp_type: "fgmres".into(), pc_type: "fieldsplit".into(), symmetric: false, ..base },

@@ -120,6 +120,10 @@ pub enum SolveError {
         /// The smallest relative residual reached.
         reached: f64,
     },
+    /// A system that is not symmetric (the semismooth Newton step of
+    /// frictional contact) was given to conjugate gradients.
+    #[error("conjugate gradients (solver `pcg`) solve symmetric systems only, and this one is not symmetric: use solver `direct` or `petsc`")]
+    NotSymmetric,
     /// The PETSc solver was asked for, but this build has no PETSc.
     #[error(
         "this seam was built without PETSc: build it with `cargo build --release -p seam-cli --features petsc` \

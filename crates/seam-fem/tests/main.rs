@@ -1,6 +1,7 @@
 //! The integration tests of `seam-fem`, one module per subject, in one test
 //! binary (one link per crate).
 
+mod backend;
 mod common;
 mod contact;
 mod contact_bulging;

@@ -115,8 +115,7 @@ use crate::backend::Solver;
 use crate::constraints::{free_dofs, matrix_free, saddle_point, triple_product};
 use crate::constraints::{Constraints, Elimination, Row};
 use crate::multibody::{bodies_stiffness, Body, Coupling, Interface, ProblemError, System, Timings};
-use crate::pcg::{solve_pcg_from, PcgOptions};
-use crate::petsc::{rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, PetscOptions, PetscSummary};
+use crate::petsc::{rigid_body_modes_in, solve_petsc_saddle, PetscSummary};
 use crate::solution::{ActiveSetStep, ContactFields, InterfaceSolution, Kkt, SolveOptions};
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
@@ -298,10 +297,14 @@ fn rotated_steps(
             // (u = P_g P x), zero at eliminated dofs and rotated into the
             // nodal frames at contact points.
             system.k = CsrMatrix::zeros(0, 0);
-            let modes = matches!(options.solver, Solver::Petsc(_)).then(|| {
-                let retained = glued.as_ref().map(|g| &g.retained[..]);
-                rigid_body_modes_in(&system.points, retained, Some(&p))
-            });
+            let modes = match options.solver {
+                Solver::Petsc(_) => {
+                    let retained = glued.as_ref().map(|g| &g.retained[..]);
+                    rigid_body_modes_in(&system.points, retained, Some(&p)).to_vec()
+                }
+                _ => Vec::new(),
+            };
+            let mut summary = PetscSummary::default();
             let mut previous: Option<Vec<f64>> = None;
             let (active, _, mu, steps) = active_set_method(
                 &points,
@@ -316,19 +319,13 @@ fn rotated_steps(
                     let n_active = active.iter().filter(|&&on| on).count();
                     // Each step from the previous one's solution.
                     let start = previous.as_deref();
-                    let solved = match (options.solver, &modes) {
-                        (Solver::Petsc(o), Some(modes)) => {
-                            let summary = petsc.get_or_insert_with(PetscSummary::default);
-                            let o = PetscOptions { rtol: step_rtol(o.rtol, tight), ..o };
-                            solve_petsc_from(Cow::Borrowed(&a), &b, &fixed, modes, &o, start, summary)
-                                .map(|x| (x, summary.solves.last().map_or(0, |s| s.iterations)))
-                        }
-                        (Solver::Pcg(o), _) => {
-                            let o = PcgOptions { rtol: step_rtol(o.rtol, tight), ..o };
-                            solve_pcg_from(&a, &b, &fixed, &o, start).map(|(x, r)| (x, r.iterations))
-                        }
-                        _ => unreachable!("an iterative solver"),
-                    };
+                    let solved = step_solver(options.solver, tight).solve_spd(
+                        Cow::Borrowed(&a),
+                        &b,
+                        &fixed,
+                        (start, &modes),
+                        &mut summary,
+                    );
                     let (x, iterations) = solved.map_err(|e| match e {
                         SolveError::Singular => singular(step, n_active),
                         e => ProblemError::Solve(e),
@@ -341,6 +338,7 @@ fn rotated_steps(
                 },
             )?;
             seconds.factorization += clock.elapsed().as_secs_f64();
+            petsc = matches!(options.solver, Solver::Petsc(_)).then_some(summary);
             (previous.expect("at least one step"), active, mu, steps)
         }
     };
@@ -439,14 +437,10 @@ fn saddle_steps(
                 c.g.push(point.gap);
             }
             let n_active = c.rows.len() - n_glue;
-            let solved = match &options.solver {
+            let solved = match &step_solver(options.solver, tight) {
                 Solver::Direct => saddle_point(k, f, dirichlet, &c, seconds),
-                Solver::Pcg(pcg) => {
-                    let pcg = PcgOptions { rtol: step_rtol(pcg.rtol, tight), ..*pcg };
-                    matrix_free(k, f, dirichlet, &c, &pcg, seconds)
-                }
+                Solver::Pcg(pcg) => matrix_free(k, f, dirichlet, &c, pcg, seconds),
                 Solver::Petsc(o) => {
-                    let o = &PetscOptions { rtol: step_rtol(o.rtol, tight), ..*o };
                     // From the previous step: u, and the glued rows' λ (the
                     // contact rows change with the active set).
                     let start = last.as_ref().map(|(u, lambda)| {
@@ -617,7 +611,7 @@ fn length_scale(bodies: &[Body]) -> f64 {
 /// point. Returns the final active set, w, μ and the steps.
 ///
 /// When `inexact` (iterative solvers), the steps solve to a looser tolerance
-/// ([`step_rtol`]) while the active set still changes: their solutions only
+/// ([`step_solver`]) while the active set still changes: their solutions only
 /// decide the next active set, which they decide as exact ones would up to
 /// the points on the verge of changing. A step whose loose solution leaves
 /// the active set as it was goes on to the full tolerance (`step` once more
@@ -666,12 +660,13 @@ fn active_set_method(
 }
 
 /// The relative tolerance of an active-set step ([`active_set_method`]):
-/// `rtol` when `tight`, else [`LOOSE_RTOL`] (or `rtol` if that is larger).
-fn step_rtol(rtol: f64, tight: bool) -> f64 {
+/// The solver of a step: `solver` when `tight`, else `solver` loosened to
+/// [`LOOSE_RTOL`].
+fn step_solver(solver: Solver, tight: bool) -> Solver {
     if tight {
-        rtol
+        solver
     } else {
-        rtol.max(LOOSE_RTOL)
+        solver.loosened(LOOSE_RTOL)
     }
 }
 
