@@ -226,11 +226,6 @@ pub fn panic_message(payload: &(dyn Any + Send)) -> String {
     format!("internal error in seam (a bug; please report it with the input): {first}")
 }
 
-/// `f()`, a panic in it turned into `entry`'s exception.
-pub fn guard<T>(entry: Entry, f: impl FnOnce() -> T) -> PyResult<T> {
-    catch_unwind(AssertUnwindSafe(f)).map_err(|payload| entry.panic_error(&*payload))
-}
-
 /// `_seam._panic_in(entry)`, for the tests: panics inside [`detach`] as a
 /// call into the library of `entry` ("mesh", "read_mesh", "mortar",
 /// "solve") would, and raises what that call raises then.

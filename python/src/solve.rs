@@ -10,7 +10,7 @@ use seam_case::solve::{LinearSolver, SolveOptions, Solved};
 use seam_case::Case;
 use seam_case::Failure;
 
-use crate::error::{detach, failure_error, guard, CaseError, Entry, SolveError};
+use crate::error::{detach, failure_error, CaseError, Entry};
 use crate::mortar::thread_pool;
 
 /// A solved case: `summary`, `bodies`, `interfaces` and `write`.
@@ -185,17 +185,11 @@ pub fn solve(
     petsc_options: Option<&str>,
 ) -> PyResult<PySolution> {
     let solver: LinearSolver = crate::mortar::parse(solver)?;
-    match (solver, petsc_options) {
-        (LinearSolver::Petsc, options) => {
-            guard(Entry::Solve, || seam_case::solve::initialize_petsc(options.unwrap_or("")))?
-                .map_err(|e| SolveError::new_err(format!("solver=\"petsc\": {e}")))?
-        }
-        (_, Some(_)) => {
-            return Err(pyo3::exceptions::PyValueError::new_err("petsc_options needs solver=\"petsc\""))
-        }
-        (_, None) => {}
+    if petsc_options.is_some() && solver != LinearSolver::Petsc {
+        return Err(pyo3::exceptions::PyValueError::new_err("petsc_options needs solver=\"petsc\""));
     }
-    let options = SolveOptions { solver, rtol, ..SolveOptions::default() };
+    let petsc_options = petsc_options.map(str::to_string);
+    let options = SolveOptions { solver, petsc_options, rtol, ..SolveOptions::default() };
     let pool = thread_pool(threads)?;
     let source = match case.cast::<PyDict>() {
         Ok(dict) => {

@@ -46,7 +46,6 @@ use anyhow::{anyhow, Context};
 use rayon::prelude::*;
 use seam::{Face, Facing, MaxGap, MortarOptions, MortarSummary, Multiplier, Named, Point3, SurfaceMesh};
 use seam_fem::pcg::PcgOptions;
-pub use seam_fem::petsc::initialize_petsc;
 use seam_fem::petsc::PetscOptions;
 use seam_fem::{
     Coupling, Load, Material, Problem, ProblemBody, ProblemError, ProblemInterface, Solution, Stresses,
@@ -362,10 +361,16 @@ pub enum LinearSolver {
 seam::named!(LinearSolver, "solver", { Direct => "direct", Pcg => "pcg", Petsc => "petsc" });
 
 /// How a case is solved.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct SolveOptions {
     /// The linear solver.
     pub solver: LinearSolver,
+    /// PETSc's options for [`LinearSolver::Petsc`] (`-pc_type hypre`,
+    /// `-ksp_monitor`, …), after those of `PETSC_OPTIONS`: PETSc starts with
+    /// them, or, started already in this process, adds them to its options
+    /// database, where they stay for later solves. Refused with another
+    /// solver ([`options_problem`]).
+    pub petsc_options: Option<String>,
     /// PCG: stop when ‖r‖₂ ≤ rtol ‖b‖₂; in [[`MIN_RTOL`], 1).
     pub rtol: f64,
     /// Pieces of each body's output: 1 writes `<body>.vtu`; N > 1 (a solve
@@ -382,6 +387,7 @@ impl Default for SolveOptions {
     fn default() -> Self {
         SolveOptions {
             solver: LinearSolver::Direct,
+            petsc_options: None,
             rtol: 1e-10,
             pieces: 1,
             operators: seam_fem::Operators::Here,
@@ -436,10 +442,21 @@ pub fn solve_case_to_output(
 }
 
 fn check_rtol(options: &SolveOptions) -> Result<(), Failure> {
-    match rtol_problem(options.rtol) {
+    match options_problem(options) {
         None => Ok(()),
-        Some(problem) => Err(Failure::Case(format!("rtol {problem}"))),
+        Some(problem) => Err(Failure::Case(problem)),
     }
+}
+
+/// What is wrong with `options`, as text that starts with the option's
+/// name (`rtol …`, `petsc_options …`): [`rtol_problem`], or PETSc options
+/// without the PETSc solver; `None` when they are usable.
+pub fn options_problem(options: &SolveOptions) -> Option<String> {
+    if let Some(problem) = rtol_problem(options.rtol) {
+        return Some(format!("rtol {problem}"));
+    }
+    (options.petsc_options.is_some() && options.solver != LinearSolver::Petsc)
+        .then(|| "petsc_options needs the solver petsc".to_string())
 }
 
 /// The smallest relative tolerance accepted, 10 machine epsilons (≈ 2.2e-15):
@@ -530,8 +547,8 @@ fn run_problem(
             seam_fem::Solver::Pcg(PcgOptions { rtol: options.rtol, ..PcgOptions::default() })
         }
         LinearSolver::Petsc => {
-            // Idempotent: PETSc starts here unless the caller started it with options.
-            seam_fem::petsc::initialize_petsc("")
+            // PETSc starts here with the options, or adds them (module doc of seam_fem::petsc).
+            seam_fem::petsc::initialize_petsc(options.petsc_options.as_deref().unwrap_or(""))
                 .map_err(|e| Failure::Error(format!("{}: {e}", case_path.display())))?;
             seam_fem::Solver::Petsc(PetscOptions { rtol: options.rtol, ..PetscOptions::default() })
         }
@@ -1231,7 +1248,7 @@ mod tests {
         let rtol = SolveOptions { solver: LinearSolver::Pcg, rtol: 2.0, ..SolveOptions::default() };
         let e = solve_case(Path::new("nowhere.toml"), &rtol).err().unwrap();
         assert_eq!(e, Failure::Case("rtol 2 must lie in (0, 1)".into()));
-        let tiny = SolveOptions { rtol: 1e-300, ..rtol };
+        let tiny = SolveOptions { rtol: 1e-300, ..rtol.clone() };
         let e = solve_case(Path::new("nowhere.toml"), &tiny).err().unwrap();
         assert_eq!(
             e.to_string(),
@@ -1239,6 +1256,9 @@ mod tests {
              (10 machine epsilons) are round-off; use 1e-14 or more"
         );
         assert_eq!(rtol_problem(1e-14), None);
+        let petsc_options = SolveOptions { petsc_options: Some("-ksp_monitor".into()), ..rtol };
+        let e = solve_case(Path::new("nowhere.toml"), &SolveOptions { rtol: 1e-10, ..petsc_options }).err();
+        assert_eq!(e, Some(Failure::Case("petsc_options needs the solver petsc".into())));
         let e = solve_case(Path::new("nowhere.toml"), &SolveOptions::default()).err().unwrap();
         assert!(matches!(&e, Failure::Case(m) if m.contains("nowhere.toml") && !m.contains('\n')), "{e}");
         assert_eq!(e.exit_code(), 2);

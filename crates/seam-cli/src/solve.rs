@@ -26,13 +26,11 @@ pub fn solve(args: &SolveArgs, pieces: usize, operators: Operators) -> Result<So
     if let Some(problem) = seam_case::solve::rtol_problem(args.rtol) {
         return Err(anyhow!("--rtol {problem}").into());
     }
-    let options = SolveOptions { solver: args.solver, rtol: args.rtol, pieces, operators };
-    match (args.solver, &args.petsc_options) {
-        (LinearSolver::Petsc, options) => seam_fem::petsc::initialize_petsc(options.as_deref().unwrap_or(""))
-            .map_err(|e| anyhow!("--solver petsc: {e}"))?,
-        (_, Some(_)) => return Err(anyhow!("--petsc-options needs --solver petsc").into()),
-        (_, None) => {}
+    if args.petsc_options.is_some() && args.solver != LinearSolver::Petsc {
+        return Err(anyhow!("--petsc-options needs --solver petsc").into());
     }
+    let petsc_options = args.petsc_options.clone();
+    let options = SolveOptions { solver: args.solver, petsc_options, rtol: args.rtol, pieces, operators };
     let pool = crate::assemble::thread_pool(args.threads)?;
     pool.install(|| seam_case::solve::solve_case_to_output(&args.case, &options, args.force))
 }
