@@ -10,14 +10,19 @@
 //!   symmetric): sparse LU with partial pivoting, or PETSc's FGMRES; PCG
 //!   refuses it ([`SolveError::NotSymmetric`]).
 //!
-//! Both take Dirichlet values: prescribed dofs (and empty rows of A) leave
+//! - `Solver::solve_saddle` (crate-internal): the saddle point of
+//!   constraints C u = g, [K Cᵀ; C 0] [u; λ] = [f; g] — sparse LDLᵀ, PCG on
+//!   the system reduced by C (matrix-free), or PETSc's FGMRES with a
+//!   Schur-complement field split, from a warm start (u, λ).
+//!
+//! All take Dirichlet values: prescribed dofs (and empty rows of A) leave
 //! the system, their columns go to the right-hand side, and x holds the
-//! prescribed values there (0 at empty rows). Saddle points are solved by
-//! [`crate::saddle`] (direct), matrix-free PCG (`constraints`) or PETSc's
-//! field split ([`crate::petsc`]).
+//! prescribed values there (0 at empty rows).
 
-use crate::constraints::transposed_view;
+use crate::constraints::{matrix_free, saddle_point, transposed_view, Constraints};
+use crate::multibody::{ProblemError, Timings};
 use crate::pcg::{free_system, solve_pcg_from, PcgOptions};
+use crate::petsc::solve_petsc_saddle;
 use crate::petsc::{solve_petsc_from, PetscOptions, PetscSummary};
 use crate::solve::{solve, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
@@ -45,6 +50,9 @@ pub enum Solver {
 
 /// A solution and the iterations it took (0 for a direct solve).
 pub type Solved = (Vec<f64>, usize);
+
+/// A warm start of a saddle point: u and λ.
+type SaddleStart<'a> = Option<(&'a [f64], &'a [f64])>;
 
 impl Solver {
     /// The solver with its relative tolerance raised to at least `rtol`
@@ -107,6 +115,40 @@ impl Solver {
             Solver::Pcg(_) => Err(SolveError::NotSymmetric),
             Solver::Petsc(o) => crate::petsc::solve_petsc_general(a, b, fixed, modes, o, start, summary)
                 .map(|x| (x, last_iterations(summary))),
+        }
+    }
+}
+
+impl Solver {
+    /// u and λ of [K Cᵀ; C 0] [u; λ] = [f; g] for the `constraints` (their
+    /// C and g) with the values of `dirichlet`, the method and its
+    /// iterations: sparse LDLᵀ with iterative refinement
+    /// ([`crate::saddle`]); PCG on the system reduced by C, matrix-free
+    /// (each row of C eliminating its dof); or PETSc's FGMRES with a
+    /// Schur-complement field split from `start` = (u, λ), `modes` the
+    /// near-nullspace of K, the solve appended to `summary`.
+    ///
+    /// # Errors
+    /// The solver's, as [`ProblemError::Solve`].
+    pub(crate) fn solve_saddle(
+        &self,
+        (k, f, dirichlet): (&CsrMatrix, &[f64], &Dirichlet),
+        constraints: &Constraints,
+        (start, modes): (SaddleStart<'_>, &[Vec<f64>]),
+        seconds: &mut Timings,
+        summary: &mut PetscSummary,
+    ) -> Result<crate::constraints::Solved, ProblemError> {
+        match self {
+            Solver::Direct => saddle_point(k, f, dirichlet, constraints, seconds),
+            Solver::Pcg(o) => matrix_free(k, f, dirichlet, constraints, o, seconds),
+            Solver::Petsc(o) => {
+                let clock = std::time::Instant::now();
+                let c = (&constraints.c, &constraints.g[..]);
+                let solved = solve_petsc_saddle(k, f, dirichlet, c, modes, o, start, summary);
+                seconds.factorization += clock.elapsed().as_secs_f64();
+                let (u, lambda) = solved?;
+                Ok((u, lambda, "PETSc KSP on the saddle point (fieldsplit)", last_iterations(summary)))
+            }
         }
     }
 }

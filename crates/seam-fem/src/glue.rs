@@ -54,10 +54,10 @@
 //! (force per area); the resultant on the slave is −Σ_p (D λ)_p.
 
 use crate::backend::Solver;
-use crate::constraints::{full_prolongation, matrix_free, prolongation, saddle_point, triple_product};
+use crate::constraints::{full_prolongation, prolongation, triple_product};
 use crate::constraints::{Constraints, Elimination, Solved, NONE};
 use crate::multibody::{free_dofs_of, Body, ProblemError, System, Timings};
-use crate::petsc::{augmented, rigid_body_modes_in, solve_petsc_from, solve_petsc_saddle, Augmented};
+use crate::petsc::{augmented, rigid_body_modes_in, solve_petsc_from, Augmented};
 use crate::petsc::{PetscOptions, PetscSummary, Split};
 use crate::solution::InterfaceSolution;
 use crate::solve::{solve, Dirichlet};
@@ -90,7 +90,7 @@ pub(crate) fn solve_glued(
 ) -> Result<Glued, ProblemError> {
     let free = free_dofs_of(bodies, &system.dirichlet);
     let diagonal = constraints.eliminated_block_is_diagonal();
-    let mut petsc = None;
+    let mut summary = PetscSummary::default();
     let with_lambda = |(u, lambda, method, iterations): Solved| (u, Some(lambda), method, iterations);
     let (u, lambda, method, iterations) = {
         let System { k, f, dirichlet, .. } = &*system;
@@ -98,36 +98,41 @@ pub(crate) fn solve_glued(
             Solver::Direct if diagonal && !constraints.elimination_fills_in(k) => {
                 eliminated(k, f, dirichlet, constraints, seconds)?
             }
-            Solver::Direct => with_lambda(saddle_point(k, f, dirichlet, constraints, seconds)?),
-            Solver::Pcg(options) => {
-                with_lambda(matrix_free(k, f, dirichlet, constraints, &options, seconds)?)
+            Solver::Petsc(options) if over_ranks && diagonal => {
+                reduced_over_ranks(bodies, system, constraints, &free, &options, seconds, &mut summary)?
             }
-            Solver::Petsc(options) if over_ranks => {
-                let summary = petsc.insert(PetscSummary::default());
-                match diagonal {
-                    true => {
-                        reduced_over_ranks(bodies, system, constraints, &free, &options, seconds, summary)?
-                    }
-                    false => with_lambda(saddle_over_ranks(
-                        bodies,
-                        system,
-                        constraints,
-                        &free,
-                        &options,
-                        seconds,
-                        summary,
-                    )?),
-                }
+            Solver::Petsc(options) if over_ranks => with_lambda(saddle_over_ranks(
+                bodies,
+                system,
+                constraints,
+                &free,
+                &options,
+                seconds,
+                &mut summary,
+            )?),
+            Solver::Petsc(options) if diagonal => {
+                reduced_petsc(system, constraints, &options, seconds, &mut summary)?
             }
-            Solver::Petsc(options) => {
-                let summary = petsc.insert(PetscSummary::default());
-                match diagonal {
-                    true => reduced_petsc(system, constraints, &options, seconds, summary)?,
-                    false => with_lambda(saddle_petsc(system, constraints, &options, seconds, summary)?),
-                }
+            // Standard multipliers, crosspoints, fill-in: the saddle point.
+            _ => {
+                let clock = Instant::now();
+                let modes = match solver {
+                    Solver::Petsc(_) => rigid_body_modes_in(&system.points, None, None).to_vec(),
+                    _ => Vec::new(),
+                };
+                seconds.setup += clock.elapsed().as_secs_f64();
+                let (k, f, dirichlet) = (&system.k, &system.f[..], &system.dirichlet);
+                with_lambda(solver.solve_saddle(
+                    (k, f, dirichlet),
+                    constraints,
+                    (None, &modes),
+                    seconds,
+                    &mut summary,
+                )?)
             }
         }
     };
+    let petsc = matches!(solver, Solver::Petsc(_)).then_some(summary);
     let clock = Instant::now();
     let ku = stiffness_times(bodies, system, &u)?;
     let lambda = lambda.unwrap_or_else(|| eliminated_multipliers(&ku, &system.f, constraints));
@@ -260,30 +265,8 @@ fn reduced_over_ranks(
     Ok((u, None, "PETSc KSP on the reduced system (u_s = T u_m), K assembled over the MPI ranks", iterations))
 }
 
-/// Standard multipliers (or crosspoints): the saddle point by PETSc
-/// ([`solve_petsc_saddle`]: FGMRES, a Schur-complement field split with
-/// GAMG on the augmented K).
-fn saddle_petsc(
-    system: &System,
-    constraints: &Constraints,
-    options: &PetscOptions,
-    seconds: &mut Timings,
-    summary: &mut PetscSummary,
-) -> Result<Solved, ProblemError> {
-    let System { k, f, dirichlet, .. } = system;
-    let clock = Instant::now();
-    let modes = rigid_body_modes_in(&system.points, None, None);
-    seconds.setup += clock.elapsed().as_secs_f64();
-    let clock = Instant::now();
-    let c = (&constraints.c, &constraints.g[..]);
-    let (u, lambda) = solve_petsc_saddle(k, f, dirichlet, c, &modes, options, None, summary)?;
-    seconds.factorization += clock.elapsed().as_secs_f64();
-    let iterations = summary.solves.iter().map(|s| s.iterations).sum();
-    Ok((u, lambda, "PETSc KSP on the saddle point (fieldsplit)", iterations))
-}
-
 /// Standard multipliers (or crosspoints) over MPI ranks
-/// ([`crate::partition`]): the saddle point of [`solve_petsc_saddle`],
+/// ([`crate::partition`]): the saddle point of [`crate::petsc::solve_petsc_saddle`],
 /// [K_γ Cᵀ; C 0] on the free dofs, K's entries assembled by the ranks from
 /// their cells (Q the identity on the free dofs, w the prescribed values:
 /// QᵀKQ and f − K w), C, γCᵀC and the identity rows of the other dofs

@@ -112,10 +112,10 @@
 mod frames;
 
 use crate::backend::Solver;
-use crate::constraints::{free_dofs, matrix_free, saddle_point, triple_product};
+use crate::constraints::{free_dofs, triple_product};
 use crate::constraints::{Constraints, Elimination, Row};
 use crate::multibody::{bodies_stiffness, Body, Coupling, Interface, ProblemError, System, Timings};
-use crate::petsc::{rigid_body_modes_in, solve_petsc_saddle, PetscSummary};
+use crate::petsc::{rigid_body_modes_in, PetscSummary};
 use crate::solution::{ActiveSetStep, ContactFields, InterfaceSolution, Kkt, SolveOptions};
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
@@ -403,10 +403,12 @@ fn saddle_steps(
             .collect()
     };
     let mut last: Option<(Vec<f64>, Vec<f64>)> = None;
-    let mut petsc: Option<PetscSummary> = None;
+    let mut summary = PetscSummary::default();
     let iterative = !matches!(options.solver, Solver::Direct);
-    let modes =
-        matches!(options.solver, Solver::Petsc(_)).then(|| rigid_body_modes_in(&system.points, None, None));
+    let modes = match options.solver {
+        Solver::Petsc(_) => rigid_body_modes_in(&system.points, None, None).to_vec(),
+        _ => Vec::new(),
+    };
     let (active, w, mu, steps) = active_set_method(
         &points,
         active,
@@ -437,27 +439,22 @@ fn saddle_steps(
                 c.g.push(point.gap);
             }
             let n_active = c.rows.len() - n_glue;
-            let solved = match &step_solver(options.solver, tight) {
-                Solver::Direct => saddle_point(k, f, dirichlet, &c, seconds),
-                Solver::Pcg(pcg) => matrix_free(k, f, dirichlet, &c, pcg, seconds),
-                Solver::Petsc(o) => {
-                    // From the previous step: u, and the glued rows' λ (the
-                    // contact rows change with the active set).
-                    let start = last.as_ref().map(|(u, lambda)| {
-                        let mut nu = lambda.clone();
-                        nu.resize(c.rows.len(), 0.0);
-                        (u.clone(), nu)
-                    });
-                    let start = start.as_ref().map(|(u, nu)| (&u[..], &nu[..]));
-                    let summary = petsc.get_or_insert_with(PetscSummary::default);
-                    let modes = modes.as_ref().expect("modes for PETSc");
-                    let clock = Instant::now();
-                    let solved = solve_petsc_saddle(k, f, dirichlet, (&c.c, &c.g), modes, o, start, summary);
-                    seconds.factorization += clock.elapsed().as_secs_f64();
-                    let iterations = summary.solves.last().map_or(0, |s| s.iterations);
-                    solved.map(|(u, nu)| (u, nu, "", iterations)).map_err(ProblemError::Solve)
-                }
-            };
+            // From the previous step (PETSc): u, and the glued rows' λ (the
+            // contact rows change with the active set).
+            let start =
+                last.as_ref().filter(|_| matches!(options.solver, Solver::Petsc(_))).map(|(u, lambda)| {
+                    let mut nu = lambda.clone();
+                    nu.resize(c.rows.len(), 0.0);
+                    (u.clone(), nu)
+                });
+            let start = start.as_ref().map(|(u, nu)| (&u[..], &nu[..]));
+            let solved = step_solver(options.solver, tight).solve_saddle(
+                (k, f, dirichlet),
+                &c,
+                (start, &modes),
+                seconds,
+                &mut summary,
+            );
             let (u, nu, _, iterations) = solved.map_err(|e| match e {
                 ProblemError::Solve(SolveError::Singular) => singular(step, n_active),
                 e => e,
@@ -498,7 +495,7 @@ fn saddle_steps(
             Solver::Petsc(_) => "PETSc KSP on the saddle point per active-set step",
         },
         points,
-        petsc,
+        petsc: matches!(options.solver, Solver::Petsc(_)).then_some(summary),
     })
 }
 
