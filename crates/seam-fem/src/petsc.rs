@@ -189,44 +189,7 @@ pub(crate) fn solve_petsc_from(
     start: Option<&[f64]>,
     summary: &mut PetscSummary,
 ) -> Result<Vec<f64>, SolveError> {
-    let (mut u, a, b) = free_rows(k, f, dirichlet, start)?;
-    ksp_solve(a, &b, &mut u, (Split::None, modes), options, start.is_some(), summary)?;
-    for (dof, v) in dirichlet.iter() {
-        u[dof] = v;
-    }
-    Ok(u)
-}
-
-/// K u = f with the values of `dirichlet` as PETSc gets it: the start (its
-/// free entries, 0 elsewhere), A = K on the free rows and columns and the
-/// identity elsewhere, and b = f − K ū on the free rows, 0 elsewhere. An
-/// owned K is dropped once A is built.
-fn free_rows(
-    k: Cow<'_, CsrMatrix>,
-    f: &[f64],
-    dirichlet: &Dirichlet,
-    start: Option<&[f64]>,
-) -> Result<(Vec<f64>, Rows, Vec<f64>), SolveError> {
-    let n = k.nrows;
-    let (active, b) = free_system(&k, f, dirichlet, start)?;
-    let mut a = Rows::new(n, n, k.nnz())?;
-    for i in 0..n {
-        if active[i] {
-            let (cols, vals) = k.row(i);
-            for (&j, &v) in cols.iter().zip(vals).filter(|(&j, _)| active[j]) {
-                a.push(j, v);
-            }
-        } else {
-            a.push(i, 1.0);
-        }
-        a.end_row()?;
-    }
-    drop(k); // an owned K (a reduced system) is not needed any more: PETSc gets A
-    let u: Vec<f64> = match start {
-        Some(s) => s.iter().zip(&active).map(|(&v, &a)| if a { v } else { 0.0 }).collect(),
-        None => vec![0.0; n],
-    };
-    Ok((u, a, b))
+    solve_free_rows(k, f, dirichlet, (Split::None, modes), options, start, summary)
 }
 
 /// A x = b, A any square matrix regular on the free dofs, with the values
@@ -248,13 +211,46 @@ pub(crate) fn solve_petsc_general(
     start: Option<&[f64]>,
     summary: &mut PetscSummary,
 ) -> Result<Vec<f64>, SolveError> {
-    let (x, rows, rhs) = free_rows(Cow::Borrowed(a), b, fixed, start)?;
-    let mut x = x;
-    ksp_solve(rows, &rhs, &mut x, (Split::General, modes), options, start.is_some(), summary)?;
-    for (dof, v) in fixed.iter() {
-        x[dof] = v;
+    solve_free_rows(Cow::Borrowed(a), b, fixed, (Split::General, modes), options, start, summary)
+}
+
+/// K u = f with the values of `dirichlet` by PETSc (`split`: symmetric
+/// points or a general matrix): A = K on the free rows and columns and the
+/// identity elsewhere, b = f − K ū on the free rows and 0 elsewhere, from
+/// `start`'s free entries. An owned K is dropped once A is built.
+fn solve_free_rows(
+    k: Cow<'_, CsrMatrix>,
+    f: &[f64],
+    dirichlet: &Dirichlet,
+    (split, modes): (Split, &[Vec<f64>]),
+    options: &PetscOptions,
+    start: Option<&[f64]>,
+    summary: &mut PetscSummary,
+) -> Result<Vec<f64>, SolveError> {
+    let n = k.nrows;
+    let (active, b) = free_system(&k, f, dirichlet, start)?;
+    let mut a = Rows::new(n, n, k.nnz())?;
+    for i in 0..n {
+        if active[i] {
+            let (cols, vals) = k.row(i);
+            for (&j, &v) in cols.iter().zip(vals).filter(|(&j, _)| active[j]) {
+                a.push(j, v);
+            }
+        } else {
+            a.push(i, 1.0);
+        }
+        a.end_row()?;
     }
-    Ok(x)
+    drop(k); // an owned K (a reduced system) is not needed any more: PETSc gets A
+    let mut u: Vec<f64> = match start {
+        Some(s) => s.iter().zip(&active).map(|(&v, &a)| if a { v } else { 0.0 }).collect(),
+        None => vec![0.0; n],
+    };
+    ksp_solve(a, &b, &mut u, (split, modes), options, start.is_some(), summary)?;
+    for (dof, v) in dirichlet.iter() {
+        u[dof] = v;
+    }
+    Ok(u)
 }
 
 /// A matrix in compressed rows with PETSc's indices (32 bits), built row by
