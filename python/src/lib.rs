@@ -10,8 +10,10 @@
 //! | `seam.solve`, `seam.Solution` | [`seam_case::solve`], GIL released ([`solve::PySolution`]) |
 //! | `seam.catalogue` | [`seam::catalogue`]: the element kinds and their tables |
 //! | exceptions, `seam.OutputWarning` | [`error`] |
-//! | the `seam` command (`seam._cli`) | [`seam_cli::run`] ([`cli::cli`]) |
+//! | the `seam` command (`seam._cli`) | [`seam_cli::run`] (`cli::cli`) |
 #![forbid(unsafe_code)]
+// A cdylib without a Rust API: its crate doc is a map of its private parts.
+#![allow(rustdoc::private_intra_doc_links)]
 
 mod catalogue;
 mod check;
