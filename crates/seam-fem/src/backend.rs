@@ -120,6 +120,22 @@ impl Solver {
 }
 
 impl Solver {
+    /// The near-nullspace the solver takes (`modes` of the solves): for
+    /// PETSc the six rigid-body modes of `points` in the unknowns x of a
+    /// reduced system u = P x (zero at the dofs `retained` marks eliminated,
+    /// then into the nodal frames of `rotation`); none for the others.
+    pub(crate) fn near_nullspace(
+        &self,
+        points: &[seam::Point3],
+        retained: Option<&[usize]>,
+        rotation: Option<&CsrMatrix>,
+    ) -> Vec<Vec<f64>> {
+        match self {
+            Solver::Petsc(_) => crate::petsc::rigid_body_modes_in(points, retained, rotation).to_vec(),
+            Solver::Direct | Solver::Pcg(_) => Vec::new(),
+        }
+    }
+
     /// u and λ of [K Cᵀ; C 0] [u; λ] = [f; g] for the `constraints` (their
     /// C and g) with the values of `dirichlet`, the method and its
     /// iterations: sparse LDLᵀ with iterative refinement

@@ -116,10 +116,7 @@ pub(crate) fn solve_glued(
             // Standard multipliers, crosspoints, fill-in: the saddle point.
             _ => {
                 let clock = Instant::now();
-                let modes = match solver {
-                    Solver::Petsc(_) => rigid_body_modes_in(&system.points, None, None).to_vec(),
-                    _ => Vec::new(),
-                };
+                let modes = solver.near_nullspace(&system.points, None, None);
                 seconds.setup += clock.elapsed().as_secs_f64();
                 let (k, f, dirichlet) = (&system.k, &system.f[..], &system.dirichlet);
                 with_lambda(solver.solve_saddle(

@@ -115,7 +115,7 @@ use crate::backend::Solver;
 use crate::constraints::{free_dofs, triple_product};
 use crate::constraints::{Constraints, Elimination, Row};
 use crate::multibody::{bodies_stiffness, Body, Coupling, Interface, ProblemError, System, Timings};
-use crate::petsc::{rigid_body_modes_in, PetscSummary};
+use crate::petsc::PetscSummary;
 use crate::solution::{ActiveSetStep, ContactFields, InterfaceSolution, Kkt, SolveOptions};
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
@@ -297,13 +297,8 @@ fn rotated_steps(
             // (u = P_g P x), zero at eliminated dofs and rotated into the
             // nodal frames at contact points.
             system.k = CsrMatrix::zeros(0, 0);
-            let modes = match options.solver {
-                Solver::Petsc(_) => {
-                    let retained = glued.as_ref().map(|g| &g.retained[..]);
-                    rigid_body_modes_in(&system.points, retained, Some(&p)).to_vec()
-                }
-                _ => Vec::new(),
-            };
+            let retained = glued.as_ref().map(|g| &g.retained[..]);
+            let modes = options.solver.near_nullspace(&system.points, retained, Some(&p));
             let mut summary = PetscSummary::default();
             let mut previous: Option<Vec<f64>> = None;
             let (active, _, mu, steps) = active_set_method(
@@ -405,10 +400,7 @@ fn saddle_steps(
     let mut last: Option<(Vec<f64>, Vec<f64>)> = None;
     let mut summary = PetscSummary::default();
     let iterative = !matches!(options.solver, Solver::Direct);
-    let modes = match options.solver {
-        Solver::Petsc(_) => rigid_body_modes_in(&system.points, None, None).to_vec(),
-        _ => Vec::new(),
-    };
+    let modes = options.solver.near_nullspace(&system.points, None, None);
     let (active, w, mu, steps) = active_set_method(
         &points,
         active,
