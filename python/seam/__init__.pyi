@@ -316,7 +316,7 @@ class _ElementKind(TypedDict):
     linear: str
     n_nodes: int
     corners: int
-    gmsh_type: int
+    gmsh_type: Optional[int]
     vtk_type: int
     vtk_order: List[int]
     reference_nodes: List[List[float]]

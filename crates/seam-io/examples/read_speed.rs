@@ -217,7 +217,7 @@ fn vtu_ascii(mesh: &SurfaceMesh, u: &[f64]) -> Vec<u8> {
 }
 
 fn gmsh_type(face: &Face) -> i32 {
-    seam_io::msh::face_type(face) as i32
+    seam_io::msh::face_type(face).unwrap_or(0) as i32
 }
 
 /// `$NodeData` with the field `u`: text header, then `tag value` records.

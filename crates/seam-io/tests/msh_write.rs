@@ -67,6 +67,10 @@ fn second_order_volumes_and_surfaces_read_back_the_same() {
     write_msh(&mut bytes, &surface, "interface").unwrap();
     let back = read_msh(&bytes).unwrap().surface(Some("interface")).unwrap();
     assert_eq!(back, surface);
+    // Its enriched version has Tri7 faces, which Gmsh does not have.
+    let error = write_msh(&mut Vec::new(), &surface.enriched().0, "interface").unwrap_err();
+    assert_eq!(error.kind(), std::io::ErrorKind::InvalidInput);
+    assert_eq!(error.to_string(), "Gmsh has no Tri7 faces");
 }
 
 #[test]

@@ -240,7 +240,8 @@ impl CurvedFace {
     /// lies in the convex hull of these points, so their box encloses it. For a
     /// quadratic edge with end values a, b and mid value m the inner control
     /// point is 2m − (a + b)/2; Quad8 is first written as the Quad9 with the
-    /// same map (serendipity ⊂ biquadratic), Quad9 is the tensor product.
+    /// same map (serendipity ⊂ biquadratic), Quad9 is the tensor product; a
+    /// Tri7's points are the corners of an enclosing box (below).
     pub fn control_net(&self) -> ([Point3; 9], usize) {
         let x = &self.x;
         let inner = |a: Point3, m: Point3, b: Point3| -> Point3 {
@@ -254,7 +255,26 @@ impl CurvedFace {
             for i in 0..3 {
                 c[3 + i] = inner(x[i], x[3 + i], x[(i + 1) % 3]);
             }
-            return (c, 6);
+            if self.kind.n_nodes() == 6 {
+                return (c, 6);
+            }
+            // Tri7: x(ξ) = x₆(ξ) + b(ξ) d, the Tri6 map through the same six
+            // nodes plus the bubble b ∈ [0, 1] times the centre node's offset
+            // d from x₆(⅓, ⅓); it lies in the box of the Tri6 net and that net
+            // moved by d, given by its eight corners.
+            let p6 = shape_values::<6>(self.kind.centre());
+            let d: Point3 = std::array::from_fn(|k| x[6][k] - (0..6).map(|i| p6[i] * x[i][k]).sum::<f64>());
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for p in &c[..6] {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(p[k]).min(p[k] + d[k]);
+                    hi[k] = hi[k].max(p[k]).max(p[k] + d[k]);
+                }
+            }
+            for (i, corner) in c.iter_mut().take(8).enumerate() {
+                *corner = std::array::from_fn(|k| if i >> k & 1 == 0 { lo[k] } else { hi[k] });
+            }
+            return (c, 8);
         }
         let centre = self.map([0.5, 0.5]);
         for i in 0..4 {
@@ -516,6 +536,39 @@ mod tests {
                             x[k]
                         );
                         assert!(lo[k] <= x[k] && x[k] <= hi[k], "{kind:?} {xi:?}: outside the box");
+                    }
+                }
+            }
+        }
+    }
+
+    /// A Tri7 whose centre node is off the Tri6 map's centre (a bubble in
+    /// its geometry) lies in the box of its eight points.
+    #[test]
+    fn a_tri7_lies_in_its_box() {
+        let mut seed = 11u64;
+        let mut random = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for _ in 0..50 {
+            let mut face = sphere_face(FaceKind::Tri7, 1.0, 0.8);
+            for x in face.x.iter_mut().take(7) {
+                for c in x.iter_mut() {
+                    *c += 0.3 * random();
+                }
+            }
+            let (net, n) = face.control_net();
+            assert_eq!(n, 8);
+            let lo: Point3 =
+                std::array::from_fn(|k| net[..n].iter().map(|c| c[k]).fold(f64::INFINITY, f64::min));
+            let hi: Point3 =
+                std::array::from_fn(|k| net[..n].iter().map(|c| c[k]).fold(f64::NEG_INFINITY, f64::max));
+            for i in 0..=20 {
+                for j in 0..=20 - i {
+                    let x = face.map([i as f64 / 20.0, j as f64 / 20.0]);
+                    for k in 0..3 {
+                        assert!(lo[k] - 1e-15 <= x[k] && x[k] <= hi[k] + 1e-15, "outside the box");
                     }
                 }
             }

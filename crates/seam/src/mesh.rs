@@ -115,7 +115,7 @@ impl MeshError {
     }
 }
 
-/// A surface mesh of Tri3, Quad4, Tri6, Quad8 and Quad9 faces, possibly mixed.
+/// A surface mesh of Tri3, Quad4, Tri6, Quad8, Quad9 and Tri7 faces, possibly mixed.
 ///
 /// # Invariants (checked by [`SurfaceMesh::new`])
 /// - every coordinate is finite, of magnitude at most [`MAX_MAGNITUDE`];
@@ -181,6 +181,36 @@ impl SurfaceMesh {
             check_face_shape(&self.corners(f)[..face.n_corners()], f)?;
         }
         Ok(())
+    }
+
+    /// The enriched slave space of dual multipliers on quadratic faces
+    /// (Lamichhane, Stevenson and Wohlmuth, Numer. Math. 102 (2005)): every
+    /// Tri6 becomes a Tri7 and every Quad8 a Quad9 through a new point at the
+    /// image x(ξ_c) of its reference centre, appended after the points in face
+    /// order; other faces stay. The maps are unchanged (Tri7 and Quad9
+    /// interpolate a Tri6 and a Quad8 map exactly), the basis gains the face
+    /// bubble. On it every shape function has a positive integral and, on a
+    /// flat affine face, its weighted centroid at its node, so the dual basis
+    /// contains the linear functions, which the Popp transformation of Tri6 and
+    /// Quad8 faces cannot give ([`crate::BASIS_ALPHA`]). Returns the mesh and,
+    /// per new point, the face it enriches.
+    pub fn enriched(&self) -> (SurfaceMesh, Vec<usize>) {
+        let mut points = self.points.clone();
+        let mut owners = Vec::new();
+        let faces = self
+            .faces
+            .iter()
+            .enumerate()
+            .map(|(f, face)| {
+                let Some(larger) = face.kind().info().enriched else { return *face };
+                let centre = crate::curved::CurvedFace::of(self, f).map(face.kind().centre());
+                let nodes: Vec<usize> = face.nodes().iter().copied().chain([points.len()]).collect();
+                points.push(centre);
+                owners.push(f);
+                Face::new(larger, &nodes).expect("one node more than the face")
+            })
+            .collect();
+        (SurfaceMesh { points, faces }, owners)
     }
 
     /// All points, including those no face uses.

@@ -117,7 +117,8 @@ mod tests {
     fn supported_types_have_their_node_counts() {
         let faces = seam::FaceKind::ALL.map(|k| (k.info().gmsh_type, k.info().shape, k.n_nodes()));
         let cells = seam::CellKind::ALL.map(|k| (k.info().gmsh_type, k.reference_shape(), k.n_nodes()));
-        for (number, shape, nodes) in faces.into_iter().chain(cells) {
+        for (number, shape, nodes) in faces.into_iter().chain(cells).filter_map(|(t, s, n)| Some((t?, s, n)))
+        {
             let t = element_type(number).unwrap();
             assert_eq!((t.shape, t.nodes, t.incomplete), (shape, nodes, false), "type {number}");
         }

@@ -14,9 +14,10 @@ use std::path::Path;
 /// `group` (tag 1). Node tag i+1 is point i; element tags follow face order.
 ///
 /// # Errors
-/// Any I/O error of `w`.
+/// Any I/O error of `w`; [`io::ErrorKind::InvalidInput`] for a face kind Gmsh
+/// does not have (Tri7).
 pub fn write_msh<W: Write>(w: W, mesh: &SurfaceMesh, group: &str) -> io::Result<()> {
-    let surface = Entity { dim: 2, name: group.to_string(), blocks: face_blocks(mesh.faces()) };
+    let surface = Entity { dim: 2, name: group.to_string(), blocks: face_blocks(mesh.faces())? };
     write_entities(w, mesh.points(), &[surface])
 }
 
@@ -39,7 +40,8 @@ pub fn write_msh_file(path: impl AsRef<Path>, mesh: &SurfaceMesh, group: &str) -
 ///
 /// # Errors
 /// Any I/O error of `w`; [`io::ErrorKind::InvalidInput`] when a surface does
-/// not index the mesh's points (another point count).
+/// not index the mesh's points (another point count) or has a face kind Gmsh
+/// does not have (Tri7).
 pub fn write_volume_msh<W: Write>(
     w: W,
     mesh: &VolumeMesh,
@@ -55,7 +57,7 @@ pub fn write_volume_msh<W: Write>(
                 format!("surface \"{name}\" has {} points, the volume mesh {n}", surface.n_points()),
             ));
         }
-        entities.push(Entity { dim: 2, name: name.to_string(), blocks: face_blocks(surface.faces()) });
+        entities.push(Entity { dim: 2, name: name.to_string(), blocks: face_blocks(surface.faces())? });
     }
     entities.push(Entity { dim: 3, name: volume.to_string(), blocks: cell_blocks(mesh.cells()) });
     write_entities(w, mesh.points(), &entities)
@@ -79,33 +81,46 @@ pub fn write_volume_msh_file(
 struct Entity<'a> {
     dim: u8,
     name: String,
-    blocks: Vec<(u32, Vec<&'a [usize]>)>,
+    blocks: Vec<Block<'a>>,
 }
 
-/// The Gmsh element type number of a face ([`seam::FaceType::gmsh_type`]).
-pub fn face_type(face: &Face) -> u32 {
+/// A Gmsh element type and the node lists of its elements.
+type Block<'a> = (u32, Vec<&'a [usize]>);
+
+/// The Gmsh element type number of a face ([`seam::FaceType::gmsh_type`]),
+/// if Gmsh has its kind.
+pub fn face_type(face: &Face) -> Option<u32> {
     face.kind().info().gmsh_type
 }
 
 /// The Gmsh element type number of a cell ([`seam::CellType::gmsh_type`];
 /// seam's node order is Gmsh's).
 pub fn cell_type(cell: &Cell) -> u32 {
-    cell.kind().info().gmsh_type
+    cell.kind().info().gmsh_type.expect("Gmsh has every cell kind")
 }
 
 /// Faces as blocks of consecutive faces of one Gmsh type, keeping their order.
-fn face_blocks(faces: &[Face]) -> Vec<(u32, Vec<&[usize]>)> {
-    runs(faces.iter().map(|f| (face_type(f), f.nodes())))
+fn face_blocks(faces: &[Face]) -> io::Result<Vec<Block<'_>>> {
+    let typed: io::Result<Vec<_>> = faces
+        .iter()
+        .map(|f| {
+            let t = face_type(f).ok_or_else(|| {
+                io::Error::new(io::ErrorKind::InvalidInput, format!("Gmsh has no {} faces", f.kind().name()))
+            })?;
+            Ok((t, f.nodes()))
+        })
+        .collect();
+    Ok(runs(typed?.into_iter()))
 }
 
 /// Cells as blocks of consecutive cells of one Gmsh type, keeping their order.
-fn cell_blocks(cells: &[Cell]) -> Vec<(u32, Vec<&[usize]>)> {
+fn cell_blocks(cells: &[Cell]) -> Vec<Block<'_>> {
     runs(cells.iter().map(|c| (cell_type(c), c.nodes())))
 }
 
 /// Maximal runs of elements of the same type.
-fn runs<'a>(elements: impl Iterator<Item = (u32, &'a [usize])>) -> Vec<(u32, Vec<&'a [usize]>)> {
-    let mut blocks: Vec<(u32, Vec<&[usize]>)> = Vec::new();
+fn runs<'a>(elements: impl Iterator<Item = (u32, &'a [usize])>) -> Vec<Block<'a>> {
+    let mut blocks: Vec<Block<'a>> = Vec::new();
     for (t, nodes) in elements {
         match blocks.last_mut() {
             Some((last, block)) if *last == t => block.push(nodes),

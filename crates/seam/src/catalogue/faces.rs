@@ -8,9 +8,10 @@
 //! | Tri6 | {(0,0), (1,0), (0,1)} | L_i(2L_i − 1) at vertices, 4 L_i L_j at mid-edges (L = 1−ξ−η, ξ, η) |
 //! | Quad9 | \[0,1\]² | tensor products of ℓ₀ = (1−s)(1−2s), ℓ₁ = s(2s−1), ℓ_m = 4s(1−s) |
 //! | Quad8 | \[0,1\]² | serendipity: Quad9 without the centre bubble, its share given to the others |
+//! | Tri7 | {(0,0), (1,0), (0,1)} | Tri6 enriched by the cubic bubble b = 27 L₀L₁L₂ at the centre, nodal: Tri6's minus their values at the centre times b |
 //!
 //! Tri6 and Quad9 reproduce every quadratic polynomial in (ξ, η), Quad8 every
-//! one of degree 2 (and ξ²η, ξη²).
+//! one of degree 2 (and ξ²η, ξη²), Tri7 every quadratic one and the bubble.
 
 use super::{FaceKind, FaceType, Shape, Xi};
 
@@ -21,7 +22,9 @@ pub const MAX_FACE_NODES: usize = 9;
 /// which every face map is a polynomial ([`FaceType::monomials`]).
 pub(crate) const MONOMIALS: usize = 9;
 
-const TRI6_NODES: [Xi; 6] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5]];
+const TRI7_NODES: [Xi; 7] =
+    [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5], [1.0 / 3.0, 1.0 / 3.0]];
+const TRI6_NODES: &[Xi] = TRI7_NODES.as_slice().split_at(6).0;
 const QUAD9_NODES: [Xi; 9] = [
     [0.0, 0.0],
     [1.0, 0.0],
@@ -36,7 +39,8 @@ const QUAD9_NODES: [Xi; 9] = [
 const TRIANGLE_EDGES: [[usize; 2]; 3] = [[0, 1], [1, 2], [2, 0]];
 const QUAD_EDGES: [[usize; 2]; 4] = [[0, 1], [1, 2], [2, 3], [3, 0]];
 /// Reversal keeps the first corner; mid-edge nodes follow their edges.
-const TRI6_REVERSED: [usize; 6] = [0, 2, 1, 5, 4, 3];
+const TRI7_REVERSED: [usize; 7] = [0, 2, 1, 5, 4, 3, 6];
+const TRI6_REVERSED: &[usize] = TRI7_REVERSED.as_slice().split_at(6).0;
 const QUAD9_REVERSED: [usize; 9] = [0, 3, 2, 1, 7, 6, 5, 4, 8];
 /// Gmsh and VTK number the nodes of every face kind alike.
 const IDENTITY: [usize; 9] = [0, 1, 2, 3, 4, 5, 6, 7, 8];
@@ -45,12 +49,12 @@ pub(super) const TRI3: FaceType = FaceType {
     name: "Tri3",
     shape: Shape::Triangle,
     linear: FaceKind::Tri3,
-    nodes: TRI6_NODES.as_slice().split_at(3).0,
+    nodes: TRI7_NODES.as_slice().split_at(3).0,
     corners: 3,
     edges: &TRIANGLE_EDGES,
-    reversed: TRI6_REVERSED.as_slice().split_at(3).0,
+    reversed: TRI7_REVERSED.as_slice().split_at(3).0,
     pieces: &[&[0, 1, 2]],
-    gmsh_type: 2,
+    gmsh_type: Some(2),
     vtk_type: 5,
     vtk_order: IDENTITY.as_slice().split_at(3).0,
     shape_and_gradients: tri3,
@@ -62,6 +66,7 @@ pub(super) const TRI3: FaceType = FaceType {
         c
     },
     n_monomials: 3,
+    enriched: None,
     positive_integrals: true,
 };
 
@@ -74,7 +79,7 @@ pub(super) const QUAD4: FaceType = FaceType {
     edges: &QUAD_EDGES,
     reversed: QUAD9_REVERSED.as_slice().split_at(4).0,
     pieces: &[&[0, 1, 2, 3]],
-    gmsh_type: 3,
+    gmsh_type: Some(3),
     vtk_type: 9,
     vtk_order: IDENTITY.as_slice().split_at(4).0,
     shape_and_gradients: quad4,
@@ -87,6 +92,7 @@ pub(super) const QUAD4: FaceType = FaceType {
         c
     },
     n_monomials: 5,
+    enriched: None,
     positive_integrals: true,
 };
 
@@ -94,12 +100,12 @@ pub(super) const TRI6: FaceType = FaceType {
     name: "Tri6",
     shape: Shape::Triangle,
     linear: FaceKind::Tri3,
-    nodes: &TRI6_NODES,
+    nodes: TRI6_NODES,
     corners: 3,
     edges: &TRIANGLE_EDGES,
-    reversed: &TRI6_REVERSED,
+    reversed: TRI6_REVERSED,
     pieces: &[&[0, 3, 5], &[3, 1, 4], &[5, 4, 2], &[3, 4, 5]],
-    gmsh_type: 9,
+    gmsh_type: Some(9),
     vtk_type: 22,
     vtk_order: IDENTITY.as_slice().split_at(6).0,
     shape_and_gradients: tri6,
@@ -114,6 +120,7 @@ pub(super) const TRI6: FaceType = FaceType {
         c
     },
     n_monomials: 6,
+    enriched: Some(FaceKind::Tri7),
     positive_integrals: false,
 };
 
@@ -126,12 +133,13 @@ pub(super) const QUAD8: FaceType = FaceType {
     edges: &QUAD_EDGES,
     reversed: QUAD9_REVERSED.as_slice().split_at(8).0,
     pieces: &[&[0, 4, 1, 5, 2, 6, 3, 7]],
-    gmsh_type: 16,
+    gmsh_type: Some(16),
     vtk_type: 23,
     vtk_order: IDENTITY.as_slice().split_at(8).0,
     shape_and_gradients: quad8,
     monomials: quadratic_quad_monomials(true),
     n_monomials: 8,
+    enriched: Some(FaceKind::Quad9),
     positive_integrals: false,
 };
 
@@ -144,12 +152,50 @@ pub(super) const QUAD9: FaceType = FaceType {
     edges: &QUAD_EDGES,
     reversed: &QUAD9_REVERSED,
     pieces: &[&[0, 4, 8, 7], &[4, 1, 5, 8], &[8, 5, 2, 6], &[7, 8, 6, 3]],
-    gmsh_type: 10,
+    gmsh_type: Some(10),
     vtk_type: 28,
     vtk_order: &IDENTITY,
     shape_and_gradients: quad9,
     monomials: quadratic_quad_monomials(false),
     n_monomials: 9,
+    enriched: None,
+    positive_integrals: true,
+};
+
+/// Seven-node triangle: Tri6 enriched by the cubic face bubble, which the
+/// dual multipliers of an enriched slave space need ([`crate::mesh::SurfaceMesh::enriched`]):
+/// every function has a positive integral (corners A/20, mid-edge nodes 2A/15,
+/// centre 9A/20) and, on a flat face, its weighted centroid at its node. VTK's
+/// biquadratic triangle; Gmsh has no such type.
+pub(super) const TRI7: FaceType = FaceType {
+    name: "Tri7",
+    shape: Shape::Triangle,
+    linear: FaceKind::Tri3,
+    nodes: &TRI7_NODES,
+    corners: 3,
+    edges: &TRIANGLE_EDGES,
+    reversed: &TRI7_REVERSED,
+    pieces: &[&[0, 3, 6], &[3, 1, 6], &[1, 4, 6], &[4, 2, 6], &[2, 5, 6], &[5, 0, 6]],
+    gmsh_type: None,
+    vtk_type: 34,
+    vtk_order: IDENTITY.as_slice().split_at(7).0,
+    shape_and_gradients: tri7,
+    monomials: {
+        // Tri6's rows, plus 3P at corners, −12P at mid-edge nodes and 27P at
+        // the centre, P = L₀L₁L₂ = st − s²t − st².
+        let mut c = TRI6.monomials;
+        let w = [3.0, 3.0, 3.0, -12.0, -12.0, -12.0, 27.0];
+        let mut i = 0;
+        while i < 7 {
+            c[i][4] += w[i];
+            c[i][6] -= w[i];
+            c[i][7] -= w[i];
+            i += 1;
+        }
+        c
+    },
+    n_monomials: 8,
+    enriched: None,
     positive_integrals: true,
 };
 
@@ -213,6 +259,22 @@ fn tri6(xi: Xi) -> ShapeAndGradients {
     (n, g)
 }
 
+/// Tri6's functions minus their values at the centre (−1/9 at vertices, 4/9
+/// at mid-edge nodes) times the bubble b = 27 L₀L₁L₂, and b.
+fn tri7(xi: Xi) -> ShapeAndGradients {
+    let (mut n, mut g) = tri6(xi);
+    let [s, t] = xi;
+    let l0 = 1.0 - s - t;
+    let (b, db) = (27.0 * l0 * s * t, [27.0 * t * (l0 - s), 27.0 * s * (l0 - t)]);
+    for i in 0..6 {
+        let w = if i < 3 { 1.0 / 9.0 } else { -4.0 / 9.0 };
+        n[i] += w * b;
+        g[i] = [g[i][0] + w * db[0], g[i][1] + w * db[1]];
+    }
+    (n[6], g[6]) = (b, db);
+    (n, g)
+}
+
 fn quad8(xi: Xi) -> ShapeAndGradients {
     quadratic_quad(xi, true)
 }
@@ -258,7 +320,7 @@ pub(crate) fn first_order_values(triangle: bool, xi: Xi) -> [f64; 4] {
 }
 
 /// Shape function values N_i(ξ) of the kind with `N` nodes (3 Tri3, 4 Quad4,
-/// 6 Tri6, 8 Quad8, 9 Quad9): [`shape_and_gradients`] without the gradients,
+/// 6 Tri6, 7 Tri7, 8 Quad8, 9 Quad9): [`shape_and_gradients`] without the gradients,
 /// sized for the quadrature loops.
 #[inline(always)]
 pub fn shape_values<const N: usize>(xi: Xi) -> [f64; N] {
@@ -266,16 +328,26 @@ pub fn shape_values<const N: usize>(xi: Xi) -> [f64; N] {
     let mut n = [0.0; N];
     match N {
         3 | 4 => n.copy_from_slice(&first_order_values(N == 3, xi)[..N]),
-        6 => {
+        6 | 7 => {
             let l0 = 1.0 - s - t;
-            n.copy_from_slice(&[
+            let mut all = [
                 l0 * (2.0 * l0 - 1.0),
                 s * (2.0 * s - 1.0),
                 t * (2.0 * t - 1.0),
                 4.0 * l0 * s,
                 4.0 * s * t,
                 4.0 * t * l0,
-            ]);
+                0.0,
+            ];
+            if N == 7 {
+                // Tri7: the bubble takes its values at the centre from the others.
+                let b = 27.0 * l0 * s * t;
+                for (i, v) in all.iter_mut().enumerate().take(6) {
+                    *v += if i < 3 { 1.0 / 9.0 } else { -4.0 / 9.0 } * b;
+                }
+                all[6] = b;
+            }
+            n.copy_from_slice(&all[..N]);
         }
         8 | 9 => {
             let (a, b) = (lagrange(s).0, lagrange(t).0);
@@ -292,7 +364,7 @@ pub fn shape_values<const N: usize>(xi: Xi) -> [f64; N] {
             }
             n.copy_from_slice(&all[..N]);
         }
-        _ => unreachable!("faces have 3, 4, 6, 8 or 9 nodes"),
+        _ => unreachable!("faces have 3, 4, 6, 7, 8 or 9 nodes"),
     }
     n
 }

@@ -9,7 +9,7 @@
 //! | Tri6 | 9 | 22 | 6 | Prism6 | 6 | 13 | 6 |
 //! | Quad8 | 16 | 23 | 8 | Pyramid5 | 7 | 14 | 5 |
 //! | Quad9 | 10 | 28 | 9 | Tet10 | 11 | 24 | 10 |
-//! | | | | | Hex20 | 17 | 25 | 20 |
+//! | Tri7 | – | 34 | 7 | Hex20 | 17 | 25 | 20 |
 //! | | | | | Hex27 | 12 | 29 | 27 |
 //! | | | | | Prism15 | 18 | 26 | 15 |
 //! | | | | | Prism18 | 13 | 32 | 18 |
@@ -131,7 +131,7 @@ impl LocalFace {
 /// The description of a face kind ([`FaceKind::info`]).
 #[derive(Debug)]
 pub struct FaceType {
-    /// The name: "Tri3", "Quad4", "Tri6", "Quad8" or "Quad9".
+    /// The name: "Tri3", "Quad4", "Tri6", "Quad8", "Quad9" or "Tri7".
     pub name: &'static str,
     /// Triangle or quadrangle.
     pub shape: Shape,
@@ -148,11 +148,12 @@ pub struct FaceType {
     /// stays, mid-edge nodes follow their edges.
     pub reversed: &'static [usize],
     /// The face cut into first-order polygons through its nodes, for drawing:
-    /// itself at first order, four triangles (Tri6), four quads (Quad9), or the
-    /// polygon of its eight nodes (Quad8).
+    /// itself at first order, four triangles (Tri6), four quads (Quad9), six
+    /// triangles about the centre (Tri7), or the polygon of its eight nodes
+    /// (Quad8).
     pub pieces: &'static [&'static [usize]],
-    /// The Gmsh element type number.
-    pub gmsh_type: u32,
+    /// The Gmsh element type number (Tri7 has none).
+    pub gmsh_type: Option<u32>,
     /// The VTK cell type number.
     pub vtk_type: u8,
     /// VTK's node order: VTK node i is node `vtk_order[i]` (VTK numbers the
@@ -165,8 +166,13 @@ pub struct FaceType {
     /// s²t, st², s²t²) in which every face map is a polynomial.
     pub monomials: [[f64; faces::MONOMIALS]; MAX_FACE_NODES],
     /// How many of those monomials the kind's map uses (the others have zero
-    /// coefficients): Tri3 3, Quad4 5 (no s², but st), Tri6 6, Quad8 8, Quad9 9.
+    /// coefficients): Tri3 3, Quad4 5 (no s², but st), Tri6 6, Quad8 8, Quad9
+    /// 9, Tri7 8.
     pub n_monomials: usize,
+    /// The kind one node larger whose extra function is the face bubble
+    /// (Tri6 → Tri7, Quad8 → Quad9), for the faces whose own functions lack a
+    /// positive integral ([`crate::SurfaceMesh::enriched`]).
+    pub enriched: Option<FaceKind>,
     /// Whether every shape function has a positive integral over the face.
     /// False for Tri6 and Quad8, whose corner functions integrate to 0 and to
     /// −1/12 of the area: lumped and dual multipliers need positive ones.
@@ -195,8 +201,8 @@ pub struct CellType {
     /// on it): first-order faces for first-order cells; Tri6, Quad8 or Quad9
     /// (where the cell has the face centre) for second-order cells.
     pub faces: &'static [LocalFace],
-    /// The Gmsh element type number.
-    pub gmsh_type: u32,
+    /// The Gmsh element type number (every cell kind has one).
+    pub gmsh_type: Option<u32>,
     /// The VTK cell type number.
     pub vtk_type: u8,
     /// VTK's node order: VTK node i is node `vtk_order[i]`. Both put the corners
@@ -299,7 +305,7 @@ macro_rules! catalogue {
 
             /// The kind with this Gmsh element type number, if seam has it.
             pub fn from_gmsh(gmsh_type: u32) -> Option<$Kind> {
-                $Kind::ALL.into_iter().find(|k| k.info().gmsh_type == gmsh_type)
+                $Kind::ALL.into_iter().find(|k| k.info().gmsh_type == Some(gmsh_type))
             }
 
             /// The name, as in the enum.
@@ -381,6 +387,9 @@ catalogue! {
         Quad8(8) = faces::QUAD8,
         /// Nine-node biquadratic quadrilateral: corners, mid-edge nodes, centre.
         Quad9(9) = faces::QUAD9,
+        /// Seven-node triangle: Tri6 and the centre, whose function is the
+        /// cubic bubble (the enriched slave space of dual multipliers).
+        Tri7(7) = faces::TRI7,
     }
 }
 
@@ -425,7 +434,7 @@ impl FaceKind {
         FaceKind::ALL.into_iter().find(|k| k.info().vtk_type == vtk_type)
     }
 
-    /// The kind with `n` nodes (3, 4, 6, 8 or 9), if any.
+    /// The kind with `n` nodes (3, 4, 6, 7, 8 or 9), if any.
     pub const fn with_nodes(n: usize) -> Option<FaceKind> {
         let mut i = 0;
         while i < FaceKind::ALL.len() {
@@ -442,7 +451,7 @@ impl FaceKind {
         self.info().nodes
     }
 
-    /// True for Tri3 and Tri6.
+    /// True for Tri3, Tri6 and Tri7.
     #[inline]
     pub const fn is_triangle(self) -> bool {
         self.n_corners() == 3
@@ -488,18 +497,18 @@ impl FaceKind {
 }
 
 impl Face {
-    /// Builds a face from its nodes: 3 (Tri3), 4 (Quad4), 6 (Tri6), 8 (Quad8)
-    /// or 9 (Quad9).
+    /// Builds a face from its nodes: 3 (Tri3), 4 (Quad4), 6 (Tri6), 7 (Tri7),
+    /// 8 (Quad8) or 9 (Quad9).
     ///
     /// # Panics
     /// If `nodes.len()` is none of these.
     pub fn from_nodes(nodes: &[usize]) -> Face {
         FaceKind::with_nodes(nodes.len())
             .and_then(|kind| Face::new(kind, nodes))
-            .unwrap_or_else(|| panic!("a face has 3, 4, 6, 8 or 9 nodes, got {}", nodes.len()))
+            .unwrap_or_else(|| panic!("a face has 3, 4, 6, 7, 8 or 9 nodes, got {}", nodes.len()))
     }
 
-    /// Number of nodes (3, 4, 6, 8 or 9).
+    /// Number of nodes (3, 4, 6, 7, 8 or 9).
     #[inline]
     pub fn len(&self) -> usize {
         self.nodes().len()
@@ -510,7 +519,7 @@ impl Face {
         false
     }
 
-    /// True for the second-order faces Tri6, Quad8 and Quad9.
+    /// True for the second-order faces Tri6, Quad8, Quad9 and Tri7.
     #[inline]
     pub fn is_curved(&self) -> bool {
         self.kind().order() == 2

@@ -374,7 +374,7 @@ impl CurvedSegment<'_> {
             ($(($ns:literal, $nm:literal)),*) => {
                 match (self.kinds.0.n_nodes(), self.kinds.1.n_nodes()) {
                     $(($ns, $nm) => self.integrate::<$ns, $nm>(t, 0, block),)*
-                    _ => unreachable!("faces have 3, 4, 6, 8 or 9 nodes"),
+                    _ => unreachable!("faces have 3, 4, 6, 7, 8 or 9 nodes"),
                 }
             };
         }
@@ -403,7 +403,18 @@ impl CurvedSegment<'_> {
             (9, 4),
             (9, 6),
             (9, 8),
-            (9, 9)
+            (9, 9),
+            (3, 7),
+            (4, 7),
+            (6, 7),
+            (8, 7),
+            (9, 7),
+            (7, 3),
+            (7, 4),
+            (7, 6),
+            (7, 7),
+            (7, 8),
+            (7, 9)
         )
     }
 

@@ -174,6 +174,7 @@ pub(super) fn apply_multiplier(
             3 => dual::<3>(kind, None, d, b),
             4 => dual::<4>(kind, None, d, b),
             6 => dual::<6>(kind, alpha, d, b),
+            7 => dual::<7>(kind, alpha, d, b),
             8 => dual::<8>(kind, alpha, d, b),
             _ => dual::<9>(kind, alpha, d, b),
         },
