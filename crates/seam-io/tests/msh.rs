@@ -431,7 +431,7 @@ fn second_order_fixtures_read_with_gmsh_counts_and_second_order_boundaries() {
             let mut cell_counts = std::collections::BTreeMap::new();
             for cell in volume.cells() {
                 assert!(cell.is_second_order(), "{context}");
-                *cell_counts.entry(seam_io::msh::cell_type(cell)).or_insert(0) += 1;
+                *cell_counts.entry(seam_io::msh::cell_type(cell).unwrap()).or_insert(0) += 1;
             }
             let wanted: std::collections::BTreeMap<u32, usize> =
                 counts.iter().copied().filter(|&(t, _)| ![9, 10, 16].contains(&t)).collect();

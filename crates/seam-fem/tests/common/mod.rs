@@ -123,6 +123,7 @@ pub fn kind_name(c: &Cell) -> &'static str {
         Cell::Prism18(_) => "prism18",
         Cell::Pyramid13(_) => "pyramid13",
         Cell::Pyramid14(_) => "pyramid14",
+        Cell::Tet14(_) => "tet14",
     }
 }
 

@@ -59,7 +59,7 @@ pub fn write_volume_msh<W: Write>(
         }
         entities.push(Entity { dim: 2, name: name.to_string(), blocks: face_blocks(surface.faces())? });
     }
-    entities.push(Entity { dim: 3, name: volume.to_string(), blocks: cell_blocks(mesh.cells()) });
+    entities.push(Entity { dim: 3, name: volume.to_string(), blocks: cell_blocks(mesh.cells())? });
     write_entities(w, mesh.points(), &entities)
 }
 
@@ -94,28 +94,34 @@ pub fn face_type(face: &Face) -> Option<u32> {
 }
 
 /// The Gmsh element type number of a cell ([`seam::CellType::gmsh_type`];
-/// seam's node order is Gmsh's).
-pub fn cell_type(cell: &Cell) -> u32 {
-    cell.kind().info().gmsh_type.expect("Gmsh has every cell kind")
+/// seam's node order is Gmsh's), if Gmsh has its kind.
+pub fn cell_type(cell: &Cell) -> Option<u32> {
+    cell.kind().info().gmsh_type
 }
 
 /// Faces as blocks of consecutive faces of one Gmsh type, keeping their order.
 fn face_blocks(faces: &[Face]) -> io::Result<Vec<Block<'_>>> {
-    let typed: io::Result<Vec<_>> = faces
-        .iter()
-        .map(|f| {
-            let t = face_type(f).ok_or_else(|| {
-                io::Error::new(io::ErrorKind::InvalidInput, format!("Gmsh has no {} faces", f.kind().name()))
-            })?;
-            Ok((t, f.nodes()))
-        })
-        .collect();
-    Ok(runs(typed?.into_iter()))
+    blocks(faces.iter().map(|f| (face_type(f), f.nodes(), f.kind().name())), "faces")
 }
 
 /// Cells as blocks of consecutive cells of one Gmsh type, keeping their order.
-fn cell_blocks(cells: &[Cell]) -> Vec<Block<'_>> {
-    runs(cells.iter().map(|c| (cell_type(c), c.nodes())))
+fn cell_blocks(cells: &[Cell]) -> io::Result<Vec<Block<'_>>> {
+    blocks(cells.iter().map(|c| (cell_type(c), c.nodes(), c.kind().name())), "cells")
+}
+
+/// Elements (Gmsh type if any, nodes, kind name) as [`runs`]; an error names
+/// the first kind Gmsh does not have.
+fn blocks<'a>(
+    elements: impl Iterator<Item = (Option<u32>, &'a [usize], &'static str)>,
+    what: &str,
+) -> io::Result<Vec<Block<'a>>> {
+    let typed: io::Result<Vec<_>> = elements
+        .map(|(t, nodes, name)| match t {
+            Some(t) => Ok((t, nodes)),
+            None => Err(io::Error::new(io::ErrorKind::InvalidInput, format!("Gmsh has no {name} {what}"))),
+        })
+        .collect();
+    Ok(runs(typed?.into_iter()))
 }
 
 /// Maximal runs of elements of the same type.

@@ -104,7 +104,9 @@ impl Space {
     }
 }
 
-const TET10_NODES: [Xi3; 10] = [
+/// Tet14 in seam's order: Tet10's nodes (Gmsh's), then the centroids of the
+/// faces in [`TET_FACES`] order; Tet4 and Tet10 are its first 4 and 10.
+const TET14_NODES: [Xi3; 14] = [
     [0., 0., 0.],
     [1., 0., 0.],
     [0., 1., 0.],
@@ -115,6 +117,10 @@ const TET10_NODES: [Xi3; 10] = [
     [0., 0., 0.5],
     [0., 0.5, 0.5],
     [0.5, 0., 0.5],
+    [1. / 3., 1. / 3., 0.],
+    [1. / 3., 0., 1. / 3.],
+    [0., 1. / 3., 1. / 3.],
+    [1. / 3., 1. / 3., 1. / 3.],
 ];
 /// Hex27 in Gmsh order; Hex8 and Hex20 are its first 8 and 20 nodes.
 const HEX27_NODES: [Xi3; 27] = [
@@ -292,11 +298,22 @@ const fn same_set(c: &[usize], sorted: &[usize; 4]) -> bool {
     true
 }
 
+/// The faces made Tri7 with centre nodes `first`, `first` + 1, … in face order.
+const fn with_triangle_centres<const F: usize>(mut faces: [LocalFace; F], first: usize) -> [LocalFace; F] {
+    let mut f = 0;
+    while f < F {
+        faces[f].kind = FaceKind::Tri7;
+        faces[f].nodes[6] = first + f;
+        f += 1;
+    }
+    faces
+}
+
 pub(super) const TET4: CellType = CellType {
     name: "Tet4",
     shape: Shape::Tetrahedron,
     linear: CellKind::Tet4,
-    nodes: first(&TET10_NODES, 4),
+    nodes: first(&TET14_NODES, 4),
     corners: 4,
     edges: &TET_EDGES,
     faces: &local_faces(TET_FACES, 4, &TET_EDGES, false, &[]),
@@ -359,7 +376,7 @@ pub(super) const TET10: CellType = CellType {
     name: "Tet10",
     shape: Shape::Tetrahedron,
     linear: CellKind::Tet4,
-    nodes: &TET10_NODES,
+    nodes: first(&TET14_NODES, 10),
     corners: 4,
     edges: &TET_EDGES,
     faces: &local_faces(TET_FACES, 4, &TET_EDGES, true, &[]),
@@ -368,6 +385,25 @@ pub(super) const TET10: CellType = CellType {
     vtk_order: &TET10_VTK,
     basis: CellBasis::Nodal(Space { keep: P2, rational: &[] }),
     stiffness: StiffnessRule::Degree(2),
+};
+
+/// Tet10 enriched by the cubic bubbles of its four faces: the volume cell of
+/// an enriched slave space ([`crate::SurfaceMesh::enriched`]), whose faces
+/// are Tri7. Neither Gmsh nor VTK has it: VTK is given the Tet10.
+pub(super) const TET14: CellType = CellType {
+    name: "Tet14",
+    shape: Shape::Tetrahedron,
+    linear: CellKind::Tet4,
+    nodes: &TET14_NODES,
+    corners: 4,
+    edges: &TET_EDGES,
+    faces: &with_triangle_centres(local_faces(TET_FACES, 4, &TET_EDGES, true, &[]), 10),
+    gmsh_type: None,
+    vtk_type: 24,
+    vtk_order: &TET10_VTK,
+    basis: CellBasis::Closed { shape: tet14_shape, gradients: tet14_gradients },
+    // ∇N is quadratic: the stiffness of an affine cell has degree 4.
+    stiffness: StiffnessRule::Degree(4),
 };
 
 pub(super) const HEX20: CellType = CellType {
@@ -546,6 +582,53 @@ fn pyramid5_gradients([x, y, z]: Xi3) -> [[f64; 3]; MAX_CELL_NODES] {
     }
     g[4] = [0.0, 0.0, 1.0];
     g
+}
+
+/// Tet14's functions and gradients: with barycentrics L = (1−ξ−η−ζ, ξ, η,
+/// ζ), the Tet10 functions (L_i(2L_i − 1) at corners, 4 L_a L_b at mid-edge
+/// nodes) minus their values at each face centroid (−1/9 at the face's
+/// corners, 4/9 at its mid-edge nodes) times that face's bubble
+/// B_f = 27 L_a L_b L_c, and the four B_f, which vanish on the other faces.
+fn tet14(xi: Xi3) -> ([f64; MAX_CELL_NODES], [[f64; 3]; MAX_CELL_NODES]) {
+    let l = [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]];
+    let dl = [[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let (mut n, mut g) = ([0.0; MAX_CELL_NODES], [[0.0; 3]; MAX_CELL_NODES]);
+    for i in 0..4 {
+        n[i] = l[i] * (2.0 * l[i] - 1.0);
+        g[i] = dl[i].map(|d| d * (4.0 * l[i] - 1.0));
+    }
+    for (e, &[a, b]) in TET_EDGES.iter().enumerate() {
+        n[4 + e] = 4.0 * l[a] * l[b];
+        g[4 + e] = std::array::from_fn(|k| 4.0 * (dl[a][k] * l[b] + l[a] * dl[b][k]));
+    }
+    for (f, c) in TET_FACES.iter().enumerate() {
+        let (a, b, d) = (c[0], c[1], c[2]);
+        let bubble = 27.0 * l[a] * l[b] * l[d];
+        let grad: [f64; 3] = std::array::from_fn(|k| {
+            27.0 * (dl[a][k] * l[b] * l[d] + l[a] * dl[b][k] * l[d] + l[a] * l[b] * dl[d][k])
+        });
+        let on_face = |i: usize| c.contains(&i);
+        for i in 0..10 {
+            let w = match i {
+                i if i < 4 && on_face(i) => -1.0 / 9.0,
+                i if i >= 4 && on_face(TET_EDGES[i - 4][0]) && on_face(TET_EDGES[i - 4][1]) => 4.0 / 9.0,
+                _ => continue,
+            };
+            n[i] -= w * bubble;
+            g[i] = std::array::from_fn(|k| g[i][k] - w * grad[k]);
+        }
+        n[10 + f] = bubble;
+        g[10 + f] = grad;
+    }
+    (n, g)
+}
+
+fn tet14_shape(xi: Xi3) -> [f64; MAX_CELL_NODES] {
+    tet14(xi).0
+}
+
+fn tet14_gradients(xi: Xi3) -> [[f64; 3]; MAX_CELL_NODES] {
+    tet14(xi).1
 }
 
 /// The Lagrange basis of a second-order kind: its terms and C = V⁻¹ (module doc),

@@ -15,6 +15,7 @@
 //! | | | | | Prism18 | 13 | 32 | 18 |
 //! | | | | | Pyramid13 | 19 | 27 | 13 |
 //! | | | | | Pyramid14 | 14 | 27 (13 nodes) | 14 |
+//! | | | | | Tet14 | – | 24 (10 nodes) | 14 |
 //!
 //! A kind answers every question about its reference element through
 //! [`FaceKind::info`] ([`FaceType`]) or [`CellKind::info`] ([`CellType`]):
@@ -394,7 +395,8 @@ catalogue! {
 }
 
 catalogue! {
-    /// A cell kind: four first-order and seven second-order ones.
+    /// A cell kind: four first-order and seven second-order ones as meshes
+    /// have them, and the Tet14 of enriched slave bodies.
     kind CellKind;
     /// A volume cell: its kind and its nodes in Gmsh order (corners first,
     /// then at second order the mid-edge nodes, face centres and cell centre
@@ -425,6 +427,9 @@ catalogue! {
         /// Fourteen-node rational pyramid (Bergot–Cohen–Duruflé B₂), with the
         /// base centre.
         Pyramid14(14) = cells::PYRAMID14,
+        /// Fourteen-node tetrahedron: Tet10 and the centroids of its faces,
+        /// whose functions are the cubic face bubbles (enriched slave bodies).
+        Tet14(14) = cells::TET14,
     }
 }
 
@@ -611,8 +616,8 @@ impl CellKind {
 
     /// The local corners whose mean is each node's reference position, per
     /// node in Gmsh order: the corner itself, the two ends of a mid-edge node's
-    /// edge, the corners of a quadrilateral face centre (in the face's order),
-    /// all corners for the Hex27 centre.
+    /// edge, the corners of a face centre (in the face's order), all corners
+    /// for the Hex27 centre.
     pub fn node_supports(self) -> Vec<Vec<usize>> {
         let info = self.info();
         (0..self.n_nodes())
@@ -623,11 +628,9 @@ impl CellKind {
                 if let Some(edge) = info.edges.get(i - info.corners) {
                     return edge.to_vec();
                 }
-                match info
-                    .faces
-                    .iter()
-                    .find(|f| f.kind.n_nodes() > 2 * f.kind.n_corners() && f.nodes()[8] == i)
-                {
+                match info.faces.iter().find(|f| {
+                    f.kind.n_nodes() > 2 * f.kind.n_corners() && f.nodes()[2 * f.kind.n_corners()] == i
+                }) {
                     Some(face) => face.corners().to_vec(),
                     None => (0..info.corners).collect(),
                 }

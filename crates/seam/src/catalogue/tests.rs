@@ -171,12 +171,15 @@ fn kinds_are_found_by_their_numbers() {
         assert_eq!(format!("{kind:?}"), info.name);
     }
     for kind in CellKind::ALL {
-        assert_eq!(CellKind::from_gmsh(kind.info().gmsh_type.unwrap()), Some(kind));
+        if let Some(number) = kind.info().gmsh_type {
+            assert_eq!(CellKind::from_gmsh(number), Some(kind));
+        }
         assert_eq!(kind.reference_shape().dim(), 3);
         assert_eq!(format!("{kind:?}"), kind.name());
     }
     assert_eq!(FaceKind::from_gmsh(4), None);
     assert_eq!(FaceKind::Tri7.info().gmsh_type, None, "Gmsh has no seven-node triangle");
+    assert_eq!(CellKind::Tet14.info().gmsh_type, None, "nor a fourteen-node tetrahedron");
     assert_eq!(CellKind::from_gmsh(2), None);
     assert_eq!(CellKind::Hex8.second_order(true), Some(CellKind::Hex27));
     assert_eq!(CellKind::Pyramid5.second_order(false), Some(CellKind::Pyramid13));
@@ -204,7 +207,12 @@ fn permutations_are_permutations() {
     }
     for kind in CellKind::ALL {
         let order = kind.info().vtk_order;
-        let n = if kind == CellKind::Pyramid14 { 13 } else { kind.n_nodes() };
+        // VTK has no 14-node pyramid or tetrahedron: they are written with 13 and 10 nodes.
+        let n = match kind {
+            CellKind::Pyramid14 => 13,
+            CellKind::Tet14 => 10,
+            _ => kind.n_nodes(),
+        };
         assert!(is_permutation(order, n), "{kind:?}");
         assert_eq!(&order[..kind.n_corners()], (0..kind.n_corners()).collect::<Vec<_>>());
     }
@@ -411,6 +419,29 @@ fn cell_gradients_match_finite_differences() {
                         "{kind:?} N_{i} ∂_{k} at {xi:?}: {fd} vs {}",
                         g[i][k]
                     );
+                }
+            }
+        }
+    }
+}
+
+/// Conformity: on each local face, a cell's shape functions are the face
+/// kind's functions of the face's nodes and the others vanish (the face's
+/// reference cell mapped onto the cell's through its nodes' positions).
+#[test]
+fn cell_functions_on_a_face_are_the_face_functions() {
+    for kind in CellKind::ALL {
+        let nodes = kind.reference_nodes();
+        for face in kind.info().faces {
+            let on_face = face.nodes();
+            for xi in samples(face.kind).into_iter().filter(|&xi| face.kind.contains(xi, 0.0)) {
+                let phi = face.kind.shape_and_gradients(xi).0;
+                let x: Xi3 =
+                    std::array::from_fn(|k| on_face.iter().zip(&phi).map(|(&i, p)| p * nodes[i][k]).sum());
+                let n = kind.shape(x);
+                for j in 0..kind.n_nodes() {
+                    let expected = on_face.iter().position(|&i| i == j).map_or(0.0, |p| phi[p]);
+                    assert!((n[j] - expected).abs() < 1e-12, "{kind:?} face {on_face:?} at {xi:?}: N_{j}");
                 }
             }
         }

@@ -305,7 +305,7 @@ mod tests {
     #[test]
     fn stiffness_rules() {
         let sizes: Vec<usize> = CellKind::ALL.iter().map(|k| k.stiffness_rule().len()).collect();
-        assert_eq!(sizes, [1, 8, 6, 8, 4, 27, 27, 18, 18, 27, 27]);
+        assert_eq!(sizes, [1, 8, 6, 8, 4, 27, 27, 18, 18, 27, 27, 64]);
         for kind in CellKind::ALL {
             let v: f64 = kind.stiffness_rule().weights.iter().sum();
             // 27-point rules on the volume-8 hex sum to 8 within 1.1e-14: relative there.
