@@ -14,7 +14,7 @@
 //! - [`matrix_free`]: PCG on PᵀKP for any C_S, one sparse LU of C_S.
 
 use crate::assembly::split_mut;
-use crate::multibody::{Coupling, Interface, ProblemError, Timings};
+use crate::multibody::{Body, Coupling, Interface, ProblemError, Timings};
 use crate::pcg::{par_mul, pcg, BlockJacobi, PcgOptions};
 use crate::saddle::solve_saddle;
 use crate::solve::{Dirichlet, SolveError};
@@ -52,6 +52,9 @@ pub(crate) struct Constraints {
 
 pub(crate) const NONE: usize = usize::MAX;
 
+/// [`Row::interface`] of a body's tie ([`crate::enrichment::Tie`]).
+pub(crate) const TIE: usize = usize::MAX;
+
 impl Constraints {
     /// Rows (D̃ u_s − B̃ u_m)_{q,c} for covered slave points q, in interface,
     /// point, component order, one per slave dof that is neither prescribed nor
@@ -68,7 +71,7 @@ impl Constraints {
     /// point connected to it (the whole interface prescribed in that
     /// component) keeps no multiplier.
     pub(crate) fn new(
-        interfaces: &[Interface],
+        (interfaces, bodies): (&[Interface], &[Body]),
         mortars: &[Mortar],
         offsets: &[usize],
         dirichlet: &Dirichlet,
@@ -121,6 +124,25 @@ impl Constraints {
                     c.indptr.push(c.indices.len());
                     c.nrows += 1;
                     parts.push(part);
+                }
+            }
+        }
+        // The bodies' ties, u_t − Σ w_q u_q = 0, eliminating u_t.
+        for (b, body) in bodies.iter().enumerate() {
+            for tie in &body.ties {
+                for comp in 0..3 {
+                    let dof = offsets[b] + 3 * tie.point + comp;
+                    row_of[dof] = rows.len();
+                    rows.push(Row { dof, interface: TIE, point: tie.point, component: comp });
+                    entries.clear();
+                    entries.push((dof, 1.0));
+                    entries.extend(tie.to.iter().map(|&(q, w)| (offsets[b] + 3 * q + comp, -w)));
+                    entries.sort_unstable_by_key(|e| e.0);
+                    c.indices.extend(entries.iter().map(|e| e.0));
+                    c.values.extend(entries.iter().map(|e| e.1));
+                    c.indptr.push(c.indices.len());
+                    c.nrows += 1;
+                    parts.push(Vec::new());
                 }
             }
         }

@@ -41,7 +41,8 @@ pub fn solve_coupled(
         && interfaces.iter().all(|f| f.kind == Coupling::Glue);
     let mut system = assemble_system(bodies, interfaces, (!over_ranks, options.operators), &mut seconds)?;
     let clock = Instant::now();
-    let constraints = Constraints::new(interfaces, &system.mortars, &system.offsets, &system.dirichlet);
+    let constraints =
+        Constraints::new((interfaces, bodies), &system.mortars, &system.offsets, &system.dirichlet);
     seconds.setup += clock.elapsed().as_secs_f64();
     let used = |b: &Body| b.mesh.used_points().into_iter().filter(|&u| u).count();
     let (dofs, n_constraints) = (bodies.iter().map(|b| 3 * used(b)).sum(), constraints.rows.len());

@@ -55,7 +55,7 @@
 
 use crate::backend::Solver;
 use crate::constraints::{full_prolongation, prolongation, triple_product};
-use crate::constraints::{Constraints, Elimination, Solved, NONE};
+use crate::constraints::{Constraints, Elimination, Solved, NONE, TIE};
 use crate::multibody::{free_dofs_of, Body, ProblemError, System, Timings};
 use crate::petsc::{augmented, rigid_body_modes_in, solve_petsc_from, Augmented};
 use crate::petsc::{PetscOptions, PetscSummary, Split};
@@ -421,7 +421,8 @@ fn residual(
 /// basis (a removed point p gets Σ_q λ_q / |Q_p|).
 pub(crate) fn add_tractions(out: &mut [InterfaceSolution], constraints: &Constraints, lambda: &[f64]) {
     let row_sums: Vec<Vec<f64>> = out.iter().map(|s| s.mortar.d.row_sums()).collect();
-    for ((row, part), &l) in constraints.rows.iter().zip(&constraints.parts).zip(lambda) {
+    let rows = constraints.rows.iter().zip(&constraints.parts).zip(lambda);
+    for ((row, part), &l) in rows.filter(|((row, _), _)| row.interface != TIE) {
         let s = &mut out[row.interface];
         s.constrained[row.point] = true;
         for &(p, w) in part {

@@ -54,6 +54,7 @@ mod constraints;
 pub mod contact;
 pub mod coupled;
 pub mod element;
+pub mod enrichment;
 pub mod generate;
 pub mod glue;
 pub mod material;
@@ -72,6 +73,7 @@ pub use assembly::{
 pub use backend::Solver;
 pub use coupled::solve_coupled;
 pub use element::{CellKind, VolumeRule};
+pub use enrichment::{enrich, Enriched, Tie};
 pub use material::{Material, MaterialError};
 pub use multibody::{Body, Coupling, Interface, OperatorAssembler, Operators, ProblemError, Timings};
 pub use problem::{solve, Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};

@@ -8,6 +8,7 @@
 //! elimination u = P y, the saddle point [K Cᵀ; C 0] by sparse LDLᵀ, or PCG on
 //! PᵀKP matrix-free.
 
+use crate::enrichment::Tie;
 use crate::material::Material;
 use crate::solve::{Dirichlet, SolveError};
 use crate::{stiffness, AssemblyError};
@@ -77,6 +78,9 @@ pub struct Body<'a> {
     pub load: Vec<f64>,
     /// Its prescribed displacements (dofs `3·point + component` of this body).
     pub dirichlet: Dirichlet,
+    /// Points that follow others of the body ([`crate::enrichment`]): one
+    /// constraint row each, in every component, after the interfaces' rows.
+    pub ties: Vec<Tie>,
 }
 
 /// How an interface couples its two bodies.
@@ -306,6 +310,17 @@ pub(crate) fn check_input(bodies: &[Body], interfaces: &[Interface]) -> Result<(
         if let Some((dof, _)) = body.dirichlet.iter().find(|&(d, _)| d >= n) {
             let what = format!("Dirichlet condition on dof {dof}, but the mesh has {n} dofs");
             return Err(ProblemError::BadBody { body: b, what });
+        }
+        for tie in &body.ties {
+            let points = std::iter::once(tie.point).chain(tie.to.iter().map(|e| e.0));
+            if let Some(p) = points.clone().find(|&p| 3 * p >= n) {
+                let what = format!("point {} is tied to point {p}, but the mesh has {} points", tie.point, n / 3);
+                return Err(ProblemError::BadBody { body: b, what });
+            }
+            if tie.to.iter().any(|e| !e.1.is_finite()) || (0..3).any(|c| body.dirichlet.value(3 * tie.point + c).is_some()) {
+                let what = format!("point {} is tied with a non-finite weight or also prescribed", tie.point);
+                return Err(ProblemError::BadBody { body: b, what });
+            }
         }
     }
     for (i, f) in interfaces.iter().enumerate() {

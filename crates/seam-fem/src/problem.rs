@@ -166,6 +166,7 @@ impl Problem {
                 material: b.material,
                 load: load.clone(),
                 dirichlet: dirichlet.clone(),
+                ties: Vec::new(),
             })
             .collect()
     }

@@ -110,7 +110,7 @@ fn stack(layers: &[Layer], joins: &[Join], load: &Load, solver: Solver) -> Resul
                 (true, None) => traction(&layer.side(Side::ZMax), |_, _| [0.0, 0.0, -load.p]),
                 _ => vec![0.0; 3 * layer.mesh.points().len()],
             };
-            Body { mesh: &layer.mesh, material: layer.material, load, dirichlet: d }
+            Body { mesh: &layer.mesh, material: layer.material, load, dirichlet: d, ties: Vec::new() }
         })
         .collect();
     let interfaces: Vec<Interface> = joins
@@ -345,12 +345,14 @@ fn a_prescribed_edge_node_with_a_free_corner_is_refused() {
             material: layers[0].material,
             load: vec![0.0; 3 * layers[0].mesh.points().len()],
             dirichlet: lower,
+            ties: Vec::new(),
         },
         Body {
             mesh: &slave.mesh,
             material: slave.material,
             load: vec![0.0; 3 * slave.mesh.points().len()],
             dirichlet: d,
+            ties: Vec::new(),
         },
     ];
     let interfaces = [Interface {

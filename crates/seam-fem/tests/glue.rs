@@ -211,12 +211,14 @@ fn patch(case: &Case, field: &Affine, multiplier: Multiplier) -> Outcome {
             material,
             load: exact_load(&master.mesh, &sigma, &master_loaded),
             dirichlet: master_fixed,
+            ties: Vec::new(),
         },
         Body {
             mesh: &slave.mesh,
             material,
             load: exact_load(&slave.mesh, &sigma, &sides_but(slave, &[Side::ZMin])),
             dirichlet: slave_fixed,
+            ties: Vec::new(),
         },
     ];
     let master_surface = master.grid.side_faces(&master.mesh, Side::ZMax).unwrap();

@@ -122,6 +122,8 @@ struct Study {
     master_cells: fn(usize) -> usize,
     /// h_s/h_m, for the label.
     ratio: &'static str,
+    /// The slave space enriched by face bubbles ([`seam_fem::enrich`]).
+    enriched: bool,
 }
 
 /// What one level measured.
@@ -139,13 +141,26 @@ impl Study {
         let nm = (self.master_cells)(n);
         let master = curved_block([nm, nm, nm.div_ceil(4)], R - L / 4.0, R, self.master);
         let slave = curved_block([n, n, n], R, R + L, self.slave);
-        let bodies: Vec<Body> = [(&master, Side::ZMax), (&slave, Side::ZMin)]
+        let master_surface = master.1.side_faces(&master.0, Side::ZMax).unwrap();
+        let mut slave_surface = slave.1.side_faces(&slave.0, Side::ZMin).unwrap();
+        // The enriched slave space: the raised mesh keeps the points (and so
+        // the grid's faces) of the original one.
+        let enriched = self.enriched.then(|| seam_fem::enrich(&slave.0, &[&slave_surface]).unwrap().unwrap());
+        let (slave_mesh, ties) = match enriched {
+            Some(e) => {
+                slave_surface = e.surfaces[0].clone();
+                (e.mesh, e.ties)
+            }
+            None => (slave.0.clone(), Vec::new()),
+        };
+        let bodies: Vec<Body> = [(&master.0, &master.1, Side::ZMax, Vec::new()), (&slave_mesh, &slave.1, Side::ZMin, ties)]
             .into_iter()
-            .map(|((mesh, grid), interface)| {
+            .zip([&master.0, &slave.0])
+            .map(|((mesh, grid, interface, ties), cells)| {
                 let mut f = body_force(mesh, load(&material)).unwrap();
                 let mut dirichlet = Dirichlet::new();
                 for side in Side::ALL.into_iter().filter(|&s| s != interface) {
-                    let faces = grid.side_faces(mesh, side).unwrap();
+                    let faces = grid.side_faces(cells, side).unwrap();
                     if matches!(side, Side::ZMin | Side::ZMax) {
                         // Every node of the side's faces, not only the grid corners.
                         for (p, _) in faces.used_points().iter().enumerate().filter(|(_, &u)| u) {
@@ -156,11 +171,9 @@ impl Study {
                         f.iter_mut().zip(t).for_each(|(a, b)| *a += b);
                     }
                 }
-                Body { mesh, material, load: f, dirichlet }
+                Body { mesh, material, load: f, dirichlet, ties }
             })
             .collect();
-        let master_surface = master.1.side_faces(&master.0, Side::ZMax).unwrap();
-        let slave_surface = slave.1.side_faces(&slave.0, Side::ZMin).unwrap();
         let sol = solve_two(&bodies, &master_surface, &slave_surface, self.multiplier);
         let summary = &sol.interfaces[0].mortar.summary;
         assert_eq!(summary.inverse_failures, 0, "n = {n}, {nm}: inverse projections failed");
@@ -183,8 +196,11 @@ impl Study {
     /// [`Study::converges`] with the L2, H1 and energy rates `l2`, `h1` and
     /// `energy`.
     fn converges_at(&self, ns: &[usize], l2: f64, h1: f64, energy: f64) {
-        let what =
-            format!("{:?}|{:?}, h_s/h_m {}, {:?}", self.master, self.slave, self.ratio, self.multiplier);
+        let enriched = if self.enriched { ", enriched" } else { "" };
+        let what = format!(
+            "{:?}|{:?}, h_s/h_m {}, {:?}{enriched}",
+            self.master, self.slave, self.ratio, self.multiplier
+        );
         let mut table = format!("{what}:\n  n_s n_m  h_s    gap/overlap  relative errors L2 / H1 / energy\n");
         let (mut hs, mut levels) = (Vec::new(), Vec::new());
         for &n in ns {
@@ -215,12 +231,12 @@ impl Study {
 
 /// h_s/h_m ≈ 1: the master has n + 1 cells in θ and z (non-matching).
 fn equal(m: Hexes, s: Hexes, multiplier: Multiplier) -> Study {
-    Study { master: m, slave: s, multiplier, master_cells: |n| n + 1, ratio: "≈ 1" }
+    Study { master: m, slave: s, multiplier, master_cells: |n| n + 1, ratio: "≈ 1", enriched: false }
 }
 
 /// h_s/h_m = 3.
 fn three(m: Hexes, s: Hexes, multiplier: Multiplier) -> Study {
-    Study { master: m, slave: s, multiplier, master_cells: |n| 3 * n, ratio: "= 3" }
+    Study { master: m, slave: s, multiplier, master_cells: |n| 3 * n, ratio: "= 3", enriched: false }
 }
 
 const EQUAL_LEVELS: [usize; 5] = [3, 4, 6, 8, 12];
@@ -271,6 +287,20 @@ fn dual_hex20_master() {
 #[test]
 fn dual_hex20_slave_converges_like_h_three_halves() {
     equal(Hex27, Hex20, Dual).converges_at(&HEX20_LEVELS, 2.4, 1.4, 1.4);
+}
+
+/// The Quad8 slave in the enriched space (Hex20 cells at the interface
+/// raised to Hex27, the added points off it tied): the target rates.
+#[test]
+fn dual_hex20_slave_enriched() {
+    Study { enriched: true, ..equal(Hex27, Hex20, Dual) }.converges(&HEX20_LEVELS);
+}
+
+/// Tri6 slave faces in the enriched space (Tet10 cells at the interface
+/// raised to Tet14) with a master three times finer: the target rates.
+#[test]
+fn dual_tet10_slave_enriched_master_three_times_finer() {
+    Study { enriched: true, ..three(Tet10, Tet10, Dual) }.converges(&THREE_LEVELS);
 }
 
 /// Tet10 bodies (six per grid cell, Tri6 interface faces), standard and

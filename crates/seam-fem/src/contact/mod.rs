@@ -941,7 +941,8 @@ mod tests {
         let mut seconds = Timings::default();
         let mut system =
             assemble_system(&bodies, &interfaces, (true, Operators::Here), &mut seconds).unwrap();
-        let constraints = Constraints::new(&interfaces, &system.mortars, &system.offsets, &system.dirichlet);
+        let constraints =
+            Constraints::new((&interfaces, &bodies), &system.mortars, &system.offsets, &system.dirichlet);
         let reform = || bodies_stiffness(&bodies);
         let a =
             rotated_steps(&bodies, &interfaces, &options, (&mut system, &reform), &constraints, &mut seconds)

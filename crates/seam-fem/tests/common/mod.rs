@@ -327,7 +327,7 @@ pub fn glued_patch_error(
         .iter()
         .zip(loads)
         .zip(dirichlet)
-        .map(|((part, load), dirichlet)| Body { mesh: &part.mesh, material, load, dirichlet })
+        .map(|((part, load), dirichlet)| Body { mesh: &part.mesh, material, load, dirichlet, ties: Vec::new() })
         .collect();
     let options = MortarOptions { multiplier, facing: Facing::Opposite, ..MortarOptions::default() };
     let interfaces: Vec<Interface> = glues
@@ -582,7 +582,7 @@ pub mod shell {
                         dirichlet.fix(p, exact(mesh.points()[p]).map(Some));
                     }
                 }
-                Body { mesh, material, load: f, dirichlet }
+                Body { mesh, material, load: f, dirichlet, ties: Vec::new() }
             })
             .collect();
         let master_surface = master.1.side_faces(&master.0, Side::ZMax).unwrap();

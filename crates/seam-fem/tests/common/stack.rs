@@ -66,8 +66,9 @@ impl Stack {
                 material: self.materials[0],
                 load: vec![0.0; 3 * self.lower.0.points().len()],
                 dirichlet: dl,
+                ties: Vec::new(),
             },
-            Body { mesh: &self.upper.0, material: self.materials[1], load, dirichlet: du },
+            Body { mesh: &self.upper.0, material: self.materials[1], load, dirichlet: du, ties: Vec::new() },
         ];
         let options =
             seam::MortarOptions { multiplier, facing: seam::Facing::Opposite, ..Default::default() };

@@ -320,6 +320,7 @@ pub(super) const TET4: CellType = CellType {
     gmsh_type: Some(4),
     vtk_type: 10,
     vtk_order: first(&TET10_VTK, 4),
+    enriched: None,
     basis: CellBasis::Closed { shape: tet4_shape, gradients: tet4_gradients },
     stiffness: StiffnessRule::Degree(1),
 };
@@ -335,6 +336,7 @@ pub(super) const HEX8: CellType = CellType {
     gmsh_type: Some(5),
     vtk_type: 12,
     vtk_order: first(&HEX27_VTK, 8),
+    enriched: None,
     basis: CellBasis::Closed { shape: hex8_shape, gradients: hex8_gradients },
     stiffness: StiffnessRule::Degree(3),
 };
@@ -350,6 +352,7 @@ pub(super) const PRISM6: CellType = CellType {
     gmsh_type: Some(6),
     vtk_type: 13,
     vtk_order: first(&PRISM18_VTK, 6),
+    enriched: None,
     basis: CellBasis::Closed { shape: prism6_shape, gradients: prism6_gradients },
     stiffness: StiffnessRule::Degree(2),
 };
@@ -365,6 +368,7 @@ pub(super) const PYRAMID5: CellType = CellType {
     gmsh_type: Some(7),
     vtk_type: 14,
     vtk_order: first(&PYRAMID13_VTK, 5),
+    enriched: None,
     basis: CellBasis::Closed { shape: pyramid5_shape, gradients: pyramid5_gradients },
     stiffness: StiffnessRule::Collapsed(2),
 };
@@ -383,6 +387,7 @@ pub(super) const TET10: CellType = CellType {
     gmsh_type: Some(11),
     vtk_type: 24,
     vtk_order: &TET10_VTK,
+    enriched: Some(CellKind::Tet14),
     basis: CellBasis::Nodal(Space { keep: P2, rational: &[] }),
     stiffness: StiffnessRule::Degree(2),
 };
@@ -401,6 +406,7 @@ pub(super) const TET14: CellType = CellType {
     gmsh_type: None,
     vtk_type: 24,
     vtk_order: &TET10_VTK,
+    enriched: None,
     basis: CellBasis::Closed { shape: tet14_shape, gradients: tet14_gradients },
     // ∇N is quadratic: the stiffness of an affine cell has degree 4.
     stiffness: StiffnessRule::Degree(4),
@@ -418,6 +424,7 @@ pub(super) const HEX20: CellType = CellType {
     vtk_type: 25,
     vtk_order: first(&HEX27_VTK, 20),
     // Serendipity: at most one squared variable.
+    enriched: Some(CellKind::Hex27),
     basis: CellBasis::Nodal(Space { keep: |e| e.iter().filter(|&&e| e == 2).count() <= 1, rational: &[] }),
     stiffness: StiffnessRule::Degree(4),
 };
@@ -433,6 +440,7 @@ pub(super) const HEX27: CellType = CellType {
     gmsh_type: Some(12),
     vtk_type: 29,
     vtk_order: &HEX27_VTK,
+    enriched: None,
     basis: CellBasis::Nodal(Space { keep: |_| true, rational: &[] }),
     stiffness: StiffnessRule::Degree(4),
 };
@@ -448,6 +456,7 @@ pub(super) const PRISM15: CellType = CellType {
     gmsh_type: Some(18),
     vtk_type: 26,
     vtk_order: first(&PRISM18_VTK, 15),
+    enriched: None,
     basis: CellBasis::Nodal(Space {
         keep: |[a, b, c]| (a + b <= 2 && c <= 1) || (a + b <= 1 && c == 2),
         rational: &[],
@@ -466,6 +475,7 @@ pub(super) const PRISM18: CellType = CellType {
     gmsh_type: Some(13),
     vtk_type: 32,
     vtk_order: &PRISM18_VTK,
+    enriched: None,
     basis: CellBasis::Nodal(Space { keep: |[a, b, _]| a + b <= 2, rational: &[] }),
     stiffness: StiffnessRule::Degree(4),
 };
@@ -484,6 +494,7 @@ pub(super) const PYRAMID13: CellType = CellType {
     gmsh_type: Some(19),
     vtk_type: 27,
     vtk_order: &PYRAMID13_VTK,
+    enriched: None,
     basis: CellBasis::Nodal(Space { keep: P2, rational: first(&PYRAMID_RATIONAL, 3) }),
     stiffness: StiffnessRule::Collapsed(3),
 };
@@ -500,6 +511,7 @@ pub(super) const PYRAMID14: CellType = CellType {
     // VTK has no 14-node pyramid: the base centre stays a point of the grid.
     vtk_type: 27,
     vtk_order: &PYRAMID13_VTK,
+    enriched: None,
     basis: CellBasis::Nodal(Space { keep: P2, rational: &PYRAMID_RATIONAL }),
     stiffness: StiffnessRule::Collapsed(3),
 };

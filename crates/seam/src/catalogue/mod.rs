@@ -210,6 +210,11 @@ pub struct CellType {
     /// first and differ in how they number edges and face centres; a Pyramid14
     /// is written as VTK's 13-node pyramid (VTK has no 14-node one).
     pub vtk_order: &'static [usize],
+    /// The kind with the centres (and for hexahedra the cell centre) that give
+    /// each Tri6 or Quad8 face its bubble (Tet10 → Tet14, Hex20 → Hex27), for
+    /// the cells of an enriched slave surface; `None` for kinds without such
+    /// faces and for Prism15 and Pyramid13, which have no such kind.
+    pub enriched: Option<CellKind>,
     /// The shape functions.
     pub basis: CellBasis,
     /// The rule the stiffness is integrated with ([`CellKind::stiffness_rule`]).
