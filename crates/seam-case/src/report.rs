@@ -39,8 +39,9 @@ pub fn report(s: &Solved) -> Vec<String> {
             f.mortar.master_nodes
         ));
         lines.push(format!(
-            "           {} multipliers, covered {:.3} %, {} segments, max gap {:.1e}, max overlap {:.1e}",
+            "           {} multipliers{}, covered {:.3} %, {} segments, max gap {:.1e}, max overlap {:.1e}",
             f.multiplier,
+            if f.slave_space == "enriched" { " (enriched slave space)" } else { "" },
             100.0 * f.covered_fraction,
             f.mortar.segments,
             f.mortar.max_gap,

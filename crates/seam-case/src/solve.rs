@@ -310,6 +310,12 @@ pub struct InterfaceSummary {
     pub file: String,
     /// The multiplier basis: "standard", "dual" or "lumped".
     pub multiplier: String,
+    /// The slave space the multipliers are built on: "nodal" (the faces'
+    /// own functions), "transformed" (Popp's basis on second-order faces:
+    /// dual multipliers for contact, or on Prism15 and Pyramid13 slaves) or
+    /// "enriched" (dual multipliers on Tri6 and Quad8 faces with their face
+    /// bubbles).
+    pub slave_space: &'static str,
     /// Slave points with at least one constrained component.
     pub constrained_nodes: usize,
     /// Resultant force exerted by the master on the slave, −Σ_p (Dλ)_p.
@@ -1108,6 +1114,11 @@ fn summary(
                 },
                 file: file_name(&names.interfaces[i]),
                 multiplier: f.options.multiplier.name().to_string(),
+                slave_space: match (s.enriched, mortar.basis.is_some()) {
+                    (true, _) => "enriched",
+                    (false, true) => "transformed",
+                    (false, false) => "nodal",
+                },
                 constrained_nodes: s.constrained_points(),
                 force: s.force,
                 covered_fraction: mortar.summary.covered_area / mortar.summary.slave_area,

@@ -91,7 +91,8 @@ pub fn enrich(mesh: &VolumeMesh, surfaces: &[&SurfaceMesh]) -> Result<Option<Enr
             let p = *added.entry(key).or_insert_with(|| {
                 points.push(map_point(kind, &x, xi));
                 let n = kind.shape(xi);
-                let to = (0..kind.n_nodes()).filter(|&i| n[i].abs() > 1e-14).map(|i| (nodes[i], n[i])).collect();
+                let to =
+                    (0..kind.n_nodes()).filter(|&i| n[i].abs() > 1e-14).map(|i| (nodes[i], n[i])).collect();
                 weights.push((points.len() - 1, to));
                 points.len() - 1
             });
@@ -118,7 +119,8 @@ pub fn enrich(mesh: &VolumeMesh, surfaces: &[&SurfaceMesh]) -> Result<Option<Enr
         })
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| e.to_string())?;
-    let ties = weights.into_iter().filter(|(p, _)| !on_surface[*p]).map(|(point, to)| Tie { point, to }).collect();
+    let ties =
+        weights.into_iter().filter(|(p, _)| !on_surface[*p]).map(|(point, to)| Tie { point, to }).collect();
     let mesh = VolumeMesh::new(points, cells).map_err(|e| e.to_string())?;
     Ok(Some(Enriched { mesh, surfaces, ties }))
 }

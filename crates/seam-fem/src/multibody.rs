@@ -314,10 +314,13 @@ pub(crate) fn check_input(bodies: &[Body], interfaces: &[Interface]) -> Result<(
         for tie in &body.ties {
             let points = std::iter::once(tie.point).chain(tie.to.iter().map(|e| e.0));
             if let Some(p) = points.clone().find(|&p| 3 * p >= n) {
-                let what = format!("point {} is tied to point {p}, but the mesh has {} points", tie.point, n / 3);
+                let what =
+                    format!("point {} is tied to point {p}, but the mesh has {} points", tie.point, n / 3);
                 return Err(ProblemError::BadBody { body: b, what });
             }
-            if tie.to.iter().any(|e| !e.1.is_finite()) || (0..3).any(|c| body.dirichlet.value(3 * tie.point + c).is_some()) {
+            if tie.to.iter().any(|e| !e.1.is_finite())
+                || (0..3).any(|c| body.dirichlet.value(3 * tie.point + c).is_some())
+            {
                 let what = format!("point {} is tied with a non-finite weight or also prescribed", tie.point);
                 return Err(ProblemError::BadBody { body: b, what });
             }

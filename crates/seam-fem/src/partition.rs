@@ -544,7 +544,8 @@ mod tests {
         let material = Material::new(1000.0, 0.3).unwrap();
         let a = block(3, 2, 2, |u, v, w| [u, v, w], BlockKind::Hex);
         let b = block(2, 2, 3, |u, v, w| [u + 1.0, v, 0.7 * w], BlockKind::Tet);
-        let body = |mesh| Body { mesh, material, load: vec![], dirichlet: Dirichlet::new(), ties: Vec::new() };
+        let body =
+            |mesh| Body { mesh, material, load: vec![], dirichlet: Dirichlet::new(), ties: Vec::new() };
         let bodies = [body(&a), body(&b)];
         let k = crate::multibody::bodies_stiffness(&bodies).unwrap();
         let n = k.nrows;

@@ -208,6 +208,69 @@ impl Problem {
 /// As [`solve_coupled`]; [`ProblemError::Assembly`] for a degenerate cell
 /// under a body force.
 pub fn solve(problem: &Problem, options: &SolveOptions) -> Result<Solution, ProblemError> {
-    let prepared = problem.loads_and_supports()?;
-    solve_coupled(&problem.solver_bodies(&prepared), &problem.coupled(), options)
+    let Some((raised, ties)) = problem.enriched() else {
+        let prepared = problem.loads_and_supports()?;
+        return solve_coupled(&problem.solver_bodies(&prepared), &problem.coupled(), options);
+    };
+    let prepared = raised.loads_and_supports()?;
+    let mut bodies = raised.solver_bodies(&prepared);
+    for (body, ties) in bodies.iter_mut().zip(ties) {
+        body.ties = ties;
+    }
+    let mut solution = solve_coupled(&bodies, &raised.coupled(), options)?;
+    // Back to the original points (the raised meshes append theirs).
+    for (b, body) in problem.bodies.iter().enumerate() {
+        let n = body.mesh.points().len();
+        solution.displacement[b].truncate(3 * n);
+        solution.stresses[b].nodal.truncate(n);
+        solution.stresses[b].nodal_von_mises.truncate(n);
+    }
+    for (s, f) in solution.interfaces.iter_mut().zip(&problem.interfaces) {
+        s.truncate(problem.bodies[f.slave.body].mesh.points().len());
+        let kinds = |p: &Problem| p.surface(f.slave).faces().iter().map(|f| f.kind()).collect::<Vec<_>>();
+        s.enriched = kinds(&raised) != kinds(problem);
+    }
+    Ok(solution)
+}
+
+impl Problem {
+    /// With dual multipliers on a glued slave surface with Tri6 or Quad8
+    /// faces: the problem on the enriched slave space ([`crate::enrichment`]),
+    /// its slave bodies raised, their surfaces indexing the raised points
+    /// (the slave surfaces with Tri7 and Quad9 faces), and per body its ties;
+    /// `None` when no interface needs it. A body with such a slave face on a
+    /// Prism15 or Pyramid13 cell (no enriched kind) is not raised: its
+    /// interfaces keep Popp's transformed basis ([`seam::BASIS_ALPHA`]).
+    pub fn enriched(&self) -> Option<(Problem, Vec<Vec<crate::Tie>>)> {
+        let needs = |f: &ProblemInterface| {
+            f.kind == Coupling::Glue
+                && f.options.multiplier == seam::Multiplier::Dual
+                && self.surface(f.slave).faces().iter().any(|face| face.kind().info().enriched.is_some())
+        };
+        let mut raised = self.clone();
+        let mut ties = vec![Vec::new(); self.bodies.len()];
+        let mut any = false;
+        for (b, body) in self.bodies.iter().enumerate() {
+            let slaves: Vec<usize> = self
+                .interfaces
+                .iter()
+                .filter(|f| f.slave.body == b && needs(f))
+                .map(|f| f.slave.surface)
+                .collect();
+            let surfaces: Vec<&SurfaceMesh> = slaves.iter().map(|&s| &body.surfaces[s].1).collect();
+            let Ok(Some(e)) = crate::enrich(&body.mesh, &surfaces) else { continue };
+            let target = &mut raised.bodies[b];
+            for (_, surface) in target.surfaces.iter_mut() {
+                *surface = SurfaceMesh::new(e.mesh.points().to_vec(), surface.faces().to_vec())
+                    .expect("the same faces over the same first points");
+            }
+            for (&s, surface) in slaves.iter().zip(e.surfaces) {
+                target.surfaces[s].1 = surface;
+            }
+            target.mesh = e.mesh;
+            ties[b] = e.ties;
+            any = true;
+        }
+        any.then_some((raised, ties))
+    }
 }

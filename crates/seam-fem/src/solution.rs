@@ -65,6 +65,11 @@ pub struct InterfaceSolution {
     pub force: [f64; 3],
     /// Contact interfaces: pressure, gaps and active set.
     pub contact: Option<ContactFields>,
+    /// The slave body was raised for the enriched slave space of dual
+    /// multipliers ([`crate::enrichment`]): the mortar operator is that of
+    /// its Tri7 and Quad9 faces, with rows for their centres after the
+    /// body's points.
+    pub enriched: bool,
 }
 
 impl InterfaceSolution {
@@ -80,6 +85,24 @@ impl InterfaceSolution {
             constrained: vec![false; n],
             force: [0.0; 3],
             contact: (kind == Coupling::Contact).then(|| ContactFields::new(n)),
+            enriched: false,
+        }
+    }
+
+    /// Keeps the first `n` points of the slave body (those of its mesh when
+    /// it was raised for the enriched slave space, [`crate::enrichment`]).
+    pub(crate) fn truncate(&mut self, n: usize) {
+        self.traction.truncate(n);
+        self.normal.truncate(n);
+        self.normal_traction.truncate(n);
+        self.tangential_traction.truncate(n);
+        self.constrained.truncate(n);
+        if let Some(c) = &mut self.contact {
+            for v in [&mut c.initial_gap, &mut c.gap, &mut c.pressure] {
+                v.truncate(n);
+            }
+            c.contact.truncate(n);
+            c.active.truncate(n);
         }
     }
 

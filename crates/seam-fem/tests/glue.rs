@@ -179,7 +179,9 @@ impl Outcome {
     }
 }
 
-fn patch(case: &Case, field: &Affine, multiplier: Multiplier) -> Outcome {
+/// The patch test of `case` with `multiplier`; with `enriched`, on the
+/// enriched slave space ([`seam_fem::enrich`]: raised slave cells and ties).
+fn patch(case: &Case, field: &Affine, (multiplier, enriched): (Multiplier, bool)) -> Outcome {
     let material = Material::new(1000.0, 0.3).unwrap();
     let sigma = field.stress(&material);
     let (master, slave) = (&case.master, &case.slave);
@@ -205,6 +207,13 @@ fn patch(case: &Case, field: &Affine, multiplier: Multiplier) -> Outcome {
             slave_fixed.fix(p, field.at(slave.mesh.points()[p]).map(Some));
         }
     }
+    let master_surface = master.grid.side_faces(&master.mesh, Side::ZMax).unwrap();
+    let mut slave_surface = slave.grid.side_faces(&slave.mesh, Side::ZMin).unwrap();
+    let (mut slave_mesh, mut ties) = (slave.mesh.clone(), Vec::new());
+    if enriched {
+        let e = seam_fem::enrich(&slave.mesh, &[&slave_surface]).unwrap().expect("second-order slave faces");
+        (slave_mesh, slave_surface, ties) = (e.mesh, e.surfaces[0].clone(), e.ties);
+    }
     let bodies = [
         Body {
             mesh: &master.mesh,
@@ -214,15 +223,13 @@ fn patch(case: &Case, field: &Affine, multiplier: Multiplier) -> Outcome {
             ties: Vec::new(),
         },
         Body {
-            mesh: &slave.mesh,
+            mesh: &slave_mesh,
             material,
-            load: exact_load(&slave.mesh, &sigma, &sides_but(slave, &[Side::ZMin])),
+            load: exact_load(&slave_mesh, &sigma, &sides_but(slave, &[Side::ZMin])),
             dirichlet: slave_fixed,
-            ties: Vec::new(),
+            ties,
         },
     ];
-    let master_surface = master.grid.side_faces(&master.mesh, Side::ZMax).unwrap();
-    let slave_surface = slave.grid.side_faces(&slave.mesh, Side::ZMin).unwrap();
     let sol = solve_two(&bodies, &master_surface, &slave_surface, multiplier);
     assert!(sol.report.residual < 1e-12, "{}: residual {:e}", case.label, sol.report.residual);
 
@@ -277,7 +284,8 @@ fn patch(case: &Case, field: &Affine, multiplier: Multiplier) -> Outcome {
 
 /// Standard and dual: exact to `RTOL`, balanced to `RTOL`.
 fn assert_exact(case: &Case) {
-    let outcomes = [Multiplier::Standard, Multiplier::Dual].map(|m| (m, patch(case, &Affine::PATCH, m)));
+    let outcomes =
+        [Multiplier::Standard, Multiplier::Dual].map(|m| (m, patch(case, &Affine::PATCH, (m, false))));
     for (multiplier, o) in outcomes {
         assert!(o.max() <= RTOL, "{} {multiplier:?}: {o:?}", case.label);
         assert!(o.balance() <= RTOL, "{} {multiplier:?}: equilibrium {o:?}", case.label);
@@ -307,6 +315,28 @@ fn patch_test_second_order_bodies() {
             case.slave = raise(case.slave, cs);
             case.label = format!("second order {} (complete {cm}|{cs})", case.label);
             assert_exact(&case);
+        }
+    }
+}
+
+/// Dual multipliers on the enriched slave space of Tri6 and Quad8 slave
+/// faces (Tet10 and Hex20 slaves, their interface cells raised to Tet14 and
+/// Hex27, the added points off the interface tied): the patch test holds.
+#[test]
+fn patch_test_enriched_slave_space() {
+    use seam_fem::generate::raise_order;
+    use BlockKind::*;
+    for rotated in [false, true] {
+        for (m, s, cm) in
+            [(([3, 2, 2], Hex), ([2, 2, 2], Tet), true), (([2, 3, 2], Tet), ([3, 2, 2], Hex), false)]
+        {
+            let mut case = Case::stacked(m, s, rotated);
+            case.master.mesh = raise_order(&case.master.mesh, cm).unwrap();
+            case.slave.mesh = raise_order(&case.slave.mesh, false).unwrap();
+            case.label = format!("enriched second order {}", case.label);
+            let o = patch(&case, &Affine::PATCH, (Multiplier::Dual, true));
+            assert!(o.max() <= RTOL, "{}: {o:?}", case.label);
+            assert!(o.balance() <= RTOL, "{}: equilibrium {o:?}", case.label);
         }
     }
 }
@@ -383,7 +413,7 @@ fn lumped_multipliers_break_the_linear_patch_test() {
             (([3, 3, 2], Hex), ([3, 3, 2], Hex), "matching"),
         ] {
             let case = Case::stacked(m, s, rotated);
-            let o = patch(&case, &Affine::PATCH, Multiplier::Lumped);
+            let o = patch(&case, &Affine::PATCH, (Multiplier::Lumped, false));
             println!("    lumped, {what}: error {:.3e}", o.max());
             assert!(o.max().is_finite() && o.max() > 1e-6, "{}: lumped error {o:?}", case.label);
             assert!(o.balance() <= RTOL, "{}: lumped equilibrium {o:?}", case.label);
@@ -394,7 +424,7 @@ fn lumped_multipliers_break_the_linear_patch_test() {
                 a: std::array::from_fn(|i| std::array::from_fn(|j| g[i] * n[j])),
                 c: [1e-3, 0.0, -2e-3],
             };
-            let o = patch(&case, &flat, Multiplier::Lumped);
+            let o = patch(&case, &flat, (Multiplier::Lumped, false));
             assert!(o.max() <= RTOL, "{}: lumped, field constant on the interface: {o:?}", case.label);
         }
     }
@@ -421,4 +451,65 @@ fn glued_solutions_are_identical_on_one_and_two_threads() {
         let (one, two) = (solve(1), solve(2));
         assert_eq!(one.displacement, two.displacement, "{multiplier:?}");
     }
+}
+
+/// [`seam_fem::solve`] puts dual multipliers on Tri6 slave faces into the
+/// enriched slave space by itself: uniaxial tension σ_zz = 1 of a Tet10 block
+/// glued on a Hex20 block (rollers on x = 0, y = 0 and the bottom) is exact,
+/// and the solution has the original meshes' points.
+#[test]
+fn problem_solve_enriches_dual_glued_tri6_slaves() {
+    use seam_fem::generate::raise_order;
+    use seam_fem::{Load, Problem, ProblemBody, ProblemInterface, SolveOptions, Support, SurfaceId};
+    let material = Material::new(200.0, 0.3).unwrap();
+    let (e, nu) = (200.0, 0.3);
+    let body = |name: &str, n: [usize; 3], z0: f64, kind: BlockKind| {
+        let cube = block(n[0], n[1], n[2], |x, y, z| [x, y, z0 + z], kind);
+        let mesh = raise_order(&cube, false).unwrap();
+        let grid = Grid::new(n[0], n[1], n[2]);
+        let surfaces = [Side::XMin, Side::YMin, Side::ZMin, Side::ZMax]
+            .map(|side| (format!("{side:?}"), grid.side_faces(&mesh, side).unwrap()))
+            .to_vec();
+        ProblemBody { name: name.into(), mesh, material, body_force: [0.0; 3], surfaces }
+    };
+    let id = |body, surface| SurfaceId { body, surface };
+    let options = seam::MortarOptions { multiplier: Multiplier::Dual, ..Default::default() };
+    let roller = |b, s, k: usize| Support {
+        boundary: id(b, s),
+        values: std::array::from_fn(|c| (c == k).then_some(0.0)),
+    };
+    let problem = Problem {
+        bodies: vec![
+            body("lower", [3, 3, 2], 0.0, BlockKind::Hex),
+            body("upper", [2, 2, 2], 1.0, BlockKind::Tet),
+        ],
+        interfaces: vec![ProblemInterface {
+            master: id(0, 3),
+            slave: id(1, 2),
+            options,
+            kind: seam_fem::Coupling::Glue,
+        }],
+        supports: vec![roller(0, 2, 2), roller(0, 0, 0), roller(0, 1, 1), roller(1, 0, 0), roller(1, 1, 1)],
+        loads: vec![Load { boundary: id(1, 3), t: [0.0, 0.0, 1.0] }],
+    };
+    let (raised, ties) = problem.enriched().expect("Tri6 slave faces with dual multipliers");
+    assert!(raised.bodies[1].mesh.cells().iter().any(|c| c.kind() == seam::CellKind::Tet14));
+    assert!(!ties[1].is_empty() && ties[0].is_empty());
+    let solution = problem.solve(&SolveOptions::default()).unwrap();
+    for (b, body) in problem.bodies.iter().enumerate() {
+        let u = &solution.displacement[b];
+        assert_eq!(u.len(), 3 * body.mesh.points().len());
+        for (p, x) in body.mesh.points().iter().enumerate() {
+            let exact = [-nu * x[0] / e, -nu * x[1] / e, x[2] / e];
+            for k in 0..3 {
+                assert!(
+                    (u[3 * p + k] - exact[k]).abs() < 1e-12,
+                    "body {b} point {p}: {:?}",
+                    &u[3 * p..3 * p + 3]
+                );
+            }
+        }
+        assert_eq!(solution.stresses[b].nodal.len(), body.mesh.points().len());
+    }
+    assert_eq!(solution.interfaces[0].traction.len(), problem.bodies[1].mesh.points().len());
 }

@@ -119,3 +119,35 @@ fn uniaxial_tension_on_loaded_faces_only() {
         }
     }
 }
+
+/// Cells raised for the enriched slave space ([`seam_fem::enrich`], the whole
+/// boundary as the surface: Tet10 → Tet14, Hex20 → Hex27, the added points
+/// off it tied to their cells' interpolants): u = A x + c on the boundary's
+/// points, face centres included, is reproduced everywhere through
+/// `solve_coupled` with the ties as constraints, to round-off.
+#[test]
+fn displacement_patch_test_enriched_cells() {
+    use seam_fem::generate::{raise_order, BlockKind};
+    use seam_fem::{solve_coupled, Body, SolveOptions};
+    for kind in [BlockKind::Tet, BlockKind::Hex] {
+        let mesh = raise_order(&distorted(kind, 3, 0.25).0, false).unwrap();
+        let boundary = mesh.boundary().unwrap();
+        let e = seam_fem::enrich(&mesh, &[&boundary]).unwrap().expect("Tri6 or Quad8 faces");
+        let raised = e.mesh.cells().iter().filter(|c| c.kind() != mesh.cells()[0].kind()).count();
+        assert!(raised > 0 && raised < mesh.cells().len() && !e.ties.is_empty(), "{kind:?}");
+        let on_surface = e.surfaces[0].used_points();
+        let mut bc = Dirichlet::new();
+        for (p, &x) in e.mesh.points().iter().enumerate().filter(|&(p, _)| on_surface[p]) {
+            bc.fix(p, affine(x).map(Some));
+        }
+        let load = vec![0.0; 3 * e.mesh.points().len()];
+        let body = Body { mesh: &e.mesh, material: material(), load, dirichlet: bc, ties: e.ties };
+        let solution = solve_coupled(&[body], &[], &SolveOptions::default()).unwrap();
+        check_affine(&e.mesh, &solution.displacement[0], &format!("enriched {kind:?}"));
+        let sigma = affine_stress(&material());
+        for cell in recover_stresses(&e.mesh, &material(), &solution.displacement[0]).unwrap().cell {
+            let err = (0..6).map(|k| (cell[k] - sigma[k]).abs()).fold(0.0, f64::max);
+            assert!(err <= RTOL * max_abs(&sigma), "enriched {kind:?}: stress {cell:?}");
+        }
+    }
+}

@@ -66,7 +66,13 @@ impl Stack {
             .zip(loads)
             .zip(dirichlet)
             .zip(self.materials)
-            .map(|(((part, load), dirichlet), material)| Body { mesh: &part.mesh, material, load, dirichlet, ties: Vec::new() })
+            .map(|(((part, load), dirichlet), material)| Body {
+                mesh: &part.mesh,
+                material,
+                load,
+                dirichlet,
+                ties: Vec::new(),
+            })
             .collect();
         let surfaces =
             [base.side(Side::ZMax), lower.side(Side::ZMin), lower.side(Side::ZMax), upper.side(Side::ZMin)];

@@ -327,7 +327,13 @@ pub fn glued_patch_error(
         .iter()
         .zip(loads)
         .zip(dirichlet)
-        .map(|((part, load), dirichlet)| Body { mesh: &part.mesh, material, load, dirichlet, ties: Vec::new() })
+        .map(|((part, load), dirichlet)| Body {
+            mesh: &part.mesh,
+            material,
+            load,
+            dirichlet,
+            ties: Vec::new(),
+        })
         .collect();
     let options = MortarOptions { multiplier, facing: Facing::Opposite, ..MortarOptions::default() };
     let interfaces: Vec<Interface> = glues
