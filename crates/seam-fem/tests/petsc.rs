@@ -44,6 +44,19 @@ fn glued_patch_tests() {
     }
 }
 
+/// Dual multipliers on a Tet10 slave in the enriched slave space (the ties
+/// as eliminated rows of the reduced system): uniaxial tension exact.
+#[test]
+fn glued_enriched_slave_space() {
+    let (problem, exact) = crate::glue::enriched_tension();
+    let options = SolveOptions { solver: petsc(1e-14), ..SolveOptions::default() };
+    let solution = problem.solve(&options).unwrap();
+    let e = crate::glue::enriched_tension_error(&problem, &solution, exact);
+    println!("{}: error {e:.1e}", solution.report.method);
+    assert!(e < 1e-10, "error {e:e}");
+    assert!(solution.report.method.contains("PETSc"), "{}", solution.report.method);
+}
+
 /// Glue and contact in one problem (`mixed.rs`): contact on the rotated
 /// system after eliminating dual glue, or a saddle point per active-set step
 /// with standard glue; the uniaxial solution to 1e-10.
