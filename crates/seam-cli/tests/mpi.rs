@@ -285,6 +285,40 @@ fn ranks_solve_the_glued_and_contact_patch_tests_exactly() {
     }
 }
 
+/// The glued patch test with a Tet10 slave and dual multipliers, which
+/// `seam solve` puts into the enriched slave space (raised slave cells, ties
+/// as eliminated rows; the Tet14 cells go to the ranks by their kind):
+/// exact to round-off (1e-11 of P/E) alone and over two ranks. (MUMPS's estimate of its workspace falls
+/// short on this saddle point, INFOG(1) = −9: ICNTL(14) gives it room.)
+#[test]
+fn ranks_glue_the_enriched_slave_space_exactly() {
+    use seam_fem::generate::BlockKind;
+    let mumps = ["--petsc-options", "-pc_type lu -pc_factor_mat_solver_type mumps -mat_mumps_icntl_14 100"];
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    patch_stack(dir, "kind = \"glue\"\nmultiplier = \"dual\"");
+    let sides = [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("ymin", Side::YMin)];
+    common::write_block_of(
+        &dir.join("upper.msh"),
+        ([2, 2, 2], BlockKind::Tet, true),
+        |u, v, w| [u, v, 0.5 + 0.5 * w],
+        &sides,
+    );
+    for (n, to) in [(None, "one"), (Some(2), "np2")] {
+        let s = solve_on(dir, n, &mumps, to);
+        assert_eq!(s["interfaces"][0]["slave_space"], "enriched", "{to}");
+        for body in ["lower", "upper"] {
+            let (points, u) =
+                vtu_field(&body_file(&dir.join(to), body, n.unwrap_or(1)), "displacement", false);
+            for (x, u) in points.iter().zip(u.chunks(3)) {
+                let exact = [NU * P * x[0] / E, NU * P * x[1] / E, -P * x[2] / E];
+                let e = (0..3).fold(0.0f64, |m, k| m.max((u[k] - exact[k]).abs()));
+                assert!(e < 1e-11 * P / E, "{to}, {body} at {x:?}: {u:?} vs {exact:?}");
+            }
+        }
+    }
+}
+
 #[test]
 fn ranks_solve_warped_glue_as_one_process_does() {
     for multiplier in ["dual", "standard"] {

@@ -43,7 +43,7 @@ use seam::CellKind;
 use seam::{CsrMatrix, VolumeMesh};
 
 /// The tag of a job's bytes (and of its version).
-const MAGIC: &[u8; 8] = b"seamK001";
+const MAGIC: &[u8; 8] = b"seamK002";
 
 /// The first row of each of `ranks` ranks, then n (in dofs, whole points):
 /// contiguous blocks of the bodies' points balanced by their rows' lengths
@@ -242,9 +242,9 @@ pub(crate) fn cell_jobs(bodies: &[Body], ranges: &[usize], q: &CsrMatrix, w: &[f
             }
             put(job, cells.len() as u64);
             for &c in &cells {
-                let nodes = mesh.cells()[c].nodes();
+                let (kind, nodes) = (mesh.cells()[c].kind(), mesh.cells()[c].nodes());
                 put(job, c as u64);
-                job.push(nodes.len() as u8);
+                job.push(kind as u8);
                 for &p in nodes {
                     job.extend_from_slice(&local[p].to_le_bytes());
                 }
@@ -301,21 +301,15 @@ fn cell_part(bytes: &[u8]) -> Option<Vec<BodyPart>> {
         let (mut cells, mut index) = (Vec::with_capacity(n_cells), Vec::with_capacity(n_cells));
         for _ in 0..n_cells {
             index.push(reader.u64()? as usize);
-            let len = reader.byte()? as usize;
-            let nodes = (0..len).map(|_| reader.u32().map(|p| p as usize)).collect::<Option<Vec<_>>>()?;
-            let kind = kind_with(len)?;
+            let kind = *CellKind::ALL.get(reader.byte()? as usize)?;
+            let nodes =
+                (0..kind.n_nodes()).map(|_| reader.u32().map(|p| p as usize)).collect::<Option<Vec<_>>>()?;
             cells.push(kind.cell(&nodes)?);
         }
         let mesh = VolumeMesh::new(points, cells).ok()?;
         parts.push(BodyPart { body, mesh, material, q, w, cells: index });
     }
     reader.at.is_empty().then_some(parts)
-}
-
-/// The element kind of a cell of `nodes` points (every kind has its own
-/// count).
-fn kind_with(nodes: usize) -> Option<CellKind> {
-    CellKind::ALL.into_iter().find(|k| k.n_nodes() == nodes)
 }
 
 /// Little-endian fields, none read past the end.

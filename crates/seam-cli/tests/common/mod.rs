@@ -33,8 +33,23 @@ pub fn write_block(
     map: impl Fn(f64, f64, f64) -> [f64; 3],
     sides: &[(&str, seam_fem::generate::Side)],
 ) {
-    use seam_fem::generate::{block, BlockKind, Grid};
-    let mesh = block(n[0], n[1], n[2], map, BlockKind::Hex);
+    write_block_of(path, (n, seam_fem::generate::BlockKind::Hex, false), map, sides);
+}
+
+/// [`write_block`] of `kind` cells, raised to (serendipity) second order
+/// with `second_order`.
+#[allow(dead_code)] // not every test crate writes Tet10 blocks
+pub fn write_block_of(
+    path: &Path,
+    (n, kind, second_order): ([usize; 3], seam_fem::generate::BlockKind, bool),
+    map: impl Fn(f64, f64, f64) -> [f64; 3],
+    sides: &[(&str, seam_fem::generate::Side)],
+) {
+    use seam_fem::generate::{block, raise_order, Grid};
+    let mut mesh = block(n[0], n[1], n[2], map, kind);
+    if second_order {
+        mesh = raise_order(&mesh, false).unwrap();
+    }
     let grid = Grid::new(n[0], n[1], n[2]);
     let surfaces: Vec<(&str, seam::SurfaceMesh)> =
         sides.iter().map(|&(name, side)| (name, grid.side_faces(&mesh, side).unwrap())).collect();

@@ -24,6 +24,7 @@ use super::{
     check_inputs, face_blocks, face_blocks_of, into_operator, multiplier, BasisTransformation, Facing, MaxGap,
 };
 use super::{Mortar, MortarError, MortarOptions, Multiplier};
+use crate::catalogue::FaceKind;
 use crate::mesh::{Face, Point3, SurfaceMesh};
 use crate::search::FaceTree;
 use crate::wire::{Reader, WireError, Writer};
@@ -166,7 +167,7 @@ impl SubSurface {
         let xs: Vec<Point3> = xs.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         if xs.len() != points.len()
             || lens.len() != faces.len()
-            || lens.iter().any(|l| ![3, 4, 6, 8, 9].contains(l))
+            || lens.iter().any(|&l| FaceKind::with_nodes(l).is_none())
             || lens.iter().sum::<usize>() != nodes.len()
         {
             return Err(WireError);
