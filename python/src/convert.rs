@@ -81,8 +81,8 @@ fn is_face_width(n: usize) -> bool {
     seam::FaceKind::with_nodes(n).is_some()
 }
 
-/// Faces from an m×k integer array (k = 3, 4, 6, 8 or 9: Tri3, Quad4, Tri6,
-/// Quad8, Quad9, nodes in Gmsh order), or a list/tuple whose items are such
+/// Faces from an m×k integer array (k = 3, 4, 6, 7, 8 or 9: Tri3, Quad4,
+/// Tri6, Tri7, Quad8, Quad9, nodes in Gmsh order), or a list/tuple whose items are such
 /// arrays or single faces (k indices); faces are numbered in that order.
 pub fn faces_from(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Face>> {
     let mut faces = Vec::new();

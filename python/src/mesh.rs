@@ -29,7 +29,7 @@ use crate::error::{detach, mesh_error, msh_error, Entry};
 ///         list of such arrays and/or single faces, numbered in list order.
 ///
 /// Raises:
-///     ValueError: A wrong shape (also a face width other than 3, 4, 6, 8, 9).
+///     ValueError: A wrong shape (also a face width other than 3, 4, 6, 7, 8, 9).
 ///     TypeError: Points that are not real numbers, faces that are not integers.
 ///     MeshError: A non-finite coordinate, an index out of range or negative, a
 ///         repeated corner, a zero-area face, no faces (a ValueError).

@@ -256,8 +256,8 @@ pub fn write_pvtu_file(
 /// [`VtuErrorKind::Unsupported`] for a feature the reader does not read,
 /// [`VtuErrorKind::Malformed`] if its content is inconsistent (sizes, headers,
 /// compressed data, numbers, cell offsets and point indices),
-/// [`VtuErrorKind::UnsupportedCell`] for a cell that is not a face (a linear or
-/// quadratic triangle or quad), a vertex or a line, [`VtuErrorKind::InvalidMesh`],
+/// [`VtuErrorKind::UnsupportedCell`] for a cell that is not a face (a linear,
+/// quadratic or biquadratic triangle or quad), a vertex or a line, [`VtuErrorKind::InvalidMesh`],
 /// [`VtuErrorKind::NoCells`].
 pub fn read_vtu_file(path: impl AsRef<Path>) -> Result<VtuMesh, VtuError> {
     let path = path.as_ref();

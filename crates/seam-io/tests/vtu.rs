@@ -242,7 +242,7 @@ fn a_tetra_cell_is_an_error_naming_the_cell() {
     assert_eq!(
         e.to_string(),
         format!(
-            "{}: cell 1 is a tetrahedron (VTK type 10); only triangles (5, 22) and quads (9, 23, 28) are \
+            "{}: cell 1 is a tetrahedron (VTK type 10); only triangles (5, 22, 34) and quads (9, 23, 28) are \
              read, vertices and lines are skipped",
             path.display()
         )

@@ -75,7 +75,7 @@ pub enum VtuErrorKind {
     /// A cell of a type seam cannot use (anything but linear and quadratic
     /// triangles and quads, apart from vertex and line cells, which are
     /// skipped).
-    #[error("cell {cell} is {} (VTK type {vtk_type}); only triangles (5, 22) and quads (9, 23, 28) are read, vertices and lines are skipped", describe_cell_type(*.vtk_type))]
+    #[error("cell {cell} is {} (VTK type {vtk_type}); only triangles (5, 22, 34) and quads (9, 23, 28) are read, vertices and lines are skipped", describe_cell_type(*.vtk_type))]
     UnsupportedCell {
         /// The 0-based cell index in the file.
         cell: usize,
@@ -123,7 +123,7 @@ pub enum VtuErrorKind {
 /// the [`VtuErrorKind`].
 ///
 /// Displays on one line, for example
-/// `result.vtu: cell 3 is a tetrahedron (VTK type 10); only triangles (5, 22) and quads (9, 23, 28) are read, ...`.
+/// `result.vtu: cell 3 is a tetrahedron (VTK type 10); only triangles (5, 22, 34) and quads (9, 23, 28) are read, ...`.
 #[derive(Debug)]
 pub struct VtuError {
     path: Option<PathBuf>,
@@ -260,7 +260,7 @@ mod tests {
         let e = VtuError::new(VtuErrorKind::UnsupportedCell { cell: 3, vtk_type: 10 }).with_path("m.vtu");
         assert_eq!(
             e.to_string(),
-            "m.vtu: cell 3 is a tetrahedron (VTK type 10); only triangles (5, 22) and quads (9, 23, 28) \
+            "m.vtu: cell 3 is a tetrahedron (VTK type 10); only triangles (5, 22, 34) and quads (9, 23, 28) \
              are read, vertices and lines are skipped"
         );
         let e = VtuError::new(VtuErrorKind::WrongFieldLength { name: "p".into(), expected: 8, found: 7 });
