@@ -71,13 +71,13 @@ class Mesh:
     Args:
         points: Array-like of shape (n, 3), real numbers.
         faces: Integer array of shape (m, k) of 0-based point indices, k = 3
-            (triangles), 4 (quads), 6 (Tri6), 8 (Quad8) or 9 (Quad9), nodes in
-            Gmsh order (corners, mid-edge nodes of edges 0-1, 1-2, ..., Quad9
-            centre); or a list of such arrays and/or single faces, numbered in
-            list order.
+            (triangles), 4 (quads), 6 (Tri6), 7 (Tri7), 8 (Quad8) or 9
+            (Quad9), nodes in Gmsh order (corners, mid-edge nodes of edges
+            0-1, 1-2, ..., the Quad9 or Tri7 centre); or a list of such arrays
+            and/or single faces, numbered in list order.
 
     Raises:
-        ValueError: A wrong shape (also a face width other than 3, 4, 6, 8, 9).
+        ValueError: A wrong shape (also a face width other than 3, 4, 6, 7, 8, 9).
         TypeError: Points that are not real numbers, faces that are not integers.
         MeshError: Non-finite coordinate, index out of range or negative,
             repeated corner, zero-area face, no faces.

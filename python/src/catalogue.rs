@@ -36,7 +36,7 @@ macro_rules! description {
 ///     A dict {"faces": [...], "cells": [...]}, one dict per kind in seam's
 ///     order with the keys name, shape ("triangle", "hexahedron", ...), order
 ///     (1 or 2), linear (the first-order kind with the same corners), n_nodes,
-///     corners, gmsh_type (None for Tri7, which Gmsh does not have),
+///     corners, gmsh_type (None for Tri7 and Tet14, which Gmsh does not have),
 ///     vtk_type, vtk_order (VTK node i is node
 ///     vtk_order[i]), reference_nodes ([ξ, η] or [ξ, η, ζ] per node), edges
 ///     (corner pairs; edge k carries node corners + k at second order) and,

@@ -74,9 +74,10 @@ pub fn points_from(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Point3>> {
 }
 
 /// The face widths (nodes per face) and what they make, for messages.
-const WIDTHS: &str = "3 (triangles), 4 (quads), 6 (Tri6), 8 (Quad8) or 9 (Quad9)";
+const WIDTHS: &str = "3 (triangles), 4 (quads), 6 (Tri6), 7 (Tri7), 8 (Quad8) or 9 (Quad9)";
 
-/// Whether `n` nodes make a face: 3 (Tri3), 4 (Quad4), 6 (Tri6), 8 (Quad8), 9 (Quad9).
+/// Whether `n` nodes make a face: 3 (Tri3), 4 (Quad4), 6 (Tri6), 7 (Tri7), 8
+/// (Quad8), 9 (Quad9).
 fn is_face_width(n: usize) -> bool {
     seam::FaceKind::with_nodes(n).is_some()
 }

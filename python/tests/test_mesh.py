@@ -144,11 +144,11 @@ def test_second_order_faces_round_trip_through_the_tuple_input():
     assert "1 Tri6" in repr(mesh) and "0 triangles, 0 quads" in repr(mesh)
 
 
-@pytest.mark.parametrize("width", [2, 5, 7, 10])
+@pytest.mark.parametrize("width", [2, 5, 10, 11])
 def test_faces_of_other_widths_are_refused_with_the_widths_allowed(width):
     points, *_ = second_order_patch()
     faces = np.arange(2 * width).reshape(2, width) % len(points)
-    allowed = r"3 \(triangles\), 4 \(quads\), 6 \(Tri6\), 8 \(Quad8\) or 9 \(Quad9\)"
+    allowed = r"3 \(triangles\), 4 \(quads\), 6 \(Tri6\), 7 \(Tri7\), 8 \(Quad8\) or 9 \(Quad9\)"
     with pytest.raises(ValueError, match=rf"faces must have {allowed} columns, got shape \(2, {width}\)"):
         seam.Mesh(points, faces)
     with pytest.raises(ValueError, match=rf"faces\[1\] must list {allowed} node indices, got {width}"):

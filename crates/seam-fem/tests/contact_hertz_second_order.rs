@@ -75,6 +75,13 @@
 //! Tet10 slave body (α = 1/5): a Tet10 block under the Hex27 indenter read
 //! −6.49 % (mean of p_H −3.52 %), a Hex27 block under the Tet10 indenter
 //! −1.66 % (−0.01 %).
+//! The enriched slave space that glue uses for Tri6 slaves (plain dual
+//! multipliers on Tri7 faces, `seam_fem::enrich`) was measured here too
+//! (tried and left): its multiplier space holds the linear functions and
+//! the profile along the axes improves (0.064 of p₀ against 0.139 at
+//! n = 2), but the pole coefficient, weighted by a Tri7 corner function,
+//! reads +6.37 % (the transformed basis +0.60 %), as the plain Quad9 dual
+//! basis reads +7.3 % on Hex27: contact keeps the transformed basis.
 //! Lumped multipliers on Quad9 slave faces fail on this scene
 //! (`LumpedNotPositive` on partly covered faces at the edge of the indenter):
 //! dual is the default there.
