@@ -56,11 +56,11 @@ def test_ragged_points():
 @pytest.mark.parametrize(
     "faces, pattern",
     [
-        (np.zeros((2, 5), dtype=int), r"faces must have 3 \(triangles\), 4 \(quads\), 6 \(Tri6\), 8 \(Quad8\) or 9 \(Quad9\) columns, got shape \(2, 5\)"),
+        (np.zeros((2, 5), dtype=int), r"faces must have 3 \(triangles\), 4 \(quads\), 6 \(Tri6\), 7 \(Tri7\), 8 \(Quad8\) or 9 \(Quad9\) columns, got shape \(2, 5\)"),
         (np.array([0, 1, 2]), r"faces must be an m×k array with k = 3 \(triangles\), 4 \(quads\), 6 .*got shape \(3,\)"),
         (np.zeros((2, 2, 3), dtype=int), r"faces must be an m×k.*got shape \(2, 2, 3\)"),
         ([TRIS, np.zeros((1, 2), dtype=int)], r"faces\[1\] must have 3 \(triangles\).*columns, got shape \(1, 2\)"),
-        ([[0, 1, 2], [0, 1, 2, 3, 4]], r"faces\[1\] must list 3 \(triangles\), 4 \(quads\), 6 \(Tri6\), 8 \(Quad8\) or 9 \(Quad9\) node indices, got 5"),
+        ([[0, 1, 2], [0, 1, 2, 3, 4]], r"faces\[1\] must list 3 \(triangles\), 4 \(quads\), 6 \(Tri6\), 7 \(Tri7\), 8 \(Quad8\) or 9 \(Quad9\) node indices, got 5"),
         ([TRIS, 3], r"faces\[1\] must be one face .* got shape \(\)"),
     ],
 )
