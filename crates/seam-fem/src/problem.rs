@@ -247,6 +247,9 @@ impl Problem {
                 && f.options.multiplier == seam::Multiplier::Dual
                 && self.surface(f.slave).faces().iter().any(|face| face.kind().info().enriched.is_some())
         };
+        if !self.interfaces.iter().any(needs) {
+            return None; // the common case: no copy of the problem
+        }
         let mut raised = self.clone();
         let mut ties = vec![Vec::new(); self.bodies.len()];
         let mut any = false;

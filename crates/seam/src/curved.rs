@@ -482,6 +482,14 @@ mod tests {
         }
     }
 
+    /// Uniform numbers in [−½, ½) from `seed` (a 64-bit LCG).
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        }
+    }
+
     /// The control net is the face's Bernstein–Bézier net: the map equals
     /// Σ_i B_i(ξ) c_i with Bernstein polynomials B_i ≥ 0, Σ B_i = 1, so the face
     /// lies in the convex hull of the c_i and their box encloses it (the
@@ -490,11 +498,7 @@ mod tests {
     /// point of the face inside the net's box.
     #[test]
     fn the_control_net_is_the_bezier_net_and_its_box_encloses_the_face() {
-        let mut seed = 3u64;
-        let mut random = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut random = uniform(3);
         // Quadratic Bernstein polynomials on [0, 1] in the order of `lagrange`.
         let bernstein = |s: f64| [(1.0 - s) * (1.0 - s), s * s, 2.0 * s * (1.0 - s)];
         for kind in KINDS {
@@ -546,11 +550,7 @@ mod tests {
     /// its geometry) lies in the box of its eight points.
     #[test]
     fn a_tri7_lies_in_its_box() {
-        let mut seed = 11u64;
-        let mut random = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut random = uniform(11);
         for _ in 0..50 {
             let mut face = sphere_face(FaceKind::Tri7, 1.0, 0.8);
             for x in face.x.iter_mut().take(7) {
