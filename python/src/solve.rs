@@ -6,14 +6,14 @@ use numpy::ndarray::Array2;
 use numpy::{PyArray1, ToPyArray};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat, PyList, PyTuple};
-use seam_case::solve::{LinearSolver, SolveOptions, Solved};
+use seam_case::solve::{LinearSolver, SolveOptions, Solved, StepState};
 use seam_case::Case;
 use seam_case::Failure;
 
 use crate::error::{detach, failure_error, CaseError, Entry};
 use crate::mortar::thread_pool;
 
-/// A solved case: `summary`, `bodies`, `interfaces` and `write`.
+/// A solved case: `summary`, `bodies`, `interfaces`, `steps` and `write`.
 #[pyclass(name = "Solution", module = "seam", frozen)]
 pub struct PySolution {
     inner: Solved,
@@ -46,23 +46,10 @@ impl PySolution {
     /// Per body name, in case order: an object with `points` (n×3),
     /// `displacement` (n×3; row i is the i-th node of the body's mesh file),
     /// `stress` (cells×6, Voigt xx yy zz yz xz xy, at the cell centres) and
-    /// `von_mises` (per cell), all float64.
+    /// `von_mises` (per cell), all float64; the final state.
     #[getter]
     fn bodies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let out = PyDict::new(py);
-        let s = &self.inner;
-        for ((body, u), stress) in
-            s.problem.bodies.iter().zip(&s.solution.displacement).zip(&s.solution.stresses)
-        {
-            let items = PyDict::new(py);
-            items.set_item("name", &body.name)?;
-            items.set_item("points", rows(py, body.mesh.points().iter().flatten().copied().collect(), 3)?)?;
-            items.set_item("displacement", rows(py, u.clone(), 3)?)?;
-            items.set_item("stress", rows(py, stress.cell.iter().flatten().copied().collect(), 6)?)?;
-            items.set_item("von_mises", PyArray1::from_slice(py, &stress.cell_von_mises))?;
-            out.set_item(&body.name, namespace(py, &items)?)?;
-        }
-        Ok(out)
+        bodies(py, &self.inner, self.inner.last())
     }
 
     /// Per interface, in case order: an object with `master`, `slave`
@@ -70,35 +57,36 @@ impl PySolution {
     /// its VTU file on the slave surface's own points, as float64 arrays:
     /// `points`, `traction`, `normal_traction`, `tangential_traction`,
     /// `normal`, `displacement`, `constrained`, `body_point` (int64), and for
-    /// contact `contact_pressure`, `gap`, `initial_gap`, `active`.
+    /// contact `contact_pressure`, `gap`, `initial_gap`, `active`; the final
+    /// state.
     #[getter]
     fn interfaces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        let s = &self.inner;
+        interfaces(py, &self.inner, self.inner.last())
+    }
+
+    /// Per load step (`[load]`), oldest first, the last one the final
+    /// state: an object with `time`, `summary` (the step's entry of
+    /// `summary["steps"]`), `bodies` and `interfaces` as those of the
+    /// Solution.
+    #[getter]
+    fn steps<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let summary = self.summary(py)?;
         let out = PyList::empty(py);
-        for (r, f) in s.interfaces.iter().zip(&s.summary.interfaces) {
+        for (k, state) in self.inner.steps.iter().enumerate() {
             let items = PyDict::new(py);
-            items.set_item("master", &f.master)?;
-            items.set_item("slave", &f.slave)?;
-            items.set_item("kind", f.kind)?;
-            items.set_item("points", rows(py, r.mesh.points().iter().flatten().copied().collect(), 3)?)?;
-            for field in &r.fields {
-                match (field.name.as_str(), field.components) {
-                    ("body_point", _) => {
-                        let body_point: Vec<i64> = r.body_point.iter().map(|&p| p as i64).collect();
-                        items.set_item("body_point", PyArray1::from_vec(py, body_point))?
-                    }
-                    (name, 1) => items.set_item(name, PyArray1::from_slice(py, &field.values))?,
-                    (name, k) => items.set_item(name, rows(py, field.values.clone(), k)?)?,
-                }
-            }
+            items.set_item("time", state.time)?;
+            items.set_item("summary", summary.get_item("steps")?.get_item(k)?)?;
+            items.set_item("bodies", bodies(py, &self.inner, state)?)?;
+            items.set_item("interfaces", interfaces(py, &self.inner, state)?)?;
             out.append(namespace(py, &items)?)?;
         }
         Ok(out)
     }
 
     /// Writes exactly the files `seam solve` writes, into `dir`: `<body>.vtu`
-    /// per body, `<slave body>_<surface>_interface.vtu` per interface and
-    /// summary.json last, all-or-nothing. Existing files are only replaced
+    /// per body, `<slave body>_<surface>_interface.vtu` per interface (with
+    /// several load steps also `steps/` and a `.pvd` collection per body
+    /// and interface) and summary.json last, all-or-nothing. Existing files are only replaced
     /// with `force`. Returns the summary written, a dict.
     ///
     /// While another run (a `seam` process, another thread) writes into
@@ -120,6 +108,57 @@ impl PySolution {
         let s = &self.inner.summary;
         format!("<seam.Solution of {}: {} bodies, {} interfaces>", s.case, s.bodies.len(), s.interfaces.len())
     }
+}
+
+/// The field `name` of `fields`, as an (n, k) array (k its components).
+fn field<'py>(py: Python<'py>, fields: &[seam_io::Field], name: &str) -> PyResult<Bound<'py, PyAny>> {
+    let f = fields
+        .iter()
+        .find(|f| f.name == name)
+        .ok_or_else(|| pyo3::exceptions::PyValueError::new_err(format!("no field {name}")))?;
+    match f.components {
+        1 => Ok(PyArray1::from_slice(py, &f.values).into_any()),
+        k => rows(py, f.values.clone(), k),
+    }
+}
+
+/// [`PySolution::bodies`] of the load step `state`.
+fn bodies<'py>(py: Python<'py>, s: &Solved, state: &StepState) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    for (body, (point, cell)) in s.problem.bodies.iter().zip(&state.body_files) {
+        let items = PyDict::new(py);
+        items.set_item("name", &body.name)?;
+        items.set_item("points", rows(py, body.mesh.points().iter().flatten().copied().collect(), 3)?)?;
+        items.set_item("displacement", field(py, point, "displacement")?)?;
+        items.set_item("stress", field(py, cell, "stress")?)?;
+        items.set_item("von_mises", field(py, cell, "von_mises")?)?;
+        out.set_item(&body.name, namespace(py, &items)?)?;
+    }
+    Ok(out)
+}
+
+/// [`PySolution::interfaces`] of the load step `state`.
+fn interfaces<'py>(py: Python<'py>, s: &Solved, state: &StepState) -> PyResult<Bound<'py, PyList>> {
+    let out = PyList::empty(py);
+    for (r, f) in state.interfaces.iter().zip(&s.summary.interfaces) {
+        let items = PyDict::new(py);
+        items.set_item("master", &f.master)?;
+        items.set_item("slave", &f.slave)?;
+        items.set_item("kind", f.kind)?;
+        items.set_item("points", rows(py, r.mesh.points().iter().flatten().copied().collect(), 3)?)?;
+        for field in &r.fields {
+            match (field.name.as_str(), field.components) {
+                ("body_point", _) => {
+                    let body_point: Vec<i64> = r.body_point.iter().map(|&p| p as i64).collect();
+                    items.set_item("body_point", PyArray1::from_vec(py, body_point))?
+                }
+                (name, 1) => items.set_item(name, PyArray1::from_slice(py, &field.values))?,
+                (name, k) => items.set_item(name, rows(py, field.values.clone(), k)?)?,
+            }
+        }
+        out.append(namespace(py, &items)?)?;
+    }
+    Ok(out)
 }
 
 /// The first float that is not finite in `value` (dicts and lists looked
@@ -165,7 +204,7 @@ fn non_finite(value: &Bound<'_, PyAny>, path: &str) -> PyResult<Option<String>> 
 ///         in PETSc's options database for later solves of the process.
 ///
 /// Returns:
-///     A Solution: `summary`, `bodies`, `interfaces`, `write(dir, force)`.
+///     A Solution: `summary`, `bodies`, `interfaces`, `steps`, `write(dir, force)`.
 ///
 /// Raises:
 ///     SolveError: with the one-line message of `seam solve`; its subclasses

@@ -192,3 +192,39 @@ def test_write_refuses_existing_files_without_force(example, tmp_path):
     solution.write(tmp_path / "out", force=True)
     with pytest.raises(ValueError, match="solver"):
         seam.solve(example / "case.toml", solver="lu")
+
+
+def test_load_steps_are_solutions_and_files(example, monkeypatch, tmp_path):
+    """`[load]` in a case dict: `Solution.steps` holds every step (the last
+    the final state), and `write` adds steps/ and a ParaView collection per
+    body and interface that lists them at their times."""
+    import xml.etree.ElementTree as ET
+
+    monkeypatch.chdir(example)
+    case = tomllib.loads((example / "case.toml").read_text())
+    case["load"] = {"times": [0.4, 0.7, 1.0]}
+    solution = seam.solve(case)
+    steps = solution.steps
+    assert [s.time for s in steps] == [0.4, 0.7, 1.0]
+    assert [s.summary["time"] for s in steps] == [0.4, 0.7, 1.0]
+    assert solution.summary["load"] == {"steps": 3, "times": [0.4, 0.7, 1.0]}
+    for name, body in solution.bodies.items():
+        np.testing.assert_array_equal(steps[-1].bodies[name].displacement, body.displacement)
+        assert not np.array_equal(steps[0].bodies[name].displacement, body.displacement)
+    out = tmp_path / "out"
+    solution.write(out)
+    names = [b["file"][: -len(".vtu")] for b in solution.summary["bodies"]]
+    names += [f["file"][: -len(".vtu")] for f in solution.summary["interfaces"]]
+    for name in names:
+        datasets = ET.parse(out / f"{name}.pvd").getroot().find("Collection").findall("DataSet")
+        assert [float(d.get("timestep")) for d in datasets] == [0.4, 0.7, 1.0]
+        assert [d.get("file") for d in datasets] == [f"steps/{name}_{k:04d}.vtu" for k in (1, 2, 3)]
+        # The final state's file is the last step's.
+        assert (out / f"{name}.vtu").read_bytes() == (out / f"steps/{name}_0003.vtu").read_bytes()
+    for k, step in enumerate(steps, start=1):
+        for name, body in step.bodies.items():
+            vtu = meshio.read(out / "steps" / f"{name}_{k:04d}.vtu")
+            np.testing.assert_array_equal(body.displacement, vtu.point_data["displacement"])
+        for f, s in zip(step.interfaces, solution.summary["interfaces"]):
+            vtu = meshio.read(out / "steps" / f"{s['file'][:-4]}_{k:04d}.vtu")
+            np.testing.assert_array_equal(f.traction, vtu.point_data["traction"])

@@ -10,6 +10,7 @@
 //! young = 1.0e3
 //! poisson = 0.3
 //! body_force = [0.0, 0.0, 0.0]   # optional, force per volume
+//! # body_force_amplitude = [[0.0, 0.0], [1.0, 1.0]]   # its factor over t (default)
 //!
 //! [[interface]]         # surfaces are named "body:physical-surface"
 //! master = "lower:top"
@@ -24,13 +25,19 @@
 //! [contact]             # optional: the active-set method of contact cases
 //! max_iterations = 50   # the default: the most active-set steps before giving up
 //!
-//! [[dirichlet]]         # any subset of ux, uy, uz
+//! [load]                # optional: pseudo-time t from 0 to 1 in load steps
+//! steps = 1             # the default: equal increments, t_k = k / steps
+//! # times = [0.5, 0.75, 1.0]   # or increasing times in (0, 1], the last one 1.0
+//!
+//! [[dirichlet]]         # any subset of ux, uy, uz; a boundary may have several
 //! boundary = "lower:bottom"
-//! uz = 0.0
+//! uz = 0.0              # a number, or an expression in x, y, z and t: "1e-3*z*t"
+//! # amplitude = [[0.0, 0.0], [1.0, 1.0]]   # factor over t, piecewise linear (default)
 //!
 //! [[traction]]
 //! boundary = "upper:top"
-//! t = [0.0, 0.0, -1.0]
+//! t = [0.0, 0.0, -1.0]  # numbers or expressions: ["0", "0", "-x*y"]
+//! # amplitude = [[0.0, 0.0], [0.5, 1.0], [1.0, 1.0]]
 //!
 //! [output]              # optional
 //! dir = "out"           # the default
@@ -128,6 +135,9 @@ pub struct Case {
     /// Settings of the contact solve (used when the case has contact interfaces).
     #[serde(default)]
     pub contact: ContactSettings,
+    /// The `[load]` table: the load steps.
+    #[serde(default)]
+    pub load: LoadTable,
     /// The directory of the case file: meshes and outputs are relative to it.
     #[serde(skip)]
     pub base: PathBuf,
@@ -150,6 +160,8 @@ pub struct Body {
     /// Force per volume.
     #[serde(default)]
     pub body_force: [f64; 3],
+    /// The body force's factor over pseudo-time (default: the ramp).
+    pub body_force_amplitude: Option<Vec<[f64; 2]>>,
 }
 
 /// How an interface couples its two surfaces.
@@ -186,28 +198,129 @@ pub struct Dirichlet {
     /// The boundary, "body:surface".
     pub boundary: String,
     /// Prescribed u_x.
-    pub ux: Option<f64>,
+    pub ux: Option<Scalar>,
     /// Prescribed u_y.
-    pub uy: Option<f64>,
+    pub uy: Option<Scalar>,
     /// Prescribed u_z.
-    pub uz: Option<f64>,
+    pub uz: Option<Scalar>,
+    /// The factor over pseudo-time (default: the ramp).
+    pub amplitude: Option<Vec<[f64; 2]>>,
 }
 
 impl Dirichlet {
     /// The prescribed components as (component, value).
-    pub fn components(&self) -> Vec<(usize, f64)> {
-        [self.ux, self.uy, self.uz].iter().enumerate().filter_map(|(k, v)| v.map(|v| (k, v))).collect()
+    pub fn components(&self) -> Vec<(usize, &Scalar)> {
+        [&self.ux, &self.uy, &self.uz]
+            .into_iter()
+            .enumerate()
+            .filter_map(|(k, v)| Some((k, v.as_ref()?)))
+            .collect()
     }
 }
 
-/// A `[[traction]]` table: a uniform force per area on a boundary.
+/// A `[[traction]]` table: a force per area on a boundary.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Traction {
     /// The boundary, "body:surface".
     pub boundary: String,
-    /// The traction vector.
-    pub t: [f64; 3],
+    /// The traction vector's components.
+    pub t: [Scalar; 3],
+    /// The factor over pseudo-time (default: the ramp).
+    pub amplitude: Option<Vec<[f64; 2]>>,
+}
+
+/// A prescribed value in a case: a number, or an expression in x, y, z
+/// (reference coordinates) and the pseudo-time t, in the language of
+/// `seam transfer --expr` ([`crate::Expression::parse_in_time`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Scalar {
+    /// A number.
+    Number(f64),
+    /// The text of an expression.
+    Expression(String),
+}
+
+impl<'de> Deserialize<'de> for Scalar {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Scalar, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = Scalar;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a number or an expression in x, y, z and t (a string)")
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<Scalar, E> {
+                Ok(Scalar::Number(v))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<Scalar, E> {
+                Ok(Scalar::Number(v as f64))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<Scalar, E> {
+                Ok(Scalar::Number(v as f64))
+            }
+            fn visit_str<E>(self, v: &str) -> Result<Scalar, E> {
+                Ok(Scalar::Expression(v.to_string()))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
+}
+
+impl Scalar {
+    /// The value for the solver: a number, or the parsed expression.
+    ///
+    /// # Errors
+    /// A number that is not finite, or an expression that does not parse,
+    /// as one line.
+    pub fn value(&self) -> Result<seam_fem::Value, String> {
+        match self {
+            Scalar::Number(v) if v.is_finite() => Ok(seam_fem::Value::Number(*v)),
+            Scalar::Number(v) => Err(format!("{v} is not finite")),
+            Scalar::Expression(text) => {
+                let e = crate::Expression::parse_in_time(text).map_err(|e| e.to_string())?;
+                let f = move |x: seam::Point3, t: f64| e.at_time(x, t).map_err(|e| e.to_string());
+                Ok(seam_fem::Value::Function(text.clone(), std::sync::Arc::new(f)))
+            }
+        }
+    }
+}
+
+/// The `[load]` table: `steps` equal increments of the pseudo-time, or
+/// explicit `times` (not both).
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct LoadTable {
+    /// The number of equal increments.
+    pub steps: Option<usize>,
+    /// Increasing times in (0, 1], the last one 1.
+    pub times: Option<Vec<f64>>,
+}
+
+impl LoadTable {
+    /// The load steps (one step, t = 1, without the table).
+    ///
+    /// # Errors
+    /// Both keys given, zero steps, or bad times, as one line.
+    pub fn steps(&self) -> Result<seam_fem::LoadSteps, CaseError> {
+        let steps = match (self.steps, &self.times) {
+            (Some(_), Some(_)) => return fail("[load]: give steps or times, not both"),
+            (Some(n), None) => seam_fem::LoadSteps::equal(n),
+            (None, Some(times)) => seam_fem::LoadSteps::at(times.clone()),
+            (None, None) => Ok(seam_fem::LoadSteps::default()),
+        };
+        steps.map_err(|e| CaseError::new(format!("[load]: {e}")))
+    }
+}
+
+/// An amplitude table as written (the ramp when absent), checked.
+///
+/// # Errors
+/// As [`seam_fem::Amplitude::new`], as one line starting with `what`.
+pub fn amplitude(table: Option<&Vec<[f64; 2]>>, what: &str) -> Result<seam_fem::Amplitude, CaseError> {
+    match table {
+        None => Ok(seam_fem::Amplitude::ramp()),
+        Some(t) => seam_fem::Amplitude::new(t.clone()).map_err(|e| CaseError::new(format!("{what}: {e}"))),
+    }
 }
 
 /// The `[output]` table.
@@ -396,6 +509,8 @@ impl Case {
             if b.body_force.iter().any(|v| !v.is_finite()) {
                 return fail(format!("body \"{}\": body_force must be finite", b.name));
             }
+            let what = format!("body \"{}\": body_force_amplitude", b.name);
+            amplitude(b.body_force_amplitude.as_ref(), &what)?;
         }
         let known = |r: &SurfaceRef, what: &str| -> Result<(), CaseError> {
             if names.contains(r.body.as_str()) {
@@ -447,17 +562,20 @@ impl Case {
             if d.components().is_empty() {
                 return fail(format!("{what}: give at least one of ux, uy, uz"));
             }
-            if d.components().iter().any(|(_, v)| !v.is_finite()) {
-                return fail(format!("{what}: values must be finite"));
+            for (k, v) in d.components() {
+                v.value().map_err(|e| CaseError::new(format!("{what}: {}: {e}", ["ux", "uy", "uz"][k])))?;
             }
+            amplitude(d.amplitude.as_ref(), &format!("{what}: amplitude"))?;
         }
         for (i, t) in self.traction.iter().enumerate() {
             let what = format!("traction {}", i + 1);
             known(&SurfaceRef::parse(&t.boundary, &what)?, &what)?;
-            if t.t.iter().any(|v| !v.is_finite()) {
-                return fail(format!("{what}: t must be finite"));
+            for (k, v) in t.t.iter().enumerate() {
+                v.value().map_err(|e| CaseError::new(format!("{what}: t ({}): {e}", ["x", "y", "z"][k])))?;
             }
+            amplitude(t.amplitude.as_ref(), &format!("{what}: amplitude"))?;
         }
+        self.load.steps()?;
         self.check_held()
     }
 
@@ -705,7 +823,8 @@ dir = "out"
         assert_eq!(c.interfaces[0].multiplier(false), Multiplier::Dual);
         assert!(!c.is_contact());
         assert_eq!(c.contact.max_iterations, 50);
-        assert_eq!(c.dirichlet[0].components(), vec![(0, 0.0), (1, 0.0), (2, 0.0)]);
+        let zero = Scalar::Number(0.0);
+        assert_eq!(c.dirichlet[0].components(), vec![(0, &zero), (1, &zero), (2, &zero)]);
         assert_eq!(c.resolve(Path::new("a.msh")), tmp.path().join("a.msh"));
         assert_eq!(c.mesh_paths(), [tmp.path().join("a.msh"), tmp.path().join("b.msh")]);
     }

@@ -1,5 +1,7 @@
 //! Expressions in x, y and z (`seam transfer --expr "sin(x)*y + 1e-3*z"`),
-//! parsed once by [exmex] and evaluated at points.
+//! and in the pseudo-time t too for the values of a case's Dirichlet
+//! conditions and tractions (`ux = "1e-3*z*t"`), parsed once by [exmex] and
+//! evaluated at points.
 //!
 //! Before exmex sees it, the text is bounded: at most [`MAX_LEN`] characters and
 //! parentheses nested at most [`MAX_DEPTH`] deep, so that no input costs more
@@ -109,31 +111,38 @@ pub enum ExpressionError {
         /// Too large (else too small).
         overflow: bool,
     },
-    /// It uses a variable other than x, y and z.
-    #[error("the expression '{text}' uses '{name}'; only x, y and z are known")]
+    /// It uses a variable other than x, y and z (and t, for
+    /// [`Expression::parse_in_time`]).
+    #[error("the expression '{text}' uses '{name}'; only {} are known", if *.time { "x, y, z and t" } else { "x, y and z" })]
     UnknownVariable {
         /// The expression.
         text: String,
         /// The unknown variable.
         name: String,
+        /// Whether t is known.
+        time: bool,
     },
     /// exmex cannot evaluate it at a point.
-    #[error("the expression '{text}' cannot be evaluated at {}: {message}", coordinates(*.point))]
+    #[error("the expression '{text}' cannot be evaluated at {}{}: {message}", coordinates(*.point), at_time(*.time))]
     Eval {
         /// The expression.
         text: String,
         /// The point.
         point: Point3,
+        /// The pseudo-time, for an expression in t.
+        time: Option<f64>,
         /// exmex's reason, on one line.
         message: String,
     },
     /// Its value at a point is NaN or infinite.
-    #[error("the expression '{text}' is {value} at {}{}", coordinates(*.point), index.map_or(String::new(), |i| format!(" (point {i}, 0-based)")))]
+    #[error("the expression '{text}' is {value} at {}{}{}", coordinates(*.point), at_time(*.time), index.map_or(String::new(), |i| format!(" (point {i}, 0-based)")))]
     NotFinite {
         /// The expression.
         text: String,
         /// The point.
         point: Point3,
+        /// The pseudo-time, for an expression in t.
+        time: Option<f64>,
         /// The value there.
         value: f64,
         /// The point's index in the points [`Expression::sample`] was given.
@@ -145,6 +154,10 @@ fn coordinates(p: Point3) -> String {
     format!("({}, {}, {})", p[0], p[1], p[2])
 }
 
+fn at_time(t: Option<f64>) -> String {
+    t.map_or(String::new(), |t| format!(", t = {t}"))
+}
+
 fn function_list() -> String {
     FUNCTIONS.iter().map(|(name, _)| *name).collect::<Vec<_>>().join(", ")
 }
@@ -153,14 +166,16 @@ fn one_line(text: &str) -> String {
     text.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-/// An expression in x, y, z, parsed once.
+/// An expression in x, y, z (and possibly the pseudo-time t), parsed once.
 #[derive(Clone, Debug)]
 pub struct Expression {
     text: String,
     expr: FlatEx<f64, FloatOpsFactory<f64>, Numbers>,
     /// For each variable of the expression (alphabetical, as exmex orders
-    /// them), the coordinate it stands for.
+    /// them), what it stands for: a coordinate 0, 1, 2, or 3 for t.
     axes: Vec<usize>,
+    /// Whether t is a variable ([`Expression::parse_in_time`]).
+    time: bool,
 }
 
 impl Expression {
@@ -172,6 +187,19 @@ impl Expression {
     /// [`ExpressionError::Parse`], [`ExpressionError::UnknownVariable`],
     /// [`ExpressionError::UnknownFunction`], [`ExpressionError::NumberOutOfRange`].
     pub fn parse(text: &str) -> Result<Expression, ExpressionError> {
+        Expression::parse_as(text, false)
+    }
+
+    /// Parses `text`, an expression in x, y, z and the pseudo-time t (the
+    /// values of a case's Dirichlet conditions and tractions).
+    ///
+    /// # Errors
+    /// As [`Expression::parse`].
+    pub fn parse_in_time(text: &str) -> Result<Expression, ExpressionError> {
+        Expression::parse_as(text, true)
+    }
+
+    fn parse_as(text: &str, time: bool) -> Result<Expression, ExpressionError> {
         if text.len() > MAX_LEN {
             return Err(ExpressionError::TooLong { len: text.len() });
         }
@@ -179,7 +207,7 @@ impl Expression {
         if depth > MAX_DEPTH {
             return Err(ExpressionError::TooDeep { text: text.to_string(), depth });
         }
-        check_syntax(text)?;
+        check_syntax(text, time)?;
         // exmex skips spaces only; what it might still refuse is named
         // without its internal wording.
         let spaced: String = text.chars().map(|c| if c.is_whitespace() { ' ' } else { c }).collect();
@@ -198,12 +226,15 @@ impl Expression {
                 "x" => Ok(0),
                 "y" => Ok(1),
                 "z" => Ok(2),
-                other => {
-                    Err(ExpressionError::UnknownVariable { text: text.to_string(), name: other.to_string() })
-                }
+                "t" if time => Ok(3),
+                other => Err(ExpressionError::UnknownVariable {
+                    text: text.to_string(),
+                    name: other.to_string(),
+                    time,
+                }),
             })
             .collect::<Result<Vec<usize>, _>>()?;
-        Ok(Expression { text: text.to_string(), expr, axes })
+        Ok(Expression { text: text.to_string(), expr, axes, time })
     }
 
     /// The text it was parsed from.
@@ -217,17 +248,39 @@ impl Expression {
     /// [`ExpressionError::NotFinite`] (without index) when the value is NaN or
     /// infinite; [`ExpressionError::Eval`].
     pub fn at(&self, p: Point3) -> Result<f64, ExpressionError> {
-        let mut args = [0.0; 3];
+        self.eval(p, 0.0)
+    }
+
+    /// The value at `p` and pseudo-time `t` (of an expression from
+    /// [`Expression::parse_in_time`]; other expressions ignore `t`).
+    ///
+    /// # Errors
+    /// As [`Expression::at`], naming t.
+    pub fn at_time(&self, p: Point3, t: f64) -> Result<f64, ExpressionError> {
+        self.eval(p, t)
+    }
+
+    fn eval(&self, p: Point3, t: f64) -> Result<f64, ExpressionError> {
+        let all = [p[0], p[1], p[2], t];
+        let mut args = [0.0; 4];
         for (arg, &k) in args.iter_mut().zip(&self.axes) {
-            *arg = p[k];
+            *arg = all[k];
         }
+        let time = self.time.then_some(t);
         let value = self.expr.eval(&args[..self.axes.len()]).map_err(|e| ExpressionError::Eval {
             text: self.text.clone(),
             point: p,
+            time,
             message: one_line(&e.to_string()),
         })?;
         if !value.is_finite() {
-            return Err(ExpressionError::NotFinite { text: self.text.clone(), point: p, value, index: None });
+            return Err(ExpressionError::NotFinite {
+                text: self.text.clone(),
+                point: p,
+                time,
+                value,
+                index: None,
+            });
         }
         Ok(value)
     }
@@ -249,8 +302,8 @@ impl Expression {
             .map(|(i, &p)| match wanted[i] {
                 false => Ok(0.0),
                 true => self.at(p).map_err(|e| match e {
-                    ExpressionError::NotFinite { text, point, value, .. } => {
-                        ExpressionError::NotFinite { text, point, value, index: Some(i) }
+                    ExpressionError::NotFinite { text, point, time, value, .. } => {
+                        ExpressionError::NotFinite { text, point, time, value, index: Some(i) }
                     }
                     other => other,
                 }),
@@ -323,7 +376,7 @@ impl Token<'_> {
 /// function, every number fits double precision, operands and operators
 /// alternate, parentheses balance and commas separate the two arguments of
 /// atan2, min and max.
-fn check_syntax(text: &str) -> Result<(), ExpressionError> {
+fn check_syntax(text: &str, time: bool) -> Result<(), ExpressionError> {
     let fail =
         |position: usize, problem: String| ExpressionError::Parse { text: text.into(), position, problem };
     // The open parentheses: (position, the two-argument function called, commas).
@@ -365,12 +418,21 @@ fn check_syntax(text: &str) -> Result<(), ExpressionError> {
             let next = rest[end..].trim_start().chars().next();
             let token = match FUNCTIONS.iter().find(|(f, _)| *f == name) {
                 Some(&(f, n)) => Token::Function(f, n),
-                None if ["x", "y", "z"].contains(&name) || CONSTANTS.contains(&name) => Token::Value(name),
+                None if ["x", "y", "z"].contains(&name)
+                    || (time && name == "t")
+                    || CONSTANTS.contains(&name) =>
+                {
+                    Token::Value(name)
+                }
                 None if next == Some('(') => {
                     return Err(ExpressionError::UnknownFunction { text: text.into(), name: name.into() })
                 }
                 None => {
-                    return Err(ExpressionError::UnknownVariable { text: text.into(), name: name.into() })
+                    return Err(ExpressionError::UnknownVariable {
+                        text: text.into(),
+                        name: name.into(),
+                        time,
+                    })
                 }
             };
             (token, len)
@@ -497,6 +559,18 @@ mod tests {
         assert_eq!(e.at([9.0, 2.0, 5.0]).unwrap(), 3.0);
         assert_eq!(Expression::parse("2.5").unwrap().at([1.0, 1.0, 1.0]).unwrap(), 2.5);
         assert_eq!(e.text(), "z - y");
+    }
+
+    #[test]
+    fn expressions_in_time_take_t_and_others_refuse_it() {
+        let e = Expression::parse_in_time("t*z - x").unwrap();
+        assert_eq!(e.at_time([1.0, 7.0, 4.0], 0.5).unwrap(), 1.0);
+        let err = Expression::parse("x*t").unwrap_err().to_string();
+        assert_eq!(err, "the expression 'x*t' uses 't'; only x, y and z are known");
+        let err = Expression::parse_in_time("x*s").unwrap_err().to_string();
+        assert_eq!(err, "the expression 'x*s' uses 's'; only x, y, z and t are known");
+        let err = Expression::parse_in_time("1/t").unwrap().at_time([1.0, 2.0, 3.0], 0.0).unwrap_err();
+        assert_eq!(err.to_string(), "the expression '1/t' is inf at (1, 2, 3), t = 0");
     }
 
     #[test]

@@ -104,7 +104,7 @@ impl Surface {
     /// `e` at every node of the surface (0 at nodes no face uses).
     pub fn sample(&self, e: &Expression) -> Result<Vec<f64>> {
         e.sample(self.mesh.points(), &self.mesh.used_points()).map_err(|err| match err {
-            ExpressionError::NotFinite { text, point, value, index: Some(p) } => anyhow!(
+            ExpressionError::NotFinite { text, point, value, index: Some(p), .. } => anyhow!(
                 "{}: the expression '{text}' is {value} at {} ({}, {}, {}); only finite values can be transferred",
                 self.path.display(),
                 self.node(p),

@@ -33,8 +33,14 @@
 //!   `contact_pressure` (λ ≥ 0), `gap` (after deformation, ≥ 0), `initial_gap`
 //!   (both NaN where the point is no contact point) and `active` (1 where the
 //!   point is in contact at the solution, else 0).
-//! - `<dir>/summary.json` (written last); for a case with contact, with a
-//!   `contact` object: active-set steps, active points, forces, KKT residuals.
+//! - With several load steps (`[load]`, [`crate::case::LoadTable`]) the
+//!   files above hold the final state (t = 1), and each step k is also
+//!   written as `<dir>/steps/<name>_<kkkk>.vtu` (or `.pvtu` and its pieces),
+//!   `<name>` a body or `<slave body>_<surface>_interface`, listed with its
+//!   time by the ParaView collection `<dir>/<name>.pvd`.
+//! - `<dir>/summary.json` (written last): `load` and one object per load
+//!   step in `steps`; for a case with contact, with a `contact` object:
+//!   active-set steps, active points, forces, KKT residuals.
 //!
 //! Names in file names keep letters, digits, `-`, `_` and `.`; any other
 //! character becomes `_`.
@@ -63,18 +69,30 @@ pub struct Solved {
     pub out_dir: PathBuf,
     /// The bodies, interfaces, supports and loads, as read.
     pub problem: Problem,
-    /// Displacements, stresses, interface results and the solver's report.
+    /// The final state: displacements, stresses, interface results and the
+    /// solver's report.
     pub solution: Solution,
-    /// Per interface: its results on the slave surface's own points.
-    pub interfaces: Vec<InterfaceResult>,
+    /// The results of every load step, oldest first; the last one is the
+    /// final state (at t = 1). One step without `[load]`.
+    pub steps: Vec<StepState>,
     /// What `summary.json` holds.
     pub summary: Summary,
     case: Case,
     case_path: PathBuf,
     /// Pieces of each body's output ([`SolveOptions::pieces`]).
     pieces: usize,
-    /// Per body: the point and cell fields of its VTU file.
-    body_files: Vec<(Vec<Field>, Vec<Field>)>,
+}
+
+impl Solved {
+    /// The final state's results (the last load step's).
+    pub fn last(&self) -> &StepState {
+        self.steps.last().expect("a solved case has at least one load step")
+    }
+
+    /// Per interface: the final state's results on the slave surface's own points.
+    pub fn interfaces(&self) -> &[InterfaceResult] {
+        &self.last().interfaces
+    }
 }
 
 /// One interface's result on its slave surface, on the surface's own points:
@@ -139,12 +157,68 @@ pub struct Summary {
     /// seam solve`); absent for one process.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ranks: Option<usize>,
+    /// The load steps in pseudo-time (`[load]`).
+    pub load: LoadSummary,
+    /// Per load step, in order (the last one is the final state above).
+    pub steps: Vec<LoadStepSummary>,
     /// Seconds per phase.
     pub seconds: Seconds,
     /// Worker threads.
     pub threads: usize,
     /// The version of seam.
     pub seam_version: &'static str,
+}
+
+/// The `load` object of `summary.json`.
+#[derive(Serialize, Clone)]
+pub struct LoadSummary {
+    /// The number of load steps.
+    pub steps: usize,
+    /// Their pseudo-times, the last one 1.
+    pub times: Vec<f64>,
+}
+
+/// One load step in the `steps` array of `summary.json`.
+#[derive(Serialize, Clone)]
+pub struct LoadStepSummary {
+    /// The pseudo-time.
+    pub time: f64,
+    /// Solver iterations of the step: active-set steps with contact, else
+    /// as the summary's `iterations`.
+    pub iterations: usize,
+    /// The relative residual after each iteration: with contact the
+    /// complementarity residual of each active-set step, else the one
+    /// residual of the glued solve.
+    pub residuals: Vec<f64>,
+    /// Contact points active at the end of the step (0 without contact).
+    pub active: usize,
+    /// Linear solver iterations of the whole step (PCG or KSP; 0 for direct
+    /// solves).
+    pub linear_iterations: usize,
+}
+
+impl LoadStepSummary {
+    /// The step at `time`, solved by `solver`.
+    fn new(time: f64, solution: &Solution, solver: LinearSolver) -> LoadStepSummary {
+        let r = &solution.report;
+        let petsc = r.petsc.as_ref().map_or(0, |p| p.solves.iter().map(|s| s.iterations).sum());
+        let (residuals, active, linear_iterations) = match &r.contact {
+            Some(c) => (
+                c.steps.iter().map(|s| s.residual).collect(),
+                c.active,
+                c.steps.iter().map(|s| s.linear_iterations).sum::<usize>().max(petsc),
+            ),
+            None => {
+                let linear = match solver {
+                    LinearSolver::Direct => 0,
+                    LinearSolver::Pcg => r.iterations,
+                    LinearSolver::Petsc => petsc,
+                };
+                (vec![r.residual], 0, linear)
+            }
+        };
+        LoadStepSummary { time, iterations: r.iterations, residuals, active, linear_iterations }
+    }
 }
 
 /// The `petsc` object of `summary.json`: what PETSc did.
@@ -229,6 +303,9 @@ pub struct StepSummary {
     /// iterative solver's steps solve to 10⁻³ until a solution leaves the
     /// active set unchanged, and that step and the later ones to rtol.
     pub full_tolerance: bool,
+    /// How far the step's iterate is from the contact conditions, relative
+    /// ([`seam_fem::ActiveSetStep::residual`]).
+    pub residual: f64,
 }
 
 /// The relative KKT residuals of the contact solution.
@@ -333,7 +410,8 @@ pub struct Seconds {
     /// Reading the meshes.
     pub read: f64,
     /// Assembly, mortar operators, setup, factorization, solve; `stresses`
-    /// includes the interface results.
+    /// includes the interface results and the output fields (all load
+    /// steps together).
     #[serde(flatten)]
     pub solver: seam_fem::Timings,
     /// Preparing and writing the output files.
@@ -564,16 +642,60 @@ fn run_problem(
         max_active_set_steps: case.contact.max_iterations,
         operators: options.operators,
     };
-    let solution =
-        seam_fem::solve(&problem, &fem_options).map_err(|e| problem_failure(e, &case, case_path))?;
-    seconds.solver = solution.report.seconds;
+    // Each load step in turn; the last one is the final state.
+    let mut states: Vec<StepState> = Vec::with_capacity(problem.steps.len());
+    let mut load_steps = Vec::with_capacity(problem.steps.len());
+    let mut last = None;
+    for step in seam_fem::solve_steps(&problem, &fem_options) {
+        let (time, solution) = step.map_err(|e| problem_failure(e, &case, case_path))?;
+        add_seconds(&mut seconds.solver, &solution.report.seconds);
+        load_steps.push(LoadStepSummary::new(time, &solution, options.solver));
+        let clock = Instant::now();
+        let state = step_state(&case, case_path, &problem, (time, &solution))?;
+        seconds.solver.stresses += clock.elapsed().as_secs_f64();
+        states.push(state);
+        last = Some(solution);
+    }
+    let solution = last.ok_or_else(|| Failure::Error(format!("{}: no load step", case_path.display())))?;
+    let out_dir = case.resolve(&case.output.dir);
+    seconds.total = start.elapsed().as_secs_f64();
+    let names = OutputNames::new(&case, &out_dir, options.pieces)
+        .map_err(|e| anyhow!("{}: {e}", case_path.display()))?;
+    let mut summary =
+        summary(&case, case_path, options.solver, &names, &out_dir, &problem, &solution, seconds)?;
+    summary.steps = load_steps;
+    Ok(Solved {
+        out_dir,
+        problem,
+        solution,
+        steps: states,
+        summary,
+        case,
+        case_path: case_path.to_path_buf(),
+        pieces: options.pieces,
+    })
+}
 
-    let clock = Instant::now();
+/// The results of one load step: per body the point and cell fields of its
+/// VTU file, per interface its results, each checked finite.
+pub struct StepState {
+    /// The pseudo-time.
+    pub time: f64,
+    /// Per interface: its results on the slave surface's own points.
+    pub interfaces: Vec<InterfaceResult>,
+    /// Per body: the point and cell fields of its VTU file.
+    pub body_files: Vec<(Vec<Field>, Vec<Field>)>,
+}
+
+/// The results of the step at `time` with `solution` (every value checked finite).
+fn step_state(
+    case: &Case,
+    case_path: &Path,
+    problem: &Problem,
+    (time, solution): (f64, &Solution),
+) -> Result<StepState, Failure> {
     let interfaces: Vec<InterfaceResult> =
-        (0..case.interfaces.len()).map(|i| interface_result(&problem, &solution, i)).collect();
-    seconds.solver.stresses += clock.elapsed().as_secs_f64();
-
-    let clock = Instant::now();
+        (0..case.interfaces.len()).map(|i| interface_result(problem, solution, i)).collect();
     let mut body_files = Vec::with_capacity(problem.bodies.len());
     for (b, body) in problem.bodies.iter().enumerate() {
         let (point, cell) = body_fields(&solution.displacement[b], &solution.stresses[b]);
@@ -589,23 +711,18 @@ fn run_problem(
             "point",
         )?;
     }
-    seconds.output = clock.elapsed().as_secs_f64();
-    let out_dir = case.resolve(&case.output.dir);
-    seconds.total = start.elapsed().as_secs_f64();
-    let names = OutputNames::new(&case, &out_dir, options.pieces)
-        .map_err(|e| anyhow!("{}: {e}", case_path.display()))?;
-    let summary = summary(&case, case_path, options.solver, &names, &out_dir, &problem, &solution, seconds)?;
-    Ok(Solved {
-        out_dir,
-        problem,
-        solution,
-        interfaces,
-        summary,
-        case,
-        case_path: case_path.to_path_buf(),
-        pieces: options.pieces,
-        body_files,
-    })
+    Ok(StepState { time, interfaces, body_files })
+}
+
+/// Adds the seconds of one step's solve to `total`.
+fn add_seconds(total: &mut seam_fem::Timings, step: &seam_fem::Timings) {
+    let seam_fem::Timings { assembly, mortar, setup, factorization, solve, stresses } = *step;
+    total.assembly += assembly;
+    total.mortar += mortar;
+    total.setup += setup;
+    total.factorization += factorization;
+    total.solve += solve;
+    total.stresses += stresses;
 }
 
 impl Solved {
@@ -635,33 +752,51 @@ impl Solved {
         total: (f64, Instant),
     ) -> Result<Summary, Failure> {
         let clock = Instant::now();
-        for (b, (body, (point, cell))) in self.problem.bodies.iter().zip(&self.body_files).enumerate() {
-            let write = |p: &Path, mesh: &seam::VolumeMesh, point: &[Field], cell: &[Field]| {
-                seam_io::write_volume_vtu_file(p, mesh, point, cell).map_err(std::io::Error::other)
-            };
-            if names.pieces[b].is_empty() {
-                out.write(&names.bodies[b], |p| write(p, &body.mesh, point, cell))?;
-                continue;
-            }
-            let centres: Vec<Point3> =
-                body.mesh.cells().iter().map(|c| centre(body.mesh.points(), c)).collect();
+        let last = self.last();
+        for (b, body) in self.problem.bodies.iter().enumerate() {
+            // The cells of each piece (one piece: none).
             let mut cells_of = vec![Vec::new(); names.pieces[b].len()];
-            for (c, r) in seam::parts::bisect(&centres, cells_of.len()).into_iter().enumerate() {
-                cells_of[r].push(c);
+            if !cells_of.is_empty() {
+                let centres: Vec<Point3> =
+                    body.mesh.cells().iter().map(|c| centre(body.mesh.points(), c)).collect();
+                for (c, r) in seam::parts::bisect(&centres, cells_of.len()).into_iter().enumerate() {
+                    cells_of[r].push(c);
+                }
             }
-            for (path, cells) in names.pieces[b].iter().zip(&cells_of) {
-                let (mesh, point, cell) = piece(&body.mesh, cells, point, cell)?;
-                out.write(path, |p| write(p, &mesh, &point, &cell))?;
+            let (point, cell) = &last.body_files[b];
+            write_body(
+                &mut out,
+                (&names.bodies[b], &names.pieces[b]),
+                (&body.mesh, &cells_of),
+                (point, cell),
+            )?;
+            if let Some(series) = names.series.get(b) {
+                for (k, state) in self.steps.iter().enumerate() {
+                    let (point, cell) = &state.body_files[b];
+                    let paths = (series.steps[k].as_path(), &series.pieces[k][..]);
+                    write_body(&mut out, paths, (&body.mesh, &cells_of), (point, cell))?;
+                }
             }
-            let sources: Vec<String> = names.pieces[b].iter().map(|p| file_name(p)).collect();
-            out.write(&names.bodies[b], |p| {
-                seam_io::write_pvtu_file(p, &sources, point, cell).map_err(std::io::Error::other)
-            })?;
         }
-        for (r, path) in self.interfaces.iter().zip(&names.interfaces) {
-            out.write(path, |p| {
+        for (i, (r, path)) in last.interfaces.iter().zip(&names.interfaces).enumerate() {
+            let write = |p: &Path, r: &InterfaceResult| {
                 seam_io::write_vtu_file(p, &r.mesh, &r.fields, &[]).map_err(std::io::Error::other)
-            })?;
+            };
+            out.write(path, |p| write(p, r))?;
+            if let Some(series) = names.series.get(self.problem.bodies.len() + i) {
+                for (k, state) in self.steps.iter().enumerate() {
+                    out.write(&series.steps[k], |p| write(p, &state.interfaces[i]))?;
+                }
+            }
+        }
+        for series in &names.series {
+            let entries: Vec<(f64, String)> = self
+                .steps
+                .iter()
+                .zip(&series.steps)
+                .map(|(state, file)| (state.time, format!("{STEPS_DIR}/{}", file_name(file))))
+                .collect();
+            out.write(&series.pvd, |p| seam_io::write_pvd_file(p, &entries).map_err(std::io::Error::other))?;
         }
         let mut summary = self.summary.clone();
         summary.output_dir = dir.display().to_string();
@@ -672,6 +807,29 @@ impl Solved {
         out.commit(&[])?;
         Ok(summary)
     }
+}
+
+/// Writes a body's fields at `paths.0`: a `.vtu`, or with pieces
+/// (`paths.1`, the cells of each in `cells_of`) a `.pvtu` and its pieces.
+fn write_body(
+    out: &mut Staged,
+    (path, pieces): (&Path, &[PathBuf]),
+    (mesh, cells_of): (&seam::VolumeMesh, &[Vec<usize>]),
+    (point, cell): (&[Field], &[Field]),
+) -> Result<(), Failure> {
+    let write = |p: &Path, mesh: &seam::VolumeMesh, point: &[Field], cell: &[Field]| {
+        seam_io::write_volume_vtu_file(p, mesh, point, cell).map_err(std::io::Error::other)
+    };
+    if pieces.is_empty() {
+        return Ok(out.write(path, |p| write(p, mesh, point, cell))?);
+    }
+    for (piece_path, cells) in pieces.iter().zip(cells_of) {
+        let (mesh, point, cell) = piece(mesh, cells, point, cell)?;
+        out.write(piece_path, |p| write(p, &mesh, &point, &cell))?;
+    }
+    let sources: Vec<String> = pieces.iter().map(|p| file_name(p)).collect();
+    out.write(path, |p| seam_io::write_pvtu_file(p, &sources, point, cell).map_err(std::io::Error::other))?;
+    Ok(())
 }
 
 /// The mean of a cell's corners: where the partition into pieces places it.
@@ -710,6 +868,9 @@ fn piece(
     Ok((piece, select(point, &used), select(cell, cells)))
 }
 
+/// The subdirectory of the output directory that holds the load steps' files.
+pub const STEPS_DIR: &str = "steps";
+
 /// The output files of a case.
 struct OutputNames {
     /// Per body: `<body>.vtu`, or `<body>.pvtu` when written in pieces.
@@ -717,7 +878,39 @@ struct OutputNames {
     /// Per body: its pieces `<body>_<r>.vtu` (none for a `.vtu`).
     pieces: Vec<Vec<PathBuf>>,
     interfaces: Vec<PathBuf>,
+    /// With several load steps: per body, then per interface, its
+    /// collection and its files of each step (none for one step).
+    series: Vec<Series>,
     summary: PathBuf,
+}
+
+/// The files of a body or an interface over the load steps.
+struct Series {
+    /// `<name>.pvd`.
+    pvd: PathBuf,
+    /// Per step k = 1…N: `steps/<name>_<kkkk>.vtu` (or `.pvtu`).
+    steps: Vec<PathBuf>,
+    /// Per step: the pieces `steps/<name>_<kkkk>_<r>.vtu` of a `.pvtu`.
+    pieces: Vec<Vec<PathBuf>>,
+}
+
+impl Series {
+    /// The files of `stem` in `dir` over `steps` steps, written in `pieces`.
+    fn new(dir: &Path, stem: &str, steps: usize, pieces: usize) -> Series {
+        let extension = if pieces > 1 { "pvtu" } else { "vtu" };
+        let step = |k: usize| format!("{stem}_{k:04}");
+        let at = |name: String| dir.join(STEPS_DIR).join(name);
+        Series {
+            pvd: dir.join(format!("{stem}.pvd")),
+            steps: (1..=steps).map(|k| at(format!("{}.{extension}", step(k)))).collect(),
+            pieces: (1..=steps)
+                .map(|k| match pieces {
+                    0 | 1 => Vec::new(),
+                    n => (0..n).map(|r| at(format!("{}_{r}.vtu", step(k)))).collect(),
+                })
+                .collect(),
+        }
+    }
 }
 
 impl OutputNames {
@@ -725,7 +918,7 @@ impl OutputNames {
         let extension = if pieces > 1 { "pvtu" } else { "vtu" };
         let bodies =
             case.bodies.iter().map(|b| dir.join(format!("{}.{extension}", file_part(&b.name)))).collect();
-        let pieces = case
+        let piece_names = case
             .bodies
             .iter()
             .map(|b| match pieces {
@@ -733,15 +926,32 @@ impl OutputNames {
                 n => (0..n).map(|r| dir.join(format!("{}_{r}.vtu", file_part(&b.name)))).collect(),
             })
             .collect();
-        let interfaces = case
+        let interface_stems = case
             .interfaces
             .iter()
             .map(|f| {
                 let s = SurfaceRef::parse(&f.slave, "")?;
-                Ok(dir.join(format!("{}_{}_interface.vtu", file_part(&s.body), file_part(&s.surface))))
+                Ok(format!("{}_{}_interface", file_part(&s.body), file_part(&s.surface)))
             })
-            .collect::<anyhow::Result<_>>()?;
-        let names = OutputNames { bodies, pieces, interfaces, summary: dir.join("summary.json") };
+            .collect::<anyhow::Result<Vec<String>>>()?;
+        let interfaces = interface_stems.iter().map(|stem| dir.join(format!("{stem}.vtu"))).collect();
+        let steps = case.load.steps()?.len();
+        let series = match steps {
+            1 => Vec::new(),
+            n => case
+                .bodies
+                .iter()
+                .map(|b| Series::new(dir, &file_part(&b.name), n, pieces))
+                .chain(interface_stems.iter().map(|stem| Series::new(dir, stem, n, 1)))
+                .collect(),
+        };
+        let names = OutputNames {
+            bodies,
+            pieces: piece_names,
+            interfaces,
+            series,
+            summary: dir.join("summary.json"),
+        };
         let mut seen = BTreeSet::new();
         for path in names.all() {
             if !seen.insert(path.clone()) {
@@ -758,6 +968,11 @@ impl OutputNames {
         let mut all: Vec<PathBuf> = self.pieces.iter().flatten().cloned().collect();
         all.extend(self.bodies.iter().cloned());
         all.extend(self.interfaces.iter().cloned());
+        for s in &self.series {
+            all.extend(s.pieces.iter().flatten().cloned());
+            all.extend(s.steps.iter().cloned());
+            all.push(s.pvd.clone());
+        }
         all.push(self.summary.clone());
         all
     }
@@ -820,7 +1035,16 @@ fn read_body(case: &Case, b: &crate::Body) -> anyhow::Result<ProblemBody> {
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
     let material = Material::new(b.young, b.poisson).map_err(|e| anyhow!("{}: {e}", what()))?;
-    Ok(ProblemBody { name: b.name.clone(), mesh, material, body_force: b.body_force, surfaces })
+    let body_force_amplitude =
+        crate::case::amplitude(b.body_force_amplitude.as_ref(), "body_force_amplitude")?;
+    Ok(ProblemBody {
+        name: b.name.clone(),
+        mesh,
+        material,
+        body_force: b.body_force,
+        body_force_amplitude,
+        surfaces,
+    })
 }
 
 /// The in-memory problem of a checked case: meshes read, surfaces looked up.
@@ -847,14 +1071,24 @@ fn build_problem(case: &Case) -> anyhow::Result<Problem> {
         };
         problem.interfaces.push(ProblemInterface { master, slave, options, kind });
     }
+    // Values and amplitudes were checked with the case (Case::check).
+    let value = |v: &crate::case::Scalar| v.value().map_err(|e| anyhow!(e));
     for d in &case.dirichlet {
         let boundary = id(&problem, &d.boundary)?;
-        problem.supports.push(Support { boundary, values: [d.ux, d.uy, d.uz] });
+        let mut values = [None, None, None];
+        for (k, v) in d.components() {
+            values[k] = Some(value(v)?);
+        }
+        let amplitude = crate::case::amplitude(d.amplitude.as_ref(), "amplitude")?;
+        problem.supports.push(Support { boundary, values, amplitude });
     }
     for t in &case.traction {
         let boundary = id(&problem, &t.boundary)?;
-        problem.loads.push(Load { boundary, t: t.t });
+        let [x, y, z] = &t.t;
+        let amplitude = crate::case::amplitude(t.amplitude.as_ref(), "amplitude")?;
+        problem.loads.push(Load { boundary, t: [value(x)?, value(y)?, value(z)?], amplitude });
     }
+    problem.steps = case.load.steps()?;
     Ok(problem)
 }
 
@@ -935,9 +1169,9 @@ fn problem_failure(e: ProblemError, case: &Case, path: &Path) -> Failure {
             | seam_fem::SolveError::PetscNotConverged { .. }
             | seam_fem::SolveError::ToleranceUnreachable { .. },
         )) => Failure::Convergence(format!("{file}: {e}")),
-        e @ (ProblemError::BadInterface { .. } | ProblemError::BadBody { .. }) => {
-            Failure::Case(format!("{file}: {e}"))
-        }
+        e @ (ProblemError::BadInterface { .. }
+        | ProblemError::BadBody { .. }
+        | ProblemError::Value { .. }) => Failure::Case(format!("{file}: {e}")),
         e => Failure::Error(format!("{file}: {e}")),
     }
 }
@@ -1058,7 +1292,7 @@ fn summary(
     solution: &Solution,
     seconds: Seconds,
 ) -> anyhow::Result<Summary> {
-    let loads = problem.loads_and_supports().map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let loads = problem.loads_and_supports(1.0).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     let coupled = &problem.interfaces;
     let mut applied_load = [0.0; 3];
     let bodies = problem
@@ -1154,6 +1388,8 @@ fn summary(
         contact,
         petsc: r.petsc.as_ref().map(PetscSummary::from),
         ranks: r.petsc.as_ref().map(|p| p.ranks).filter(|&n| n > 1),
+        load: LoadSummary { steps: problem.steps.len(), times: problem.steps.times().to_vec() },
+        steps: Vec::new(),
         seconds,
         threads: rayon::current_num_threads(),
         seam_version: env!("CARGO_PKG_VERSION"),
@@ -1193,6 +1429,7 @@ fn contact_summary(
             removed: s.removed,
             linear_iterations: s.linear_iterations,
             full_tolerance: s.full_tolerance,
+            residual: s.residual,
         })
         .collect();
     let k = &r.kkt;

@@ -15,7 +15,7 @@ use crate::output::Staged;
 use crate::CaseError;
 use anyhow::Result;
 use seam::{Facing, MaxGap, MortarOptions, Multiplier, Named};
-use seam_fem::{Coupling, Problem};
+use seam_fem::{Amplitude, Coupling, LoadSteps, Problem, Value};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -154,6 +154,7 @@ pub fn case_toml(problem: &Problem, about: &[String]) -> Result<String, CaseErro
         if body.body_force != [0.0; 3] {
             writeln!(t, "body_force = {}", array(body.body_force))?;
         }
+        amplitude(&mut t, "body_force_amplitude", &body.body_force_amplitude)?;
         writeln!(t)?;
     }
     for (i, f) in problem.interfaces.iter().enumerate() {
@@ -186,24 +187,31 @@ pub fn case_toml(problem: &Problem, about: &[String]) -> Result<String, CaseErro
         }
         writeln!(t)?;
     }
+    if problem.steps != LoadSteps::default() {
+        let times: Vec<String> = problem.steps.times().iter().map(|t| format!("{t:?}")).collect();
+        writeln!(t, "[load]\ntimes = [{}]\n", times.join(", "))?;
+    }
     for s in &problem.supports {
-        let clamped = s.values == [Some(0.0); 3];
+        let clamped = s.values.iter().all(|v| v.as_ref().and_then(Value::number) == Some(0.0));
         writeln!(t, "{}", commented("[[dirichlet]]", if clamped { "clamped" } else { "" }))?;
         writeln!(t, "boundary = \"{}\"", problem.surface_name(s.boundary))?;
-        for (name, value) in ["ux", "uy", "uz"].iter().zip(s.values) {
+        for (name, value) in ["ux", "uy", "uz"].iter().zip(&s.values) {
             if let Some(v) = value {
-                writeln!(t, "{name} = {v:?}")?;
+                writeln!(t, "{name} = {}", scalar(v))?;
             }
         }
+        amplitude(&mut t, "amplitude", &s.amplitude)?;
         writeln!(t)?;
     }
     for l in &problem.loads {
+        let [x, y, z] = l.t.each_ref().map(scalar);
         writeln!(
             t,
-            "[[traction]]\nboundary = \"{}\"\nt = {}\n",
-            problem.surface_name(l.boundary),
-            array(l.t)
+            "[[traction]]\nboundary = \"{}\"\nt = [{x}, {y}, {z}]",
+            problem.surface_name(l.boundary)
         )?;
+        amplitude(&mut t, "amplitude", &l.amplitude)?;
+        writeln!(t)?;
     }
     writeln!(t, "[output]\ndir = \"{OUTPUT_DIR}\"")?;
     Ok(t)
@@ -216,6 +224,24 @@ fn commented(header: &str, comment: &str) -> String {
     } else {
         format!("{header:<17} # {comment}")
     }
+}
+
+/// A value as TOML: a number in Rust's shortest round-trip form, an
+/// expression as a string.
+fn scalar(v: &Value) -> String {
+    match v {
+        Value::Number(v) => format!("{v:?}"),
+        Value::Function(text, _) => toml::Value::String(text.clone()).to_string(),
+    }
+}
+
+/// `key = [[t, a], …]` unless `a` is the default ramp.
+fn amplitude(t: &mut String, key: &str, a: &Amplitude) -> Result<(), CaseError> {
+    if !a.is_ramp() {
+        let entries: Vec<String> = a.table().iter().map(|[t, a]| format!("[{t:?}, {a:?}]")).collect();
+        writeln!(t, "{key} = [{}]", entries.join(", "))?;
+    }
+    Ok(())
 }
 
 /// "[x, y, z]" in Rust's shortest round-trip form.

@@ -3,8 +3,7 @@
 
 use crate::common;
 
-use common::{assert_rejected, json, seam, stacked_case, stderr, vtu_field, write_block};
-use seam_fem::generate::Side;
+use common::{assert_rejected, json, seam, stacked_case, stderr, vtu_field, write_stacked_blocks};
 use std::path::Path;
 
 const E: f64 = 1000.0;
@@ -16,16 +15,7 @@ const P: f64 = 2.0;
 /// and z = 0, pressed by P on top: uniaxial stress σ_zz = −P, whose
 /// displacement u = (νPx, νPy, −Pz)/E is linear, so exact for Hex8 and mortar.
 fn patch_case(dir: &Path, multiplier: &str) {
-    let lower_sides =
-        [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("ymin", Side::YMin)];
-    write_block(&dir.join("lower.msh"), [3, 3, 2], |u, v, w| [u, v, 0.5 * w], &lower_sides);
-    let upper_sides = [("bottom", Side::ZMin), ("top", Side::ZMax)];
-    write_block(
-        &dir.join("upper.msh"),
-        [2, 2, 2],
-        |u, v, w| [0.7 * u + 0.3 * u * u, v, 0.5 + 0.5 * w],
-        &upper_sides,
-    );
+    write_stacked_blocks(dir);
     let interface = format!("kind = \"glue\"\nmultiplier = \"{multiplier}\"");
     let rest = format!(
         "[[traction]]\nboundary = \"upper:top\"\nt = [0.0, 0.0, -{P:?}]\n\n[output]\ndir = \"out\"\n"

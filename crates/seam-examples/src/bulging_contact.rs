@@ -91,7 +91,7 @@ fn draw(s: &Solved, p: &BulgingContact) -> anyhow::Result<Image> {
     cut_y.title = vec!["von Mises stress, cut y = 1/2".into(), "deformed, true scale".into()];
     cut_x.title = vec!["von Mises stress, cut x = 1/2".into(), "deformed, true scale".into()];
 
-    let f = s.interfaces.first().ok_or_else(|| anyhow!("the example has an interface"))?;
+    let f = s.interfaces().first().ok_or_else(|| anyhow!("the example has an interface"))?;
     let contact =
         |name| f.field(name).ok_or_else(|| anyhow!("the example's interface is a contact interface"));
     let (pressure_at, gap_at, active_at) =

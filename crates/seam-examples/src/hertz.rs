@@ -101,7 +101,7 @@ pub fn run(args: &Options) -> Result<Vec<String>, Failure> {
 
 /// The slave nodes on the symmetry axes, sorted by axis and r.
 fn axis_nodes(s: &Solved, p: &Hertz) -> anyhow::Result<Vec<AxisNode>> {
-    let f = s.interfaces.first().ok_or_else(|| anyhow!("the example has an interface"))?;
+    let f = s.interfaces().first().ok_or_else(|| anyhow!("the example has an interface"))?;
     let contact =
         |name| f.field(name).ok_or_else(|| anyhow!("the example's interface is a contact interface"));
     let (pressure, active) = (contact("contact_pressure")?, contact("active")?);

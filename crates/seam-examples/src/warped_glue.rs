@@ -96,7 +96,7 @@ fn draw(s: &Solved, params: &WarpedGlue) -> anyhow::Result<(Image, f64)> {
     let h = format!("h_s/h_m = {}, deformation ×{}", params.ratio, label_factor(magnification));
     u1.title = vec!["u_1 on the cut y = 1/2".into(), h.clone()];
     u3.title = vec!["u_3 on the cut y = 1/2".into(), h];
-    let f = s.interfaces.first().ok_or_else(|| anyhow!("the example has an interface"))?;
+    let f = s.interfaces().first().ok_or_else(|| anyhow!("the example has an interface"))?;
     let traction = |name| f.field(name).ok_or_else(|| anyhow!("the interface has no field {name}"));
     let (normal_traction, tangential_traction) =
         (traction("normal_traction")?, traction("tangential_traction")?);

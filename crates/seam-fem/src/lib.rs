@@ -22,6 +22,7 @@
 //! | frictionless contact, mixed with glue (second application) | [`contact`] |
 //! | how the linear systems are solved: [`Solver`] | [`backend`] |
 //! | one solve for any mix of glue and contact, and its solution | [`coupled`], [`solution`], [`problem`] |
+//! | load steps in pseudo-time, amplitudes, values varying in space and time | [`history`] |
 //! | cell, nodal and von Mises stresses | [`stress`] |
 //! | structured blocks for tests and examples | [`generate`] |
 //!
@@ -57,6 +58,7 @@ pub mod element;
 pub mod enrichment;
 pub mod generate;
 pub mod glue;
+pub mod history;
 pub mod material;
 pub mod multibody;
 pub mod partition;
@@ -74,9 +76,12 @@ pub use backend::Solver;
 pub use coupled::solve_coupled;
 pub use element::{CellKind, VolumeRule};
 pub use enrichment::{enrich, Enriched, Tie};
+pub use history::{Amplitude, HistoryError, LoadSteps, Value};
 pub use material::{Material, MaterialError};
 pub use multibody::{Body, Coupling, Interface, OperatorAssembler, Operators, ProblemError, Timings};
-pub use problem::{solve, Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
+pub use problem::{
+    solve, solve_steps, Load, Problem, ProblemBody, ProblemInterface, Steps, Support, SurfaceId,
+};
 pub use solution::{
     ActiveSetStep, ContactFields, ContactReport, InterfaceSolution, Kkt, Report, Solution, SolveOptions,
 };

@@ -164,6 +164,15 @@ pub enum ProblemError {
         /// Its coordinates.
         at: seam::Point3,
     },
+    /// A load or support has no finite value somewhere (a function of
+    /// position and time, [`crate::history::Value`]).
+    #[error("{what}: {message}")]
+    Value {
+        /// The load or support, named by its boundary and component.
+        what: String,
+        /// Why.
+        message: String,
+    },
     /// The linear solve failed.
     #[error(transparent)]
     Solve(#[from] SolveError),

@@ -8,11 +8,12 @@
 
 use crate::assembly::{body_force, traction};
 use crate::coupled::solve_coupled;
+use crate::history::{Amplitude, LoadSteps, Value};
 use crate::material::Material;
 use crate::multibody::{Body, Coupling, Interface, ProblemError};
 use crate::solution::{Solution, SolveOptions};
 use crate::solve::Dirichlet;
-use seam::{MortarOptions, SurfaceMesh, VolumeMesh};
+use seam::{MortarOptions, Point3, SurfaceMesh, VolumeMesh};
 
 /// A body with its named boundary surfaces.
 #[derive(Clone, Debug)]
@@ -23,10 +24,31 @@ pub struct ProblemBody {
     pub mesh: VolumeMesh,
     /// Its material.
     pub material: Material,
-    /// Force per volume.
+    /// Force per volume (at the amplitude's factor 1).
     pub body_force: [f64; 3],
+    /// How the body force follows the pseudo-time.
+    pub body_force_amplitude: Amplitude,
     /// Named boundary surfaces, outward, indexing the mesh's points.
     pub surfaces: Vec<(String, SurfaceMesh)>,
+}
+
+impl ProblemBody {
+    /// A body without body force.
+    pub fn new(
+        name: impl Into<String>,
+        mesh: VolumeMesh,
+        material: Material,
+        surfaces: Vec<(String, SurfaceMesh)>,
+    ) -> ProblemBody {
+        ProblemBody {
+            name: name.into(),
+            mesh,
+            material,
+            body_force: [0.0; 3],
+            body_force_amplitude: Amplitude::ramp(),
+            surfaces,
+        }
+    }
 }
 
 /// A surface of a body: indices into [`Problem::bodies`] and its `surfaces`.
@@ -51,22 +73,42 @@ pub struct ProblemInterface {
     pub kind: Coupling,
 }
 
-/// Prescribed displacement components on a boundary.
-#[derive(Clone, Copy, Debug)]
+/// Prescribed displacement components on a boundary: a(t) · v(x, t) for the
+/// amplitude a and the values v ([`crate::history`]).
+#[derive(Clone, Debug)]
 pub struct Support {
     /// The boundary.
     pub boundary: SurfaceId,
     /// u_x, u_y, u_z, each prescribed or free.
-    pub values: [Option<f64>; 3],
+    pub values: [Option<Value>; 3],
+    /// How the values follow the pseudo-time.
+    pub amplitude: Amplitude,
 }
 
-/// A uniform traction (force per area) on a boundary.
-#[derive(Clone, Copy, Debug)]
+impl Support {
+    /// Components fixed at numbers, reached by the default ramp.
+    pub fn new(boundary: SurfaceId, values: [Option<f64>; 3]) -> Support {
+        Support { boundary, values: values.map(|v| v.map(Value::Number)), amplitude: Amplitude::ramp() }
+    }
+}
+
+/// A traction (force per area) on a boundary: a(t) · t(x, t) for the
+/// amplitude a and the components t ([`crate::history`]).
+#[derive(Clone, Debug)]
 pub struct Load {
     /// The boundary.
     pub boundary: SurfaceId,
-    /// The traction vector.
-    pub t: [f64; 3],
+    /// The traction vector's components.
+    pub t: [Value; 3],
+    /// How the traction follows the pseudo-time.
+    pub amplitude: Amplitude,
+}
+
+impl Load {
+    /// A uniform traction, reached by the default ramp.
+    pub fn new(boundary: SurfaceId, t: [f64; 3]) -> Load {
+        Load { boundary, t: t.map(Value::Number), amplitude: Amplitude::ramp() }
+    }
 }
 
 /// Bodies, interfaces, supports and loads.
@@ -81,6 +123,8 @@ pub struct Problem {
     pub supports: Vec<Support>,
     /// Tractions.
     pub loads: Vec<Load>,
+    /// The pseudo-times the problem is solved at (default: t = 1 alone).
+    pub steps: LoadSteps,
 }
 
 impl Problem {
@@ -111,36 +155,105 @@ impl Problem {
         self.bodies.iter().map(|b| 3 * b.mesh.points().len()).sum()
     }
 
-    /// Per body: the load vector (body force and tractions) and the prescribed dofs.
+    /// Per body at pseudo-time `t`: the load vector (body force and
+    /// tractions) and the prescribed dofs ([`crate::history`]).
     ///
     /// # Errors
-    /// [`ProblemError::Assembly`] for a degenerate cell.
-    pub fn loads_and_supports(&self) -> Result<Vec<(Vec<f64>, Dirichlet)>, ProblemError> {
+    /// [`ProblemError::Assembly`] for a degenerate cell;
+    /// [`ProblemError::Value`] for a value with no finite value at some point.
+    pub fn loads_and_supports(&self, t: f64) -> Result<Vec<(Vec<f64>, Dirichlet)>, ProblemError> {
         self.bodies
             .iter()
             .enumerate()
             .map(|(b, body)| {
-                let mut f = if body.body_force == [0.0; 3] {
+                let force = body.body_force.map(|v| v * body.body_force_amplitude.at(t));
+                let mut f = if force == [0.0; 3] {
                     vec![0.0; 3 * body.mesh.points().len()]
                 } else {
-                    body_force(&body.mesh, |_| body.body_force)
+                    body_force(&body.mesh, |_| force)
                         .map_err(|source| ProblemError::Assembly { body: b, source })?
                 };
                 for load in self.loads.iter().filter(|l| l.boundary.body == b) {
-                    let t = traction(self.surface(load.boundary), |_, _| load.t);
-                    for (a, v) in f.iter_mut().zip(t) {
+                    for (a, v) in f.iter_mut().zip(self.traction_at(load, t)?) {
                         *a += v;
                     }
                 }
                 let mut dirichlet = Dirichlet::new();
                 for support in self.supports.iter().filter(|s| s.boundary.body == b) {
-                    let surface = self.surface(support.boundary);
-                    let used = surface.used_points();
-                    dirichlet.fix_all((0..used.len()).filter(|&p| used[p]), support.values);
+                    self.fix(&mut dirichlet, support, t)?;
                 }
                 Ok((f, dirichlet))
             })
             .collect()
+    }
+
+    /// The consistent nodal forces of `load` at time `t`. A function is
+    /// evaluated at the quadrature points; of the points where it has no
+    /// finite value the lexicographically smallest is named (the same one
+    /// for any thread count).
+    fn traction_at(&self, load: &Load, t: f64) -> Result<Vec<f64>, ProblemError> {
+        let a = load.amplitude.at(t);
+        let surface = self.surface(load.boundary);
+        if let [Some(x), Some(y), Some(z)] = load.t.each_ref().map(Value::number) {
+            let value = [x * a, y * a, z * a];
+            return Ok(traction(surface, |_, _| value));
+        }
+        let failed = std::sync::Mutex::new(None::<(Point3, usize, String)>);
+        let f = traction(surface, |x, _| {
+            std::array::from_fn(|k| match load.t[k].at(x, t) {
+                Ok(v) => v * a,
+                Err(why) => {
+                    let mut first = failed.lock().unwrap_or_else(|e| e.into_inner());
+                    if first
+                        .as_ref()
+                        .is_none_or(|(p, _, _)| x.partial_cmp(p) == Some(std::cmp::Ordering::Less))
+                    {
+                        *first = Some((x, k, why));
+                    }
+                    0.0
+                }
+            })
+        });
+        match failed.into_inner().unwrap_or_else(|e| e.into_inner()) {
+            None => Ok(f),
+            Some((_, k, why)) => Err(ProblemError::Value {
+                what: format!("traction on {}, component {}", self.surface_name(load.boundary), k + 1),
+                message: why,
+            }),
+        }
+    }
+
+    /// Prescribes `support` at time `t` on the points of its boundary.
+    fn fix(&self, dirichlet: &mut Dirichlet, support: &Support, t: f64) -> Result<(), ProblemError> {
+        let a = support.amplitude.at(t);
+        let surface = self.surface(support.boundary);
+        let used = surface.used_points();
+        let points = (0..used.len()).filter(|&p| used[p]);
+        if support.values.iter().flatten().all(|v| v.number().is_some()) {
+            let values = support.values.each_ref().map(|v| v.as_ref().and_then(Value::number).map(|v| v * a));
+            dirichlet.fix_all(points, values);
+            return Ok(());
+        }
+        for p in points {
+            let x = surface.points()[p];
+            let mut values = [None; 3];
+            for (k, v) in support.values.iter().enumerate() {
+                if let Some(v) = v {
+                    values[k] = Some(
+                        v.at(x, t).map_err(|why| ProblemError::Value {
+                            what: format!(
+                                "dirichlet on {}, u{}",
+                                self.surface_name(support.boundary),
+                                ["x", "y", "z"][k]
+                            ),
+                            message: why,
+                        })? * a,
+                    );
+                }
+            }
+            dirichlet.fix(p, values);
+        }
+        Ok(())
     }
 
     /// True when some interface is a contact interface.
@@ -187,8 +300,11 @@ impl Problem {
     }
 }
 
-/// Assembles and solves `problem`, glued and contact interfaces in any mix:
-/// the loads and supports of each body, then [`solve_coupled`].
+/// Assembles and solves `problem` at t = 1, glued and contact interfaces in
+/// any mix: the loads and supports of each body, then [`solve_coupled`]
+/// (glue and frictionless contact do not depend on the load path, so the
+/// earlier steps of [`Problem::steps`] are not needed; [`solve_steps`]
+/// solves each).
 ///
 /// ```
 /// use seam_fem::scene::{warped_glue, WarpedGlue};
@@ -206,31 +322,77 @@ impl Problem {
 ///
 /// # Errors
 /// As [`solve_coupled`]; [`ProblemError::Assembly`] for a degenerate cell
-/// under a body force.
+/// under a body force; [`ProblemError::Value`] for a load or support with no
+/// finite value somewhere.
 pub fn solve(problem: &Problem, options: &SolveOptions) -> Result<Solution, ProblemError> {
-    let Some((raised, ties)) = problem.enriched() else {
-        let prepared = problem.loads_and_supports()?;
-        return solve_coupled(&problem.solver_bodies(&prepared), &problem.coupled(), options);
-    };
-    let prepared = raised.loads_and_supports()?;
-    let mut bodies = raised.solver_bodies(&prepared);
-    for (body, ties) in bodies.iter_mut().zip(ties) {
-        body.ties = ties;
+    Steps::new(problem, *options).solve_at(1.0)
+}
+
+/// The solutions at the times of [`Problem::steps`], in order (an iterator:
+/// each step is solved when asked for, and the caller keeps what it needs).
+///
+/// # Errors
+/// Each item as [`solve`].
+pub fn solve_steps<'a>(problem: &'a Problem, options: &SolveOptions) -> Steps<'a> {
+    Steps::new(problem, *options)
+}
+
+/// The iterator of [`solve_steps`]: (t, solution at t).
+pub struct Steps<'a> {
+    problem: &'a Problem,
+    /// The problem on the enriched slave space, when it needs one ([`Problem::enriched`]).
+    raised: Option<(Problem, Vec<Vec<crate::Tie>>)>,
+    options: SolveOptions,
+    next: usize,
+}
+
+impl<'a> Steps<'a> {
+    fn new(problem: &'a Problem, options: SolveOptions) -> Steps<'a> {
+        Steps { problem, raised: problem.enriched(), options, next: 0 }
     }
-    let mut solution = solve_coupled(&bodies, &raised.coupled(), options)?;
-    // Back to the original points (the raised meshes append theirs).
-    for (b, body) in problem.bodies.iter().enumerate() {
-        let n = body.mesh.points().len();
-        solution.displacement[b].truncate(3 * n);
-        solution.stresses[b].nodal.truncate(n);
-        solution.stresses[b].nodal_von_mises.truncate(n);
+
+    /// The solution at pseudo-time `t`.
+    fn solve_at(&self, t: f64) -> Result<Solution, ProblemError> {
+        let problem = self.problem;
+        let Some((raised, ties)) = &self.raised else {
+            let prepared = problem.loads_and_supports(t)?;
+            return solve_coupled(&problem.solver_bodies(&prepared), &problem.coupled(), &self.options);
+        };
+        let prepared = raised.loads_and_supports(t)?;
+        let mut bodies = raised.solver_bodies(&prepared);
+        for (body, ties) in bodies.iter_mut().zip(ties) {
+            body.ties.clone_from(ties);
+        }
+        let mut solution = solve_coupled(&bodies, &raised.coupled(), &self.options)?;
+        // Back to the original points (the raised meshes append theirs).
+        for (b, body) in problem.bodies.iter().enumerate() {
+            let n = body.mesh.points().len();
+            solution.displacement[b].truncate(3 * n);
+            solution.stresses[b].nodal.truncate(n);
+            solution.stresses[b].nodal_von_mises.truncate(n);
+        }
+        for (s, f) in solution.interfaces.iter_mut().zip(&problem.interfaces) {
+            s.truncate(problem.bodies[f.slave.body].mesh.points().len());
+            let kinds = |p: &Problem| p.surface(f.slave).faces().iter().map(|f| f.kind()).collect::<Vec<_>>();
+            s.enriched = kinds(raised) != kinds(problem);
+        }
+        Ok(solution)
     }
-    for (s, f) in solution.interfaces.iter_mut().zip(&problem.interfaces) {
-        s.truncate(problem.bodies[f.slave.body].mesh.points().len());
-        let kinds = |p: &Problem| p.surface(f.slave).faces().iter().map(|f| f.kind()).collect::<Vec<_>>();
-        s.enriched = kinds(&raised) != kinds(problem);
+}
+
+impl Iterator for Steps<'_> {
+    type Item = Result<(f64, Solution), ProblemError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        let t = *self.problem.steps.times().get(self.next)?;
+        self.next += 1;
+        Some(self.solve_at(t).map(|s| (t, s)))
     }
-    Ok(solution)
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let left = self.problem.steps.len() - self.next;
+        (left, Some(left))
+    }
 }
 
 impl Problem {

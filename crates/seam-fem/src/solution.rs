@@ -183,7 +183,7 @@ pub struct ContactReport {
 }
 
 /// One active-set step.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ActiveSetStep {
     /// Active points during the step's solve.
     pub active: usize,
@@ -198,6 +198,10 @@ pub struct ActiveSetStep {
     /// set unchanged, which then goes on to the full tolerance (the earlier
     /// ones stop at 10⁻³, `active_set_method`).
     pub full_tolerance: bool,
+    /// How far the step's iterate is from the contact conditions, relative:
+    /// negative pressure on active points and penetration at inactive ones
+    /// (0 up to the linear solve once the active set is right).
+    pub residual: f64,
 }
 
 /// How well the solution meets the discrete KKT conditions, each relative.

@@ -191,7 +191,7 @@ fn every_case_meets_the_kkt_conditions() {
 fn support_reaction(s: &Solved, body: usize) -> Point3 {
     let b = &s.problem.bodies[body];
     let k = stiffness(&b.mesh, &b.material).unwrap();
-    let prepared = s.problem.loads_and_supports().unwrap();
+    let prepared = s.problem.loads_and_supports(1.0).unwrap();
     let (f, dirichlet) = &prepared[body];
     let ku = k.mul_vec(&s.solution.displacement[body], 1);
     let mut reaction = [0.0; 3];

@@ -468,14 +468,11 @@ pub(crate) fn enriched_tension() -> (seam_fem::Problem, impl Fn(Point3) -> [f64;
         let surfaces = [Side::XMin, Side::YMin, Side::ZMin, Side::ZMax]
             .map(|side| (format!("{side:?}"), grid.side_faces(&mesh, side).unwrap()))
             .to_vec();
-        ProblemBody { name: name.into(), mesh, material, body_force: [0.0; 3], surfaces }
+        ProblemBody::new(name, mesh, material, surfaces)
     };
     let id = |body, surface| SurfaceId { body, surface };
     let options = seam::MortarOptions { multiplier: Multiplier::Dual, ..Default::default() };
-    let roller = |b, s, k: usize| Support {
-        boundary: id(b, s),
-        values: std::array::from_fn(|c| (c == k).then_some(0.0)),
-    };
+    let roller = |b, s, k: usize| Support::new(id(b, s), std::array::from_fn(|c| (c == k).then_some(0.0)));
     let problem = Problem {
         bodies: vec![
             body("lower", [3, 3, 2], 0.0, BlockKind::Hex),
@@ -488,7 +485,8 @@ pub(crate) fn enriched_tension() -> (seam_fem::Problem, impl Fn(Point3) -> [f64;
             kind: seam_fem::Coupling::Glue,
         }],
         supports: vec![roller(0, 2, 2), roller(0, 0, 0), roller(0, 1, 1), roller(1, 0, 0), roller(1, 1, 1)],
-        loads: vec![Load { boundary: id(1, 3), t: [0.0, 0.0, 1.0] }],
+        loads: vec![Load::new(id(1, 3), [0.0, 0.0, 1.0])],
+        ..Problem::default()
     };
     (problem, move |x: Point3| [-nu * x[0] / e, -nu * x[1] / e, x[2] / e])
 }

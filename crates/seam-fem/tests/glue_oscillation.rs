@@ -86,7 +86,7 @@ fn glued(p: &WarpedGlue) -> Glued {
         })
         .collect();
     // Balances against the load applied to the slave (the top traction).
-    let loads = problem.loads_and_supports().unwrap();
+    let loads = problem.loads_and_supports(1.0).unwrap();
     let applied: [f64; 3] = std::array::from_fn(|k| loads[1].0.iter().skip(k).step_by(3).sum());
     let size = applied.iter().fold(0.0f64, |m, a| m.max(a.abs()));
     let slave_balance = (0..3).map(|k| (f.force[k] + applied[k]).abs()).fold(0.0, f64::max) / size;

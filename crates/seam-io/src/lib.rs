@@ -48,6 +48,6 @@ pub use msh::{
 };
 pub use mtx::{read_matrix_market_str, write_matrix_market, write_matrix_market_file, MatrixMarketError};
 pub use vtu::{
-    read_vtu, read_vtu_file, write_pvtu_file, write_volume_vtu, write_volume_vtu_file, write_vtu,
-    write_vtu_file, Field, VtuError, VtuErrorKind, VtuMesh,
+    read_vtu, read_vtu_file, write_pvd_file, write_pvtu_file, write_volume_vtu, write_volume_vtu_file,
+    write_vtu, write_vtu_file, Field, VtuError, VtuErrorKind, VtuMesh,
 };

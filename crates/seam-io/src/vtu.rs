@@ -247,6 +247,16 @@ pub fn write_pvtu_file(
     write_file(path.as_ref(), write::parallel_bytes(pieces, point_data, cell_data))
 }
 
+/// Writes a ParaView collection (`.pvd`) of the files `entries` (time,
+/// file name relative to the collection's directory), in the order given:
+/// ParaView shows the files as one series over time.
+///
+/// # Errors
+/// [`VtuErrorKind::Io`], with the path.
+pub fn write_pvd_file(path: impl AsRef<Path>, entries: &[(f64, String)]) -> Result<(), VtuError> {
+    write_file(path.as_ref(), Ok(write::collection_bytes(entries)))
+}
+
 /// Reads a VTU file; see the [module docs](self) for what is read.
 ///
 /// # Errors

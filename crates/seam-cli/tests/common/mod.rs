@@ -86,6 +86,24 @@ pub fn vtu_field(path: &Path, name: &str, cell: bool) -> (Vec<[f64; 3]>, Vec<f64
     (points, values)
 }
 
+/// The meshes of [`stacked_case`]: lower.msh, a 3×3×2 block of [0, 1]² ×
+/// [0, 1/2] (surfaces bottom, top, xmin, ymin), and upper.msh, a 2×2×2
+/// block of [0, 1]² × [1/2, 1] graded in x (bottom, top).
+#[allow(dead_code)] // not every test crate solves cases
+pub fn write_stacked_blocks(dir: &Path) {
+    use seam_fem::generate::Side;
+    let lower_sides =
+        [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("ymin", Side::YMin)];
+    write_block(&dir.join("lower.msh"), [3, 3, 2], |u, v, w| [u, v, 0.5 * w], &lower_sides);
+    let upper_sides = [("bottom", Side::ZMin), ("top", Side::ZMax)];
+    write_block(
+        &dir.join("upper.msh"),
+        [2, 2, 2],
+        |u, v, w| [0.7 * u + 0.3 * u * u, v, 0.5 + 0.5 * w],
+        &upper_sides,
+    );
+}
+
 /// A case file's text for two blocks, "lower" (lower.msh) and "upper"
 /// (upper.msh), with materials (E, ν), coupled at lower:top (master) and
 /// upper:bottom (slave) by an interface with the keys `interface` (kind,

@@ -223,9 +223,10 @@ pub fn bulging_contact(p: &BulgingContact) -> Result<Problem, MeshError> {
             kind: Coupling::Contact,
         }],
         supports: vec![
-            Support { boundary: SurfaceId { body: 0, surface: bottom }, values: [Some(0.0); 3] },
-            Support { boundary: SurfaceId { body: 1, surface: top }, values: p.press.map(Some) },
+            Support::new(SurfaceId { body: 0, surface: bottom }, [Some(0.0); 3]),
+            Support::new(SurfaceId { body: 1, surface: top }, p.press.map(Some)),
         ],
         loads: vec![],
+        ..Problem::default()
     })
 }

@@ -252,10 +252,10 @@ pub fn hertz(p: &Hertz) -> Result<Problem, MeshError> {
         max_gap: MaxGap::Absolute(a),
         ..MortarOptions::default()
     };
-    let mut supports = vec![Support { boundary: id(slab, bottom), values: [Some(0.0); 3] }];
+    let mut supports = vec![Support::new(id(slab, bottom), [Some(0.0); 3])];
     for body in [indenter, slab] {
-        supports.push(Support { boundary: id(body, x0), values: [Some(0.0), None, None] });
-        supports.push(Support { boundary: id(body, y0), values: [None, Some(0.0), None] });
+        supports.push(Support::new(id(body, x0), [Some(0.0), None, None]));
+        supports.push(Support::new(id(body, y0), [None, Some(0.0), None]));
     }
     let pressure = p.force() / (4.0 * l * l);
     Ok(Problem {
@@ -267,7 +267,8 @@ pub fn hertz(p: &Hertz) -> Result<Problem, MeshError> {
             kind: Coupling::Contact,
         }],
         supports,
-        loads: vec![Load { boundary: id(indenter, top), t: [0.0, 0.0, -pressure] }],
+        loads: vec![Load::new(id(indenter, top), [0.0, 0.0, -pressure])],
+        ..Problem::default()
     })
 }
 

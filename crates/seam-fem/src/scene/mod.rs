@@ -42,7 +42,7 @@ fn block_body(
         .iter()
         .map(|&(s, side)| Ok((s.to_string(), grid.side_faces(&mesh, side)?)))
         .collect::<Result<_, MeshError>>()?;
-    Ok(ProblemBody { name: name.into(), mesh, material, body_force: [0.0; 3], surfaces })
+    Ok(ProblemBody::new(name, mesh, material, surfaces))
 }
 
 /// The sides "bottom" (z-min) and "top" (z-max).

@@ -98,8 +98,9 @@ pub fn warped_glue(p: &WarpedGlue) -> Result<Problem, MeshError> {
             options,
             kind: Coupling::Glue,
         }],
-        supports: vec![Support { boundary: SurfaceId { body: 0, surface: bottom }, values: [Some(0.0); 3] }],
-        loads: vec![Load { boundary: SurfaceId { body: 1, surface: top }, t: p.traction }],
+        supports: vec![Support::new(SurfaceId { body: 0, surface: bottom }, [Some(0.0); 3])],
+        loads: vec![Load::new(SurfaceId { body: 1, surface: top }, p.traction)],
+        ..Problem::default()
     })
 }
 

@@ -149,6 +149,22 @@ pub(super) fn parallel_bytes(
     Ok(out.into_bytes())
 }
 
+/// A ParaView collection (`.pvd`): one data set per (time, file), the
+/// file names relative to the collection's directory.
+pub(super) fn collection_bytes(entries: &[(f64, String)]) -> Vec<u8> {
+    let mut out = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n<Collection>\n",
+    );
+    for (time, file) in entries {
+        out.push_str(&format!(
+            "<DataSet timestep=\"{time:?}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
+            escape(file)
+        ));
+    }
+    out.push_str("</Collection>\n</VTKFile>\n");
+    out.into_bytes()
+}
+
 /// ` Scalars="…" Vectors="…"`: the first 1-component field as the active
 /// scalars, the first 3-component one as the active vectors.
 fn active_attributes(fields: &[Field]) -> String {
