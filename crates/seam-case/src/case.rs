@@ -189,6 +189,8 @@ pub struct Interface {
     pub multiplier_given: Option<Multiplier>,
     /// Largest normal distance between paired points (default: half a slave face).
     pub max_gap: Option<f64>,
+    /// Contact: the Coulomb friction coefficient μ ≥ 0 (default 0, frictionless).
+    pub friction: Option<f64>,
 }
 
 /// A `[[dirichlet]]` table: prescribed displacement components on a boundary.
@@ -545,6 +547,21 @@ impl Case {
                     "{}: contact needs multiplier \"lumped\" (the default) or \"dual\"",
                     f.describe(i)
                 ));
+            }
+            match (f.friction, f.kind) {
+                (Some(mu), InterfaceKind::Contact) if !(mu.is_finite() && mu >= 0.0) => {
+                    return fail(format!(
+                        "{}: friction = {mu} must be a finite coefficient ≥ 0",
+                        f.describe(i)
+                    ));
+                }
+                (Some(_), InterfaceKind::Glue) => {
+                    return fail(format!(
+                        "{}: friction applies to contact interfaces only (a glued interface transmits every traction)",
+                        f.describe(i)
+                    ));
+                }
+                _ => {}
             }
             if let Some(g) = f.max_gap {
                 if !(g.is_finite() && g >= 0.0) {

@@ -192,6 +192,12 @@ pub struct LoadStepSummary {
     pub residuals: Vec<f64>,
     /// Contact points active at the end of the step (0 without contact).
     pub active: usize,
+    /// With friction: the active points that stick, and those that slip.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stick: Option<usize>,
+    /// With friction: the active points that slip.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slip: Option<usize>,
     /// Linear solver iterations of the whole step (PCG or KSP; 0 for direct
     /// solves).
     pub linear_iterations: usize,
@@ -217,7 +223,16 @@ impl LoadStepSummary {
                 (vec![r.residual], 0, linear)
             }
         };
-        LoadStepSummary { time, iterations: r.iterations, residuals, active, linear_iterations }
+        let frictional =
+            solution.interfaces.iter().filter_map(|f| f.contact.as_ref()).filter(|c| c.friction > 0.0);
+        let (mut stick, mut slip, mut any) = (0, 0, false);
+        for c in frictional {
+            any = true;
+            stick += c.stick.iter().filter(|&&s| s).count();
+            slip += c.active.iter().zip(&c.stick).filter(|(&a, &s)| a && !s).count();
+        }
+        let (stick, slip) = if any { (Some(stick), Some(slip)) } else { (None, None) };
+        LoadStepSummary { time, iterations: r.iterations, residuals, active, stick, slip, linear_iterations }
     }
 }
 
@@ -518,11 +533,25 @@ pub fn solve_case_to_output(
     let start = Instant::now();
     check_rtol(options)?;
     let case = Case::read(case_path).map_err(|e| Failure::Case(e.to_string()))?;
+    check_solver(&case, case_path, options)?;
     let out_dir = case.resolve(&case.output.dir);
     let staged = prepare(&case, case_path, &out_dir, options.pieces, force)?;
     let mut solved = run(case, case_path, options, start)?;
     solved.summary = solved.write_staged(staged, &out_dir, (0.0, start))?;
     Ok(solved)
+}
+
+/// Friction needs a solver of nonsymmetric systems: `pcg` is refused.
+fn check_solver(case: &Case, case_path: &Path, options: &SolveOptions) -> Result<(), Failure> {
+    match case.interfaces.iter().enumerate().find(|(_, f)| f.friction.is_some_and(|mu| mu > 0.0)) {
+        Some((i, f)) if options.solver == LinearSolver::Pcg => Err(Failure::Case(format!(
+            "{}: {} has friction: its semismooth Newton systems are not symmetric, which pcg cannot \
+             solve; use --solver direct (sparse LU) or petsc (GMRES)",
+            case_path.display(),
+            f.describe(i)
+        ))),
+        _ => Ok(()),
+    }
 }
 
 fn check_rtol(options: &SolveOptions) -> Result<(), Failure> {
@@ -625,6 +654,7 @@ fn run_problem(
     options: &SolveOptions,
     (mut seconds, start): (Seconds, Instant),
 ) -> Result<Solved, Failure> {
+    check_solver(&case, case_path, options)?;
     let solver = match options.solver {
         LinearSolver::Direct => seam_fem::Solver::Direct,
         LinearSolver::Pcg => {
@@ -1069,7 +1099,13 @@ fn build_problem(case: &Case) -> anyhow::Result<Problem> {
             InterfaceKind::Glue => Coupling::Glue,
             InterfaceKind::Contact => Coupling::Contact,
         };
-        problem.interfaces.push(ProblemInterface { master, slave, options, kind });
+        problem.interfaces.push(ProblemInterface {
+            master,
+            slave,
+            options,
+            kind,
+            friction: f.friction.unwrap_or(0.0),
+        });
     }
     // Values and amplitudes were checked with the case (Case::check).
     let value = |v: &crate::case::Scalar| v.value().map_err(|e| anyhow!(e));
@@ -1216,6 +1252,14 @@ fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> Interfa
             Field::scalars("initial_gap", at_contact(&c.initial_gap)),
             Field::scalars("active", one(&c.active)),
         ]);
+        if f.friction > 0.0 {
+            fields.extend([
+                Field::scalars("stick", one(&c.stick)),
+                Field::vectors("slip", &pick3(&c.slip)),
+                Field::vectors("slip_increment", &pick3(&c.slip_increment)),
+                Field::scalars("friction_bound", pick(&c.friction_bound)),
+            ]);
+        }
     }
     let displacement: Vec<[f64; 3]> =
         body_point.iter().map(|&p| [u[3 * p], u[3 * p + 1], u[3 * p + 2]]).collect();
@@ -1477,6 +1521,7 @@ mod tests {
             kind,
             multiplier_given: given,
             max_gap: None,
+            friction: None,
         };
         use InterfaceKind::{Contact, Glue};
         for (kind, given, surface, expected) in [

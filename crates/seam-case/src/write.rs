@@ -178,6 +178,9 @@ pub fn case_toml(problem: &Problem, about: &[String]) -> Result<String, CaseErro
             problem.surface_name(f.slave)
         )?;
         writeln!(t, "kind = \"{kind}\"\nmultiplier = \"{multiplier}\"")?;
+        if f.friction > 0.0 {
+            writeln!(t, "friction = {:?}", f.friction)?;
+        }
         match f.options.max_gap {
             MaxGap::Absolute(g) => writeln!(t, "max_gap = {g:?}")?,
             g if g == MaxGap::DEFAULT => {}

@@ -6,6 +6,7 @@ mod cli;
 mod common;
 mod contact;
 mod examples;
+mod friction;
 mod history;
 #[cfg(feature = "mpi")]
 mod mpi;

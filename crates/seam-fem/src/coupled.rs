@@ -9,6 +9,7 @@
 
 use crate::backend::Solver;
 use crate::constraints::Constraints;
+use crate::contact::friction::{solve_frictional, FrictionState};
 use crate::contact::{add_contact_fields, check_couplings, solve_contact};
 use crate::glue::{add_tractions, solve_glued};
 use crate::multibody::{assemble_system, check_input, Body, Coupling, Interface, ProblemError, Timings};
@@ -31,6 +32,18 @@ pub fn solve_coupled(
     interfaces: &[Interface],
     options: &SolveOptions,
 ) -> Result<Solution, ProblemError> {
+    solve_coupled_from(bodies, interfaces, options, &mut FrictionState::default())
+}
+
+/// [`solve_coupled`] as one load step of a history: with friction, from the
+/// state the step before left in `state`, which is updated
+/// ([`crate::contact::friction`]).
+pub(crate) fn solve_coupled_from(
+    bodies: &[Body],
+    interfaces: &[Interface],
+    options: &SolveOptions,
+    state: &mut FrictionState,
+) -> Result<Solution, ProblemError> {
     check_input(bodies, interfaces)?;
     check_couplings(interfaces)?;
     let mut seconds = Timings::default();
@@ -47,7 +60,16 @@ pub fn solve_coupled(
     let used = |b: &Body| b.mesh.used_points().into_iter().filter(|&u| u).count();
     let (dofs, n_constraints) = (bodies.iter().map(|b| 3 * used(b)).sum(), constraints.rows.len());
 
+    let frictional = interfaces.iter().any(|f| f.kind == Coupling::Contact && f.friction > 0.0);
+    let mut friction = None;
     let mut steps = match interfaces.iter().any(|f| f.kind == Coupling::Contact) {
+        true if frictional => {
+            let solver = (options.solver, options.max_active_set_steps);
+            let (steps, f) =
+                solve_frictional(bodies, interfaces, solver, &system, &constraints, state, &mut seconds)?;
+            friction = Some(f);
+            Some(steps)
+        }
         true => Some(solve_contact(bodies, interfaces, options, &mut system, &constraints, &mut seconds)?),
         false => None,
     };
@@ -86,7 +108,7 @@ pub fn solve_coupled(
         .collect();
     add_tractions(&mut out, &constraints, &lambda);
     if let Some(steps) = &steps {
-        add_contact_fields(&mut out, steps);
+        add_contact_fields(&mut out, steps, friction.as_ref());
     }
     for (s, f) in out.iter_mut().zip(interfaces) {
         normal_parts(s, &seam::nodal_normals(f.slave_surface));

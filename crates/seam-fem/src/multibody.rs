@@ -110,6 +110,8 @@ pub struct Interface<'a> {
     pub options: MortarOptions,
     /// Glue or contact.
     pub kind: Coupling,
+    /// Contact: the Coulomb friction coefficient μ ≥ 0 (0: frictionless).
+    pub friction: f64,
 }
 
 /// Why a multi-body problem (glued, in contact, or both) could not be solved.

@@ -4,10 +4,10 @@
 //! Boundaries are named surfaces of a body ("body:surface"); Dirichlet
 //! conditions, tractions and interfaces refer to them. [`solve`] builds
 //! the loads f = ∫_Ω N b + ∫_Γ N t and the prescribed dofs of each body, and
-//! hands them to [`solve_coupled`].
+//! hands them to [`crate::solve_coupled`].
 
 use crate::assembly::{body_force, traction};
-use crate::coupled::solve_coupled;
+use crate::coupled::solve_coupled_from;
 use crate::history::{Amplitude, LoadSteps, Value};
 use crate::material::Material;
 use crate::multibody::{Body, Coupling, Interface, ProblemError};
@@ -71,6 +71,8 @@ pub struct ProblemInterface {
     pub options: MortarOptions,
     /// Glue or contact.
     pub kind: Coupling,
+    /// Contact: the Coulomb friction coefficient μ ≥ 0 (0: frictionless).
+    pub friction: f64,
 }
 
 /// Prescribed displacement components on a boundary: a(t) · v(x, t) for the
@@ -256,6 +258,11 @@ impl Problem {
         Ok(())
     }
 
+    /// True when some contact interface has friction (μ > 0).
+    pub fn has_friction(&self) -> bool {
+        self.interfaces.iter().any(|f| f.kind == Coupling::Contact && f.friction > 0.0)
+    }
+
     /// True when some interface is a contact interface.
     pub fn has_contact(&self) -> bool {
         self.interfaces.iter().any(|f| f.kind == Coupling::Contact)
@@ -264,7 +271,7 @@ impl Problem {
     /// Solves the problem ([`solve`]).
     ///
     /// # Errors
-    /// As [`solve_coupled`].
+    /// As [`crate::solve_coupled`].
     pub fn solve(&self, options: &SolveOptions) -> Result<Solution, ProblemError> {
         solve(self, options)
     }
@@ -295,16 +302,17 @@ impl Problem {
                 slave_surface: self.surface(f.slave),
                 options: f.options,
                 kind: f.kind,
+                friction: f.friction,
             })
             .collect()
     }
 }
 
 /// Assembles and solves `problem` at t = 1, glued and contact interfaces in
-/// any mix: the loads and supports of each body, then [`solve_coupled`]
+/// any mix: the loads and supports of each body, then [`crate::solve_coupled`]
 /// (glue and frictionless contact do not depend on the load path, so the
-/// earlier steps of [`Problem::steps`] are not needed; [`solve_steps`]
-/// solves each).
+/// earlier steps of [`Problem::steps`] are not needed; with friction every
+/// step is solved in turn; [`solve_steps`] gives each).
 ///
 /// ```
 /// use seam_fem::scene::{warped_glue, WarpedGlue};
@@ -321,11 +329,20 @@ impl Problem {
 /// ```
 ///
 /// # Errors
-/// As [`solve_coupled`]; [`ProblemError::Assembly`] for a degenerate cell
+/// As [`crate::solve_coupled`]; [`ProblemError::Assembly`] for a degenerate cell
 /// under a body force; [`ProblemError::Value`] for a load or support with no
 /// finite value somewhere.
 pub fn solve(problem: &Problem, options: &SolveOptions) -> Result<Solution, ProblemError> {
-    Steps::new(problem, *options).solve_at(1.0)
+    let mut steps = Steps::new(problem, *options);
+    if !problem.has_friction() {
+        return steps.solve_at(1.0);
+    }
+    // Friction depends on the path: every step, the last one kept.
+    let mut last = None;
+    for step in steps {
+        last = Some(step?.1);
+    }
+    Ok(last.expect("at least one load step"))
 }
 
 /// The solutions at the times of [`Problem::steps`], in order (an iterator:
@@ -344,26 +361,29 @@ pub struct Steps<'a> {
     raised: Option<(Problem, Vec<Vec<crate::Tie>>)>,
     options: SolveOptions,
     next: usize,
+    /// What friction carries from one step to the next.
+    state: crate::contact::friction::FrictionState,
 }
 
 impl<'a> Steps<'a> {
     fn new(problem: &'a Problem, options: SolveOptions) -> Steps<'a> {
-        Steps { problem, raised: problem.enriched(), options, next: 0 }
+        Steps { problem, raised: problem.enriched(), options, next: 0, state: Default::default() }
     }
 
     /// The solution at pseudo-time `t`.
-    fn solve_at(&self, t: f64) -> Result<Solution, ProblemError> {
+    fn solve_at(&mut self, t: f64) -> Result<Solution, ProblemError> {
         let problem = self.problem;
         let Some((raised, ties)) = &self.raised else {
             let prepared = problem.loads_and_supports(t)?;
-            return solve_coupled(&problem.solver_bodies(&prepared), &problem.coupled(), &self.options);
+            let bodies = problem.solver_bodies(&prepared);
+            return solve_coupled_from(&bodies, &problem.coupled(), &self.options, &mut self.state);
         };
         let prepared = raised.loads_and_supports(t)?;
         let mut bodies = raised.solver_bodies(&prepared);
         for (body, ties) in bodies.iter_mut().zip(ties) {
             body.ties.clone_from(ties);
         }
-        let mut solution = solve_coupled(&bodies, &raised.coupled(), &self.options)?;
+        let mut solution = solve_coupled_from(&bodies, &raised.coupled(), &self.options, &mut self.state)?;
         // Back to the original points (the raised meshes append theirs).
         for (b, body) in problem.bodies.iter().enumerate() {
             let n = body.mesh.points().len();

@@ -103,6 +103,10 @@ impl InterfaceSolution {
             }
             c.contact.truncate(n);
             c.active.truncate(n);
+            c.stick.truncate(n);
+            c.slip.truncate(n);
+            c.slip_increment.truncate(n);
+            c.friction_bound.truncate(n);
         }
     }
 
@@ -130,6 +134,17 @@ pub struct ContactFields {
     pub pressure: Vec<f64>,
     /// In the final active set.
     pub active: Vec<bool>,
+    /// The Coulomb coefficient μ of the interface (0: frictionless).
+    pub friction: f64,
+    /// In contact and sticking (with friction).
+    pub stick: Vec<bool>,
+    /// The accumulated tangential slip of the slave against the master
+    /// (over the load steps so far).
+    pub slip: Vec<Point3>,
+    /// The tangential slip of the last load step.
+    pub slip_increment: Vec<Point3>,
+    /// μ λ_n: the largest frictional traction the point can carry.
+    pub friction_bound: Vec<f64>,
 }
 
 impl ContactFields {
@@ -141,6 +156,11 @@ impl ContactFields {
             gap: vec![0.0; n],
             pressure: vec![0.0; n],
             active: vec![false; n],
+            friction: 0.0,
+            stick: vec![false; n],
+            slip: vec![[0.0; 3]; n],
+            slip_increment: vec![[0.0; 3]; n],
+            friction_bound: vec![0.0; n],
         }
     }
 }

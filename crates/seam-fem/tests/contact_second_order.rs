@@ -128,6 +128,7 @@ fn stack(layers: &[Layer], joins: &[Join], load: &Load, solver: Solver) -> Resul
                 ..Default::default()
             },
             kind: j.kind,
+            friction: 0.0,
         })
         .collect();
     solve_coupled(&bodies, &interfaces, &SolveOptions { solver, ..Default::default() })
@@ -366,6 +367,7 @@ fn a_prescribed_edge_node_with_a_free_corner_is_refused() {
             ..Default::default()
         },
         kind: Coupling::Contact,
+        friction: 0.0,
     }];
     let error = solve_coupled(&bodies, &interfaces, &SolveOptions::default()).unwrap_err().to_string();
     println!("{error}");

@@ -483,6 +483,7 @@ pub(crate) fn enriched_tension() -> (seam_fem::Problem, impl Fn(Point3) -> [f64;
             slave: id(1, 2),
             options,
             kind: seam_fem::Coupling::Glue,
+            friction: 0.0,
         }],
         supports: vec![roller(0, 2, 2), roller(0, 0, 0), roller(0, 1, 1), roller(1, 0, 0), roller(1, 1, 1)],
         loads: vec![Load::new(id(1, 3), [0.0, 0.0, 1.0])],

@@ -10,6 +10,7 @@ mod contact_hertz_second_order;
 mod contact_second_order;
 mod convergence;
 mod element;
+mod friction;
 mod glue;
 mod glue_convergence;
 mod glue_convergence_second_order;

@@ -110,6 +110,7 @@
 //! exact steps (Hertz at 96k unknowns with GAMG: 1 349 → 476).
 
 mod frames;
+pub(crate) mod friction;
 
 use crate::backend::Solver;
 use crate::constraints::{free_dofs, triple_product};
@@ -921,8 +922,14 @@ fn magnitudes(k: &CsrMatrix, u: &[f64]) -> Vec<f64> {
 /// Adds the contact interfaces' fields to `out` (one per interface): per
 /// contact point its normal, gaps, pressure λ_p = μ_p / d_p, activity and
 /// traction −λ_p n_p, and the resultant −Σ_p μ_p n_p.
-pub(crate) fn add_contact_fields(out: &mut [InterfaceSolution], steps: &Steps) {
-    for (((c, &m), &on), &wp) in steps.points.iter().zip(&steps.mu).zip(&steps.active).zip(&steps.w) {
+pub(crate) fn add_contact_fields(
+    out: &mut [InterfaceSolution],
+    steps: &Steps,
+    friction: Option<&friction::Friction>,
+) {
+    for (i, (((c, &m), &on), &wp)) in
+        steps.points.iter().zip(&steps.mu).zip(&steps.active).zip(&steps.w).enumerate()
+    {
         let s = &mut out[c.interface];
         let (p, n) = (c.point, c.frame[0]);
         let n_points = s.traction.len();
@@ -939,6 +946,19 @@ pub(crate) fn add_contact_fields(out: &mut [InterfaceSolution], steps: &Steps) {
         for comp in 0..3 {
             s.force[comp] -= m * n[comp];
         }
+        if let Some(f) = friction {
+            // The frictional part: −λ_τ,1 τ₁ − λ_τ,2 τ₂ per area, −d_p λ_τ in the resultant.
+            let [l1, l2] = f.tangential[i];
+            for comp in 0..3 {
+                let t = l1 * c.frame[1][comp] + l2 * c.frame[2][comp];
+                s.traction[p][comp] -= t;
+                s.force[comp] -= c.d * t;
+            }
+            fields.friction = f.mu[i];
+            fields.stick[p] = f.status[i] == friction::Status::Stick;
+            (fields.slip_increment[p], fields.slip[p]) = f.slip[i];
+            fields.friction_bound[p] = f.mu[i] * pressure;
+        }
     }
 }
 
@@ -953,7 +973,7 @@ mod tests {
     /// condensed system take the same active-set steps to the same solution,
     /// on a contact that spreads over several steps (the bulging bodies).
     #[test]
-    fn the_saddle_path_matches_the_rotated_one_over_several_steps() {
+    fn the_saddle_path_and_frictionless_newton_match_the_rotated_one_over_several_steps() {
         let problem =
             bulging_contact(&BulgingContact { cells: 8, layers: 4, ..BulgingContact::default() }).unwrap();
         let prepared = problem.loads_and_supports(1.0).unwrap();
@@ -969,6 +989,22 @@ mod tests {
             rotated_steps(&bodies, &interfaces, &options, (&mut system, &reform), &constraints, &mut seconds)
                 .unwrap();
         let b = saddle_steps(&bodies, &interfaces, &options, &system, &constraints, &mut seconds).unwrap();
+        // μ = 0 through the frictional Newton method is the same frictionless solution.
+        let mut state = friction::FrictionState::default();
+        let solver = (options.solver, options.max_active_set_steps);
+        let (c, f) = friction::solve_frictional(
+            &bodies,
+            &interfaces,
+            solver,
+            &system,
+            &constraints,
+            &mut state,
+            &mut seconds,
+        )
+        .unwrap();
+        assert!(f.tangential.iter().all(|t| *t == [0.0, 0.0]));
+        assert!(f.status.iter().all(|&s| s != friction::Status::Stick));
+        assert_eq!(a.active, c.active);
         assert!(a.steps.len() >= 2, "{:?}", a.steps);
         // The same steps; their residuals to round-off of the two solves.
         let without_residual = |s: &[ActiveSetStep]| -> Vec<ActiveSetStep> {
@@ -985,6 +1021,12 @@ mod tests {
         let mu_scale = max(&mut a.mu.iter().copied());
         let du = max(&mut a.u.iter().zip(&b.u).map(|(x, y)| x - y));
         let dmu = max(&mut a.mu.iter().zip(&b.mu).map(|(x, y)| x - y));
+        let du_friction = max(&mut a.u.iter().zip(&c.u).map(|(x, y)| x - y));
+        let dmu_friction = max(&mut a.mu.iter().zip(&c.mu).map(|(x, y)| x - y));
+        assert!(
+            du_friction <= 1e-12 * u_scale && dmu_friction <= 1e-12 * mu_scale,
+            "μ = 0: u {du_friction:e} of {u_scale:e}, μ {dmu_friction:e} of {mu_scale:e}"
+        );
         assert!(
             du <= 1e-9 * u_scale && dmu <= 1e-8 * mu_scale,
             "u {du:e} of {u_scale:e}, μ {dmu:e} of {mu_scale:e}"

@@ -221,6 +221,7 @@ pub fn bulging_contact(p: &BulgingContact) -> Result<Problem, MeshError> {
             slave: SurfaceId { body: 1, surface: bottom },
             options,
             kind: Coupling::Contact,
+            friction: 0.0,
         }],
         supports: vec![
             Support::new(SurfaceId { body: 0, surface: bottom }, [Some(0.0); 3]),

@@ -265,6 +265,7 @@ pub fn hertz(p: &Hertz) -> Result<Problem, MeshError> {
             slave: if p.curved_slave { id(indenter, bottom) } else { id(slab, top) },
             options,
             kind: Coupling::Contact,
+            friction: 0.0,
         }],
         supports,
         loads: vec![Load::new(id(indenter, top), [0.0, 0.0, -pressure])],

@@ -97,6 +97,7 @@ pub fn warped_glue(p: &WarpedGlue) -> Result<Problem, MeshError> {
             slave: SurfaceId { body: 1, surface: bottom },
             options,
             kind: Coupling::Glue,
+            friction: 0.0,
         }],
         supports: vec![Support::new(SurfaceId { body: 0, surface: bottom }, [Some(0.0); 3])],
         loads: vec![Load::new(SurfaceId { body: 1, surface: top }, p.traction)],

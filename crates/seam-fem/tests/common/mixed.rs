@@ -90,6 +90,7 @@ impl Stack {
                         ..MortarOptions::default()
                     },
                     kind,
+                    friction: 0.0,
                 }
             });
         solve_coupled(&bodies, &interfaces, &SolveOptions { solver, ..Default::default() })

@@ -301,8 +301,15 @@ pub fn solve_two_with(
     solver: Solver,
 ) -> Solution {
     let options = MortarOptions { multiplier, facing: Facing::Opposite, ..MortarOptions::default() };
-    let interfaces =
-        [Interface { master: 0, master_surface, slave: 1, slave_surface, options, kind: Coupling::Glue }];
+    let interfaces = [Interface {
+        master: 0,
+        master_surface,
+        slave: 1,
+        slave_surface,
+        options,
+        kind: Coupling::Glue,
+        friction: 0.0,
+    }];
     solve_coupled(bodies, &interfaces, &SolveOptions { solver, ..SolveOptions::default() }).unwrap()
 }
 
@@ -345,6 +352,7 @@ pub fn glued_patch_error(
             slave_surface,
             options,
             kind: Coupling::Glue,
+            friction: 0.0,
         })
         .collect();
     let sol = solve_coupled(&bodies, &interfaces, &SolveOptions { solver, ..Default::default() }).unwrap();

@@ -79,6 +79,7 @@ impl Stack {
             slave_surface: &slave,
             options,
             kind: Coupling::Contact,
+            friction: 0.0,
         }];
         let solution =
             solve_coupled(&bodies, &interfaces, &SolveOptions { solver, ..Default::default() }).unwrap();

@@ -1,0 +1,200 @@
+//! Coulomb friction: patch tests of a block on a base (non-matching hex|tet)
+//! in stick and in slip, exact for first-order elements. (μ = 0 against
+//! frictionless contact: the unit tests of `contact::friction`.)
+
+use seam::{Multiplier, Point3};
+use seam_fem::generate::{block, BlockKind, Grid, Side};
+use seam_fem::{
+    solve, Coupling, Load, Material, Problem, ProblemBody, ProblemInterface, SolveOptions, Support, SurfaceId,
+};
+
+const E: f64 = 100.0;
+const P: f64 = 2.0;
+
+/// The base [0,1]² × [0, ½] (hexahedra 3×3×2, clamped at the bottom) and the
+/// block [0,1]² × [½, 1] (tetrahedra 2×2×2) on it in contact with friction
+/// μ, ν = 0 in both. The block's top is pressed by P; its sides x = 0, 1 of
+/// both bodies carry the complementary shear ∓τ_s in z of a uniform σ_xz =
+/// τ_s; `top_x` is either a traction τ on the top or a prescribed u_x.
+fn block_on_base(mu: f64, tau_side: f64, top_x: TopX) -> Problem {
+    let material = Material::new(E, 0.0).unwrap();
+    let sides = [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("xmax", Side::XMax)];
+    let body = |name: &str, n: [usize; 3], z0: f64, kind| {
+        block_body(name, (n, kind, material), |x, y, z| [x, y, z0 + 0.5 * z], &sides)
+    };
+    let id = |body, surface| SurfaceId { body, surface };
+    let mut loads = Vec::new();
+    for b in 0..2 {
+        loads.push(Load::new(id(b, 2), [0.0, 0.0, -tau_side]));
+        loads.push(Load::new(id(b, 3), [0.0, 0.0, tau_side]));
+    }
+    let mut supports = vec![Support::new(id(0, 0), [Some(0.0); 3])];
+    match top_x {
+        TopX::Traction(tau) => loads.push(Load::new(id(1, 1), [tau, 0.0, -P])),
+        TopX::Displacement(ux) => {
+            loads.push(Load::new(id(1, 1), [0.0, 0.0, -P]));
+            supports.push(Support::new(id(1, 1), [Some(ux), None, None]));
+        }
+    }
+    let bodies =
+        [body("base", [3, 3, 2], 0.0, BlockKind::Hex), body("block", [2, 2, 2], 0.5, BlockKind::Tet)];
+    Problem { supports, loads, ..on_base(bodies, mu) }
+}
+
+/// An n[0] × n[1] × n[2] block of `kind` cells mapped by `map` from the
+/// unit cube, with the named sides.
+fn block_body(
+    name: &str,
+    (n, kind, material): ([usize; 3], BlockKind, Material),
+    map: impl Fn(f64, f64, f64) -> [f64; 3],
+    sides: &[(&str, Side)],
+) -> ProblemBody {
+    let mesh = block(n[0], n[1], n[2], map, kind);
+    let grid = Grid::new(n[0], n[1], n[2]);
+    let surfaces =
+        sides.iter().map(|&(s, side)| (s.to_string(), grid.side_faces(&mesh, side).unwrap())).collect();
+    ProblemBody::new(name, mesh, material, surfaces)
+}
+
+/// The bodies [base, block] in contact, the block's surface 0 (slave) on
+/// the base's surface 1 (master), lumped multipliers, friction μ.
+fn on_base(bodies: [ProblemBody; 2], mu: f64) -> Problem {
+    let id = |body, surface| SurfaceId { body, surface };
+    let options = seam::MortarOptions {
+        multiplier: Multiplier::Lumped,
+        facing: seam::Facing::Opposite,
+        ..Default::default()
+    };
+    Problem {
+        bodies: bodies.to_vec(),
+        interfaces: vec![ProblemInterface {
+            master: id(0, 1),
+            slave: id(1, 0),
+            options,
+            kind: Coupling::Contact,
+            friction: mu,
+        }],
+        ..Problem::default()
+    }
+}
+
+#[derive(Clone, Copy)]
+enum TopX {
+    Traction(f64),
+    Displacement(f64),
+}
+
+/// The largest |t − expected| over the contact points of the solution's interface.
+fn traction_miss(s: &seam_fem::Solution, expected: Point3) -> f64 {
+    let f = &s.interfaces[0];
+    let c = f.contact.as_ref().unwrap();
+    (0..c.contact.len())
+        .filter(|&p| c.contact[p])
+        .flat_map(|p| (0..3).map(move |k| (f.traction[p][k] - expected[k]).abs()))
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn below_the_friction_bound_every_point_sticks_and_the_traction_is_exact() {
+    // τ = 0.5 < μ P = 0.6: the block is held by friction alone.
+    let tau = 0.5;
+    let s = solve(&block_on_base(0.3, tau, TopX::Traction(tau)), &SolveOptions::default()).unwrap();
+    let c = s.interfaces[0].contact.as_ref().unwrap();
+    let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
+    assert_eq!(points.len(), 9);
+    assert!(points.iter().all(|&p| c.active[p] && c.stick[p]), "all stick");
+    // The master holds the slave (outward normal −z) with σ·(−e_z) = (−τ, 0, P).
+    let miss = traction_miss(&s, [-tau, 0.0, P]);
+    assert!(miss < 1e-10, "traction off by {miss:e}");
+    assert!(points.iter().all(|&p| c.slip[p].iter().all(|v| v.abs() < 1e-14)), "no slip");
+    // The exact field: u_x = τ z / G (G = E/2 with ν = 0), u_z = −P z / E.
+    let g = E / 2.0;
+    for (b, body) in [0usize, 1].iter().map(|&b| (b, &s.displacement[b])) {
+        let mesh = &block_on_base(0.3, tau, TopX::Traction(tau)).bodies[b].mesh;
+        for (x, u) in mesh.points().iter().zip(body.chunks(3)) {
+            let exact = [tau * x[2] / g, 0.0, -P * x[2] / E];
+            assert!((0..3).all(|k| (u[k] - exact[k]).abs() < 1e-12), "{x:?}: {u:?} vs {exact:?}");
+        }
+    }
+    let steps = &s.report.contact.as_ref().unwrap().steps;
+    assert!(steps.len() <= 3, "{steps:?}");
+}
+
+#[test]
+fn driven_past_the_friction_bound_every_point_slips_at_mu_p_along_the_drive() {
+    // The top pushed 0.05 along x: the shear needed to stick, τ = G · 0.05 / ½
+    // = 5, is beyond μ P = 0.6, so the block slides with ‖t_τ‖ = μ P.
+    let mu = 0.3;
+    let tau = mu * P;
+    let mut problem = block_on_base(mu, tau, TopX::Displacement(0.05));
+    problem.steps = seam_fem::LoadSteps::equal(10).unwrap();
+    let s = solve(&problem, &SolveOptions::default()).unwrap();
+    let f = &s.interfaces[0];
+    let c = f.contact.as_ref().unwrap();
+    let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
+    assert!(points.iter().all(|&p| c.active[p] && !c.stick[p]), "all slip");
+    let miss = traction_miss(&s, [-tau, 0.0, P]);
+    assert!(miss < 1e-10, "traction off by {miss:e}");
+    for &p in &points {
+        let bound = c.friction_bound[p];
+        assert!((bound - mu * P).abs() < 1e-10, "{bound}");
+        let t = f.tangential_traction[p];
+        assert!(((t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt() - bound).abs() < 1e-10);
+        // Slip along the drive: the drive less the shear of the block and the base, each τ ½ / G.
+        let slip = c.slip[p];
+        let expected = 0.05 - 2.0 * tau * 0.5 / (E / 2.0);
+        assert!(
+            (slip[0] - expected).abs() < 1e-12 && slip[1].abs() < 1e-12 && slip[2].abs() < 1e-12,
+            "{slip:?}"
+        );
+    }
+    let steps = &s.report.contact.as_ref().unwrap().steps;
+    let r: Vec<f64> = steps.iter().map(|s| s.residual).collect();
+    println!("Newton updates of the last load step: {r:?}");
+    assert!(steps.len() <= 8, "{steps:?}");
+    // Superlinear: the ratio of successive updates falls over the last ones (to round-off).
+    let k = r.iter().position(|&x| x < 1e-8).expect("converged");
+    assert!(
+        k >= 3 && r[k] / r[k - 1] < r[k - 1] / r[k - 2] && r[k - 1] / r[k - 2] < r[k - 2] / r[k - 3],
+        "{r:?}"
+    );
+}
+
+/// A block (1 × 1 × ½, tetrahedra) of weight W on a base inclined by α
+/// (tan α = 0.1; hexahedra, clamped), μ = 0.3, its top pushed horizontally
+/// (u_x prescribed) uphill until it slides: the push is W (tan α + μ) /
+/// (1 − μ tan α) (NAFEMS-type sliding block).
+#[test]
+fn a_block_pushed_up_an_incline_slides_at_the_coulomb_force() {
+    let (tan, mu, weight) = (0.1f64, 0.3, 1.0);
+    let (sin, cos) = (tan / (1.0 + tan * tan).sqrt(), 1.0 / (1.0 + tan * tan).sqrt());
+    let incline = move |p: [f64; 3]| [p[0] * cos - p[2] * sin, p[1], p[0] * sin + p[2] * cos];
+    let material = Material::new(E, 0.3).unwrap();
+    let body = |name: &str, n: [usize; 3], corner: [f64; 3], size: [f64; 3], kind| {
+        let map =
+            |x, y, z| incline([corner[0] + size[0] * x, corner[1] + size[1] * y, corner[2] + size[2] * z]);
+        block_body(name, (n, kind, material), map, &[("bottom", Side::ZMin), ("top", Side::ZMax)])
+    };
+    let base = body("base", [6, 3, 2], [-0.5, 0.0, -0.5], [2.0, 1.0, 0.5], BlockKind::Hex);
+    let mut slider = body("block", [3, 3, 2], [0.0, 0.0, 0.0], [1.0, 1.0, 0.5], BlockKind::Tet);
+    slider.body_force = [0.0, 0.0, -weight / 0.5];
+    let id = |body, surface| SurfaceId { body, surface };
+    let problem = Problem {
+        supports: vec![
+            Support::new(id(0, 0), [Some(0.0); 3]),
+            Support::new(id(1, 1), [Some(0.02), None, None]),
+        ],
+        steps: seam_fem::LoadSteps::equal(4).unwrap(),
+        ..on_base([base, slider], mu)
+    };
+    let s = solve(&problem, &SolveOptions::default()).unwrap();
+    let c = s.interfaces[0].contact.as_ref().unwrap();
+    let slipping = (0..c.contact.len()).filter(|&p| c.active[p] && !c.stick[p]).count();
+    assert_eq!(slipping, (0..c.contact.len()).filter(|&p| c.active[p]).count(), "every active point slips");
+    let force = s.interfaces[0].force;
+    assert!((force[2] - weight).abs() < 1e-10, "the base carries the weight: {force:?}");
+    let push = -force[0] / weight;
+    let exact = (tan + mu) / (1.0 - mu * tan);
+    println!("push / weight {push:.6} (exact {exact:.6})");
+    assert!((push - exact).abs() < 1e-3 * exact, "{push} vs {exact}");
+}
