@@ -95,4 +95,11 @@ fn bad_friction_fails_in_one_line() {
     assert!(err.contains("has friction: its semismooth Newton systems are not symmetric"), "{err}");
     assert_eq!(err.trim_end().lines().count(), 1);
     assert!(!tmp.path().join("out").exists());
+    if cfg!(feature = "petsc") {
+        let o = seam(&["solve", "case.toml", "--solver", "petsc"], tmp.path());
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("has friction, which is solved with --solver direct (sparse LU) only"), "{err}");
+        assert!(!tmp.path().join("out").exists());
+    }
 }

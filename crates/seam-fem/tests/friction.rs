@@ -17,27 +17,68 @@ const P: f64 = 2.0;
 /// both bodies carry the complementary shear ∓τ_s in z of a uniform σ_xz =
 /// τ_s; `top_x` is either a traction τ on the top or a prescribed u_x.
 fn block_on_base(mu: f64, tau_side: f64, top_x: TopX) -> Problem {
+    block_on_base_as(mu, tau_side, top_x, Layout::default())
+}
+
+/// How [`block_on_base_as`] builds the bodies: rotated by `rotation` (points
+/// and loads), and second order (a Tet10 base, a Hex27 block).
+#[derive(Clone, Copy)]
+struct Layout {
+    rotation: [[f64; 3]; 3],
+    second_order: bool,
+}
+
+impl Default for Layout {
+    fn default() -> Self {
+        Layout { rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], second_order: false }
+    }
+}
+
+impl Layout {
+    fn rotate(&self, v: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|i| (0..3).map(|j| self.rotation[i][j] * v[j]).sum())
+    }
+
+    fn back(&self, v: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|i| (0..3).map(|j| self.rotation[j][i] * v[j]).sum())
+    }
+}
+
+/// [`block_on_base`] with `layout` (a prescribed u_x needs no rotation).
+fn block_on_base_as(mu: f64, tau_side: f64, top_x: TopX, layout: Layout) -> Problem {
     let material = Material::new(E, 0.0).unwrap();
     let sides = [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("xmax", Side::XMax)];
     let body = |name: &str, n: [usize; 3], z0: f64, kind| {
-        block_body(name, (n, kind, material), |x, y, z| [x, y, z0 + 0.5 * z], &sides)
+        let mut b =
+            block_body(name, (n, kind, material), |x, y, z| layout.rotate([x, y, z0 + 0.5 * z]), &sides);
+        if layout.second_order {
+            let complete = kind == BlockKind::Hex;
+            let mesh = seam_fem::generate::raise_order(&b.mesh, complete).unwrap();
+            let grid = Grid::new(n[0], n[1], n[2]);
+            for (surface, &(_, side)) in b.surfaces.iter_mut().zip(&sides) {
+                surface.1 = grid.side_faces(&mesh, side).unwrap();
+            }
+            b.mesh = mesh;
+        }
+        b
     };
     let id = |body, surface| SurfaceId { body, surface };
     let mut loads = Vec::new();
     for b in 0..2 {
-        loads.push(Load::new(id(b, 2), [0.0, 0.0, -tau_side]));
-        loads.push(Load::new(id(b, 3), [0.0, 0.0, tau_side]));
+        loads.push(Load::new(id(b, 2), layout.rotate([0.0, 0.0, -tau_side])));
+        loads.push(Load::new(id(b, 3), layout.rotate([0.0, 0.0, tau_side])));
     }
     let mut supports = vec![Support::new(id(0, 0), [Some(0.0); 3])];
     match top_x {
-        TopX::Traction(tau) => loads.push(Load::new(id(1, 1), [tau, 0.0, -P])),
+        TopX::Traction(tau) => loads.push(Load::new(id(1, 1), layout.rotate([tau, 0.0, -P]))),
         TopX::Displacement(ux) => {
             loads.push(Load::new(id(1, 1), [0.0, 0.0, -P]));
             supports.push(Support::new(id(1, 1), [Some(ux), None, None]));
         }
     }
-    let bodies =
-        [body("base", [3, 3, 2], 0.0, BlockKind::Hex), body("block", [2, 2, 2], 0.5, BlockKind::Tet)];
+    let (base_kind, block_kind) =
+        if layout.second_order { (BlockKind::Tet, BlockKind::Hex) } else { (BlockKind::Hex, BlockKind::Tet) };
+    let bodies = [body("base", [3, 3, 2], 0.0, base_kind), body("block", [2, 2, 2], 0.5, block_kind)];
     Problem { supports, loads, ..on_base(bodies, mu) }
 }
 
@@ -96,28 +137,38 @@ fn traction_miss(s: &seam_fem::Solution, expected: Point3) -> f64 {
 
 #[test]
 fn below_the_friction_bound_every_point_sticks_and_the_traction_is_exact() {
-    // τ = 0.5 < μ P = 0.6: the block is held by friction alone.
+    // τ = 0.5 < μ P = 0.6: the block is held by friction alone. Hex8 base |
+    // Tet4 block, then rotated, then a Tet10 base | Hex27 block (Quad9 slave faces).
     let tau = 0.5;
-    let s = solve(&block_on_base(0.3, tau, TopX::Traction(tau)), &SolveOptions::default()).unwrap();
-    let c = s.interfaces[0].contact.as_ref().unwrap();
-    let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
-    assert_eq!(points.len(), 9);
-    assert!(points.iter().all(|&p| c.active[p] && c.stick[p]), "all stick");
-    // The master holds the slave (outward normal −z) with σ·(−e_z) = (−τ, 0, P).
-    let miss = traction_miss(&s, [-tau, 0.0, P]);
-    assert!(miss < 1e-10, "traction off by {miss:e}");
-    assert!(points.iter().all(|&p| c.slip[p].iter().all(|v| v.abs() < 1e-14)), "no slip");
-    // The exact field: u_x = τ z / G (G = E/2 with ν = 0), u_z = −P z / E.
-    let g = E / 2.0;
-    for (b, body) in [0usize, 1].iter().map(|&b| (b, &s.displacement[b])) {
-        let mesh = &block_on_base(0.3, tau, TopX::Traction(tau)).bodies[b].mesh;
-        for (x, u) in mesh.points().iter().zip(body.chunks(3)) {
-            let exact = [tau * x[2] / g, 0.0, -P * x[2] / E];
-            assert!((0..3).all(|k| (u[k] - exact[k]).abs() < 1e-12), "{x:?}: {u:?} vs {exact:?}");
+    let (c, s) = ((0.6f64).cos(), (0.6f64).sin());
+    let rotated = [[c, 0.0, s], [s * s, c, -s * c], [-s * c, s, c * c]];
+    let layouts = [
+        ("hex|tet", Layout::default()),
+        ("hex|tet rotated", Layout { rotation: rotated, ..Layout::default() }),
+        ("tet10|hex27", Layout { second_order: true, ..Layout::default() }),
+    ];
+    for (name, layout) in layouts {
+        let problem = block_on_base_as(0.3, tau, TopX::Traction(tau), layout);
+        let s = solve(&problem, &SolveOptions::default()).unwrap();
+        let c = s.interfaces[0].contact.as_ref().unwrap();
+        let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
+        assert!(!points.is_empty() && points.iter().all(|&p| c.active[p] && c.stick[p]), "{name}: all stick");
+        // The master holds the slave (outward normal −z) with σ·(−e_z) = (−τ, 0, P).
+        let miss = traction_miss(&s, layout.rotate([-tau, 0.0, P]));
+        assert!(miss < 1e-10, "{name}: traction off by {miss:e}");
+        assert!(points.iter().all(|&p| c.slip[p].iter().all(|v| v.abs() < 1e-14)), "{name}: no slip");
+        // The exact field: u_x = τ z / G (G = E/2 with ν = 0), u_z = −P z / E.
+        let g = E / 2.0;
+        for (body, u) in problem.bodies.iter().zip(&s.displacement) {
+            for (&x, u) in body.mesh.points().iter().zip(u.chunks(3)) {
+                let z = layout.back(x)[2];
+                let exact = layout.rotate([tau * z / g, 0.0, -P * z / E]);
+                assert!((0..3).all(|k| (u[k] - exact[k]).abs() < 1e-12), "{name} {x:?}: {u:?} vs {exact:?}");
+            }
         }
+        let steps = &s.report.contact.as_ref().unwrap().steps;
+        assert!(steps.len() <= 3, "{name}: {steps:?}");
     }
-    let steps = &s.report.contact.as_ref().unwrap().steps;
-    assert!(steps.len() <= 3, "{steps:?}");
 }
 
 #[test]

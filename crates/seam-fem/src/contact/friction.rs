@@ -123,6 +123,21 @@ pub(crate) fn solve_frictional(
     seconds: &mut Timings,
 ) -> Result<(Steps, Friction), ProblemError> {
     let clock = Instant::now();
+    if let Some(i) = (0..interfaces.len()).find(|&i| interfaces[i].friction > 0.0) {
+        let what = match solver {
+            Solver::Direct => None,
+            Solver::Pcg(_) => {
+                Some("friction needs a solver of nonsymmetric systems: not PCG; use the direct solver")
+            }
+            Solver::Petsc(_) => Some(
+                "friction is solved by sparse LU (the direct solver) only: its PETSc solver (GMRES on the \
+                 system with the contact multipliers condensed) is not implemented yet",
+            ),
+        };
+        if let Some(what) = what {
+            return Err(ProblemError::BadInterface { interface: i, what: what.to_string() });
+        }
+    }
     if let Some(i) =
         (0..interfaces.len()).find(|&i| system.mortars[i].basis.is_some() && interfaces[i].friction > 0.0)
     {
