@@ -249,3 +249,84 @@ fn a_block_pushed_up_an_incline_slides_at_the_coulomb_force() {
     println!("push / weight {push:.6} (exact {exact:.6})");
     assert!((push - exact).abs() < 1e-3 * exact, "{push} vs {exact}");
 }
+
+/// Hertz (quarter model, the symmetry planes prescribed at contact points)
+/// with friction μ = 0.3 between equal materials, where the normal and the
+/// tangential problems decouple (Cattaneo–Mindlin's premise): the pressure is
+/// the frictionless one and the frictional tractions nearly vanish.
+#[test]
+fn hertz_between_equal_materials_is_frictionless_with_friction() {
+    use seam_fem::scene::{hertz, Hertz};
+    let material = Material::new(1000.0, 0.3).unwrap();
+    let params = Hertz { fine_cells: 4, indenter: material, block: material, ..Hertz::default() };
+    let frictionless = hertz(&params).unwrap();
+    let mut frictional = frictionless.clone();
+    frictional.interfaces[0].friction = 0.3;
+    frictional.steps = seam_fem::LoadSteps::equal(2).unwrap();
+    let clock = std::time::Instant::now();
+    let a = solve(&frictionless, &SolveOptions::default()).unwrap();
+    let t0 = clock.elapsed().as_secs_f64();
+    let b = solve(&frictional, &SolveOptions::default()).unwrap();
+    let t1 = clock.elapsed().as_secs_f64() - t0;
+    let (ca, cb) = (a.interfaces[0].contact.as_ref().unwrap(), b.interfaces[0].contact.as_ref().unwrap());
+    let p0 = params.peak_pressure();
+    let max = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, x| m.max(x.abs()));
+    let dp = max(&mut ca.pressure.iter().zip(&cb.pressure).map(|(x, y)| x - y));
+    let tt = max(&mut b.interfaces[0]
+        .tangential_traction
+        .iter()
+        .map(|t| (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt()));
+    println!(
+        "dofs {}: frictionless {t0:.2} s, frictional {t1:.2} s ({:?} Newton iterations in the last step); pressure change {:.2e} p0, largest frictional traction {:.2e} p0",
+        a.report.dofs,
+        b.report.contact.as_ref().unwrap().steps.len(),
+        dp / p0,
+        tt / p0
+    );
+    assert_eq!(ca.active, cb.active);
+    // Measured 3.9e-4 and 2.1e-2 (finite bodies and non-matching meshes do not decouple exactly).
+    assert!(dp < 1e-3 * p0 && tt < 3e-2 * p0, "{:e} {:e}", dp / p0, tt / p0);
+    assert!(cb.stick.iter().zip(&cb.active).all(|(s, a)| s == a), "every active point sticks");
+}
+
+/// History: the block on the base pressed by P and pushed sideways by a
+/// traction τ = 0.9 μP on its top (no side loads: the pressure is not uniform,
+/// so the edges slip first), then unloaded sideways. At the peak some points
+/// slip and some stick; after unloading the slip stays and the locked-in
+/// frictional tractions balance each other (their resultant vanishes to
+/// round-off).
+#[test]
+fn slip_stays_and_locked_in_tractions_balance_after_unloading() {
+    let mu = 0.3;
+    let mut problem = block_on_base(mu, 0.0, TopX::Traction(0.0));
+    // P from the start (its amplitude 1 throughout), τ up and down again.
+    let press = problem.loads.last_mut().unwrap();
+    press.amplitude = seam_fem::Amplitude::new(vec![[0.0, 1.0]]).unwrap();
+    let sideways = Load {
+        amplitude: seam_fem::Amplitude::new(vec![[0.0, 0.0], [0.5, 1.0], [1.0, 0.0]]).unwrap(),
+        ..Load::new(SurfaceId { body: 1, surface: 1 }, [0.9 * mu * P, 0.0, 0.0])
+    };
+    problem.loads.push(sideways);
+    problem.steps = seam_fem::LoadSteps::equal(6).unwrap();
+    let steps: Vec<_> =
+        seam_fem::solve_steps(&problem, &SolveOptions::default()).map(Result::unwrap).collect();
+    let (_, peak) = &steps[2];
+    let c = peak.interfaces[0].contact.as_ref().unwrap();
+    let stick = (0..c.contact.len()).filter(|&p| c.active[p] && c.stick[p]).count();
+    let slip = (0..c.contact.len()).filter(|&p| c.active[p] && !c.stick[p]).count();
+    println!("at the peak: {stick} points stick, {slip} slip");
+    assert!(stick > 0 && slip > 0, "partial slip at the peak");
+    let (time, last) = steps.last().unwrap();
+    assert_eq!(*time, 1.0);
+    let f = &last.interfaces[0];
+    let c = f.contact.as_ref().unwrap();
+    let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let slip_left = c.slip.iter().map(|&s| norm(s)).fold(0.0, f64::max);
+    let locked = f.tangential_traction.iter().map(|&t| norm(t)).fold(0.0, f64::max);
+    // The resultant: the sideways load is gone, the weight of P stays.
+    let force = f.force;
+    println!("after unloading: slip {slip_left:e}, locked-in traction {locked:e}, resultant {force:?}");
+    assert!(slip_left > 1e-6, "the slip stays");
+    assert!(locked > 1e-3 * mu * P, "tractions are locked in");
+    assert!(force[0].abs() < 1e-12 * P && force[1].abs() < 1e-12 * P, "{force:?}");
+}
