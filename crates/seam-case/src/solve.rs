@@ -192,7 +192,7 @@ pub struct LoadStepSummary {
     pub residuals: Vec<f64>,
     /// Contact points active at the end of the step (0 without contact).
     pub active: usize,
-    /// With friction: the active points that stick, and those that slip.
+    /// With friction: the active points that stick.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stick: Option<usize>,
     /// With friction: the active points that slip.
