@@ -201,6 +201,61 @@ pub struct LoadStepSummary {
     /// Linear solver iterations of the whole step (PCG or KSP; 0 for direct
     /// solves).
     pub linear_iterations: usize,
+    /// With friction: how well the step's solution meets Coulomb's law.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<FrictionResiduals>,
+}
+
+/// The residuals of Coulomb's law at the active points of the frictional
+/// interfaces, each relative.
+#[derive(Serialize, Clone, Copy, Default)]
+pub struct FrictionResiduals {
+    /// The cone: max (‖t_τ‖ − μ p)⁺ / max μ p.
+    pub cone: f64,
+    /// Sticking points do not slip: max ‖slip increment‖ over them / the
+    /// largest slip increment or displacement of the step.
+    pub stick: f64,
+    /// Slipping points: the frictional traction opposes the slip,
+    /// max (1 + cos ∠(t_τ, slip increment)).
+    pub slip_direction: f64,
+}
+
+impl FrictionResiduals {
+    /// Of the frictional interfaces of `solution` (None without friction).
+    fn of(solution: &Solution) -> Option<FrictionResiduals> {
+        let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        let relative = |v: f64, s: f64| if s > 0.0 { v / s } else { v };
+        let frictional: Vec<_> = solution
+            .interfaces
+            .iter()
+            .filter_map(|f| Some((f, f.contact.as_ref().filter(|c| c.friction > 0.0)?)))
+            .collect();
+        if frictional.is_empty() {
+            return None;
+        }
+        let u_max = solution.displacement.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        let (mut cone, mut bound, mut stick, mut slip_max, mut direction) =
+            (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        for (f, c) in frictional {
+            for p in (0..c.active.len()).filter(|&p| c.active[p]) {
+                let (t, s) = (norm(f.tangential_traction[p]), norm(c.slip_increment[p]));
+                cone = cone.max(t - c.friction_bound[p]);
+                bound = bound.max(c.friction_bound[p]);
+                slip_max = slip_max.max(s);
+                if c.stick[p] {
+                    stick = stick.max(s);
+                } else if t > 0.0 && s > 0.0 {
+                    let dot: f64 = (0..3).map(|k| f.tangential_traction[p][k] * c.slip_increment[p][k]).sum();
+                    direction = direction.max(1.0 + dot / (t * s));
+                }
+            }
+        }
+        Some(FrictionResiduals {
+            cone: relative(cone.max(0.0), bound),
+            stick: relative(stick, slip_max.max(u_max)),
+            slip_direction: direction,
+        })
+    }
 }
 
 impl LoadStepSummary {
@@ -232,7 +287,16 @@ impl LoadStepSummary {
             slip += c.active.iter().zip(&c.stick).filter(|(&a, &s)| a && !s).count();
         }
         let (stick, slip) = if any { (Some(stick), Some(slip)) } else { (None, None) };
-        LoadStepSummary { time, iterations: r.iterations, residuals, active, stick, slip, linear_iterations }
+        LoadStepSummary {
+            time,
+            iterations: r.iterations,
+            residuals,
+            active,
+            stick,
+            slip,
+            linear_iterations,
+            friction: FrictionResiduals::of(solution),
+        }
     }
 }
 

@@ -69,6 +69,9 @@ fn a_block_held_by_friction_alone_sticks_with_the_exact_traction() {
             (Some(9), Some(9), Some(0))
         );
         assert!(step["iterations"].as_u64().unwrap() <= 3, "{step}");
+        for key in ["cone", "stick", "slip_direction"] {
+            assert!(step["friction"][key].as_f64().unwrap() < 1e-10, "{key}: {step}");
+        }
     }
 }
 
@@ -102,4 +105,31 @@ fn bad_friction_fails_in_one_line() {
         assert!(err.contains("has friction, which is solved with --solver direct (sparse LU) only"), "{err}");
         assert!(!tmp.path().join("out").exists());
     }
+}
+
+#[test]
+fn driven_past_the_bound_every_point_slips_and_coulomb_holds_in_every_step() {
+    let tmp = tempfile::tempdir().unwrap();
+    // The top pushed 0.05 along x over 10 steps, the sides with the shear μP = 0.6.
+    let text = case(tmp.path(), "[[dirichlet]]\nboundary = \"block:top\"\nux = 0.05\n\n[load]\nsteps = 10\n")
+        .replace("t = [0.5, 0.0, -2.0]", "t = [0.0, 0.0, -2.0]")
+        .replace("t = [0.0, 0.0, -0.5]", "t = [0.0, 0.0, -0.6]")
+        .replace("t = [0.0, 0.0, 0.5]", "t = [0.0, 0.0, 0.6]");
+    std::fs::write(tmp.path().join("case.toml"), text).unwrap();
+    let o = seam(&["solve", "case.toml"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = json(&tmp.path().join("out/summary.json"));
+    let steps = s["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 10);
+    let last = steps.last().unwrap();
+    assert_eq!((last["stick"].as_u64(), last["slip"].as_u64()), (Some(0), Some(9)), "{last}");
+    for step in steps {
+        for key in ["cone", "stick", "slip_direction"] {
+            assert!(step["friction"][key].as_f64().unwrap() < 1e-10, "{key}: {step}");
+        }
+    }
+    let f = seam_io::read_vtu_file(tmp.path().join("out/block_bottom_interface.vtu")).unwrap();
+    let tt = &f.point_field("tangential_traction").unwrap().values;
+    // The frictional traction on the block opposes its slip (+x).
+    assert!(tt.chunks(3).all(|t| (t[0] + 0.6).abs() < 1e-10 && t[1].abs() < 1e-10), "{tt:?}");
 }
