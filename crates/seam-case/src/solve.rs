@@ -267,7 +267,7 @@ impl LoadStepSummary {
             Some(c) => (
                 c.steps.iter().map(|s| s.residual).collect(),
                 c.active,
-                c.steps.iter().map(|s| s.linear_iterations).sum::<usize>().max(petsc),
+                c.steps.iter().map(|s| s.linear_iterations).sum::<usize>(),
             ),
             None => {
                 let linear = match solver {
@@ -749,7 +749,7 @@ fn run_problem(
     let mut last = None;
     for step in seam_fem::solve_steps(&problem, &fem_options) {
         let (time, solution) = step.map_err(|e| problem_failure(e, &case, case_path))?;
-        add_seconds(&mut seconds.solver, &solution.report.seconds);
+        seconds.solver += solution.report.seconds;
         load_steps.push(LoadStepSummary::new(time, &solution, options.solver));
         let clock = Instant::now();
         let state = step_state(&case, case_path, &problem, (time, &solution))?;
@@ -813,17 +813,6 @@ fn step_state(
         )?;
     }
     Ok(StepState { time, interfaces, body_files })
-}
-
-/// Adds the seconds of one step's solve to `total`.
-fn add_seconds(total: &mut seam_fem::Timings, step: &seam_fem::Timings) {
-    let seam_fem::Timings { assembly, mortar, setup, factorization, solve, stresses } = *step;
-    total.assembly += assembly;
-    total.mortar += mortar;
-    total.setup += setup;
-    total.factorization += factorization;
-    total.solve += solve;
-    total.stresses += stresses;
 }
 
 impl Solved {

@@ -242,6 +242,19 @@ pub struct Timings {
     pub stresses: f64,
 }
 
+impl std::ops::AddAssign for Timings {
+    /// Adds the seconds of another solve (a load step) phase by phase.
+    fn add_assign(&mut self, other: Timings) {
+        let Timings { assembly, mortar, setup, factorization, solve, stresses } = other;
+        self.assembly += assembly;
+        self.mortar += mortar;
+        self.setup += setup;
+        self.factorization += factorization;
+        self.solve += solve;
+        self.stresses += stresses;
+    }
+}
+
 /// The bodies' stiffness and loads as one system, and the interfaces' mortar
 /// operators.
 pub(crate) struct System {

@@ -46,7 +46,7 @@
 //! starts from the last one's u and z.
 
 use super::frames::{contact_points, normal_row, ContactPoint};
-use super::{initial_active_set, kkt, length_scale, Steps};
+use super::{initial_active_set, kkt, length_scale, ContactSolve};
 use crate::backend::Solver;
 use crate::constraints::Constraints;
 use crate::multibody::{Body, Interface, ProblemError, System, Timings};
@@ -91,7 +91,7 @@ pub(crate) enum Status {
     Slip,
 }
 
-/// The frictional fields per contact point, besides [`Steps`].
+/// The frictional fields per contact point, besides [`ContactSolve`].
 pub(crate) struct Friction {
     /// Per contact point: λ_τ in the frame (τ₁, τ₂ components).
     pub(crate) tangential: Vec<[f64; 2]>,
@@ -121,7 +121,7 @@ pub(crate) fn solve_frictional(
     constraints: &Constraints,
     state: &mut FrictionState,
     seconds: &mut Timings,
-) -> Result<(Steps, Friction), ProblemError> {
+) -> Result<(ContactSolve, Friction), ProblemError> {
     let clock = Instant::now();
     if let Some(i) = (0..interfaces.len()).find(|&i| interfaces[i].friction > 0.0) {
         let what = match solver {
@@ -325,7 +325,7 @@ pub(crate) fn solve_frictional(
         slip,
         mu,
     };
-    let steps = Steps {
+    let steps = ContactSolve {
         u,
         w,
         mu: normal,

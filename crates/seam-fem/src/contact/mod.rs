@@ -147,7 +147,7 @@ pub(crate) fn solve_contact(
     system: &mut System,
     constraints: &Constraints,
     seconds: &mut Timings,
-) -> Result<Steps, ProblemError> {
+) -> Result<ContactSolve, ProblemError> {
     let clock = Instant::now();
     let basis = SlaveBasis::new(bodies, interfaces, system)?;
     seconds.setup += clock.elapsed().as_secs_f64();
@@ -192,7 +192,7 @@ fn active_set_steps(
     (system, reform): (&mut System, &dyn Fn() -> Result<CsrMatrix, ProblemError>),
     constraints: &Constraints,
     seconds: &mut Timings,
-) -> Result<Steps, ProblemError> {
+) -> Result<ContactSolve, ProblemError> {
     let eliminated = constraints.rows.is_empty() || constraints.eliminated_block_is_diagonal();
     if eliminated {
         rotated_steps(bodies, interfaces, options, (system, reform), constraints, seconds)
@@ -202,7 +202,7 @@ fn active_set_steps(
 }
 
 /// What an active-set solve found.
-pub(crate) struct Steps {
+pub(crate) struct ContactSolve {
     /// Displacements of all bodies.
     pub u: Vec<f64>,
     /// Per contact point: w_p = n_p·(u_s − T u_m)_p.
@@ -239,7 +239,7 @@ fn rotated_steps(
     (system, reform): (&mut System, &dyn Fn() -> Result<CsrMatrix, ProblemError>),
     constraints: &Constraints,
     seconds: &mut Timings,
-) -> Result<Steps, ProblemError> {
+) -> Result<ContactSolve, ProblemError> {
     let (f, dirichlet, offsets) = (&system.f, &system.dirichlet, &system.offsets);
     let clock = Instant::now();
     let glued =
@@ -363,7 +363,7 @@ fn rotated_steps(
     };
     let w = points.iter().map(|c| x[c.first_dof]).collect();
     seconds.solve += clock.elapsed().as_secs_f64();
-    Ok(Steps { u, w, mu, active, steps, lambda, kkt, method, points, petsc })
+    Ok(ContactSolve { u, w, mu, active, steps, lambda, kkt, method, points, petsc })
 }
 
 /// The active set with glued interfaces that do not eliminate node by node
@@ -381,7 +381,7 @@ fn saddle_steps(
     system: &System,
     constraints: &Constraints,
     seconds: &mut Timings,
-) -> Result<Steps, ProblemError> {
+) -> Result<ContactSolve, ProblemError> {
     let (k, f, dirichlet) = (&system.k, &system.f, &system.dirichlet);
     let clock = Instant::now();
     let points = contact_points(bodies, interfaces, &system.mortars, &system.offsets, dirichlet, None)?;
@@ -474,7 +474,7 @@ fn saddle_steps(
     }
     let kkt = kkt(k, &f_net, dirichlet, &points, (&u, &x), &mu);
     seconds.solve += clock.elapsed().as_secs_f64();
-    Ok(Steps {
+    Ok(ContactSolve {
         u,
         w,
         mu,
@@ -924,7 +924,7 @@ fn magnitudes(k: &CsrMatrix, u: &[f64]) -> Vec<f64> {
 /// traction −λ_p n_p, and the resultant −Σ_p μ_p n_p.
 pub(crate) fn add_contact_fields(
     out: &mut [InterfaceSolution],
-    steps: &Steps,
+    steps: &ContactSolve,
     friction: Option<&friction::Friction>,
 ) {
     for (i, (((c, &m), &on), &wp)) in
@@ -1037,7 +1037,8 @@ mod tests {
         let pcg = Solver::Pcg(crate::pcg::PcgOptions { rtol: 1e-13, ..Default::default() });
         let options = SolveOptions { solver: pcg, ..options };
         let c = saddle_steps(&bodies, &interfaces, &options, &system, &constraints, &mut seconds).unwrap();
-        let changes = |s: &Steps| s.steps.iter().map(|s| (s.active, s.added, s.removed)).collect::<Vec<_>>();
+        let changes =
+            |s: &ContactSolve| s.steps.iter().map(|s| (s.active, s.added, s.removed)).collect::<Vec<_>>();
         assert_eq!(changes(&a), changes(&c));
         assert!(c.steps.iter().all(|s| s.linear_iterations > 0), "{:?}", c.steps);
         let du = max(&mut a.u.iter().zip(&c.u).map(|(x, y)| x - y));
