@@ -210,6 +210,11 @@ pub enum ExampleName {
     /// `seam solve` does and compares the contact radius, peak pressure and
     /// force with Hertz's solution (hertz.md, hertz.csv, hertz.png).
     Hertz,
+    /// A half model of the Hertz indenter and block (equal materials,
+    /// friction μ = 0.3) pressed by P, then pushed sideways by Q = 0.5 μP in
+    /// load steps: compares the stick radius and the tangential traction with
+    /// Cattaneo and Mindlin's solution (cattaneo-mindlin.md, .csv, .png).
+    CattaneoMindlin,
 }
 
 #[derive(Args, Debug)]
@@ -230,8 +235,9 @@ pub struct ExampleArgs {
     /// slave (upper) side's (for tests and quick runs).
     #[arg(long, hide = true, value_name = "N")]
     pub ratio: Option<usize>,
-    /// warped-glue, bulging-contact: slave cells across x and y; hertz: slave
-    /// cells across the uniform zone [0, 1.5a] (for tests and quick runs).
+    /// warped-glue, bulging-contact: slave cells across x and y; hertz,
+    /// cattaneo-mindlin: slave cells across the uniform zone [0, 1.5a] (for
+    /// tests and quick runs).
     #[arg(long, hide = true, value_name = "N")]
     pub slave_cells: Option<usize>,
     /// warped-glue: element order, 1 (Hex8) or 2 (Hex27 bodies with curved

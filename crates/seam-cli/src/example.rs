@@ -12,6 +12,7 @@ pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
         ExampleName::WarpedGlue => Example::WarpedGlue,
         ExampleName::BulgingContact => Example::BulgingContact,
         ExampleName::Hertz => Example::Hertz,
+        ExampleName::CattaneoMindlin => Example::CattaneoMindlin,
     };
     let options = Options {
         output: args.output.clone(),

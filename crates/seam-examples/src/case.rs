@@ -39,3 +39,50 @@ pub fn solve_example(
     solved.summary = solved.write(&out_dir, o.force)?;
     Ok(solved)
 }
+
+/// An example's own outputs in its directory: `<name>.md` (the comparison),
+/// `<name>.csv` (the data behind it) and `<name>.png` (its picture).
+pub struct Report {
+    /// `<name>.md`.
+    pub md: PathBuf,
+    /// `<name>.csv`.
+    pub csv: PathBuf,
+    /// `<name>.png`.
+    pub png: PathBuf,
+}
+
+impl Report {
+    /// The three files of `name` in `dir`.
+    pub fn new(dir: &std::path::Path, name: &str) -> Report {
+        Report {
+            md: dir.join(format!("{name}.md")),
+            csv: dir.join(format!("{name}.csv")),
+            png: dir.join(format!("{name}.png")),
+        }
+    }
+
+    /// The three paths, as `extra` of [`solve_example`].
+    pub fn paths(&self) -> [PathBuf; 3] {
+        [self.md.clone(), self.csv.clone(), self.png.clone()]
+    }
+
+    /// Writes the three files (overwriting only if `force`).
+    ///
+    /// # Errors
+    /// As [`write_files`](seam_case::write::write_files), or if the image
+    /// cannot be encoded.
+    pub fn write(
+        self,
+        md: String,
+        csv: String,
+        image: &crate::picture::Image,
+        force: bool,
+    ) -> Result<(), Failure> {
+        let png = image.png().map_err(|e| Failure::error(&e))?;
+        seam_case::write::write_files(
+            &[(self.csv, csv.into_bytes()), (self.md, md.into_bytes()), (self.png, png)],
+            force,
+        )?;
+        Ok(())
+    }
+}

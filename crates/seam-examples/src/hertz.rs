@@ -20,13 +20,12 @@
 //!   with the errors; also printed;
 //! - `hertz.png`: seam's pressures along both axes as dots over Hertz's curve.
 
-use crate::case::solve_example;
+use crate::case::{solve_example, Report};
 use crate::picture::{viridis, Chart, Image, Series};
 use crate::{Failure, Options};
 use anyhow::{anyhow, Context};
 use seam_case::report::report;
 use seam_case::solve::Solved;
-use seam_case::write::write_files;
 use seam_fem::scene::{hertz, Hertz};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -66,7 +65,7 @@ pub fn run(args: &Options) -> Result<Vec<String>, Failure> {
         return Err(anyhow!("--slave-cells must be at least 1").into());
     }
     let dir = &args.output;
-    let (md, csv, png) = (dir.join("hertz.md"), dir.join("hertz.csv"), dir.join("hertz.png"));
+    let report = Report::new(dir, "hertz");
     let problem = hertz(&params).context("the example's meshes")?;
     let about = [
         "seam example hertz: a quarter model of an indenter with a spherical face (R = 1) pressed"
@@ -78,7 +77,7 @@ pub fn run(args: &Options) -> Result<Vec<String>, Failure> {
             sig(params.peak_pressure())
         ),
     ];
-    let solved = solve_example(problem, args, &about, &[md.clone(), csv.clone(), png.clone()])?;
+    let solved = solve_example(problem, args, &about, &report.paths())?;
 
     let clock = std::time::Instant::now();
     let nodes = axis_nodes(&solved, &params)?;
@@ -86,14 +85,7 @@ pub fn run(args: &Options) -> Result<Vec<String>, Failure> {
     let table = table(&rows, params.slave_size());
     let text = markdown(&solved, &params, &table);
     let image = draw(&params, &nodes, &rows);
-    write_files(
-        &[
-            (csv, csv_text(&nodes).into_bytes()),
-            (md, text.into_bytes()),
-            (png, image.png().map_err(|e| Failure::error(&e))?),
-        ],
-        args.force,
-    )?;
+    report.write(text, csv_text(&nodes), &image, args.force)?;
     let seconds = clock.elapsed().as_secs_f64();
 
     Ok(report_lines(dir, &params, &solved, &table, seconds))
@@ -162,7 +154,7 @@ fn compare(s: &Solved, p: &Hertz, nodes: &[AxisNode]) -> anyhow::Result<Vec<Row>
 }
 
 /// `v` with 5 significant digits, without trailing zeros.
-fn sig(v: f64) -> String {
+pub(crate) fn sig(v: f64) -> String {
     let digits = if v == 0.0 { 0 } else { (4 - v.abs().log10().floor() as i64).max(0) as usize };
     let text = format!("{v:.digits$}");
     if text.contains('.') {
@@ -173,7 +165,7 @@ fn sig(v: f64) -> String {
 }
 
 /// A relative error in percent: "+0.17 %", or "-9.1e-14 %" when tiny.
-fn percent(seam: f64, analytic: f64) -> String {
+pub(crate) fn percent(seam: f64, analytic: f64) -> String {
     let e = 100.0 * (seam / analytic - 1.0);
     if e.abs() < 0.005 {
         format!("{e:+.1e} %")

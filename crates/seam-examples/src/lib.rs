@@ -9,8 +9,9 @@
 //! | `warped-glue` | [`warped_glue`] | two blocks glued at a warped interface (the paper's Fig. 2), with a picture |
 //! | `bulging-contact` | [`bulging_contact`] | two blocks with bulging facing sides in contact (Fig. 3), with a picture |
 //! | `hertz` | [`hertz`] | an indenter on a block against Hertz's solution: table, CSV and chart |
+//! | `cattaneo-mindlin` | [`cattaneo_mindlin`] | the indenter pressed, then pushed sideways with friction, against Cattaneo–Mindlin's partial slip: table, CSV and chart |
 //!
-//! The three elasticity examples build their [`seam_fem::Problem`] in memory
+//! The elasticity examples build their [`seam_fem::Problem`] in memory
 //! (a scene of `seam_fem::scene`), write it as a case (one mesh per body and
 //! `case.toml`, [`seam_case::write`]) for the user to rerun with `seam solve
 //! DIR/case.toml --force`, and solve the problem in memory exactly as that
@@ -27,6 +28,7 @@
 pub mod bench;
 pub mod bulging_contact;
 mod case;
+pub mod cattaneo_mindlin;
 pub mod hertz;
 pub mod operator;
 pub mod picture;
@@ -45,9 +47,9 @@ pub struct Options {
     pub force: bool,
     /// warped-glue: h_s/h_m (default [`warped_glue::RATIO`]).
     pub ratio: Option<usize>,
-    /// warped-glue, bulging-contact: slave cells across x and y; hertz: slave
-    /// cells across the uniform zone [0, 1.5a] (defaults: each module's
-    /// `SLAVE_CELLS` or `FINE_CELLS`).
+    /// warped-glue, bulging-contact: slave cells across x and y; hertz,
+    /// cattaneo-mindlin: slave cells across the uniform zone [0, 1.5a]
+    /// (defaults: each module's `SLAVE_CELLS` or `FINE_CELLS`).
     pub slave_cells: Option<usize>,
     /// warped-glue: the element order, 1 (Hex8, the default) or 2 (Hex27 at
     /// the same numbers of nodes).
@@ -65,6 +67,8 @@ pub enum Example {
     BulgingContact,
     /// [`hertz`].
     Hertz,
+    /// [`cattaneo_mindlin`].
+    CattaneoMindlin,
 }
 
 /// Runs `example` on the current rayon pool; returns its report, one line
@@ -79,5 +83,6 @@ pub fn run(example: Example, options: &Options) -> Result<Vec<String>, Failure> 
         Example::WarpedGlue => warped_glue::run(options),
         Example::BulgingContact => bulging_contact::run(options),
         Example::Hertz => hertz::run(options),
+        Example::CattaneoMindlin => cattaneo_mindlin::run(options),
     }
 }

@@ -181,21 +181,7 @@ fn last_iterations(summary: &PetscSummary) -> usize {
 fn sparse_lu(a: &CsrMatrix, b: &[f64], fixed: &Dirichlet) -> Result<Vec<f64>, SolveError> {
     let n = a.nrows;
     let (active, rhs) = free_system(a, b, fixed, None)?;
-    let mut local = vec![usize::MAX; n];
-    let free: Vec<usize> = (0..n).filter(|&i| active[i]).collect();
-    for (k, &i) in free.iter().enumerate() {
-        local[i] = k;
-    }
-    let mut a_ff = CsrMatrix::zeros(0, free.len());
-    for &i in &free {
-        let (cols, vals) = a.row(i);
-        for (&j, &v) in cols.iter().zip(vals).filter(|(&j, _)| active[j]) {
-            a_ff.indices.push(local[j]);
-            a_ff.values.push(v);
-        }
-        a_ff.indptr.push(a_ff.indices.len());
-        a_ff.nrows += 1;
-    }
+    let (a_ff, free) = free_block(a, &active);
     let mut x = vec![0.0; n];
     if !free.is_empty() {
         let lu = transposed_view(&a_ff).sp_lu().map_err(|_| SolveError::Singular)?;
@@ -213,4 +199,24 @@ fn sparse_lu(a: &CsrMatrix, b: &[f64], fixed: &Dirichlet) -> Result<Vec<f64>, So
         x[dof] = v;
     }
     Ok(x)
+}
+
+/// The block A_FF of the unknowns F that `active` marks, and F in order.
+pub(crate) fn free_block(a: &CsrMatrix, active: &[bool]) -> (CsrMatrix, Vec<usize>) {
+    let mut local = vec![usize::MAX; a.nrows];
+    let free: Vec<usize> = (0..a.nrows).filter(|&i| active[i]).collect();
+    for (k, &i) in free.iter().enumerate() {
+        local[i] = k;
+    }
+    let mut a_ff = CsrMatrix::zeros(0, free.len());
+    for &i in &free {
+        let (cols, vals) = a.row(i);
+        for (&j, &v) in cols.iter().zip(vals).filter(|(&j, _)| active[j]) {
+            a_ff.indices.push(local[j]);
+            a_ff.values.push(v);
+        }
+        a_ff.indptr.push(a_ff.indices.len());
+        a_ff.nrows += 1;
+    }
+    (a_ff, free)
 }

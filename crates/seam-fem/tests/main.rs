@@ -2,6 +2,7 @@
 //! binary (one link per crate).
 
 mod backend;
+mod cattaneo_mindlin;
 mod common;
 mod contact;
 mod contact_bulging;

@@ -47,11 +47,14 @@
 
 use super::frames::{contact_points, normal_row, ContactPoint};
 use super::{initial_active_set, kkt, length_scale, ContactSolve};
-use crate::backend::Solver;
+use crate::backend::{free_block, Solver};
 use crate::constraints::Constraints;
 use crate::multibody::{Body, Interface, ProblemError, System, Timings};
+use crate::pcg::free_system;
 use crate::petsc::PetscSummary;
+use crate::saddle::solve_nearly_saddle;
 use crate::solution::ActiveSetStep;
+use crate::solve::Dirichlet;
 use crate::solve::SolveError;
 use seam::{CsrMatrix, Point3};
 use std::collections::BTreeMap;
@@ -231,11 +234,19 @@ pub(crate) fn solve_frictional(
     };
     seconds.setup += clock.elapsed().as_secs_f64();
 
+    // Ordering groups of the unknowns (u, λ_g, z): the point of a dof, the
+    // slave point of a multiplier.
+    let groups: Vec<usize> = (0..n)
+        .map(|i| i / 3)
+        .chain(constraints.rows.iter().map(|r| r.dof / 3))
+        .chain(points.iter().flat_map(|c| [c.first_dof / 3; 3]))
+        .collect();
+
     let mut summary = PetscSummary::default();
     let mut steps = Vec::new();
     loop {
         let clock = Instant::now();
-        let (a, b) = newton_system(
+        let (a, b, coupled) = newton_system(
             (k, f, constraints),
             (&points, &rows, &status),
             (&mu, &ct, &free_tangent),
@@ -244,13 +255,14 @@ pub(crate) fn solve_frictional(
         seconds.setup += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
         let n_active = status.iter().filter(|&&s| s != Status::Inactive).count();
-        let (next, linear_iterations) =
-            solver.solve_general(&a, &b, dirichlet, (Some(&x), &[]), &mut summary).map_err(|e| match e {
-                SolveError::Singular => {
-                    ProblemError::SingularStep { step: steps.len() + 1, active: n_active }
-                }
-                e => ProblemError::Solve(e),
-            })?;
+        let solved = match solver {
+            Solver::Direct => nearly_saddle((&a, &b, n), dirichlet, &coupled, &groups),
+            _ => solver.solve_general(&a, &b, dirichlet, (Some(&x), &[]), &mut summary),
+        };
+        let (next, linear_iterations) = solved.map_err(|e| match e {
+            SolveError::Singular => ProblemError::SingularStep { step: steps.len() + 1, active: n_active },
+            e => ProblemError::Solve(e),
+        })?;
         seconds.solve += clock.elapsed().as_secs_f64();
         let change = relative_change(&x[..n], &next[..n]).max(relative_change(&x[z0..], &next[z0..]));
         x = next;
@@ -365,18 +377,21 @@ fn relative_change(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// The semismooth Newton system at the iterate `x` with the sets `status`
-/// (module doc): [K C_gᵀ Gᵀ; C_g 0 0; N 0 Z] over (u, λ_g, z).
+/// (module doc): [K C_gᵀ Gᵀ; C_g 0 0; N 0 Z] over (u, λ_g, z), and per
+/// unknown whether its row is a linearised slip row (the rest of the
+/// system is symmetric once the identity rows are eliminated).
 #[allow(clippy::type_complexity)]
 fn newton_system(
     (k, f, constraints): (&CsrMatrix, &[f64], &Constraints),
     (points, rows, status): (&[ContactPoint], &[[SparseRow; 3]], &[Status]),
     (mu, ct, free_tangent): (&[f64], &[f64], &[[bool; 2]]),
     (x, tangential_prev): (&[f64], &[[f64; 2]]),
-) -> (CsrMatrix, Vec<f64>) {
+) -> (CsrMatrix, Vec<f64>, Vec<bool>) {
     let n = k.nrows;
     let n_glue = constraints.rows.len();
     let z0 = n + n_glue;
     let size = z0 + 3 * points.len();
+    let mut coupled = vec![false; size];
     let mut triplets: Vec<Vec<(usize, f64)>> = vec![Vec::new(); size];
     let mut b = vec![0.0; size];
     b[..n].copy_from_slice(f);
@@ -438,6 +453,7 @@ fn newton_system(
                 continue;
             }
             let r = tangent[t];
+            coupled[r] = true;
             // (‖v‖ δ + λ_τ,t v̂ᵀ − μ λ_n δ) λ_τ'
             for q in 0..2 {
                 let l1 = (if q == t { nv - m * ln } else { 0.0 }) + lt[t] * vh[q];
@@ -462,5 +478,39 @@ fn newton_system(
         a.indptr.push(a.indices.len());
         a.nrows += 1;
     }
-    (a, b)
+    (a, b, coupled)
+}
+
+/// The Newton step x of `a` x = `b` with the values of `fixed` by
+/// [`solve_nearly_saddle`], and its GMRES iterations: the prescribed dofs and
+/// the identity rows of the multipliers (z = b there) leave the system,
+/// `coupled` marks the slip rows, `groups` orders the unknowns (a multiplier
+/// with its slave point); the first `n` unknowns are the displacements.
+fn nearly_saddle(
+    (a, b, n): (&CsrMatrix, &[f64], usize),
+    fixed: &Dirichlet,
+    coupled: &[bool],
+    groups: &[usize],
+) -> Result<(Vec<f64>, usize), SolveError> {
+    let mut known = fixed.clone();
+    for i in n..a.nrows {
+        if a.row(i).0 == [i] && a.row(i).1 == [1.0] {
+            known.fix_dof(i, b[i]);
+        }
+    }
+    let (active, rhs) = free_system(a, b, &known, None)?;
+    let (a_ff, free) = free_block(a, &active);
+    let b_f: Vec<f64> = free.iter().map(|&i| rhs[i]).collect();
+    let coupled_f: Vec<bool> = free.iter().map(|&i| coupled[i]).collect();
+    let signs: Vec<i8> = free.iter().map(|&i| if i < n { 1 } else { -1 }).collect();
+    let groups_f: Vec<usize> = free.iter().map(|&i| groups[i]).collect();
+    let (x_f, iterations) = solve_nearly_saddle(&a_ff, &b_f, &coupled_f, &signs, &groups_f)?;
+    let mut x = vec![0.0; a.nrows];
+    for (dof, v) in known.iter() {
+        x[dof] = v;
+    }
+    for (&i, v) in free.iter().zip(x_f) {
+        x[i] = v;
+    }
+    Ok((x, iterations))
 }

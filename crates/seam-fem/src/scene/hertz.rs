@@ -5,7 +5,7 @@ use super::block_body;
 use crate::generate::{block, node_supports, raise_order, BlockKind, Grid, RaiseError, Side};
 use crate::material::Material;
 use crate::multibody::Coupling;
-use crate::problem::{Load, Problem, ProblemInterface, Support, SurfaceId};
+use crate::problem::{Load, Problem, ProblemBody, ProblemInterface, Support, SurfaceId};
 use seam::CellKind;
 use seam::{Facing, MaxGap, MeshError, MortarOptions, Multiplier, Point3, VolumeMesh};
 
@@ -96,7 +96,7 @@ impl Hertz {
     }
 
     /// The indenter's half-width L = R/2 and height 0.6R above the pole.
-    fn indenter_size(&self) -> (f64, f64) {
+    pub(super) fn indenter_size(&self) -> (f64, f64) {
         (0.5 * self.radius, 0.6 * self.radius)
     }
 
@@ -114,7 +114,7 @@ impl Hertz {
 /// Grid coordinates on [0, length]: `fine` equal cells of size h on
 /// [0, fine_len], then cells growing geometrically from h to fill the rest
 /// (the ratio chosen so the sizes never shrink and stay below 1.25×).
-fn graded(length: f64, fine_len: f64, fine: usize) -> Vec<f64> {
+pub(super) fn graded(length: f64, fine_len: f64, fine: usize) -> Vec<f64> {
     let h = fine_len / fine as f64;
     let mut x: Vec<f64> = (0..=fine).map(|i| i as f64 * h).collect();
     let rest = length - fine_len;
@@ -140,23 +140,22 @@ fn graded(length: f64, fine_len: f64, fine: usize) -> Vec<f64> {
     x
 }
 
-/// A structured block of `kind` cells on the tensor grid `xs × xs × ws`
+/// A structured block of `kind` cells on the tensor grid `xs × ys × ws`
 /// (ws on [0, 1]), each grid point mapped by `map(x, y, w)`; of second order
 /// when `second_order`, every new node mapped from the mean of its supporting
 /// corners' (x, y, w) (`unmap` gives a corner's), so that it lies on the
 /// mapped block (on the sphere, for the indenter's face).
-fn tensor_block(
-    xs: &[f64],
-    ws: &[f64],
+pub(super) fn tensor_block(
+    [xs, ys, ws]: [&[f64]; 3],
     (kind, second_order): (BlockKind, bool),
     map: impl Fn(f64, f64, f64) -> Point3,
     unmap: impl Fn(Point3) -> Point3,
 ) -> Result<(VolumeMesh, Grid), MeshError> {
-    let (n, nz) = (xs.len() - 1, ws.len() - 1);
+    let (nx, ny, nz) = (xs.len() - 1, ys.len() - 1, ws.len() - 1);
     let at = |coords: &[f64], t: f64, cells: usize| coords[(t * cells as f64).round() as usize];
-    let mesh = block(n, n, nz, |u, v, w| map(at(xs, u, n), at(xs, v, n), at(ws, w, nz)), kind);
+    let mesh = block(nx, ny, nz, |u, v, w| map(at(xs, u, nx), at(ys, v, ny), at(ws, w, nz)), kind);
     let mesh = if second_order { raise_mapped(&mesh, |x| map(x[0], x[1], x[2]), unmap)? } else { mesh };
-    Ok((mesh, Grid::new(n, n, nz)))
+    Ok((mesh, Grid::new(nx, ny, nz)))
 }
 
 /// `mesh` raised to second order (complete cells) with each new node at
@@ -195,6 +194,11 @@ fn raise_mapped(
 const SIDES: [(&str, Side); 4] =
     [("bottom", Side::ZMin), ("top", Side::ZMax), ("x0", Side::XMin), ("y0", Side::YMin)];
 
+/// The named sides of a half-model body: bottom, top and the symmetry plane
+/// y0 (y = 0).
+pub(super) const HALF_SIDES: [(&str, Side); 3] =
+    [("bottom", Side::ZMin), ("top", Side::ZMax), ("y0", Side::YMin)];
+
 /// The Hertz problem, a quarter model (symmetry planes x = 0 and y = 0):
 ///
 /// - body "indenter" (master, surfaces "bottom" = the sphere
@@ -213,21 +217,65 @@ const SIDES: [(&str, Side); 4] =
 /// # Errors
 /// [`MeshError`] only for degenerate parameters.
 pub fn hertz(p: &Hertz) -> Result<Problem, MeshError> {
+    let bodies = bodies(p, false)?;
+    let (bottom, x0, y0) = (0, 2, 3);
+    let (indenter, slab) = (0, 1);
+    let mut supports = vec![Support::new(id(slab, bottom), [Some(0.0); 3])];
+    for body in [indenter, slab] {
+        supports.push(Support::new(id(body, x0), [Some(0.0), None, None]));
+        supports.push(Support::new(id(body, y0), [None, Some(0.0), None]));
+    }
+    let (l, _) = p.indenter_size();
+    let pressure = p.force() / (4.0 * l * l);
+    Ok(Problem {
+        bodies,
+        interfaces: vec![contact(p)],
+        supports,
+        loads: vec![Load::new(id(indenter, TOP), [0.0, 0.0, -pressure])],
+        ..Problem::default()
+    })
+}
+
+/// The surface `surface` of body `body`.
+pub(super) fn id(body: usize, surface: usize) -> SurfaceId {
+    SurfaceId { body, surface }
+}
+
+/// The index of the surface "top" in [`SIDES`].
+pub(super) const TOP: usize = 1;
+
+/// The bodies "indenter" and "block" of [`hertz`] with the surfaces of
+/// [`SIDES`] over the quarter [0, ·]², or with `half` those of
+/// [`HALF_SIDES`] over the half [−·, ·] × [0, ·] (the grid mirrored at
+/// x = 0).
+pub(super) fn bodies(p: &Hertz, half: bool) -> Result<Vec<ProblemBody>, MeshError> {
     let a = p.contact_radius;
     let w = p.block_size();
-    let xs = graded(w, 1.5 * a, p.fine_cells);
+    let mirrored = |y: Vec<f64>| -> Vec<f64> {
+        if half {
+            y.iter().rev().map(|v| -v).chain(y[1..].iter().copied()).collect()
+        } else {
+            y
+        }
+    };
+    let ys = graded(w, 1.5 * a, p.fine_cells);
+    let xs = mirrored(ys.clone());
     let depth: Vec<f64> = graded(w, 1.5 * a, p.fine_cells).iter().rev().map(|z| 1.0 - z / w).collect();
     let cells = (p.cells, p.second_order);
-    let (slab, slab_grid) =
-        tensor_block(&xs, &depth, cells, |x, y, t| [x, y, -w * (1.0 - t)], |x| [x[0], x[1], 1.0 + x[2] / w])?;
+    let (slab, slab_grid) = tensor_block(
+        [&xs, &ys, &depth],
+        cells,
+        |x, y, t| [x, y, -w * (1.0 - t)],
+        |x| [x[0], x[1], 1.0 + x[2] / w],
+    )?;
 
     let (l, h) = p.indenter_size();
     let fine = ((p.fine_cells as f64) * p.master_ratio).round() as usize;
-    let xm = graded(l, 1.5 * a, fine);
+    let ym = graded(l, 1.5 * a, fine);
+    let xm = mirrored(ym.clone());
     let up: Vec<f64> = graded(h, 1.5 * a, fine).iter().map(|z| z / h).collect();
     let (ball, ball_grid) = tensor_block(
-        &xm,
-        &up,
+        [&xm, &ym, &up],
         cells,
         |x, y, t| {
             let z = p.sphere(x, y);
@@ -238,39 +286,30 @@ pub fn hertz(p: &Hertz) -> Result<Problem, MeshError> {
             [x[0], x[1], (x[2] - z) / (h - z)]
         },
     )?;
+    let sides: &[(&str, Side)] = if half { &HALF_SIDES } else { &SIDES };
+    Ok(vec![
+        block_body("indenter", ball, &ball_grid, p.indenter, sides)?,
+        block_body("block", slab, &slab_grid, p.block, sides)?,
+    ])
+}
 
-    let bodies = vec![
-        block_body("indenter", ball, &ball_grid, p.indenter, &SIDES)?,
-        block_body("block", slab, &slab_grid, p.block, &SIDES)?,
-    ];
-    let id = |body, surface| SurfaceId { body, surface };
-    let (bottom, top, x0, y0) = (0, 1, 2, 3);
-    let (indenter, slab) = (0, 1);
+/// The frictionless contact interface of [`hertz`] between the bodies of
+/// [`bodies`].
+pub(super) fn contact(p: &Hertz) -> ProblemInterface {
+    let (indenter, slab, bottom) = (0, 1, 0);
     let options = MortarOptions {
         multiplier: p.multiplier,
         facing: Facing::Opposite,
-        max_gap: MaxGap::Absolute(a),
+        max_gap: MaxGap::Absolute(p.contact_radius),
         ..MortarOptions::default()
     };
-    let mut supports = vec![Support::new(id(slab, bottom), [Some(0.0); 3])];
-    for body in [indenter, slab] {
-        supports.push(Support::new(id(body, x0), [Some(0.0), None, None]));
-        supports.push(Support::new(id(body, y0), [None, Some(0.0), None]));
+    ProblemInterface {
+        master: if p.curved_slave { id(slab, TOP) } else { id(indenter, bottom) },
+        slave: if p.curved_slave { id(indenter, bottom) } else { id(slab, TOP) },
+        options,
+        kind: Coupling::Contact,
+        friction: 0.0,
     }
-    let pressure = p.force() / (4.0 * l * l);
-    Ok(Problem {
-        bodies,
-        interfaces: vec![ProblemInterface {
-            master: if p.curved_slave { id(slab, top) } else { id(indenter, bottom) },
-            slave: if p.curved_slave { id(indenter, bottom) } else { id(slab, top) },
-            options,
-            kind: Coupling::Contact,
-            friction: 0.0,
-        }],
-        supports,
-        loads: vec![Load::new(id(indenter, top), [0.0, 0.0, -pressure])],
-        ..Problem::default()
-    })
 }
 
 #[cfg(test)]

@@ -14,13 +14,17 @@
 //! multipliers.
 //!
 //! [`hertz`] validates contact: an elastic indenter with a spherical face
-//! pressed on an elastic block, against Hertz's contact radius and pressure.
+//! pressed on an elastic block, against Hertz's contact radius and pressure;
+//! [`cattaneo_mindlin`] presses the same indenter (a half model) and pushes it
+//! sideways with friction, against Cattaneo and Mindlin's partial slip.
 
 mod bulging;
+mod cattaneo_mindlin;
 mod hertz;
 mod warped_glue;
 
 pub use bulging::{bulging_contact, Bulge, BulgingContact};
+pub use cattaneo_mindlin::{cattaneo_mindlin, AxisPoint, CattaneoMindlin, PartialSlip};
 pub use hertz::{hertz, Hertz};
 pub use warped_glue::{warped_glue, WarpedGlue};
 
