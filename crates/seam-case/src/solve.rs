@@ -611,12 +611,12 @@ fn check_solver(case: &Case, case_path: &Path, options: &SolveOptions) -> Result
     match case.interfaces.iter().enumerate().find(|(_, f)| f.friction.is_some_and(|mu| mu > 0.0)) {
         Some((i, f)) if options.solver == LinearSolver::Pcg => Err(Failure::Case(format!(
             "{}: {} has friction: its semismooth Newton systems are not symmetric, which pcg cannot \
-             solve; use --solver direct (sparse LU)",
+             solve; use --solver direct",
             case_path.display(),
             f.describe(i)
         ))),
         Some((i, f)) if options.solver == LinearSolver::Petsc => Err(Failure::Case(format!(
-            "{}: {} has friction, which is solved with --solver direct (sparse LU) only: its PETSc solver \
+            "{}: {} has friction, which is solved with --solver direct only: its PETSc solver \
              is not implemented yet",
             case_path.display(),
             f.describe(i)

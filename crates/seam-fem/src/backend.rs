@@ -8,7 +8,9 @@
 //! - [`Solver::solve_general`]: A x = b, A any square matrix regular on the
 //!   free dofs (a semismooth Newton step of frictional contact is not
 //!   symmetric): sparse LU with partial pivoting, or PETSc's FGMRES; PCG
-//!   refuses it ([`SolveError::NotSymmetric`]).
+//!   refuses it ([`SolveError::NotSymmetric`]). (Frictional contact's direct
+//!   solve uses `saddle::solve_nearly_saddle` instead, which knows the
+//!   structure of its matrix.)
 //!
 //! - `Solver::solve_saddle` (crate-internal): the saddle point of
 //!   constraints C u = g, [K Cᵀ; C 0] [u; λ] = [f; g] — sparse LDLᵀ, PCG on

@@ -334,8 +334,11 @@ pub(super) fn point_index(n: usize, points: &[ContactPoint]) -> Vec<usize> {
 }
 
 /// P (n × n): the identity except at contact points, whose rows read
-/// u_s,p = n (w + Σ_q T_pq n·u_m,q) + t₁ v₁ + t₂ v₂ (module doc).
-pub(super) fn rotation(n: usize, points: &[ContactPoint]) -> CsrMatrix {
+/// u_s,p = n (w + Σ_q T_pq n·u_m,q) + t₁ v₁ + t₂ v₂ (module doc); with
+/// `relative` (per point, per tangent) the marked tangents are relative
+/// too, u_s,p = … + t_k (v_k + Σ_q T_pq t_k·u_m,q), so that v_k is the
+/// tangential jump t_k·(u_s − T u_m)_p (frictional contact without glue).
+pub(super) fn rotation(n: usize, points: &[ContactPoint], relative: Option<&[[bool; 2]]>) -> CsrMatrix {
     let at = point_index(n, points);
     let mut p = CsrMatrix::zeros(0, n);
     let mut row: Vec<(usize, f64)> = Vec::new();
@@ -354,7 +357,11 @@ pub(super) fn rotation(n: usize, points: &[ContactPoint]) -> CsrMatrix {
                 ]);
                 // Zeros stay: whole 3 × 3 blocks keep the point graph for the ordering.
                 row.extend(c.a_row.iter().map(|&(j, a)| (j, nn[comp] * a)));
-                row.sort_unstable_by_key(|e| e.0);
+                for k in (1..3).filter(|&k| relative.is_some_and(|r| r[i][k - 1])) {
+                    let e = c.frame[k];
+                    row.extend(normal_row(&c.t_row, e, None).into_iter().map(|(j, a)| (j, e[comp] * a)));
+                }
+                row = merged(&mut row);
             }
         }
         p.indices.extend(row.iter().map(|e| e.0));

@@ -31,8 +31,18 @@
 //! ```
 //!
 //! (C_τ is homogeneous of degree 2, so J x − C_τ = C_τ), divided by ‖v‖: the
-//! system is not symmetric, and is solved whole — u, the glued multipliers
-//! and z — by sparse LU ([`Solver::solve_general`]). A point with μ = 0, or a
+//! system is not symmetric. The direct solver without glued interfaces
+//! condenses it on the contact unknowns (`condensed_newton`): in nodal
+//! frames whose tangents are relative too, the jumps (n, τ₁, τ₂)·(u_s − T u_m)_p
+//! are unknowns of their own; the stiffness on all the others is factored
+//! once by sparse Cholesky, its Schur complement S on the jumps formed once
+//! for all load steps, and each Newton step is a dense LU on the jumps.
+//! With glued interfaces the system is solved whole — u, the glued
+//! multipliers and z (`assembled_newton`): sparse LDLᵀ of the symmetric
+//! saddle matrix that the Newton matrix becomes when the rows of the
+//! slipping multipliers are replaced by their columns preconditions GMRES on
+//! the Newton matrix ([`solve_nearly_saddle`]: the two differ in as many rows
+//! as there are slip unknowns, so GMRES needs few iterations). A point with μ = 0, or a
 //! tangential axis that is prescribed at the slave point (a symmetry plane,
 //! whose reaction takes the force), has λ_τ = 0 in that direction, so μ = 0
 //! is frictionless contact. The iteration stops when the sets repeat and the
@@ -45,9 +55,10 @@
 //! contact and friction is held from the first iteration; every later step
 //! starts from the last one's u and z.
 
-use super::frames::{contact_points, normal_row, ContactPoint};
-use super::{initial_active_set, kkt, length_scale, ContactSolve};
+use super::frames::{contact_points, normal_row, rotated_dirichlet, rotation, ContactPoint};
+use super::{initial_active_set, kkt, length_scale, Condensed, ContactSolve};
 use crate::backend::{free_block, Solver};
+use crate::constraints::triple_product;
 use crate::constraints::Constraints;
 use crate::multibody::{Body, Interface, ProblemError, System, Timings};
 use crate::pcg::free_system;
@@ -56,6 +67,9 @@ use crate::saddle::solve_nearly_saddle;
 use crate::solution::ActiveSetStep;
 use crate::solve::Dirichlet;
 use crate::solve::SolveError;
+use crate::solve::{CholeskyAnalysis, DirectOptions};
+use faer::linalg::solvers::Solve;
+use faer::Mat;
 use seam::{CsrMatrix, Point3};
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -81,6 +95,18 @@ pub(crate) struct FrictionState {
     /// Per contact point, by (interface, slave point): z at the end of the
     /// last step (frame components) and the accumulated slip (Cartesian).
     pub(crate) points: BTreeMap<(usize, usize), ([f64; 3], Point3)>,
+    /// The condensed operator S of the direct solver's last step and the
+    /// fingerprint of the matrix and the unknowns W it belongs to: the load
+    /// steps of one problem share it ([`Condensed`]).
+    condensed: Option<(u64, Mat<f64>)>,
+}
+
+/// A fingerprint of A and W (FNV-1a over their bits), to know a condensed
+/// operator S again.
+fn fingerprint(a: &CsrMatrix, w: &[usize]) -> u64 {
+    let words = a.indptr.iter().chain(&a.indices).chain(w).map(|&i| i as u64);
+    let words = words.chain(a.values.iter().map(|v| v.to_bits()));
+    words.fold(0xcbf2_9ce4_8422_2325, |h, x| (h ^ x).wrapping_mul(0x0100_0000_01b3))
 }
 
 /// Where a contact point is in an iteration.
@@ -125,6 +151,21 @@ pub(crate) fn solve_frictional(
     state: &mut FrictionState,
     seconds: &mut Timings,
 ) -> Result<(ContactSolve, Friction), ProblemError> {
+    let condense = matches!(solver, Solver::Direct) && constraints.rows.is_empty();
+    frictional_step(bodies, interfaces, (solver, max_steps, condense), system, constraints, state, seconds)
+}
+
+/// [`solve_frictional`], condensed on the contact unknowns or not
+/// (`condense`: only for the direct solver without glued interfaces).
+fn frictional_step(
+    bodies: &[Body],
+    interfaces: &[Interface],
+    (solver, max_steps, condense): (Solver, usize, bool),
+    system: &System,
+    constraints: &Constraints,
+    state: &mut FrictionState,
+    seconds: &mut Timings,
+) -> Result<(ContactSolve, Friction), ProblemError> {
     let clock = Instant::now();
     if let Some(i) = (0..interfaces.len()).find(|&i| interfaces[i].friction > 0.0) {
         let what = match solver {
@@ -133,7 +174,7 @@ pub(crate) fn solve_frictional(
                 Some("friction needs a solver of nonsymmetric systems: not PCG; use the direct solver")
             }
             Solver::Petsc(_) => Some(
-                "friction is solved by sparse LU (the direct solver) only: its PETSc solver (GMRES on the \
+                "friction is solved by the direct solver only: its PETSc solver (GMRES on the \
                  system with the contact multipliers condensed) is not implemented yet",
             ),
         };
@@ -153,9 +194,6 @@ pub(crate) fn solve_frictional(
     let (k, f, dirichlet) = (&system.k, &system.f, &system.dirichlet);
     let n = k.nrows;
     let points = contact_points(bodies, interfaces, &system.mortars, &system.offsets, dirichlet, None)?;
-    let np = points.len();
-    let n_glue = constraints.rows.len();
-    let (z0, size) = (n + n_glue, n + n_glue + 3 * np);
     // G_p: the rows e_k·(u_s − T u_m)_p, e = n, τ₁, τ₂.
     let rows: Vec<[SparseRow; 3]> = points
         .iter()
@@ -168,18 +206,9 @@ pub(crate) fn solve_frictional(
             })
         })
         .collect();
-    let apply = |row: &SparseRow, u: &[f64]| row.iter().map(|&(j, a)| a * u[j]).sum::<f64>();
-    let mu: Vec<f64> = points.iter().map(|c| interfaces[c.interface].friction).collect();
-    // A tangential axis prescribed at the slave point carries no friction.
-    let free_tangent: Vec<[bool; 2]> = points
-        .iter()
-        .map(|c| {
-            std::array::from_fn(|t| {
-                let e = c.frame[t + 1];
-                !(0..3).any(|j| e[j].abs() == 1.0 && dirichlet.value(c.first_dof + j).is_some())
-            })
-        })
-        .collect();
+    let jumps = |u: &[f64]| -> Vec<[f64; 3]> {
+        rows.iter().map(|r| r.each_ref().map(|row| row.iter().map(|&(j, a)| a * u[j]).sum())).collect()
+    };
     let diagonal = |i: usize| {
         let (cols, vals) = k.row(i);
         cols.iter().zip(vals).find(|(&j, _)| j == i).map_or(0.0, |(_, &v)| v)
@@ -188,117 +217,55 @@ pub(crate) fn solve_frictional(
     // c_t = C_T c_n (module doc).
     let cn: Vec<f64> =
         points.iter().map(|c| (0..3).map(|j| diagonal(c.first_dof + j)).sum::<f64>() / (3.0 * c.d)).collect();
-    let ct: Vec<f64> = cn.iter().map(|c| C_T * c).collect();
-
-    // The previous step: u, z, and the tangential relative displacement.
+    // The previous step: u, z, and the tangential jumps.
     let first = state.u.is_empty();
     let u_prev = if first { vec![0.0; n] } else { state.u.clone() };
-    let tangential_prev: Vec<[f64; 2]> =
-        rows.iter().map(|r| [apply(&r[1], &u_prev), apply(&r[2], &u_prev)]).collect();
-    let mut x = vec![0.0; size];
-    x[..n].copy_from_slice(&u_prev);
-    for (p, c) in points.iter().enumerate() {
-        if let Some((z, _)) = state.points.get(&(c.interface, c.point)) {
-            x[z0 + 3 * p..z0 + 3 * p + 3].copy_from_slice(z);
-        }
-    }
-    let initial = initial_active_set(&points, interfaces.len(), 1e-9 * length_scale(bodies));
-    let status_of = |x: &[f64]| -> Vec<Status> {
-        points
+    let law = Law {
+        mu: points.iter().map(|c| interfaces[c.interface].friction).collect(),
+        ct: cn.iter().map(|c| C_T * c).collect(),
+        cn,
+        // A tangential axis prescribed at the slave point carries no friction.
+        free_tangent: points
             .iter()
-            .enumerate()
-            .map(|(p, c)| {
-                let z = &x[z0 + 3 * p..z0 + 3 * p + 3];
-                let lambda = [z[0] / c.d, z[1] / c.d, z[2] / c.d];
-                let xi = lambda[0] - cn[p] * (c.gap - apply(&rows[p][0], x));
-                if xi <= 0.0 {
-                    return Status::Inactive;
-                }
-                let v = slip_vector(
-                    lambda,
-                    ct[p],
-                    [0, 1].map(|t| apply(&rows[p][t + 1], x) - tangential_prev[p][t]),
-                );
-                if mu[p] > 0.0 && norm2(v) < mu[p] * xi {
-                    Status::Stick
-                } else {
-                    Status::Slip
-                }
+            .map(|c| {
+                std::array::from_fn(|t| {
+                    let e = c.frame[t + 1];
+                    !(0..3).any(|j| e[j].abs() == 1.0 && dirichlet.value(c.first_dof + j).is_some())
+                })
             })
-            .collect()
+            .collect(),
+        before: jumps(&u_prev).iter().map(|j| [j[1], j[2]]).collect(),
+        points: &points,
     };
-    let mut status: Vec<Status> = if first {
+    let z_prev: Vec<[f64; 3]> =
+        points.iter().map(|c| state.points.get(&(c.interface, c.point)).map_or([0.0; 3], |h| h.0)).collect();
+    let status: Vec<Status> = if first {
+        let initial = initial_active_set(&points, interfaces.len(), 1e-9 * length_scale(bodies));
         initial.iter().map(|&on| if on { Status::Stick } else { Status::Inactive }).collect()
     } else {
-        status_of(&x)
+        jumps(&u_prev).iter().zip(&z_prev).enumerate().map(|(p, (j, z))| law.status(p, *j, *z)).collect()
     };
     seconds.setup += clock.elapsed().as_secs_f64();
 
-    // Ordering groups of the unknowns (u, λ_g, z): the point of a dof, the
-    // slave point of a multiplier.
-    let groups: Vec<usize> = (0..n)
-        .map(|i| i / 3)
-        .chain(constraints.rows.iter().map(|r| r.dof / 3))
-        .chain(points.iter().flat_map(|c| [c.first_dof / 3; 3]))
-        .collect();
-
     let mut summary = PetscSummary::default();
-    let mut steps = Vec::new();
-    loop {
-        let clock = Instant::now();
-        let (a, b, coupled) = newton_system(
-            (k, f, constraints),
-            (&points, &rows, &status),
-            (&mu, &ct, &free_tangent),
-            (&x, &tangential_prev),
-        );
-        seconds.setup += clock.elapsed().as_secs_f64();
-        let clock = Instant::now();
-        let n_active = status.iter().filter(|&&s| s != Status::Inactive).count();
-        let solved = match solver {
-            Solver::Direct => nearly_saddle((&a, &b, n), dirichlet, &coupled, &groups),
-            _ => solver.solve_general(&a, &b, dirichlet, (Some(&x), &[]), &mut summary),
-        };
-        let (next, linear_iterations) = solved.map_err(|e| match e {
-            SolveError::Singular => ProblemError::SingularStep { step: steps.len() + 1, active: n_active },
-            e => ProblemError::Solve(e),
-        })?;
-        seconds.solve += clock.elapsed().as_secs_f64();
-        let change = relative_change(&x[..n], &next[..n]).max(relative_change(&x[z0..], &next[z0..]));
-        x = next;
-        let new_status = status_of(&x);
-        let added = new_status
-            .iter()
-            .zip(&status)
-            .filter(|(n, o)| **n != Status::Inactive && **o == Status::Inactive)
-            .count();
-        let removed = new_status
-            .iter()
-            .zip(&status)
-            .filter(|(n, o)| **n == Status::Inactive && **o != Status::Inactive)
-            .count();
-        let settled = new_status == status;
-        steps.push(ActiveSetStep {
-            active: n_active,
-            added,
-            removed,
-            linear_iterations,
-            full_tolerance: true,
-            residual: change,
-        });
-        status = new_status;
-        if settled && change <= NEWTON_TOLERANCE {
-            break;
-        }
-        if steps.len() >= max_steps {
-            return Err(ProblemError::ActiveSetNotSettled { steps: steps.len(), added, removed });
-        }
-    }
+    let newton = if condense {
+        let cache = &mut state.condensed;
+        condensed_newton(&law, (k, f, dirichlet), (&jumps(&u_prev), status), (max_steps, cache), seconds)
+    } else {
+        let start = (&u_prev[..], &z_prev[..], status);
+        assembled_newton(
+            &law,
+            (k, f, dirichlet, constraints),
+            &rows,
+            start,
+            (solver, max_steps),
+            &mut summary,
+            seconds,
+        )
+    };
+    let (u, lambda, z, status, steps) = newton?;
 
     let clock = Instant::now();
-    let u = x[..n].to_vec();
-    let lambda = x[n..z0].to_vec();
-    let z: Vec<[f64; 3]> = (0..np).map(|p| std::array::from_fn(|k| x[z0 + 3 * p + k])).collect();
     // KKT of the normal problem, the glued and frictional forces moved to the load side.
     let mut f_net = f.clone();
     let reaction = constraints.c.transpose_mul_vec(&lambda, 1);
@@ -310,7 +277,8 @@ pub(crate) fn solve_frictional(
             }
         }
     }
-    let w: Vec<f64> = rows.iter().map(|r| apply(&r[0], &u)).collect();
+    let jump = jumps(&u);
+    let w: Vec<f64> = jump.iter().map(|j| j[0]).collect();
     let mut slack = vec![0.0; n];
     for (c, &wp) in points.iter().zip(&w) {
         slack[c.first_dof] = wp;
@@ -321,7 +289,7 @@ pub(crate) fn solve_frictional(
         .iter()
         .enumerate()
         .map(|(p, c)| {
-            let s = [0, 1].map(|t| apply(&rows[p][t + 1], &u) - tangential_prev[p][t]);
+            let s = law.slip(p, jump[p]);
             let increment: Point3 = std::array::from_fn(|j| s[0] * c.frame[1][j] + s[1] * c.frame[2][j]);
             let before = state.points.get(&(c.interface, c.point)).map_or([0.0; 3], |h| h.1);
             (increment, std::array::from_fn(|j| before[j] + increment[j]))
@@ -335,7 +303,7 @@ pub(crate) fn solve_frictional(
         tangential: z.iter().zip(&points).map(|(z, c)| [z[1] / c.d, z[2] / c.d]).collect(),
         status: status.clone(),
         slip,
-        mu,
+        mu: law.mu,
     };
     let steps = ContactSolve {
         u,
@@ -347,7 +315,8 @@ pub(crate) fn solve_frictional(
         kkt,
         method: match solver {
             Solver::Petsc(_) => "PETSc KSP (GMRES) per semismooth Newton step",
-            _ => "sparse LU per semismooth Newton step",
+            _ if condense => "sparse Cholesky, semismooth Newton on the condensed contact unknowns",
+            _ => "sparse LDLᵀ and GMRES per semismooth Newton step",
         },
         points,
         petsc: matches!(solver, Solver::Petsc(_)).then_some(summary),
@@ -376,18 +345,312 @@ fn relative_change(a: &[f64], b: &[f64]) -> f64 {
     }
 }
 
-/// The semismooth Newton system at the iterate `x` with the sets `status`
-/// (module doc): [K C_gᵀ Gᵀ; C_g 0 0; N 0 Z] over (u, λ_g, z), and per
-/// unknown whether its row is a linearised slip row (the rest of the
-/// system is symmetric once the identity rows are eliminated).
+/// Coulomb's law at the contact points of one load step (module doc): the
+/// sets and the linearised slip rows.
+struct Law<'a> {
+    points: &'a [ContactPoint],
+    /// μ per point.
+    mu: Vec<f64>,
+    /// c_n, c_t per point.
+    cn: Vec<f64>,
+    ct: Vec<f64>,
+    /// Per point and tangent: not prescribed at the slave point.
+    free_tangent: Vec<[bool; 2]>,
+    /// The tangential jumps at the end of the last step.
+    before: Vec<[f64; 2]>,
+}
+
+impl Law<'_> {
+    /// Whether tangent t of point p carries friction (μ > 0, not prescribed).
+    fn frictional(&self, p: usize, t: usize) -> bool {
+        self.mu[p] > 0.0 && self.free_tangent[p][t]
+    }
+
+    /// s_p: the tangential jump of this step (zero along prescribed tangents),
+    /// from p's jumps (n, τ₁, τ₂).
+    fn slip(&self, p: usize, jump: [f64; 3]) -> [f64; 2] {
+        [0, 1].map(|t| if self.free_tangent[p][t] { jump[t + 1] - self.before[p][t] } else { 0.0 })
+    }
+
+    /// The set of point p at its jumps and z.
+    fn status(&self, p: usize, jump: [f64; 3], z: [f64; 3]) -> Status {
+        let c = &self.points[p];
+        let lambda = z.map(|z| z / c.d);
+        let xi = lambda[0] - self.cn[p] * (c.gap - jump[0]);
+        if xi <= 0.0 {
+            return Status::Inactive;
+        }
+        let v = slip_vector(lambda, self.ct[p], self.slip(p, jump));
+        if self.mu[p] > 0.0 && norm2(v) < self.mu[p] * xi {
+            Status::Stick
+        } else {
+            Status::Slip
+        }
+    }
+
+    /// The linearised slip row of tangent t at the slipping point p, divided
+    /// by ‖v‖ (module doc): coefficients of (z_n, z_τ₁, z_τ₂) and of the
+    /// tangential jumps (τ₁, τ₂), and the right-hand side.
+    fn slip_row(&self, p: usize, t: usize, jump: [f64; 3], z: [f64; 3]) -> ([f64; 3], [f64; 2], f64) {
+        let d = self.points[p].d;
+        let lambda = z.map(|z| z / d);
+        let v = slip_vector(lambda, self.ct[p], self.slip(p, jump));
+        let nv = norm2(v);
+        let vh = [v[0] / nv, v[1] / nv];
+        let (m, ln, c) = (self.mu[p], lambda[0], self.ct[p]);
+        let lt = [lambda[1], lambda[2]];
+        let (mut on_z, mut on_jump) = ([0.0; 3], [0.0; 2]);
+        // − μ v_t λ_n'
+        on_z[0] = -m * v[t] / (d * nv);
+        let mut rhs = (nv * lt[t] - m * ln * v[t]) / nv;
+        for q in (0..2).filter(|&q| self.free_tangent[p][q]) {
+            // (‖v‖ δ + λ_τ,t v̂ᵀ − μ λ_n δ) λ_τ'
+            let l1 = (if q == t { nv - m * ln } else { 0.0 }) + lt[t] * vh[q];
+            on_z[q + 1] = l1 / (d * nv);
+            // c (λ_τ,t v̂ᵀ − μ λ_n δ) s'
+            let l2 = c * (lt[t] * vh[q] - if q == t { m * ln } else { 0.0 });
+            on_jump[q] = l2 / nv;
+            rhs += l2 * self.before[p][q] / nv;
+        }
+        (on_z, on_jump, rhs)
+    }
+}
+
+/// What a Newton iteration gives: u, the glued multipliers, z per contact
+/// point, the sets and the iterations.
+type Newton = (Vec<f64>, Vec<f64>, Vec<[f64; 3]>, Vec<Status>, Vec<ActiveSetStep>);
+
+/// The bookkeeping of one Newton iteration: the step record, and whether
+/// the iteration stops (the sets repeat and the update is below
+/// [`NEWTON_TOLERANCE`]).
+fn record(
+    status: &mut Vec<Status>,
+    new_status: Vec<Status>,
+    (change, linear_iterations): (f64, usize),
+    steps: &mut Vec<ActiveSetStep>,
+    max_steps: usize,
+) -> Result<bool, ProblemError> {
+    let changed = |now: bool| {
+        let inactive = |s: &Status| *s == Status::Inactive;
+        new_status.iter().zip(status.iter()).filter(|(n, o)| inactive(n) == now && inactive(o) != now).count()
+    };
+    let (added, removed) = (changed(false), changed(true));
+    let settled = new_status == *status;
+    steps.push(ActiveSetStep {
+        active: status.iter().filter(|&&s| s != Status::Inactive).count(),
+        added,
+        removed,
+        linear_iterations,
+        full_tolerance: true,
+        residual: change,
+    });
+    *status = new_status;
+    if settled && change <= NEWTON_TOLERANCE {
+        return Ok(true);
+    }
+    if steps.len() >= max_steps {
+        return Err(ProblemError::ActiveSetNotSettled { steps: steps.len(), added, removed });
+    }
+    Ok(false)
+}
+
+/// The Newton iteration on the whole system over (u, λ_g, z)
+/// ([`newton_system`]), from u and z at the end of the last step.
 #[allow(clippy::type_complexity)]
+fn assembled_newton(
+    law: &Law,
+    (k, f, dirichlet, constraints): (&CsrMatrix, &[f64], &Dirichlet, &Constraints),
+    rows: &[[SparseRow; 3]],
+    (u_prev, z_prev, mut status): (&[f64], &[[f64; 3]], Vec<Status>),
+    (solver, max_steps): (Solver, usize),
+    summary: &mut PetscSummary,
+    seconds: &mut Timings,
+) -> Result<Newton, ProblemError> {
+    let (n, n_glue, points) = (k.nrows, constraints.rows.len(), law.points);
+    let z0 = n + n_glue;
+    let mut x = vec![0.0; z0 + 3 * points.len()];
+    x[..n].copy_from_slice(u_prev);
+    for (p, z) in z_prev.iter().enumerate() {
+        x[z0 + 3 * p..z0 + 3 * p + 3].copy_from_slice(z);
+    }
+    // Ordering groups of the unknowns (u, λ_g, z): the point of a dof, the
+    // slave point of a multiplier.
+    let groups: Vec<usize> = (0..n)
+        .map(|i| i / 3)
+        .chain(constraints.rows.iter().map(|r| r.dof / 3))
+        .chain(points.iter().flat_map(|c| [c.first_dof / 3; 3]))
+        .collect();
+    let at = |x: &[f64], p: usize| -> ([f64; 3], [f64; 3]) {
+        let jump = rows[p].each_ref().map(|row| row.iter().map(|&(j, a)| a * x[j]).sum());
+        (jump, std::array::from_fn(|k| x[z0 + 3 * p + k]))
+    };
+    let mut steps = Vec::new();
+    loop {
+        let clock = Instant::now();
+        let jz: Vec<([f64; 3], [f64; 3])> = (0..points.len()).map(|p| at(&x, p)).collect();
+        let (a, b, coupled) = newton_system((k, f, constraints), law, rows, &status, &jz);
+        seconds.setup += clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        let n_active = status.iter().filter(|&&s| s != Status::Inactive).count();
+        let solved = match solver {
+            Solver::Direct => nearly_saddle((&a, &b, n), dirichlet, &coupled, &groups),
+            _ => solver.solve_general(&a, &b, dirichlet, (Some(&x), &[]), summary),
+        };
+        let (next, linear_iterations) = solved.map_err(|e| match e {
+            SolveError::Singular => ProblemError::SingularStep { step: steps.len() + 1, active: n_active },
+            e => ProblemError::Solve(e),
+        })?;
+        seconds.solve += clock.elapsed().as_secs_f64();
+        let change = relative_change(&x[..n], &next[..n]).max(relative_change(&x[z0..], &next[z0..]));
+        x = next;
+        let new_status =
+            (0..points.len()).map(|p| at(&x, p)).enumerate().map(|(p, (j, z))| law.status(p, j, z));
+        if record(&mut status, new_status.collect(), (change, linear_iterations), &mut steps, max_steps)? {
+            break;
+        }
+    }
+    let z = (0..points.len()).map(|p| at(&x, p).1).collect();
+    Ok((x[..n].to_vec(), x[n..z0].to_vec(), z, status, steps))
+}
+
+/// The Newton iteration condensed on the contact unknowns W (no glued
+/// interfaces, the direct solver): in the nodal frames with relative
+/// tangents ([`rotation`]) the jumps of every contact point are unknowns of
+/// their own, A_OO (all others, the jumps held) is factored once and
+/// z_W = c − S w ([`Condensed`]); each Newton step is then a dense LU on W:
+/// z_W = 0 on inactive points, w_n = g on active ones, w_τ = the last step's
+/// on sticking ones, the linearised slip rows with z_W substituted on
+/// slipping ones.
+fn condensed_newton(
+    law: &Law,
+    (k, f, dirichlet): (&CsrMatrix, &[f64], &Dirichlet),
+    (jumps_prev, mut status): (&[[f64; 3]], Vec<Status>),
+    (max_steps, cache): (usize, &mut Option<(u64, Mat<f64>)>),
+    seconds: &mut Timings,
+) -> Result<Newton, ProblemError> {
+    let clock = Instant::now();
+    let (n, points) = (k.nrows, law.points);
+    let relative: Vec<[bool; 2]> = (0..points.len()).map(|p| [0, 1].map(|t| law.frictional(p, t))).collect();
+    let rotate = rotation(n, points, Some(&relative));
+    let a = triple_product(&rotate, k);
+    let b = rotate.transpose_mul_vec(f, 1);
+    // W: per point its normal jump and its frictional tangential jumps.
+    let mut slot: Vec<[Option<usize>; 3]> = vec![[None; 3]; points.len()];
+    let mut w_dofs = Vec::new();
+    for (p, c) in points.iter().enumerate() {
+        for k in (0..3).filter(|&k| k == 0 || relative[p][k - 1]) {
+            slot[p][k] = Some(w_dofs.len());
+            w_dofs.push(c.first_dof + k);
+        }
+    }
+    let mut tied = rotated_dirichlet(n, dirichlet, points);
+    for &dof in &w_dofs {
+        tied.fix_dof(dof, 0.0);
+    }
+    let analysis = CholeskyAnalysis::new(&a, &tied, &DirectOptions::default())?;
+    let key = fingerprint(&a, &w_dofs);
+    let known = cache.take().filter(|(k, _)| *k == key).map(|(_, s)| s);
+    let condensed = Condensed::new(&analysis, &a, &b, &tied, (&w_dofs, known)).map_err(|e| match e {
+        SolveError::Singular => ProblemError::Unsupported { points: points.len() },
+        e => ProblemError::Solve(e),
+    })?;
+    seconds.factorization += clock.elapsed().as_secs_f64();
+
+    let clock = Instant::now();
+    let (s, c) = (&condensed.s, &condensed.c);
+    let nw = w_dofs.len();
+    let mut w = vec![0.0; nw];
+    for (p, jump) in jumps_prev.iter().enumerate() {
+        (0..3).for_each(|k| slot[p][k].into_iter().for_each(|i| w[i] = jump[k]));
+    }
+    // z_W = c − S w, exactly 0 at inactive points (their rows say so).
+    let z_of = |w: &[f64], status: &[Status]| -> Vec<f64> {
+        let mut z: Vec<f64> =
+            (0..nw).map(|i| c[i] - (0..nw).map(|j| s[(i, j)] * w[j]).sum::<f64>()).collect();
+        for p in (0..status.len()).filter(|&p| status[p] == Status::Inactive) {
+            slot[p].iter().flatten().for_each(|&i| z[i] = 0.0);
+        }
+        z
+    };
+    let mut z = z_of(&w, &[]);
+    let at = |v: &[f64], p: usize, fill: [f64; 3]| -> [f64; 3] {
+        std::array::from_fn(|k| slot[p][k].map_or(fill[k], |i| v[i]))
+    };
+    // Tangents off W: their jump is the last step's (no slip), z = 0.
+    let jump_at = |w: &[f64], p: usize| at(w, p, [0.0, law.before[p][0], law.before[p][1]]);
+    let mut steps = Vec::new();
+    loop {
+        let mut j = Mat::<f64>::zeros(nw, nw);
+        let mut r = Mat::<f64>::zeros(nw, 1);
+        for p in 0..points.len() {
+            let (jump, zp) = (jump_at(&w, p), at(&z, p, [0.0; 3]));
+            for (k, i) in slot[p].iter().enumerate().filter_map(|(k, i)| i.map(|i| (k, i))) {
+                match (status[p], k) {
+                    (Status::Inactive, _) => {
+                        (0..nw).for_each(|l| j[(i, l)] = s[(i, l)]);
+                        r[(i, 0)] = c[i];
+                    }
+                    (_, 0) => {
+                        j[(i, i)] = 1.0;
+                        r[(i, 0)] = points[p].gap;
+                    }
+                    (Status::Stick, k) => {
+                        j[(i, i)] = 1.0;
+                        r[(i, 0)] = law.before[p][k - 1];
+                    }
+                    (Status::Slip, k) => {
+                        let (on_z, on_jump, rhs) = law.slip_row(p, k - 1, jump, zp);
+                        let mut rhs = rhs;
+                        for (kk, &a) in on_z.iter().enumerate() {
+                            if let Some(m) = slot[p][kk] {
+                                (0..nw).for_each(|l| j[(i, l)] -= a * s[(m, l)]);
+                                rhs -= a * c[m];
+                            }
+                        }
+                        for (q, &a) in on_jump.iter().enumerate() {
+                            if let Some(m) = slot[p][q + 1] {
+                                j[(i, m)] += a;
+                            }
+                        }
+                        r[(i, 0)] = rhs;
+                    }
+                }
+            }
+        }
+        let next = j.partial_piv_lu().solve(&r);
+        let next: Vec<f64> = (0..nw).map(|i| next[(i, 0)]).collect();
+        if next.iter().any(|v| !v.is_finite()) {
+            let active = status.iter().filter(|&&s| s != Status::Inactive).count();
+            return Err(ProblemError::SingularStep { step: steps.len() + 1, active });
+        }
+        let z_next = z_of(&next, &status);
+        let change = relative_change(&w, &next).max(relative_change(&z, &z_next));
+        (w, z) = (next, z_next);
+        let new_status = (0..points.len()).map(|p| law.status(p, jump_at(&w, p), at(&z, p, [0.0; 3])));
+        if record(&mut status, new_status.collect(), (change, 0), &mut steps, max_steps)? {
+            break;
+        }
+    }
+    let u = rotate.mul_vec(&condensed.expand(&a, &w), 1);
+    *cache = Some((key, condensed.s));
+    seconds.solve += clock.elapsed().as_secs_f64();
+    let z = (0..points.len()).map(|p| at(&z, p, [0.0; 3])).collect();
+    Ok((u, Vec::new(), z, status, steps))
+}
+
+/// The semismooth Newton system at the jumps and z of every contact point
+/// (`at`) with the sets `status` (module doc): [K C_gᵀ Gᵀ; C_g 0 0; N 0 Z]
+/// over (u, λ_g, z), and per unknown whether its row is a linearised slip
+/// row (the rest of the system is symmetric once the identity rows are
+/// eliminated).
 fn newton_system(
     (k, f, constraints): (&CsrMatrix, &[f64], &Constraints),
-    (points, rows, status): (&[ContactPoint], &[[SparseRow; 3]], &[Status]),
-    (mu, ct, free_tangent): (&[f64], &[f64], &[[bool; 2]]),
-    (x, tangential_prev): (&[f64], &[[f64; 2]]),
+    law: &Law,
+    rows: &[[SparseRow; 3]],
+    status: &[Status],
+    at: &[([f64; 3], [f64; 3])],
 ) -> (CsrMatrix, Vec<f64>, Vec<bool>) {
-    let n = k.nrows;
+    let (n, points) = (k.nrows, law.points);
     let n_glue = constraints.rows.len();
     let z0 = n + n_glue;
     let size = z0 + 3 * points.len();
@@ -407,7 +670,6 @@ fn newton_system(
         }
         b[n + i] = constraints.g[i];
     }
-    let apply = |row: &SparseRow| row.iter().map(|&(j, a)| a * x[j]).sum::<f64>();
     for (p, c) in points.iter().enumerate() {
         let zp = z0 + 3 * p;
         for (t, row) in rows[p].iter().enumerate() {
@@ -416,56 +678,28 @@ fn newton_system(
             }
         }
         let (normal, tangent) = (zp, [zp + 1, zp + 2]);
-        let zero = |triplets: &mut Vec<Vec<(usize, f64)>>, r: usize| triplets[r].push((r, 1.0));
-        match status[p] {
-            Status::Inactive => (0..3).for_each(|t| zero(&mut triplets, zp + t)),
-            _ => {
-                triplets[normal].extend(rows[p][0].iter().copied());
-                b[normal] = c.gap;
-            }
-        }
-        let frictionless = mu[p] == 0.0;
-        for t in 0..2 {
-            if status[p] == Status::Inactive {
-                continue;
-            }
-            if frictionless || !free_tangent[p][t] {
-                zero(&mut triplets, tangent[t]);
-            } else if status[p] == Status::Stick {
-                triplets[tangent[t]].extend(rows[p][t + 1].iter().copied());
-                b[tangent[t]] = tangential_prev[p][t];
-            }
-        }
-        if status[p] != Status::Slip || frictionless {
+        if status[p] == Status::Inactive {
+            (0..3).for_each(|t| triplets[zp + t].push((zp + t, 1.0)));
             continue;
         }
-        // The linearised slip rows, divided by ‖v‖ (module doc).
-        let d = c.d;
-        let lambda = [x[zp] / d, x[zp + 1] / d, x[zp + 2] / d];
-        let s = [0, 1].map(|t| apply(&rows[p][t + 1]) - tangential_prev[p][t]);
-        let v = slip_vector(lambda, ct[p], s);
-        let nv = norm2(v);
-        let vh = [v[0] / nv, v[1] / nv];
-        let (m, ln, c_p) = (mu[p], lambda[0], ct[p]);
-        let lt = [lambda[1], lambda[2]];
+        triplets[normal].extend(rows[p][0].iter().copied());
+        b[normal] = c.gap;
         for t in 0..2 {
-            if !free_tangent[p][t] {
-                continue;
-            }
             let r = tangent[t];
-            coupled[r] = true;
-            // (‖v‖ δ + λ_τ,t v̂ᵀ − μ λ_n δ) λ_τ'
-            for q in 0..2 {
-                let l1 = (if q == t { nv - m * ln } else { 0.0 }) + lt[t] * vh[q];
-                triplets[r].push((tangent[q], l1 / (d * nv)));
-                // c (λ_τ,t v̂ᵀ − μ λ_n δ) G_τ,q u'
-                let l2 = c_p * (lt[t] * vh[q] - if q == t { m * ln } else { 0.0 });
-                triplets[r].extend(rows[p][q + 1].iter().map(|&(j, a)| (j, l2 * a / nv)));
-                b[r] += l2 * tangential_prev[p][q] / nv;
+            if !law.frictional(p, t) {
+                triplets[r].push((r, 1.0));
+            } else if status[p] == Status::Stick {
+                triplets[r].extend(rows[p][t + 1].iter().copied());
+                b[r] = law.before[p][t];
+            } else {
+                coupled[r] = true;
+                let (on_z, on_jump, rhs) = law.slip_row(p, t, at[p].0, at[p].1);
+                triplets[r].extend(on_z.iter().enumerate().map(|(k, &a)| (zp + k, a)));
+                for (q, &a) in on_jump.iter().enumerate().filter(|(_, &a)| a != 0.0) {
+                    triplets[r].extend(rows[p][q + 1].iter().map(|&(j, g)| (j, a * g)));
+                }
+                b[r] = rhs;
             }
-            // − μ v_t λ_n'
-            triplets[r].push((normal, -m * v[t] / (d * nv)));
-            b[r] += (nv * lt[t] - m * ln * v[t]) / nv;
         }
     }
     let mut a = CsrMatrix::zeros(0, size);
@@ -513,4 +747,59 @@ fn nearly_saddle(
         x[i] = v;
     }
     Ok((x, iterations))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::multibody::{assemble_system, Operators};
+    use crate::scene::{cattaneo_mindlin, CattaneoMindlin, Hertz};
+    use crate::solution::SolveOptions;
+
+    /// The Newton iteration condensed on the contact unknowns and the one on
+    /// the whole system reach the same solution, load step after load step,
+    /// on a partial slip (Cattaneo–Mindlin, coarse). (Their iterations may
+    /// differ: the condensed one starts from z in equilibrium with the new
+    /// load, the other from the last step's.)
+    #[test]
+    fn the_condensed_newton_iteration_is_the_assembled_one() {
+        let p = CattaneoMindlin::default();
+        let p = CattaneoMindlin { hertz: Hertz { fine_cells: 3, ..p.hertz }, shear_steps: 2, ..p };
+        let problem = cattaneo_mindlin(&p).unwrap();
+        let options = SolveOptions::default();
+        let interfaces = problem.coupled();
+        let (mut condensed, mut assembled) = (FrictionState::default(), FrictionState::default());
+        let mut slipped = 0;
+        for &t in problem.steps.times() {
+            let prepared = problem.loads_and_supports(t).unwrap();
+            let bodies = problem.solver_bodies(&prepared);
+            let mut seconds = Timings::default();
+            let system =
+                assemble_system(&bodies, &interfaces, (true, Operators::Here), &mut seconds).unwrap();
+            let constraints =
+                Constraints::new((&interfaces, &bodies), &system.mortars, &system.offsets, &system.dirichlet);
+            assert!(constraints.rows.is_empty());
+            let mut solve = |condense: bool, state: &mut FrictionState| {
+                let how = (options.solver, options.max_active_set_steps, condense);
+                frictional_step(&bodies, &interfaces, how, &system, &constraints, state, &mut seconds)
+                    .unwrap()
+            };
+            let (a, fa) = solve(true, &mut condensed);
+            let (b, fb) = solve(false, &mut assembled);
+            assert_eq!(fa.status, fb.status, "t = {t}");
+            let max = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, x| m.max(x.abs()));
+            let u_scale = max(&mut a.u.iter().copied());
+            let du = max(&mut a.u.iter().zip(&b.u).map(|(x, y)| x - y));
+            assert!(du <= 1e-9 * u_scale, "t = {t}: u {du:e} of {u_scale:e}");
+            let z = |s: &ContactSolve, f: &Friction| -> Vec<f64> {
+                s.mu.iter().chain(f.tangential.iter().flatten()).copied().collect()
+            };
+            let (za, zb) = (z(&a, &fa), z(&b, &fb));
+            let z_scale = max(&mut za.iter().copied());
+            let dz = max(&mut za.iter().zip(&zb).map(|(x, y)| x - y));
+            assert!(dz <= 1e-8 * z_scale, "t = {t}: z {dz:e} of {z_scale:e}");
+            slipped += fa.status.iter().filter(|&&s| s == Status::Slip).count();
+        }
+        assert!(slipped > 0);
+    }
 }

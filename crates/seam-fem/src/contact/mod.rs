@@ -126,9 +126,7 @@ use seam::{CsrMatrix, Multiplier, Point3};
 use std::borrow::Cow;
 use std::time::Instant;
 
-use frames::{
-    contact_points, normal_row, point_index, rotated_dirichlet, rotation, ContactPoint, SlaveBasis,
-};
+use frames::{contact_points, normal_row, rotated_dirichlet, rotation, ContactPoint, SlaveBasis};
 
 /// Solves the frictionless contact problem (module doc): `system` with the
 /// constraints of its glued interfaces and the contact interfaces, after
@@ -251,7 +249,7 @@ fn rotated_steps(
     let n = k.nrows;
     let p_g = glued.as_ref().map(|g| &g.p);
     let points = contact_points(bodies, interfaces, &system.mortars, offsets, dirichlet, p_g)?;
-    let p = rotation(n, &points);
+    let p = rotation(n, &points, None);
     let a = triple_product(&p, k);
     let b = p.transpose_mul_vec(f, 1);
     let prescribed = rotated_dirichlet(n, dirichlet, &points);
@@ -268,10 +266,12 @@ fn rotated_steps(
                 tied.fix_dof(c.first_dof, 0.0);
             }
             let analysis = CholeskyAnalysis::new(&a, &tied, &DirectOptions::default())?;
-            let condensed = Condensed::new(&analysis, &a, &b, &tied, &points).map_err(|e| match e {
-                SolveError::Singular => ProblemError::Unsupported { points: points.len() },
-                e => ProblemError::Solve(e),
-            })?;
+            let normals: Vec<usize> = points.iter().map(|c| c.first_dof).collect();
+            let condensed =
+                Condensed::new(&analysis, &a, &b, &tied, (&normals, None)).map_err(|e| match e {
+                    SolveError::Singular => ProblemError::Unsupported { points: points.len() },
+                    e => ProblemError::Solve(e),
+                })?;
             seconds.factorization += clock.elapsed().as_secs_f64();
             let clock = Instant::now();
             let (active, w, mu, steps) = active_set_method(
@@ -287,7 +287,7 @@ fn rotated_steps(
             )?;
             seconds.solve += clock.elapsed().as_secs_f64();
             let clock = Instant::now();
-            let x = condensed.expand(&a, &points, &w);
+            let x = condensed.expand(&a, &w);
             seconds.solve += clock.elapsed().as_secs_f64();
             (x, active, mu, steps)
         }
@@ -691,61 +691,65 @@ fn step_solver(solver: Solver, tight: bool) -> Solver {
 /// and 172 (the active set wanders).
 const LOOSE_RTOL: f64 = 1e-3;
 
-/// The problem condensed on the contact normals W = {w_p}: with
-/// A_OO = (PᵀKP) on all other unknowns O factored once (every w_p held at 0),
+/// The problem condensed on a set W of its unknowns (the contact normals
+/// w_p; for friction also the tangential jumps): with A_OO = (PᵀKP) on all
+/// other unknowns O factored once (every W unknown held at 0),
 ///
 /// ```text
-/// x(w) = x₀ + Σ_p Z_p w_p,   Z_p = −A_OO⁻¹ A_O,w_p ,
+/// x(w) = x₀ + Σ_j Z_j w_j,   Z_j = −A_OO⁻¹ A_O,j ,
 /// μ(w) = c − S w,           S = A_WW + A_WO Z,   c = (b − A x₀)_W ,
 /// ```
 ///
 /// so an active-set step is a dense solve S_II w_I = c_I − S_IA g_A on the
 /// inactive points I (w_A = g_A), and the sparse factorisation is done once.
-struct Condensed<'a> {
+pub(super) struct Condensed<'a> {
     factor: CholeskyFactor<'a>,
+    /// The dofs of W.
+    w: Vec<usize>,
+    pub(super) s: Mat<f64>,
     x0: Vec<f64>,
-    s: Mat<f64>,
-    c: Vec<f64>,
+    pub(super) c: Vec<f64>,
 }
 
 impl<'a> Condensed<'a> {
     /// Columns of Z computed together.
     const BLOCK: usize = 64;
 
-    /// Factors A_OO (`analysis` of A with every w_p prescribed, in `tied`),
-    /// and forms x₀, S and c.
-    fn new(
+    /// Factors A_OO (`analysis` of A with every dof of `w` prescribed, in
+    /// `tied`), and forms S (unless `known`: S of this A and W formed
+    /// before), x₀ and c.
+    pub(super) fn new(
         analysis: &'a CholeskyAnalysis,
         a: &CsrMatrix,
         b: &[f64],
         tied: &Dirichlet,
-        points: &[ContactPoint],
+        (w, known): (&[usize], Option<Mat<f64>>),
     ) -> Result<Condensed<'a>, SolveError> {
         let factor = analysis.factor(a)?;
-        let (free, local) = (analysis.free(), analysis.local());
+        let s = match known {
+            Some(s) => s,
+            None => Self::schur(&factor, a, w),
+        };
+        let mut condensed = Condensed { factor, w: w.to_vec(), s, x0: Vec::new(), c: Vec::new() };
+        condensed.load(a, b, tied);
+        Ok(condensed)
+    }
+
+    /// S = A_WW + A_WO Z, Z in blocks of columns.
+    fn schur(factor: &CholeskyFactor, a: &CsrMatrix, w: &[usize]) -> Mat<f64> {
+        let (free, local) = (factor.analysis().free(), factor.analysis().local());
         let m = free.len();
-        // x₀: the prescribed values, w = 0, A_OO x_O = (b − A ū)_O.
-        let mut x0 = vec![0.0; a.nrows];
-        for (dof, v) in tied.iter() {
-            x0[dof] = v;
+        let nw = w.len();
+        let mut w_index = vec![usize::MAX; a.nrows];
+        for (j, &dof) in w.iter().enumerate() {
+            w_index[dof] = j;
         }
-        let r = residual(a, b, &x0);
-        let mut rhs = Mat::<f64>::from_fn(m, 1, |i, _| r[free[i]]);
-        factor.solve_in_place(rhs.as_mut());
-        for (i, &dof) in free.iter().enumerate() {
-            x0[dof] = rhs[(i, 0)];
-        }
-        let r = residual(a, b, &x0);
-        let c = points.iter().map(|p| r[p.first_dof]).collect();
-        // S = A_WW + A_WO Z, Z in blocks of columns.
-        let nw = points.len();
-        let point_of = point_index(a.nrows, points);
         let mut s = Mat::<f64>::zeros(nw, nw);
         for start in (0..nw).step_by(Self::BLOCK) {
             let cols = start..(start + Self::BLOCK).min(nw);
             let mut z = Mat::<f64>::zeros(m, cols.len());
             for (jj, j) in cols.clone().enumerate() {
-                let (idx, vals) = a.row(points[j].first_dof);
+                let (idx, vals) = a.row(w[j]);
                 for (&q, &v) in idx.iter().zip(vals) {
                     if local[q] != usize::MAX {
                         z[(local[q], jj)] = -v;
@@ -756,15 +760,15 @@ impl<'a> Condensed<'a> {
             let rows: Vec<Vec<f64>> = (0..nw)
                 .into_par_iter()
                 .map(|i| {
-                    let (idx, vals) = a.row(points[i].first_dof);
+                    let (idx, vals) = a.row(w[i]);
                     cols.clone()
                         .enumerate()
                         .map(|(jj, j)| {
                             idx.iter()
                                 .zip(vals)
-                                .map(|(&q, &v)| match (local[q], point_of[q / 3]) {
-                                    (l, _) if l != usize::MAX => v * z[(l, jj)],
-                                    (_, p) if p == j && q == points[j].first_dof => v,
+                                .map(|(&q, &v)| match local[q] {
+                                    l if l != usize::MAX => v * z[(l, jj)],
+                                    _ if w_index[q] == j => v,
                                     _ => 0.0,
                                 })
                                 .sum()
@@ -778,11 +782,32 @@ impl<'a> Condensed<'a> {
                 }
             }
         }
-        Ok(Condensed { factor, x0, s, c })
+        s
     }
 
-    /// One active-set step: w_A = g_A, S_II w_I = c_I − S_IA g_A, and
-    /// μ_A = (c − S w)_A, μ_I = 0. None when S_II is (numerically) singular.
+    /// x₀ and c for the load `b` and the values of `tied` (its dofs those
+    /// analysed).
+    pub(super) fn load(&mut self, a: &CsrMatrix, b: &[f64], tied: &Dirichlet) {
+        let (free, m) = (self.factor.analysis().free(), self.factor.analysis().free().len());
+        // x₀: the prescribed values, w = 0, A_OO x_O = (b − A ū)_O.
+        let mut x0 = vec![0.0; a.nrows];
+        for (dof, v) in tied.iter() {
+            x0[dof] = v;
+        }
+        let r = residual(a, b, &x0);
+        let mut rhs = Mat::<f64>::from_fn(m, 1, |i, _| r[free[i]]);
+        self.factor.solve_in_place(rhs.as_mut());
+        for (i, &dof) in free.iter().enumerate() {
+            x0[dof] = rhs[(i, 0)];
+        }
+        let r = residual(a, b, &x0);
+        self.c = self.w.iter().map(|&dof| r[dof]).collect();
+        self.x0 = x0;
+    }
+
+    /// One active-set step (W the normals of `points`, in order): w_A = g_A,
+    /// S_II w_I = c_I − S_IA g_A, and μ_A = (c − S w)_A, μ_I = 0. None when
+    /// S_II is (numerically) singular.
     fn step(&self, points: &[ContactPoint], active: &[bool]) -> Option<(Vec<f64>, Vec<f64>)> {
         let nw = points.len();
         let mut w: Vec<f64> =
@@ -820,13 +845,13 @@ impl<'a> Condensed<'a> {
         Some((w, mu))
     }
 
-    /// x(w) = x₀ + Z w: one more solve with A_OO.
-    fn expand(&self, a: &CsrMatrix, points: &[ContactPoint], w: &[f64]) -> Vec<f64> {
+    /// x(w) = x₀ + Z w for the values `w` of W: one more solve with A_OO.
+    pub(super) fn expand(&self, a: &CsrMatrix, w: &[f64]) -> Vec<f64> {
         let analysis = self.factor.analysis();
         let (free, local) = (analysis.free(), analysis.local());
         let mut rhs = Mat::<f64>::zeros(free.len(), 1);
-        for (p, &wp) in points.iter().zip(w) {
-            let (idx, vals) = a.row(p.first_dof);
+        for (&dof, &wp) in self.w.iter().zip(w) {
+            let (idx, vals) = a.row(dof);
             for (&q, &v) in idx.iter().zip(vals) {
                 if local[q] != usize::MAX {
                     rhs[(local[q], 0)] -= v * wp;
@@ -838,8 +863,8 @@ impl<'a> Condensed<'a> {
         for (i, &dof) in free.iter().enumerate() {
             x[dof] += rhs[(i, 0)];
         }
-        for (p, &wp) in points.iter().zip(w) {
-            x[p.first_dof] = wp;
+        for (&dof, &wp) in self.w.iter().zip(w) {
+            x[dof] = wp;
         }
         x
     }
