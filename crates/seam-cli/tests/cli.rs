@@ -308,7 +308,7 @@ fn example_help_lists_every_example_and_solve_help_mentions_contact() {
     let tmp = tempfile::tempdir().unwrap();
     let o = seam(&["example", "--help"], tmp.path());
     let help = String::from_utf8_lossy(&o.stdout);
-    for name in ["operator", "warped-glue", "bulging-contact", "hertz"] {
+    for name in ["operator", "warped-glue", "bulging-contact", "hertz", "cattaneo-mindlin"] {
         assert!(help.contains(name), "example --help lacks {name}:\n{help}");
     }
     assert!(!help.contains("--slave-cells"), "the test-size flags stay hidden:\n{help}");

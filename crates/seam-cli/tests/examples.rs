@@ -146,3 +146,33 @@ fn hertz_matches_the_analytic_solution_within_a_slave_element() {
     let force = -summary["contact"]["interfaces"][0]["force"][2].as_f64().unwrap();
     assert!((force / (params.force() / 4.0) - 1.0).abs() < 1e-8, "force {force}");
 }
+
+#[test]
+fn cattaneo_mindlin_writes_every_load_step_and_compares_the_partial_slip() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = seam(&["example", "cattaneo-mindlin", "-o", "cm", "--slave-cells", "3"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = String::from_utf8_lossy(&o.stdout);
+    for part in ["| stick radius c |", "| contact radius a |", "| tangential traction q |"] {
+        assert!(report.contains(part), "'{part}' in:\n{report}");
+    }
+    let cm = tmp.path().join("cm");
+    let steps = ["out/steps/block_0005.vtu", "out/block.pvd", "out/block_top_interface.pvd"];
+    let files = ["cattaneo-mindlin.md", "cattaneo-mindlin.csv", "out/block_top_interface.vtu"];
+    assert_files(&cm, &["indenter", "block"], &[&files[..], &steps[..]].concat());
+    assert_eq!(png_size(&cm.join("cattaneo-mindlin.png")), (1000, 680));
+    let summary = json(&cm.join("out/summary.json"));
+    check_contact(&summary);
+    // One step presses, four shear; the last has sticking and slipping points.
+    let steps = summary["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 5);
+    let last = &steps[4];
+    assert!(last["stick"].as_u64().unwrap() > 0 && last["slip"].as_u64().unwrap() > 0, "{last}");
+    let csv = std::fs::read_to_string(cm.join("cattaneo-mindlin.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("x,contact_pressure,tangential_traction_x,cattaneo_mindlin,stick"));
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    assert!(rows.iter().any(|r| r[0] == 0.0 && r[4] == 1.0), "the centre sticks: {csv}");
+    // Coulomb's cone, μ = 0.3.
+    assert!(rows.iter().all(|r| r[2].abs() <= 0.3 * r[1] * (1.0 + 1e-9) + 1e-12), "{csv}");
+}

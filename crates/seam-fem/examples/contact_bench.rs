@@ -16,13 +16,12 @@
 
 mod common;
 
-use common::{flag_sizes, flag_value, peak_mb, petsc, petsc_columns};
+use common::{flag_sizes, flag_value, fresh_row, peak_mb, petsc, petsc_columns};
 use seam_fem::pcg::PcgOptions;
 use seam_fem::scene::{bulging_contact, hertz, BulgingContact, Hertz};
 use seam_fem::Problem;
 use seam_fem::SolveOptions;
 use seam_fem::Solver;
-use std::process::Command;
 use std::time::Instant;
 
 fn row(scene: &str, n: usize, solver: &str) {
@@ -83,20 +82,12 @@ fn main() {
         "| scene n | solver | dofs | contact points | active | steps | changes (/ linear its) | meshing s | K s | mortar s | setup s | solves s | total s | KKT | peak MB | KSP | KSP its | PETSc setup s | PETSc solve s |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-    let exe = std::env::current_exe().expect("own path");
     for (scene, list) in &scenes {
         for &n in list {
             for solver in solvers.split(',') {
-                let out = Command::new(&exe)
-                    .args(["--row", scene, &n.to_string(), solver])
-                    .output()
-                    .expect("run a row");
-                let line = String::from_utf8_lossy(&out.stdout);
-                if out.status.success() {
-                    println!("| {scene} {n} | {solver} {}", line.trim());
-                } else {
-                    let why = String::from_utf8_lossy(&out.stderr);
-                    println!("| {scene} {n} | {solver} | failed: {} |", why.lines().last().unwrap_or(""));
+                match fresh_row(&[scene, &n.to_string(), solver]) {
+                    Ok(line) => println!("| {scene} {n} | {solver} {line}"),
+                    Err(why) => println!("| {scene} {n} | {solver} | failed: {why} |"),
                 }
             }
         }

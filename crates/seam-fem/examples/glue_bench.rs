@@ -22,12 +22,11 @@
 
 mod common;
 
-use common::{flag_sizes, flag_value, peak_mb, petsc, petsc_columns};
+use common::{flag_sizes, flag_value, fresh_row, peak_mb, petsc, petsc_columns};
 use seam::{Multiplier, Named};
 use seam_fem::pcg::PcgOptions;
 use seam_fem::scene::{warped_glue, WarpedGlue};
 use seam_fem::{SolveOptions, Solver};
-use std::process::Command;
 use std::time::Instant;
 
 fn row(s: usize, solver: &str) {
@@ -85,18 +84,11 @@ fn main() {
         "| solver | dofs | constraints | meshing s | K s | mortar s | setup s | factor/PCG s | solve s | total s | iterations | residual | peak MB | method | KSP | KSP its | PETSc setup s | PETSc solve s |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-    let exe = std::env::current_exe().expect("own path");
     for &s in &sizes {
         for solver in solvers.split(',') {
-            let out = Command::new(&exe).args(["--row", &s.to_string(), solver]).output().expect("run a row");
-            let line = String::from_utf8_lossy(&out.stdout);
-            if out.status.success() {
-                println!("| {solver} {}", line.trim().trim_start_matches('|').trim_start());
-            } else {
-                println!(
-                    "| {solver} | s = {s} failed: {} |",
-                    String::from_utf8_lossy(&out.stderr).lines().last().unwrap_or("")
-                );
+            match fresh_row(&[&s.to_string(), solver]) {
+                Ok(line) => println!("| {solver} {}", line.trim_start_matches('|').trim_start()),
+                Err(why) => println!("| {solver} | s = {s} failed: {why} |"),
             }
         }
     }

@@ -13,12 +13,11 @@
 
 mod common;
 
-use common::peak_mb;
+use common::{fresh_row, peak_mb};
 use seam_fem::generate::{block, BlockKind, Grid, Side};
 use seam_fem::pcg::{solve_pcg, PcgOptions, Preconditioner};
 use seam_fem::solve::{solve_direct, DirectOptions, FillOrdering};
 use seam_fem::{stiffness, traction, Dirichlet, Material};
-use std::process::Command;
 use std::time::Instant;
 
 /// User + system CPU seconds of this process so far.
@@ -112,13 +111,11 @@ fn main() {
         "| n | free dofs | method | order+symbolic s | numeric s | solve s | nnz(L) M | GFlop | GFlop/s | widest supernode | PCG its | PCG rel res | total s | CPU s | peak MB | rel residual | u_x tip |"
     );
     println!("|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
-    let exe = std::env::current_exe().expect("own path");
     for &n in &sizes {
         for method in methods.split(',') {
-            let out = Command::new(&exe).args(["--row", &n.to_string(), method]).output().expect("run a row");
-            print!("{}", String::from_utf8_lossy(&out.stdout));
-            if !out.status.success() {
-                println!("| {n} | - | {method} | failed: {} |", String::from_utf8_lossy(&out.stderr).trim());
+            match fresh_row(&[&n.to_string(), method]) {
+                Ok(line) => println!("{line}"),
+                Err(why) => println!("| {n} | - | {method} | failed: {why} |"),
             }
         }
     }

@@ -11,6 +11,20 @@ pub fn peak_mb() -> f64 {
         .map_or(f64::NAN, |kb| kb / 1024.0)
 }
 
+/// Runs this executable again with `--row` and `args`, in a fresh process
+/// so that the row's peak memory is its own: its standard output trimmed,
+/// or the last line of its standard error if it failed.
+#[allow(dead_code)]
+pub fn fresh_row(args: &[&str]) -> Result<String, String> {
+    let exe = std::env::current_exe().expect("own path");
+    let out = std::process::Command::new(exe).arg("--row").args(args).output().expect("run a row");
+    if out.status.success() {
+        Ok(String::from_utf8_lossy(&out.stdout).trim().to_string())
+    } else {
+        Err(String::from_utf8_lossy(&out.stderr).lines().last().unwrap_or("").to_string())
+    }
+}
+
 /// The value after `flag` on the command line, or `default`.
 #[allow(dead_code)]
 pub fn flag_value(args: &[String], flag: &str, default: &str) -> String {

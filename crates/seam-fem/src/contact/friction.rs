@@ -46,7 +46,9 @@
 //! tangential axis that is prescribed at the slave point (a symmetry plane,
 //! whose reaction takes the force), has λ_τ = 0 in that direction, so μ = 0
 //! is frictionless contact. The iteration stops when the sets repeat and the
-//! update of (u, z) is below [`NEWTON_TOLERANCE`] of their size; c = c_n in ξ is per point
+//! update of (u, z) — of the jumps and z, condensed — is below
+//! [`NEWTON_TOLERANCE`] of their size, or below [`ROUND_OFF_FLOOR`] and no
+//! longer halving (round-off); c = c_n in ξ is per point
 //! the mean diagonal stiffness of its slave dofs over d_p, and c = c_t in v
 //! a tenth of it ([`C_T`]).
 //!
@@ -86,6 +88,11 @@ const C_T: f64 = 0.1;
 /// once the sets repeat (its convergence is superlinear, so the iterate is
 /// then far more accurate).
 const NEWTON_TOLERANCE: f64 = 1e-10;
+
+/// Below this relative update an iteration whose sets repeat also stops
+/// when the update no longer halves: the round-off of the solves (the
+/// condensed steps' floor is 1e-10 to 1e-9 at 10⁵ unknowns).
+const ROUND_OFF_FLOOR: f64 = 1e-8;
 
 /// What a frictional solve carries from one load step to the next.
 #[derive(Clone, Debug, Default)]
@@ -422,7 +429,7 @@ type Newton = (Vec<f64>, Vec<f64>, Vec<[f64; 3]>, Vec<Status>, Vec<ActiveSetStep
 
 /// The bookkeeping of one Newton iteration: the step record, and whether
 /// the iteration stops (the sets repeat and the update is below
-/// [`NEWTON_TOLERANCE`]).
+/// [`NEWTON_TOLERANCE`], or below [`ROUND_OFF_FLOOR`] and no longer halving).
 fn record(
     status: &mut Vec<Status>,
     new_status: Vec<Status>,
@@ -436,6 +443,8 @@ fn record(
     };
     let (added, removed) = (changed(false), changed(true));
     let settled = new_status == *status;
+    // Stagnating at the round-off of the solves: the update no longer halves.
+    let stagnating = steps.last().is_some_and(|s| change <= ROUND_OFF_FLOOR && change > 0.5 * s.residual);
     steps.push(ActiveSetStep {
         active: status.iter().filter(|&&s| s != Status::Inactive).count(),
         added,
@@ -445,7 +454,7 @@ fn record(
         residual: change,
     });
     *status = new_status;
-    if settled && change <= NEWTON_TOLERANCE {
+    if settled && (change <= NEWTON_TOLERANCE || stagnating) {
         return Ok(true);
     }
     if steps.len() >= max_steps {
