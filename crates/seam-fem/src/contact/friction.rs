@@ -32,7 +32,8 @@
 //!
 //! (C_τ is homogeneous of degree 2, so J x − C_τ = C_τ), divided by ‖v‖: the
 //! system is not symmetric. The direct solver without glued interfaces
-//! condenses it on the contact unknowns (`condensed_newton`): in nodal
+//! condenses it on the contact unknowns (`condensed_newton`, up to
+//! [`CONDENSED_MAX`] contact points): in nodal
 //! frames whose tangents are relative too, the jumps (n, τ₁, τ₂)·(u_s − T u_m)_p
 //! are unknowns of their own; the stiffness on all the others is factored
 //! once by sparse Cholesky, its Schur complement S on the jumps formed once
@@ -62,7 +63,7 @@ use super::{initial_active_set, kkt, length_scale, Condensed, ContactSolve};
 use crate::backend::{free_block, Solver};
 use crate::constraints::triple_product;
 use crate::constraints::Constraints;
-use crate::multibody::{Body, Interface, ProblemError, System, Timings};
+use crate::multibody::{Body, Coupling, Interface, ProblemError, System, Timings};
 use crate::pcg::free_system;
 use crate::petsc::PetscSummary;
 use crate::saddle::solve_nearly_saddle;
@@ -88,6 +89,13 @@ const C_T: f64 = 0.1;
 /// once the sets repeat (its convergence is superlinear, so the iterate is
 /// then far more accurate).
 const NEWTON_TOLERANCE: f64 = 1e-10;
+
+/// The most contact points (covered slave points) whose frictional steps
+/// are condensed on their jumps (module doc): S has (3 × this)² entries
+/// (290 MB) and each Newton step factors it densely (1.4·10¹¹ flops, some
+/// 10 s on two cores; 0.3 s at 910 points); beyond, the whole system is
+/// solved per step.
+const CONDENSED_MAX: usize = 2000;
 
 /// Below this relative update an iteration whose sets repeat also stops
 /// when the update no longer halves: the round-off of the solves (the
@@ -158,7 +166,11 @@ pub(crate) fn solve_frictional(
     state: &mut FrictionState,
     seconds: &mut Timings,
 ) -> Result<(ContactSolve, Friction), ProblemError> {
-    let condense = matches!(solver, Solver::Direct) && constraints.rows.is_empty();
+    // Dense S and a dense LU per Newton step: for up to CONDENSED_MAX points.
+    let points = interfaces.iter().zip(&system.mortars).filter(|(f, _)| f.kind == Coupling::Contact);
+    let covered: usize = points.map(|(_, m)| m.covered.iter().filter(|&&c| c).count()).sum();
+    let condense =
+        matches!(solver, Solver::Direct) && constraints.rows.is_empty() && covered <= CONDENSED_MAX;
     frictional_step(bodies, interfaces, (solver, max_steps, condense), system, constraints, state, seconds)
 }
 
