@@ -111,15 +111,16 @@ pub(crate) struct FrictionState {
     /// last step (frame components) and the accumulated slip (Cartesian).
     pub(crate) points: BTreeMap<(usize, usize), ([f64; 3], Point3)>,
     /// The condensed operator S of the direct solver's last step and the
-    /// fingerprint of the matrix and the unknowns W it belongs to: the load
-    /// steps of one problem share it ([`Condensed`]).
+    /// fingerprint of the matrix, the unknowns W and the held dofs it belongs
+    /// to: the load steps of one problem share it ([`Condensed`]).
     condensed: Option<(u64, Mat<f64>)>,
 }
 
-/// A fingerprint of A and W (FNV-1a over their bits), to know a condensed
-/// operator S again.
-fn fingerprint(a: &CsrMatrix, w: &[usize]) -> u64 {
-    let words = a.indptr.iter().chain(&a.indices).chain(w).map(|&i| i as u64);
+/// A fingerprint of A, W and the held dofs (FNV-1a over their bits), to know
+/// a condensed operator S again.
+fn fingerprint(a: &CsrMatrix, w: &[usize], held: &Dirichlet) -> u64 {
+    let held: Vec<usize> = held.iter().map(|(dof, _)| dof).collect();
+    let words = a.indptr.iter().chain(&a.indices).chain(w).chain(&held).map(|&i| i as u64);
     let words = words.chain(a.values.iter().map(|v| v.to_bits()));
     words.fold(0xcbf2_9ce4_8422_2325, |h, x| (h ^ x).wrapping_mul(0x0100_0000_01b3))
 }
@@ -569,7 +570,7 @@ fn condensed_newton(
         tied.fix_dof(dof, 0.0);
     }
     let analysis = CholeskyAnalysis::new(&a, &tied, &DirectOptions::default())?;
-    let key = fingerprint(&a, &w_dofs);
+    let key = fingerprint(&a, &w_dofs, &tied);
     let known = cache.take().filter(|(k, _)| *k == key).map(|(_, s)| s);
     let condensed = Condensed::new(&analysis, &a, &b, &tied, (&w_dofs, known)).map_err(|e| match e {
         SolveError::Singular => ProblemError::Unsupported { points: points.len() },
