@@ -66,7 +66,7 @@ pub(crate) fn solve_coupled_from(
         true if frictional => {
             let solver = (options.solver, options.max_active_set_steps);
             let (steps, f) =
-                solve_frictional(bodies, interfaces, solver, &system, &constraints, state, &mut seconds)?;
+                solve_frictional(bodies, interfaces, solver, &mut system, &constraints, state, &mut seconds)?;
             friction = Some(f);
             Some(steps)
         }

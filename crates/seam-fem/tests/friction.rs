@@ -21,16 +21,20 @@ fn block_on_base(mu: f64, tau_side: f64, top_x: TopX) -> Problem {
 }
 
 /// How [`block_on_base_as`] builds the bodies: rotated by `rotation` (points
-/// and loads), and second order (a Tet10 base, a Hex27 block).
+/// and loads), and second order (a Tet10 base, a Hex27 block; with
+/// `tri6_slave` a Hex27 base and a Tet10 block, dual multipliers in Popp's
+/// transformed basis).
 #[derive(Clone, Copy)]
 struct Layout {
     rotation: [[f64; 3]; 3],
     second_order: bool,
+    tri6_slave: bool,
 }
 
 impl Default for Layout {
     fn default() -> Self {
-        Layout { rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], second_order: false }
+        let rotation = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        Layout { rotation, second_order: false, tri6_slave: false }
     }
 }
 
@@ -76,10 +80,16 @@ fn block_on_base_as(mu: f64, tau_side: f64, top_x: TopX, layout: Layout) -> Prob
             supports.push(Support::new(id(1, 1), [Some(ux), None, None]));
         }
     }
-    let (base_kind, block_kind) =
-        if layout.second_order { (BlockKind::Tet, BlockKind::Hex) } else { (BlockKind::Hex, BlockKind::Tet) };
+    let (base_kind, block_kind) = match layout {
+        Layout { second_order: true, tri6_slave: false, .. } => (BlockKind::Tet, BlockKind::Hex),
+        _ => (BlockKind::Hex, BlockKind::Tet),
+    };
     let bodies = [body("base", [3, 3, 2], 0.0, base_kind), body("block", [2, 2, 2], 0.5, block_kind)];
-    Problem { supports, loads, ..on_base(bodies, mu) }
+    let mut problem = Problem { supports, loads, ..on_base(bodies, mu) };
+    if layout.tri6_slave {
+        problem.interfaces[0].options.multiplier = Multiplier::Dual;
+    }
+    problem
 }
 
 /// An n[0] × n[1] × n[2] block of `kind` cells mapped by `map` from the
@@ -138,7 +148,9 @@ fn traction_miss(s: &seam_fem::Solution, expected: Point3) -> f64 {
 #[test]
 fn below_the_friction_bound_every_point_sticks_and_the_traction_is_exact() {
     // τ = 0.5 < μ P = 0.6: the block is held by friction alone. Hex8 base |
-    // Tet4 block, then rotated, then a Tet10 base | Hex27 block (Quad9 slave faces).
+    // Tet4 block, then rotated, then a Tet10 base | Hex27 block (Quad9 slave
+    // faces), then a Hex27 base | Tet10 block (Tri6 slave faces, dual
+    // multipliers in the transformed basis).
     let tau = 0.5;
     let (c, s) = ((0.6f64).cos(), (0.6f64).sin());
     let rotated = [[c, 0.0, s], [s * s, c, -s * c], [-s * c, s, c * c]];
@@ -146,6 +158,7 @@ fn below_the_friction_bound_every_point_sticks_and_the_traction_is_exact() {
         ("hex|tet", Layout::default()),
         ("hex|tet rotated", Layout { rotation: rotated, ..Layout::default() }),
         ("tet10|hex27", Layout { second_order: true, ..Layout::default() }),
+        ("hex27|tet10 dual", Layout { second_order: true, tri6_slave: true, ..Layout::default() }),
     ];
     for (name, layout) in layouts {
         let problem = block_on_base_as(0.3, tau, TopX::Traction(tau), layout);
@@ -174,41 +187,46 @@ fn below_the_friction_bound_every_point_sticks_and_the_traction_is_exact() {
 #[test]
 fn driven_past_the_friction_bound_every_point_slips_at_mu_p_along_the_drive() {
     // The top pushed 0.05 along x: the shear needed to stick, τ = G · 0.05 / ½
-    // = 5, is beyond μ P = 0.6, so the block slides with ‖t_τ‖ = μ P.
+    // = 5, is beyond μ P = 0.6, so the block slides with ‖t_τ‖ = μ P. Hex8 |
+    // Tet4, and Hex27 | Tet10 (Tri6 slave faces, dual multipliers in the
+    // transformed basis).
     let mu = 0.3;
     let tau = mu * P;
-    let mut problem = block_on_base(mu, tau, TopX::Displacement(0.05));
-    problem.steps = seam_fem::LoadSteps::equal(10).unwrap();
-    let s = solve(&problem, &SolveOptions::default()).unwrap();
-    let f = &s.interfaces[0];
-    let c = f.contact.as_ref().unwrap();
-    let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
-    assert!(points.iter().all(|&p| c.active[p] && !c.stick[p]), "all slip");
-    let miss = traction_miss(&s, [-tau, 0.0, P]);
-    assert!(miss < 1e-10, "traction off by {miss:e}");
-    for &p in &points {
-        let bound = c.friction_bound[p];
-        assert!((bound - mu * P).abs() < 1e-10, "{bound}");
-        let t = f.tangential_traction[p];
-        assert!(((t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt() - bound).abs() < 1e-10);
-        // Slip along the drive: the drive less the shear of the block and the base, each τ ½ / G.
-        let slip = c.slip[p];
-        let expected = 0.05 - 2.0 * tau * 0.5 / (E / 2.0);
+    let tri6 = Layout { second_order: true, tri6_slave: true, ..Layout::default() };
+    for (name, layout) in [("hex|tet", Layout::default()), ("hex27|tet10 dual", tri6)] {
+        let mut problem = block_on_base_as(mu, tau, TopX::Displacement(0.05), layout);
+        problem.steps = seam_fem::LoadSteps::equal(10).unwrap();
+        let s = solve(&problem, &SolveOptions::default()).unwrap();
+        let f = &s.interfaces[0];
+        let c = f.contact.as_ref().unwrap();
+        let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
+        assert!(points.iter().all(|&p| c.active[p] && !c.stick[p]), "{name}: all slip");
+        let miss = traction_miss(&s, [-tau, 0.0, P]);
+        assert!(miss < 1e-10, "{name}: traction off by {miss:e}");
+        for &p in &points {
+            let bound = c.friction_bound[p];
+            assert!((bound - mu * P).abs() < 1e-10, "{name}: {bound}");
+            let t = f.tangential_traction[p];
+            assert!(((t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt() - bound).abs() < 1e-10, "{name}");
+            // Slip along the drive: the drive less the shear of the block and the base, each τ ½ / G.
+            let slip = c.slip[p];
+            let expected = 0.05 - 2.0 * tau * 0.5 / (E / 2.0);
+            assert!(
+                (slip[0] - expected).abs() < 1e-12 && slip[1].abs() < 1e-12 && slip[2].abs() < 1e-12,
+                "{name}: {slip:?}"
+            );
+        }
+        let steps = &s.report.contact.as_ref().unwrap().steps;
+        let r: Vec<f64> = steps.iter().map(|s| s.residual).collect();
+        println!("{name}: Newton updates of the last load step: {r:?}");
+        assert!(steps.len() <= 8, "{name}: {steps:?}");
+        // Superlinear: the ratio of successive updates falls over the last ones (to round-off).
+        let k = r.iter().position(|&x| x < 1e-8).expect("converged");
         assert!(
-            (slip[0] - expected).abs() < 1e-12 && slip[1].abs() < 1e-12 && slip[2].abs() < 1e-12,
-            "{slip:?}"
+            k >= 3 && r[k] / r[k - 1] < r[k - 1] / r[k - 2] && r[k - 1] / r[k - 2] < r[k - 2] / r[k - 3],
+            "{name}: {r:?}"
         );
     }
-    let steps = &s.report.contact.as_ref().unwrap().steps;
-    let r: Vec<f64> = steps.iter().map(|s| s.residual).collect();
-    println!("Newton updates of the last load step: {r:?}");
-    assert!(steps.len() <= 8, "{steps:?}");
-    // Superlinear: the ratio of successive updates falls over the last ones (to round-off).
-    let k = r.iter().position(|&x| x < 1e-8).expect("converged");
-    assert!(
-        k >= 3 && r[k] / r[k - 1] < r[k - 1] / r[k - 2] && r[k - 1] / r[k - 2] < r[k - 2] / r[k - 3],
-        "{r:?}"
-    );
 }
 
 /// A block (1 × 1 × ½, tetrahedra) of weight W on a base inclined by α

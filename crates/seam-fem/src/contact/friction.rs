@@ -58,7 +58,7 @@
 //! contact and friction is held from the first iteration; every later step
 //! starts from the last one's u and z.
 
-use super::frames::{contact_points, normal_row, rotated_dirichlet, rotation, ContactPoint};
+use super::frames::{contact_points, normal_row, rotated_dirichlet, rotation, ContactPoint, SlaveBasis};
 use super::{initial_active_set, kkt, length_scale, Condensed, ContactSolve};
 use crate::backend::{free_block, Solver};
 use crate::constraints::triple_product;
@@ -155,14 +155,15 @@ type SparseRow = Vec<(usize, f64)>;
 /// updating `state` for the next one.
 ///
 /// # Errors
-/// [`ProblemError::BadInterface`] for a slave surface with a basis
-/// transformation (dual multipliers on second-order faces), a singular
-/// Newton step, no convergence within `max_steps`, the LU's errors.
+/// [`ProblemError::BadInterface`] for a solver other than the direct one or
+/// a prescribed slave component the transformed basis cannot carry
+/// ([`SlaveBasis::new`]), a singular Newton step, no convergence within
+/// `max_steps`, the solves' errors.
 pub(crate) fn solve_frictional(
     bodies: &[Body],
     interfaces: &[Interface],
     (solver, max_steps): (Solver, usize),
-    system: &System,
+    system: &mut System,
     constraints: &Constraints,
     state: &mut FrictionState,
     seconds: &mut Timings,
@@ -172,7 +173,32 @@ pub(crate) fn solve_frictional(
     let covered: usize = points.map(|(_, m)| m.covered.iter().filter(|&&c| c).count()).sum();
     let condense =
         matches!(solver, Solver::Direct) && constraints.rows.is_empty() && covered <= CONDENSED_MAX;
-    frictional_step(bodies, interfaces, (solver, max_steps, condense), system, constraints, state, seconds)
+    let how = (solver, max_steps, condense);
+    let clock = Instant::now();
+    let basis = SlaveBasis::new(bodies, interfaces, system)?;
+    seconds.setup += clock.elapsed().as_secs_f64();
+    let Some(basis) = basis else {
+        return frictional_step(bodies, interfaces, how, system, constraints, state, seconds);
+    };
+    // In the transformed unknowns ũ, u = P_b ũ, as frictionless contact
+    // (module doc of `contact`); `state` keeps ũ between the load steps.
+    let clock = Instant::now();
+    let transformed = System {
+        k: triple_product(&basis.p, &system.k),
+        f: basis.p.transpose_mul_vec(&system.f, 1),
+        dirichlet: basis.dirichlet.clone(),
+        offsets: system.offsets.clone(),
+        mortars: std::mem::take(&mut system.mortars),
+        points: std::mem::take(&mut system.points),
+    };
+    let mut glued = constraints.clone();
+    glued.c = basis.times(&constraints.c);
+    seconds.setup += clock.elapsed().as_secs_f64();
+    let solved = frictional_step(bodies, interfaces, how, &transformed, &glued, state, seconds);
+    (system.mortars, system.points) = (transformed.mortars, transformed.points);
+    let (mut steps, friction) = solved?;
+    steps.u = basis.p.mul_vec(&steps.u, 1);
+    Ok((steps, friction))
 }
 
 /// [`solve_frictional`], condensed on the contact unknowns or not
@@ -201,15 +227,6 @@ fn frictional_step(
         if let Some(what) = what {
             return Err(ProblemError::BadInterface { interface: i, what: what.to_string() });
         }
-    }
-    if let Some(i) =
-        (0..interfaces.len()).find(|&i| system.mortars[i].basis.is_some() && interfaces[i].friction > 0.0)
-    {
-        let what =
-            "friction on second-order slave faces with dual multipliers (Popp's transformed basis) is \
-                    not implemented; use a first-order slave surface, or lumped multipliers on Quad9 faces"
-                .to_string();
-        return Err(ProblemError::BadInterface { interface: i, what });
     }
     let (k, f, dirichlet) = (&system.k, &system.f, &system.dirichlet);
     let n = k.nrows;

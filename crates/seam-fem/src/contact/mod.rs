@@ -1021,7 +1021,7 @@ mod tests {
             &bodies,
             &interfaces,
             solver,
-            &system,
+            &mut system,
             &constraints,
             &mut state,
             &mut seconds,
