@@ -4,7 +4,7 @@
 //! transformed slave basis on second-order faces ([`SlaveBasis`]; module doc
 //! of [`crate::contact`]).
 
-use crate::constraints::NONE;
+use crate::constraints::{triple_product, Constraints, NONE};
 use crate::multibody::{Body, Coupling, Interface, ProblemError, System};
 use crate::solve::Dirichlet;
 use seam::vec3::{cross, dot, norm, sub};
@@ -171,6 +171,24 @@ impl SlaveBasis {
             out.fix_dof(dof, value / own);
         }
         Ok(out)
+    }
+
+    /// `system` and `constraints` in ũ (module doc of [`crate::contact`]):
+    /// K̃ = P_bᵀ K P_b (K moved out of `system`: not needed after the solve),
+    /// f̃ = P_bᵀ f, the Dirichlet conditions in ũ and C̃ = C P_b; `system`'s
+    /// mortars and points move to the result (the caller moves them back).
+    pub(super) fn transform(&self, system: &mut System, constraints: &Constraints) -> (System, Constraints) {
+        let transformed = System {
+            k: triple_product(&self.p, &std::mem::replace(&mut system.k, CsrMatrix::zeros(0, 0))),
+            f: self.p.transpose_mul_vec(&system.f, 1),
+            dirichlet: self.dirichlet.clone(),
+            offsets: system.offsets.clone(),
+            mortars: std::mem::take(&mut system.mortars),
+            points: std::mem::take(&mut system.points),
+        };
+        let mut glued = constraints.clone();
+        glued.c = self.times(&constraints.c);
+        (transformed, glued)
     }
 
     /// C P_b for a matrix C with n columns.

@@ -183,16 +183,7 @@ pub(crate) fn solve_frictional(
     // In the transformed unknowns ũ, u = P_b ũ, as frictionless contact
     // (module doc of `contact`); `state` keeps ũ between the load steps.
     let clock = Instant::now();
-    let transformed = System {
-        k: triple_product(&basis.p, &system.k),
-        f: basis.p.transpose_mul_vec(&system.f, 1),
-        dirichlet: basis.dirichlet.clone(),
-        offsets: system.offsets.clone(),
-        mortars: std::mem::take(&mut system.mortars),
-        points: std::mem::take(&mut system.points),
-    };
-    let mut glued = constraints.clone();
-    glued.c = basis.times(&constraints.c);
+    let (transformed, glued) = basis.transform(system, constraints);
     seconds.setup += clock.elapsed().as_secs_f64();
     let solved = frictional_step(bodies, interfaces, how, &transformed, &glued, state, seconds);
     (system.mortars, system.points) = (transformed.mortars, transformed.points);

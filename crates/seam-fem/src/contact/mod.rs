@@ -163,16 +163,7 @@ pub(crate) fn solve_contact(
     // K itself is not needed any more (K̃ is formed again from the bodies).
     let clock = Instant::now();
     let reform = || Ok(triple_product(&basis.p, &bodies_stiffness(bodies)?));
-    let mut transformed = System {
-        k: triple_product(&basis.p, &std::mem::replace(&mut system.k, CsrMatrix::zeros(0, 0))),
-        f: basis.p.transpose_mul_vec(&system.f, 1),
-        dirichlet: basis.dirichlet.clone(),
-        offsets: system.offsets.clone(),
-        mortars: std::mem::take(&mut system.mortars),
-        points: std::mem::take(&mut system.points),
-    };
-    let mut glued = constraints.clone();
-    glued.c = basis.times(&constraints.c);
+    let (mut transformed, glued) = basis.transform(system, constraints);
     seconds.setup += clock.elapsed().as_secs_f64();
     let steps = active_set_steps(bodies, interfaces, options, (&mut transformed, &reform), &glued, seconds);
     (system.mortars, system.points) = (transformed.mortars, transformed.points);
