@@ -348,3 +348,86 @@ fn slip_stays_and_locked_in_tractions_balance_after_unloading() {
     assert!(locked > 1e-3 * mu * P, "tractions are locked in");
     assert!(force[0].abs() < 1e-12 * P && force[1].abs() < 1e-12 * P, "{force:?}");
 }
+
+/// [`block_on_base`] with a cap [0,1]² × [1, 3/2] (hexahedra 3×3×1) glued on
+/// the block's top (the cap's bottom the slave, with `multiplier`): the
+/// block's top loads and supports move to the cap's top, the cap's sides
+/// carry the same complementary shear.
+fn capped_block_on_base(mu: f64, tau_side: f64, top_x: TopX, multiplier: Multiplier) -> Problem {
+    let mut problem = block_on_base(mu, tau_side, top_x);
+    let material = Material::new(E, 0.0).unwrap();
+    let sides = [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("xmax", Side::XMax)];
+    let cap =
+        block_body("cap", ([3, 3, 1], BlockKind::Hex, material), |x, y, z| [x, y, 1.0 + 0.5 * z], &sides);
+    problem.bodies.push(cap);
+    let id = |body, surface| SurfaceId { body, surface };
+    let to_cap = |b: &mut SurfaceId| {
+        if *b == id(1, 1) {
+            *b = id(2, 1);
+        }
+    };
+    problem.loads.iter_mut().for_each(|l| to_cap(&mut l.boundary));
+    problem.supports.iter_mut().for_each(|s| to_cap(&mut s.boundary));
+    problem.loads.push(Load::new(id(2, 2), [0.0, 0.0, -tau_side]));
+    problem.loads.push(Load::new(id(2, 3), [0.0, 0.0, tau_side]));
+    let options = seam::MortarOptions { multiplier, facing: seam::Facing::Opposite, ..Default::default() };
+    let glue =
+        ProblemInterface { master: id(1, 1), slave: id(2, 0), options, kind: Coupling::Glue, friction: 0.0 };
+    problem.interfaces.push(glue);
+    problem
+}
+
+#[test]
+fn a_glued_cap_keeps_the_patch_tests_exact() {
+    // Stick (τ = 0.5 < μP) and slip (the cap's top driven 0.05 along x); the
+    // glue with dual multipliers eliminated node by node (the Newton steps
+    // condensed on the contact jumps), or standard ones (the whole system).
+    let mu = 0.3;
+    let cases = [("stick", 0.5, TopX::Traction(0.5)), ("slip", mu * P, TopX::Displacement(0.05))];
+    let methods = [
+        (Multiplier::Dual, "sparse Cholesky, semismooth Newton on the condensed contact unknowns"),
+        (Multiplier::Standard, "sparse LDLᵀ and GMRES per semismooth Newton step"),
+    ];
+    for ((name, tau, top_x), (multiplier, method)) in cases.into_iter().flat_map(|c| methods.map(|m| (c, m)))
+    {
+        let mut problem = capped_block_on_base(mu, tau, top_x, multiplier);
+        if name == "slip" {
+            problem.steps = seam_fem::LoadSteps::equal(10).unwrap();
+        }
+        let s = solve(&problem, &SolveOptions::default()).unwrap();
+        assert_eq!(s.report.method, method);
+        let c = s.interfaces[0].contact.as_ref().unwrap();
+        let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
+        let stick = name == "stick";
+        assert!(!points.is_empty() && points.iter().all(|&p| c.active[p] && c.stick[p] == stick), "{name}");
+        let miss = traction_miss(&s, [-tau, 0.0, P]);
+        assert!(miss < 1e-10, "{name}: contact traction off by {miss:e}");
+        // The glue carries the same uniform stress: (τ, 0, −P) on the cap's bottom (normal −z).
+        let glue = &s.interfaces[1];
+        let on = (0..glue.traction.len()).filter(|&p| glue.constrained[p]);
+        let glue_miss =
+            on.map(|p| glue.traction[p]).map(|t| (t[0] + tau).abs().max(t[1].abs()).max((t[2] - P).abs()));
+        let glue_miss = glue_miss.fold(0.0, f64::max);
+        assert!(
+            glue.constrained.iter().any(|&c| c) && glue_miss < 1e-9,
+            "{name}: glue traction off by {glue_miss:e}"
+        );
+        if stick {
+            // The exact field: u_x = τ z / G (G = E/2 with ν = 0), u_z = −P z / E.
+            for (body, u) in problem.bodies.iter().zip(&s.displacement) {
+                for (&x, u) in body.mesh.points().iter().zip(u.chunks(3)) {
+                    let exact = [tau * x[2] / (E / 2.0), 0.0, -P * x[2] / E];
+                    assert!((0..3).all(|k| (u[k] - exact[k]).abs() < 1e-12), "{x:?}: {u:?} vs {exact:?}");
+                }
+            }
+        } else {
+            // Slip along the drive: the drive less the shear of the block, the cap and the base.
+            let expected = 0.05 - 3.0 * tau * 0.5 / (E / 2.0);
+            assert!(
+                points.iter().all(|&p| (c.slip[p][0] - expected).abs() < 1e-12),
+                "{:?}",
+                c.slip[points[0]]
+            );
+        }
+    }
+}

@@ -355,8 +355,14 @@ pub(super) fn point_index(n: usize, points: &[ContactPoint]) -> Vec<usize> {
 /// u_s,p = n (w + Σ_q T_pq n·u_m,q) + t₁ v₁ + t₂ v₂ (module doc); with
 /// `relative` (per point, per tangent) the marked tangents are relative
 /// too, u_s,p = … + t_k (v_k + Σ_q T_pq t_k·u_m,q), so that v_k is the
-/// tangential jump t_k·(u_s − T u_m)_p (frictional contact without glue).
-pub(super) fn rotation(n: usize, points: &[ContactPoint], relative: Option<&[[bool; 2]]>) -> CsrMatrix {
+/// tangential jump t_k·(u_s − T u_m)_p (frictional contact), T u_m through
+/// `p_g` where glued interfaces are eliminated (as `a_row`).
+pub(super) fn rotation(
+    n: usize,
+    points: &[ContactPoint],
+    relative: Option<&[[bool; 2]]>,
+    p_g: Option<&CsrMatrix>,
+) -> CsrMatrix {
     let at = point_index(n, points);
     let mut p = CsrMatrix::zeros(0, n);
     let mut row: Vec<(usize, f64)> = Vec::new();
@@ -377,7 +383,7 @@ pub(super) fn rotation(n: usize, points: &[ContactPoint], relative: Option<&[[bo
                 row.extend(c.a_row.iter().map(|&(j, a)| (j, nn[comp] * a)));
                 for k in (1..3).filter(|&k| relative.is_some_and(|r| r[i][k - 1])) {
                     let e = c.frame[k];
-                    row.extend(normal_row(&c.t_row, e, None).into_iter().map(|(j, a)| (j, e[comp] * a)));
+                    row.extend(normal_row(&c.t_row, e, p_g).into_iter().map(|(j, a)| (j, e[comp] * a)));
                 }
                 row = merged(&mut row);
             }

@@ -31,14 +31,15 @@
 //! ```
 //!
 //! (C_τ is homogeneous of degree 2, so J x − C_τ = C_τ), divided by ‖v‖: the
-//! system is not symmetric. The direct solver without glued interfaces
-//! condenses it on the contact unknowns (`condensed_newton`, up to
-//! [`CONDENSED_MAX`] contact points): in nodal
+//! system is not symmetric. The direct solver condenses it on the contact
+//! unknowns (`condensed_newton`, up to [`CONDENSED_MAX`] contact points;
+//! glued interfaces with dual or lumped multipliers eliminated first,
+//! u = P_g y, as for frictionless contact): in nodal
 //! frames whose tangents are relative too, the jumps (n, τ₁, τ₂)·(u_s − T u_m)_p
 //! are unknowns of their own; the stiffness on all the others is factored
 //! once by sparse Cholesky, its Schur complement S on the jumps formed once
 //! for all load steps, and each Newton step is a dense LU on the jumps.
-//! With glued interfaces the system is solved whole — u, the glued
+//! Otherwise (PETSc and PCG aside: refused) the system is solved whole — u, the glued
 //! multipliers and z (`assembled_newton`): sparse LDLᵀ of the symmetric
 //! saddle matrix that the Newton matrix becomes when the rows of the
 //! slipping multipliers are replaced by their columns preconditions GMRES on
@@ -61,8 +62,7 @@
 use super::frames::{contact_points, normal_row, rotated_dirichlet, rotation, ContactPoint, SlaveBasis};
 use super::{initial_active_set, kkt, length_scale, Condensed, ContactSolve};
 use crate::backend::{free_block, Solver};
-use crate::constraints::triple_product;
-use crate::constraints::Constraints;
+use crate::constraints::{triple_product, Constraints, Elimination};
 use crate::multibody::{Body, Coupling, Interface, ProblemError, System, Timings};
 use crate::pcg::free_system;
 use crate::petsc::PetscSummary;
@@ -171,8 +171,9 @@ pub(crate) fn solve_frictional(
     // Dense S and a dense LU per Newton step: for up to CONDENSED_MAX points.
     let points = interfaces.iter().zip(&system.mortars).filter(|(f, _)| f.kind == Coupling::Contact);
     let covered: usize = points.map(|(_, m)| m.covered.iter().filter(|&&c| c).count()).sum();
-    let condense =
-        matches!(solver, Solver::Direct) && constraints.rows.is_empty() && covered <= CONDENSED_MAX;
+    // Glued interfaces, if any, eliminated node by node (dual, lumped).
+    let eliminable = constraints.rows.is_empty() || constraints.eliminated_block_is_diagonal();
+    let condense = matches!(solver, Solver::Direct) && eliminable && covered <= CONDENSED_MAX;
     let how = (solver, max_steps, condense);
     let clock = Instant::now();
     let basis = SlaveBasis::new(bodies, interfaces, system)?;
@@ -193,7 +194,8 @@ pub(crate) fn solve_frictional(
 }
 
 /// [`solve_frictional`], condensed on the contact unknowns or not
-/// (`condense`: only for the direct solver without glued interfaces).
+/// (`condense`: only for the direct solver, glued interfaces eliminated
+/// node by node).
 fn frictional_step(
     bodies: &[Body],
     interfaces: &[Interface],
@@ -278,7 +280,39 @@ fn frictional_step(
     let mut summary = PetscSummary::default();
     let newton = if condense {
         let cache = &mut state.condensed;
-        condensed_newton(&law, (k, f, dirichlet), (&jumps(&u_prev), status), (max_steps, cache), seconds)
+        let glued =
+            if constraints.rows.is_empty() { None } else { Some(Elimination::new(constraints, k, f)?) };
+        let start = (&jumps(&u_prev)[..], status);
+        let solved = match &glued {
+            None => condensed_newton(&law, (k, f, dirichlet, None), start, (max_steps, cache), seconds),
+            Some(g) => {
+                // The normal rows in the unknowns y left by the elimination, u = P_g y.
+                let points = contact_points(
+                    bodies,
+                    interfaces,
+                    &system.mortars,
+                    &system.offsets,
+                    dirichlet,
+                    Some(&g.p),
+                )?;
+                let law = Law { points: &points, ..law.clone() };
+                condensed_newton(
+                    &law,
+                    (&g.k, &g.f, dirichlet, Some(&g.p)),
+                    start,
+                    (max_steps, cache),
+                    seconds,
+                )
+            }
+        };
+        solved.map(|(y, _, z, status, steps)| match &glued {
+            None => (y, Vec::new(), z, status, steps),
+            Some(g) => {
+                let u = g.p.mul_vec(&y, 1);
+                let lambda = glued_multipliers((k, f, constraints), &rows, &u, &z);
+                (u, lambda, z, status, steps)
+            }
+        })
     } else {
         let start = (&u_prev[..], &z_prev[..], status);
         assembled_newton(
@@ -375,6 +409,7 @@ fn relative_change(a: &[f64], b: &[f64]) -> f64 {
 
 /// Coulomb's law at the contact points of one load step (module doc): the
 /// sets and the linearised slip rows.
+#[derive(Clone)]
 struct Law<'a> {
     points: &'a [ContactPoint],
     /// μ per point.
@@ -543,8 +578,26 @@ fn assembled_newton(
     Ok((x[..n].to_vec(), x[n..z0].to_vec(), z, status, steps))
 }
 
-/// The Newton iteration condensed on the contact unknowns W (no glued
-/// interfaces, the direct solver): in the nodal frames with relative
+/// The glued interfaces' multipliers at u and the contact multipliers z:
+/// λ_r = (f − K u − Σ_p Gᵀ_p z_p)_{dof r} / C_{r, dof r} (the slave rows of
+/// the saddle point; C_S diagonal when the glue is eliminated).
+fn glued_multipliers(
+    (k, f, constraints): (&CsrMatrix, &[f64], &Constraints),
+    rows: &[[SparseRow; 3]],
+    u: &[f64],
+    z: &[[f64; 3]],
+) -> Vec<f64> {
+    let mut r: Vec<f64> = f.iter().zip(k.mul_vec(u, 1)).map(|(f, ku)| f - ku).collect();
+    for (row, z) in rows.iter().zip(z) {
+        for (g, &zk) in row.iter().zip(z) {
+            g.iter().for_each(|&(j, a)| r[j] -= a * zk);
+        }
+    }
+    constraints.rows.iter().enumerate().map(|(i, row)| r[row.dof] / constraints.c.get(i, row.dof)).collect()
+}
+
+/// The Newton iteration condensed on the contact unknowns W (the direct
+/// solver; glued interfaces eliminated first, u = P_g y, `p_g`): in the nodal frames with relative
 /// tangents ([`rotation`]) the jumps of every contact point are unknowns of
 /// their own, A_OO (all others, the jumps held) is factored once and
 /// z_W = c − S w ([`Condensed`]); each Newton step is then a dense LU on W:
@@ -553,7 +606,7 @@ fn assembled_newton(
 /// slipping ones.
 fn condensed_newton(
     law: &Law,
-    (k, f, dirichlet): (&CsrMatrix, &[f64], &Dirichlet),
+    (k, f, dirichlet, p_g): (&CsrMatrix, &[f64], &Dirichlet, Option<&CsrMatrix>),
     (jumps_prev, mut status): (&[[f64; 3]], Vec<Status>),
     (max_steps, cache): (usize, &mut Option<(u64, Mat<f64>)>),
     seconds: &mut Timings,
@@ -561,7 +614,7 @@ fn condensed_newton(
     let clock = Instant::now();
     let (n, points) = (k.nrows, law.points);
     let relative: Vec<[bool; 2]> = (0..points.len()).map(|p| [0, 1].map(|t| law.frictional(p, t))).collect();
-    let rotate = rotation(n, points, Some(&relative));
+    let rotate = rotation(n, points, Some(&relative), p_g);
     let a = triple_product(&rotate, k);
     let b = rotate.transpose_mul_vec(f, 1);
     // W: per point its normal jump and its frictional tangential jumps.

@@ -240,7 +240,7 @@ fn rotated_steps(
     let n = k.nrows;
     let p_g = glued.as_ref().map(|g| &g.p);
     let points = contact_points(bodies, interfaces, &system.mortars, offsets, dirichlet, p_g)?;
-    let p = rotation(n, &points, None);
+    let p = rotation(n, &points, None, None);
     let a = triple_product(&p, k);
     let b = p.transpose_mul_vec(f, 1);
     let prescribed = rotated_dirichlet(n, dirichlet, &points);
