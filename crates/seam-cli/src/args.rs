@@ -26,8 +26,9 @@ pub enum Command {
     /// quality and the invariants of the assembled operator.
     Check(CheckArgs),
     /// Solve a linear-elasticity problem described by a case file (TOML):
-    /// bodies glued or in frictionless contact through their interfaces,
-    /// Dirichlet conditions and tractions.
+    /// bodies glued or in contact through their interfaces (frictionless, or
+    /// with Coulomb friction over load steps), Dirichlet conditions and
+    /// tractions.
     Solve(SolveArgs),
     /// Run a built-in example that makes its own meshes.
     Example(ExampleArgs),
