@@ -250,6 +250,7 @@ fn frictional_step(
     // The previous step: u, z, and the tangential jumps.
     let first = state.u.is_empty();
     let u_prev = if first { vec![0.0; n] } else { state.u.clone() };
+    let jumps_prev = jumps(&u_prev);
     let law = Law {
         mu: points.iter().map(|c| interfaces[c.interface].friction).collect(),
         ct: cn.iter().map(|c| C_T * c).collect(),
@@ -264,7 +265,7 @@ fn frictional_step(
                 })
             })
             .collect(),
-        before: jumps(&u_prev).iter().map(|j| [j[1], j[2]]).collect(),
+        before: jumps_prev.iter().map(|j| [j[1], j[2]]).collect(),
         points: &points,
     };
     let z_prev: Vec<[f64; 3]> =
@@ -273,7 +274,7 @@ fn frictional_step(
         let initial = initial_active_set(&points, interfaces.len(), 1e-9 * length_scale(bodies));
         initial.iter().map(|&on| if on { Status::Stick } else { Status::Inactive }).collect()
     } else {
-        jumps(&u_prev).iter().zip(&z_prev).enumerate().map(|(p, (j, z))| law.status(p, *j, *z)).collect()
+        jumps_prev.iter().zip(&z_prev).enumerate().map(|(p, (j, z))| law.status(p, *j, *z)).collect()
     };
     seconds.setup += clock.elapsed().as_secs_f64();
 
@@ -282,7 +283,7 @@ fn frictional_step(
         let cache = &mut state.condensed;
         let glued =
             if constraints.rows.is_empty() { None } else { Some(Elimination::new(constraints, k, f)?) };
-        let start = (&jumps(&u_prev)[..], status);
+        let start = (&jumps_prev[..], status);
         let solved = match &glued {
             None => condensed_newton(&law, (k, f, dirichlet, None), start, (max_steps, cache), seconds),
             Some(g) => {
