@@ -114,7 +114,7 @@ impl Hertz {
 /// Grid coordinates on [0, length]: `fine` equal cells of size h on
 /// [0, fine_len], then cells growing geometrically from h to fill the rest
 /// (the ratio chosen so the sizes never shrink and stay below 1.25×).
-pub(super) fn graded(length: f64, fine_len: f64, fine: usize) -> Vec<f64> {
+fn graded(length: f64, fine_len: f64, fine: usize) -> Vec<f64> {
     let h = fine_len / fine as f64;
     let mut x: Vec<f64> = (0..=fine).map(|i| i as f64 * h).collect();
     let rest = length - fine_len;
@@ -145,7 +145,7 @@ pub(super) fn graded(length: f64, fine_len: f64, fine: usize) -> Vec<f64> {
 /// when `second_order`, every new node mapped from the mean of its supporting
 /// corners' (x, y, w) (`unmap` gives a corner's), so that it lies on the
 /// mapped block (on the sphere, for the indenter's face).
-pub(super) fn tensor_block(
+fn tensor_block(
     [xs, ys, ws]: [&[f64]; 3],
     (kind, second_order): (BlockKind, bool),
     map: impl Fn(f64, f64, f64) -> Point3,
@@ -196,8 +196,7 @@ const SIDES: [(&str, Side); 4] =
 
 /// The named sides of a half-model body: bottom, top and the symmetry plane
 /// y0 (y = 0).
-pub(super) const HALF_SIDES: [(&str, Side); 3] =
-    [("bottom", Side::ZMin), ("top", Side::ZMax), ("y0", Side::YMin)];
+const HALF_SIDES: [(&str, Side); 3] = [("bottom", Side::ZMin), ("top", Side::ZMax), ("y0", Side::YMin)];
 
 /// The Hertz problem, a quarter model (symmetry planes x = 0 and y = 0):
 ///
