@@ -605,19 +605,12 @@ pub fn solve_case_to_output(
     Ok(solved)
 }
 
-/// Friction needs a solver of nonsymmetric systems: `pcg` is refused, and
-/// `petsc` (not implemented for it yet).
+/// Friction needs a solver of nonsymmetric systems: `pcg` is refused.
 fn check_solver(case: &Case, case_path: &Path, options: &SolveOptions) -> Result<(), Failure> {
     match case.interfaces.iter().enumerate().find(|(_, f)| f.friction.is_some_and(|mu| mu > 0.0)) {
         Some((i, f)) if options.solver == LinearSolver::Pcg => Err(Failure::Case(format!(
             "{}: {} has friction: its semismooth Newton systems are not symmetric, which pcg cannot \
-             solve; use --solver direct",
-            case_path.display(),
-            f.describe(i)
-        ))),
-        Some((i, f)) if options.solver == LinearSolver::Petsc => Err(Failure::Case(format!(
-            "{}: {} has friction, which is solved with --solver direct only: its PETSc solver \
-             is not implemented yet",
+             solve; use --solver direct or petsc",
             case_path.display(),
             f.describe(i)
         ))),

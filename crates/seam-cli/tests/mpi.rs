@@ -246,6 +246,9 @@ fn ranks_solve_the_glued_and_contact_patch_tests_exactly() {
         "kind = \"glue\"\nmultiplier = \"dual\"",
         "kind = \"glue\"\nmultiplier = \"standard\"",
         "kind = \"contact\"",
+        // Friction sticks with zero traction: exact with dual multipliers, whose T
+        // reproduces the linear tangential motion (lumped ones do not, I4).
+        "kind = \"contact\"\nmultiplier = \"dual\"\nfriction = 0.3",
     ] {
         let what = interface.replace('\n', " ");
         let tmp = tempfile::tempdir().unwrap();

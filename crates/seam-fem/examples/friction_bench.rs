@@ -1,34 +1,58 @@
 //! Friction benchmark and accuracy study: Cattaneo–Mindlin
 //! ([`seam_fem::scene::cattaneo_mindlin`]: pressed in one load step, sheared to
-//! Q = 0.5 μP in four) at growing sizes, each row in a fresh process so the
-//! peak memory (VmHWM) is its own, with the direct solver (condensed on the
-//! contact jumps).
+//! Q = 0.5 μP in `--shear-steps`, default 4) at growing sizes, each row in a
+//! fresh process so the peak memory (VmHWM) is its own, with the direct
+//! solver (condensed on the contact jumps) or with PETSc (`--solver petsc`,
+//! `--features petsc`: FGMRES + GAMG per Newton step on the reduced
+//! displacements, rtol 1e-10). Each row also solves the pressing step
+//! frictionless (μ = 0: Hertz on the same mesh, the same solver) and gives
+//! the ratio of the whole frictional history to it.
 //!
 //! ```text
 //! cargo run --release -p seam-fem --example friction_bench                 # n = 4, 6, 8
 //! cargo run --release -p seam-fem --example friction_bench -- --sizes 10,12
+//! cargo run --release -p seam-fem --features petsc --example friction_bench -- \
+//!     --solver petsc --shear-steps 10 --sizes 8,14,18
 //! ```
 //!
 //! `n`: slave cells across the fine zone [0, 1.5a], as for Hertz.
 
 mod common;
 
-use common::{flag_sizes, fresh_row, peak_mb};
+use common::{flag_sizes, flag_value, fresh_row, peak_mb, petsc};
 use seam_fem::scene::{cattaneo_mindlin, CattaneoMindlin, Hertz};
 use seam_fem::{solve_steps, SolveOptions};
 use std::time::Instant;
 
-fn row(n: usize) {
+fn row(n: usize, solver: &str, shear_steps: usize) {
+    let solver = match solver {
+        "direct" => seam_fem::Solver::Direct,
+        "petsc" => petsc(1e-10),
+        other => panic!("unknown solver {other}"),
+    };
+    let options = SolveOptions { solver, ..SolveOptions::default() };
     let defaults = CattaneoMindlin::default();
-    let p = CattaneoMindlin { hertz: Hertz { fine_cells: n, ..defaults.hertz }, shear_steps: 4, ..defaults };
-    let clock = Instant::now();
+    let p = CattaneoMindlin { hertz: Hertz { fine_cells: n, ..defaults.hertz }, shear_steps, ..defaults };
     let problem = cattaneo_mindlin(&p).expect("valid scene");
+    // Hertz on the same mesh: the pressing step, frictionless.
+    let mut frictionless = problem.clone();
+    frictionless.interfaces[0].friction = 0.0;
+    let clock = Instant::now();
+    let hertz = solve_steps(&frictionless, &options).next().expect("a load step");
+    hertz.expect("solvable");
+    let hertz = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
     let (mut iterations, mut condense, mut newton, mut last) = (Vec::new(), 0.0, 0.0, None);
-    for step in solve_steps(&problem, &SolveOptions::default()) {
+    let (mut ksp, mut pc_setup, mut ksp_solve) = (0, 0.0, 0.0);
+    for step in solve_steps(&problem, &options) {
         let (_, s) = step.expect("solvable");
         iterations.push(s.report.contact.as_ref().expect("contact").steps.len().to_string());
         condense += s.report.seconds.factorization;
         newton += s.report.seconds.solve;
+        if let Some(p) = &s.report.petsc {
+            ksp += p.solves.iter().map(|s| s.iterations).sum::<usize>();
+            (pc_setup, ksp_solve) = (pc_setup + p.setup_seconds, ksp_solve + p.solve_seconds);
+        }
         last = Some(s);
     }
     let total = clock.elapsed().as_secs_f64();
@@ -36,15 +60,20 @@ fn row(n: usize) {
     let m = p.measure(&problem, &s);
     let c = s.report.contact.as_ref().expect("contact");
     println!(
-        "| {} | {} | {} / {} | {} | {:.1} | {:.1} | {:.1} | {:.0} | {:+.2} % | {:+.2} % | {:.1} % |",
+        "| {} | {} | {} / {} | {} | {} ({:.1} s + {:.1} s) | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.0} | {:+.2} % | {:+.2} % | {:.1} % |",
         s.report.dofs,
         c.contact_points,
         m.stick,
         m.slip,
         iterations.join(", "),
+        ksp,
+        pc_setup,
+        ksp_solve,
         condense,
         newton,
         total,
+        hertz,
+        total / hertz,
         peak_mb(),
         100.0 * (m.stick_radius / p.stick_radius() - 1.0),
         100.0 * (m.contact_radius / p.hertz.contact_radius - 1.0),
@@ -54,16 +83,19 @@ fn row(n: usize) {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    if args.len() == 3 && args[1] == "--row" {
-        row(args[2].parse().expect("size"));
+    if args.len() == 5 && args[1] == "--row" {
+        row(args[2].parse().expect("size"), &args[3], args[4].parse().expect("shear steps"));
         return;
     }
+    let solver = flag_value(&args, "--solver", "direct");
+    let shear_steps = flag_value(&args, "--shear-steps", "4");
+    println!("solver {solver}, {shear_steps} shear steps");
     println!(
-        "| n | dofs | contact points | stick / slip | Newton iterations per load step | condensation s | Newton s | total s | peak MB | c error | a error | q L2 error |"
+        "| n | dofs | contact points | stick / slip | Newton iterations per load step | KSP iterations (PC setup + KSP solve) | setup (condensation) s | Newton s | total s | frictionless Hertz s | ratio | peak MB | c error | a error | q L2 error |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for n in flag_sizes(&args, "--sizes", "4,6,8") {
-        match fresh_row(&[&n.to_string()]) {
+        match fresh_row(&[&n.to_string(), &solver, &shear_steps]) {
             Ok(line) => println!("| {n} {line}"),
             Err(why) => println!("| {n} | failed: {why} |"),
         }

@@ -198,7 +198,9 @@ pub(crate) fn solve_petsc_from(
 /// Jacobi, ILU(0) per rank (GAMG's default Chebyshev smoothing diverges on
 /// systems that are not symmetric; `-pc_type gamg -mg_levels_pc_type sor`
 /// is the multigrid choice), `modes` the near-nullspace a multigrid gets; the
-/// solve is appended to `summary`.
+/// solve is appended to `summary`. A matrix of elasticity that is symmetric
+/// but for a few rows (`nearly_symmetric`: a frictional Newton step) gets
+/// GAMG instead.
 ///
 /// # Errors
 /// As [`solve_petsc_from`].
@@ -206,12 +208,13 @@ pub(crate) fn solve_petsc_general(
     a: &CsrMatrix,
     b: &[f64],
     fixed: &Dirichlet,
-    modes: &[Vec<f64>],
+    (modes, nearly_symmetric): (&[Vec<f64>], bool),
     options: &PetscOptions,
     start: Option<&[f64]>,
     summary: &mut PetscSummary,
 ) -> Result<Vec<f64>, SolveError> {
-    solve_free_rows(Cow::Borrowed(a), b, fixed, (Split::General, modes), options, start, summary)
+    let split = if nearly_symmetric { Split::NearlySymmetric } else { Split::General };
+    solve_free_rows(Cow::Borrowed(a), b, fixed, (split, modes), options, start, summary)
 }
 
 /// K u = f with the values of `dirichlet` by PETSc (`split`: symmetric
@@ -466,6 +469,9 @@ pub(crate) enum Split {
     Saddle(usize),
     /// Points of 3 unknowns, a matrix that is not symmetric.
     General,
+    /// Points of 3 unknowns, a matrix of elasticity symmetric but for a few
+    /// rows.
+    NearlySymmetric,
 }
 
 #[cfg(feature = "petsc")]
@@ -500,6 +506,10 @@ fn structure_and_config(
         Split::General => (
             Structure::Blocks(if n % 3 == 0 { 3 } else { 1 }),
             KspConfig { ksp_type: "fgmres".into(), pc_type: "bjacobi".into(), symmetric: false, ..base },
+        ),
+        Split::NearlySymmetric => (
+            Structure::Blocks(if n % 3 == 0 { 3 } else { 1 }),
+            KspConfig { ksp_type: "fgmres".into(), pc_type: "gamg".into(), symmetric: false, ..base },
         ),
         Split::Saddle(first) => (
             Structure::Saddle { first, block_size: 3 },

@@ -52,7 +52,7 @@ fn at(fine_cells: usize, shear_steps: usize) -> CattaneoMindlin {
 
 /// Superlinear convergence: over the residuals above round-off (1e-10),
 /// the last contraction factor below 0.05 and below the one before.
-fn superlinear(r: &[f64]) -> bool {
+pub(crate) fn superlinear(r: &[f64]) -> bool {
     let r: Vec<f64> = r.iter().copied().filter(|&r| r > 1e-10).collect();
     let rate: Vec<f64> = r.windows(2).map(|w| w[1] / w[0]).collect();
     matches!(rate.as_slice(), [.., before, last] if last < before && *last < 0.05)

@@ -8,8 +8,8 @@ use seam_fem::{
     solve, Coupling, Load, Material, Problem, ProblemBody, ProblemInterface, SolveOptions, Support, SurfaceId,
 };
 
-const E: f64 = 100.0;
-const P: f64 = 2.0;
+pub(crate) const E: f64 = 100.0;
+pub(crate) const P: f64 = 2.0;
 
 /// The base [0,1]² × [0, ½] (hexahedra 3×3×2, clamped at the bottom) and the
 /// block [0,1]² × [½, 1] (tetrahedra 2×2×2) on it in contact with friction
@@ -25,10 +25,10 @@ fn block_on_base(mu: f64, tau_side: f64, top_x: TopX) -> Problem {
 /// `tri6_slave` a Hex27 base and a Tet10 block, dual multipliers in Popp's
 /// transformed basis).
 #[derive(Clone, Copy)]
-struct Layout {
-    rotation: [[f64; 3]; 3],
-    second_order: bool,
-    tri6_slave: bool,
+pub(crate) struct Layout {
+    pub(crate) rotation: [[f64; 3]; 3],
+    pub(crate) second_order: bool,
+    pub(crate) tri6_slave: bool,
 }
 
 impl Default for Layout {
@@ -39,17 +39,17 @@ impl Default for Layout {
 }
 
 impl Layout {
-    fn rotate(&self, v: [f64; 3]) -> [f64; 3] {
+    pub(crate) fn rotate(&self, v: [f64; 3]) -> [f64; 3] {
         std::array::from_fn(|i| (0..3).map(|j| self.rotation[i][j] * v[j]).sum())
     }
 
-    fn back(&self, v: [f64; 3]) -> [f64; 3] {
+    pub(crate) fn back(&self, v: [f64; 3]) -> [f64; 3] {
         std::array::from_fn(|i| (0..3).map(|j| self.rotation[j][i] * v[j]).sum())
     }
 }
 
 /// [`block_on_base`] with `layout` (a prescribed u_x needs no rotation).
-fn block_on_base_as(mu: f64, tau_side: f64, top_x: TopX, layout: Layout) -> Problem {
+pub(crate) fn block_on_base_as(mu: f64, tau_side: f64, top_x: TopX, layout: Layout) -> Problem {
     let material = Material::new(E, 0.0).unwrap();
     let sides = [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("xmax", Side::XMax)];
     let body = |name: &str, n: [usize; 3], z0: f64, kind| {
@@ -130,13 +130,13 @@ fn on_base(bodies: [ProblemBody; 2], mu: f64) -> Problem {
 }
 
 #[derive(Clone, Copy)]
-enum TopX {
+pub(crate) enum TopX {
     Traction(f64),
     Displacement(f64),
 }
 
 /// The largest |t − expected| over the contact points of the solution's interface.
-fn traction_miss(s: &seam_fem::Solution, expected: Point3) -> f64 {
+pub(crate) fn traction_miss(s: &seam_fem::Solution, expected: Point3) -> f64 {
     let f = &s.interfaces[0];
     let c = f.contact.as_ref().unwrap();
     (0..c.contact.len())

@@ -165,3 +165,90 @@ fn multigrid_iterations_stay_bounded_under_refinement() {
         assert!(growth <= 1.3, "iterations {iterations:?}: growth {growth:.2} at level {k}");
     }
 }
+
+/// Frictional contact with PETSc (each semismooth Newton step on the
+/// displacements alone, FGMRES + GAMG): the patch tests of `friction.rs` —
+/// held by friction alone (hex|tet, rotated, and Tri6 slave faces in the
+/// transformed basis), then driven into slip — as exact as with the direct
+/// solver.
+#[test]
+fn frictional_patch_tests() {
+    use crate::friction::{block_on_base_as, traction_miss, Layout, TopX, E, P};
+    let options = SolveOptions { solver: petsc(1e-13), ..SolveOptions::default() };
+    let (c, s) = ((0.6f64).cos(), (0.6f64).sin());
+    let rotated = [[c, 0.0, s], [s * s, c, -s * c], [-s * c, s, c * c]];
+    let tri6 = Layout { second_order: true, tri6_slave: true, ..Layout::default() };
+    let tau = 0.5;
+    for (name, layout) in [
+        ("hex|tet", Layout::default()),
+        ("hex|tet rotated", Layout { rotation: rotated, ..Layout::default() }),
+        ("hex27|tet10 dual", tri6),
+    ] {
+        let problem = block_on_base_as(0.3, tau, TopX::Traction(tau), layout);
+        let s = problem.solve(&options).unwrap();
+        assert!(s.report.method.contains("PETSc"), "{}", s.report.method);
+        let c = s.interfaces[0].contact.as_ref().unwrap();
+        assert!((0..c.contact.len()).filter(|&p| c.contact[p]).all(|p| c.active[p] && c.stick[p]), "{name}");
+        let miss = traction_miss(&s, layout.rotate([-tau, 0.0, P]));
+        let steps = &s.report.contact.as_ref().unwrap().steps;
+        println!("{name} (stick): traction off by {miss:.1e}, {} Newton steps", steps.len());
+        assert!(miss < 1e-10, "{name}: traction off by {miss:e}");
+    }
+    let mu = 0.3;
+    for (name, layout) in [("hex|tet", Layout::default()), ("hex27|tet10 dual", tri6)] {
+        let mut problem = block_on_base_as(mu, mu * P, TopX::Displacement(0.05), layout);
+        problem.steps = seam_fem::LoadSteps::equal(10).unwrap();
+        let s = problem.solve(&options).unwrap();
+        let c = s.interfaces[0].contact.as_ref().unwrap();
+        let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
+        assert!(points.iter().all(|&p| c.active[p] && !c.stick[p]), "{name}: all slip");
+        let miss = traction_miss(&s, [-mu * P, 0.0, P]);
+        let expected = 0.05 - 2.0 * mu * P * 0.5 / (E / 2.0);
+        let slip = points.iter().map(|&p| (c.slip[p][0] - expected).abs()).fold(0.0, f64::max);
+        let steps = &s.report.contact.as_ref().unwrap().steps;
+        println!(
+            "{name} (slip): traction off by {miss:.1e}, slip by {slip:.1e}, {} Newton steps",
+            steps.len()
+        );
+        assert!(miss < 1e-10 && slip < 1e-10, "{name}: traction off by {miss:e}, slip by {slip:e}");
+    }
+}
+
+/// Cattaneo–Mindlin (coarse, 2 shear steps) with PETSc: every load step ends
+/// in the direct solver's stick, slip and inactive sets with its
+/// displacements to 1e-8, and Newton stays superlinear with the inexact
+/// (loose, then tight) Krylov solves.
+#[test]
+fn cattaneo_mindlin_as_the_direct_solver() {
+    use crate::cattaneo_mindlin::superlinear;
+    use seam_fem::scene::{cattaneo_mindlin, CattaneoMindlin};
+    let p = CattaneoMindlin::default();
+    let p = CattaneoMindlin { hertz: Hertz { fine_cells: 3, ..p.hertz }, shear_steps: 2, ..p };
+    let problem = cattaneo_mindlin(&p).unwrap();
+    let direct = seam_fem::solve_steps(&problem, &SolveOptions::default());
+    let options = SolveOptions { solver: petsc(1e-12), ..SolveOptions::default() };
+    let iterative = seam_fem::solve_steps(&problem, &options);
+    for (k, (d, i)) in direct.zip(iterative).enumerate() {
+        let ((t, d), (_, i)) = (d.unwrap(), i.unwrap());
+        let (cd, ci) = (d.interfaces[0].contact.as_ref().unwrap(), i.interfaces[0].contact.as_ref().unwrap());
+        assert_eq!((&cd.active, &cd.stick), (&ci.active, &ci.stick), "t = {t}");
+        let scale = d.displacement.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        let difference = d
+            .displacement
+            .iter()
+            .flatten()
+            .zip(i.displacement.iter().flatten())
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let steps = &i.report.contact.as_ref().unwrap().steps;
+        let r: Vec<String> = steps.iter().map(|s| format!("{:.1e}", s.residual)).collect();
+        let krylov: Vec<usize> = steps.iter().map(|s| s.linear_iterations).collect();
+        println!("t = {t:.2}: u off by {:.1e}; Newton {r:?}, KSP {krylov:?}", difference / scale);
+        assert!(difference <= 1e-8 * scale, "t = {t}: {:e}", difference / scale);
+        // As with the direct solver: pressing ends at round-off, shearing superlinearly.
+        let r: Vec<f64> = steps.iter().map(|s| s.residual).collect();
+        assert!(
+            if k == 0 { r.last().is_some_and(|&r| r < 1e-10) } else { superlinear(&r) },
+            "t = {t}: {r:?}"
+        );
+    }
+}

@@ -31,15 +31,17 @@
 //! ```
 //!
 //! (C_τ is homogeneous of degree 2, so J x − C_τ = C_τ), divided by ‖v‖: the
-//! system is not symmetric. The direct solver condenses it on the contact
-//! unknowns (`condensed_newton`, up to [`CONDENSED_MAX`] contact points;
-//! glued interfaces with dual or lumped multipliers eliminated first,
-//! u = P_g y, as for frictionless contact): in nodal
-//! frames whose tangents are relative too, the jumps (n, τ₁, τ₂)·(u_s − T u_m)_p
-//! are unknowns of their own; the stiffness on all the others is factored
-//! once by sparse Cholesky, its Schur complement S on the jumps formed once
-//! for all load steps, and each Newton step is a dense LU on the jumps.
-//! Otherwise (PETSc and PCG aside: refused) the system is solved whole — u, the glued
+//! system is not symmetric. In nodal frames whose tangents are relative too
+//! the jumps (n, τ₁, τ₂)·(u_s − T u_m)_p are unknowns of their own
+//! (`rotated_newton`; glued interfaces with dual or lumped multipliers
+//! eliminated first, u = P_g y, as for frictionless contact). The direct
+//! solver condenses the system on them (up to [`CONDENSED_MAX`] contact
+//! points): the stiffness on all the others is factored once by sparse
+//! Cholesky, its Schur complement S on the jumps formed once for all load
+//! steps, and each Newton step is a dense LU on the jumps. PETSc substitutes
+//! z = (b − A x) on the jumps' rows instead, so that each step is a system
+//! in x alone, symmetric but for the slip rows (FGMRES + GAMG, inexact:
+//! [`FORCING`]). Otherwise (the direct solver; PCG is refused) the system is solved whole — u, the glued
 //! multipliers and z (`assembled_newton`): sparse LDLᵀ of the symmetric
 //! saddle matrix that the Newton matrix becomes when the rows of the
 //! slipping multipliers are replaced by their columns preconditions GMRES on
@@ -101,6 +103,13 @@ const CONDENSED_MAX: usize = 2000;
 /// when the update no longer halves: the round-off of the solves (the
 /// condensed steps' floor is 1e-10 to 1e-9 at 10⁵ unknowns).
 const ROUND_OFF_FLOOR: f64 = 1e-8;
+
+/// The forcing term of the inexact Newton steps with PETSc once the sets
+/// repeat: each KSP solve to η = this × (the last relative update)² (at
+/// least the solver's rtol), which keeps the convergence quadratic
+/// (Eisenstat & Walker's second choice) and spares the early steps the
+/// full tolerance.
+const FORCING: f64 = 0.1;
 
 /// What a frictional solve carries from one load step to the next.
 #[derive(Clone, Debug, Default)]
@@ -173,8 +182,11 @@ pub(crate) fn solve_frictional(
     let covered: usize = points.map(|(_, m)| m.covered.iter().filter(|&&c| c).count()).sum();
     // Glued interfaces, if any, eliminated node by node (dual, lumped).
     let eliminable = constraints.rows.is_empty() || constraints.eliminated_block_is_diagonal();
-    let condense = matches!(solver, Solver::Direct) && eliminable && covered <= CONDENSED_MAX;
-    let how = (solver, max_steps, condense);
+    let path = Path::of(solver, covered, eliminable).map_err(|what| {
+        let interface = interfaces.iter().position(|f| f.friction > 0.0).unwrap_or(0);
+        ProblemError::BadInterface { interface, what: what.into() }
+    })?;
+    let how = (solver, max_steps, path);
     let clock = Instant::now();
     let basis = SlaveBasis::new(bodies, interfaces, system)?;
     seconds.setup += clock.elapsed().as_secs_f64();
@@ -193,34 +205,48 @@ pub(crate) fn solve_frictional(
     Ok((steps, friction))
 }
 
-/// [`solve_frictional`], condensed on the contact unknowns or not
-/// (`condense`: only for the direct solver, glued interfaces eliminated
-/// node by node).
+/// How the Newton steps of a frictional solve are solved (module doc).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Path {
+    /// Condensed on the contact jumps, a dense LU per step (the direct
+    /// solver, glued interfaces eliminated node by node).
+    Condensed,
+    /// In the displacements alone, the contact multipliers substituted
+    /// (PETSc, glued interfaces eliminated node by node).
+    Reduced,
+    /// The whole system (the direct solver otherwise).
+    Assembled,
+}
+
+impl Path {
+    /// The path of `solver` with `covered` contact points, the glued
+    /// interfaces `eliminable` or not; a one-line reason when there is none.
+    fn of(solver: Solver, covered: usize, eliminable: bool) -> Result<Path, &'static str> {
+        match solver {
+            Solver::Direct if eliminable && covered <= CONDENSED_MAX => Ok(Path::Condensed),
+            Solver::Direct => Ok(Path::Assembled),
+            Solver::Petsc(_) if eliminable => Ok(Path::Reduced),
+            Solver::Petsc(_) => Err("friction with PETSc needs the glued interfaces next to it eliminated \
+                 node by node: dual or lumped multipliers and no crosspoints (or the direct solver)"),
+            Solver::Pcg(_) => {
+                Err("friction needs a solver of nonsymmetric systems: not PCG; use the direct \
+                 solver or PETSc")
+            }
+        }
+    }
+}
+
+/// [`solve_frictional`] on the Newton `path`.
 fn frictional_step(
     bodies: &[Body],
     interfaces: &[Interface],
-    (solver, max_steps, condense): (Solver, usize, bool),
+    (solver, max_steps, path): (Solver, usize, Path),
     system: &System,
     constraints: &Constraints,
     state: &mut FrictionState,
     seconds: &mut Timings,
 ) -> Result<(ContactSolve, Friction), ProblemError> {
     let clock = Instant::now();
-    if let Some(i) = (0..interfaces.len()).find(|&i| interfaces[i].friction > 0.0) {
-        let what = match solver {
-            Solver::Direct => None,
-            Solver::Pcg(_) => {
-                Some("friction needs a solver of nonsymmetric systems: not PCG; use the direct solver")
-            }
-            Solver::Petsc(_) => Some(
-                "friction is solved by the direct solver only: its PETSc solver (GMRES on the \
-                 system with the contact multipliers condensed) is not implemented yet",
-            ),
-        };
-        if let Some(what) = what {
-            return Err(ProblemError::BadInterface { interface: i, what: what.to_string() });
-        }
-    }
     let (k, f, dirichlet) = (&system.k, &system.f, &system.dirichlet);
     let n = k.nrows;
     let points = contact_points(bodies, interfaces, &system.mortars, &system.offsets, dirichlet, None)?;
@@ -279,52 +305,54 @@ fn frictional_step(
     seconds.setup += clock.elapsed().as_secs_f64();
 
     let mut summary = PetscSummary::default();
-    let newton = if condense {
-        let cache = &mut state.condensed;
-        let glued =
-            if constraints.rows.is_empty() { None } else { Some(Elimination::new(constraints, k, f)?) };
-        let start = (&jumps_prev[..], status);
-        let solved = match &glued {
-            None => condensed_newton(&law, (k, f, dirichlet, None), start, (max_steps, cache), seconds),
-            Some(g) => {
-                // The normal rows in the unknowns y left by the elimination, u = P_g y.
-                let points = contact_points(
-                    bodies,
-                    interfaces,
-                    &system.mortars,
-                    &system.offsets,
-                    dirichlet,
-                    Some(&g.p),
-                )?;
-                let law = Law { points: &points, ..law.clone() };
-                condensed_newton(
-                    &law,
-                    (&g.k, &g.f, dirichlet, Some(&g.p)),
-                    start,
-                    (max_steps, cache),
-                    seconds,
-                )
-            }
-        };
-        solved.map(|(y, _, z, status, steps)| match &glued {
-            None => (y, Vec::new(), z, status, steps),
-            Some(g) => {
-                let u = g.p.mul_vec(&y, 1);
-                let lambda = glued_multipliers((k, f, constraints), &rows, &u, &z);
-                (u, lambda, z, status, steps)
-            }
-        })
-    } else {
-        let start = (&u_prev[..], &z_prev[..], status);
-        assembled_newton(
-            &law,
-            (k, f, dirichlet, constraints),
-            &rows,
-            start,
-            (solver, max_steps),
-            &mut summary,
-            seconds,
-        )
+    let newton = match path {
+        Path::Condensed | Path::Reduced => {
+            let glued =
+                if constraints.rows.is_empty() { None } else { Some(Elimination::new(constraints, k, f)?) };
+            // The contact points in the unknowns y left by the elimination, u = P_g y.
+            let glued_points = match &glued {
+                Some(g) => {
+                    let offsets = &system.offsets;
+                    Some(contact_points(bodies, interfaces, &system.mortars, offsets, dirichlet, Some(&g.p))?)
+                }
+                None => None,
+            };
+            let law = match &glued_points {
+                Some(points) => Law { points, ..law.clone() },
+                None => law.clone(),
+            };
+            let eliminated = Eliminated {
+                k: glued.as_ref().map_or(k, |g| &g.k),
+                f: glued.as_ref().map_or(f, |g| &g.f),
+                dirichlet,
+                p_g: glued.as_ref().map(|g| &g.p),
+                retained: glued.as_ref().map(|g| &g.retained[..]),
+                points: &system.points,
+            };
+            let start = (&jumps_prev[..], &u_prev[..], status);
+            let how = (solver, max_steps, &mut state.condensed);
+            let solved = rotated_newton(&law, eliminated, start, how, &mut summary, seconds);
+            solved.map(|(y, _, z, status, steps)| match &glued {
+                None => (y, Vec::new(), z, status, steps),
+                Some(g) => {
+                    let u = g.p.mul_vec(&y, 1);
+                    let lambda = glued_multipliers((k, f, constraints), &rows, &u, &z);
+                    (u, lambda, z, status, steps)
+                }
+            })
+        }
+        Path::Assembled => {
+            let start = (&u_prev[..], &z_prev[..], status);
+            assembled_newton(
+                &law,
+                (k, f, dirichlet, constraints),
+                &rows,
+                start,
+                (solver, max_steps),
+                &mut summary,
+                seconds,
+            )
+        }
     };
     let (u, lambda, z, status, steps) = newton?;
 
@@ -377,8 +405,10 @@ fn frictional_step(
         lambda,
         kkt,
         method: match solver {
-            Solver::Petsc(_) => "PETSc KSP (GMRES) per semismooth Newton step",
-            _ if condense => "sparse Cholesky, semismooth Newton on the condensed contact unknowns",
+            Solver::Petsc(_) => "PETSc KSP per semismooth Newton step on the reduced displacements",
+            _ if path == Path::Condensed => {
+                "sparse Cholesky, semismooth Newton on the condensed contact unknowns"
+            }
             _ => "sparse LDLᵀ and GMRES per semismooth Newton step",
         },
         points,
@@ -485,12 +515,13 @@ impl Law<'_> {
 type Newton = (Vec<f64>, Vec<f64>, Vec<[f64; 3]>, Vec<Status>, Vec<ActiveSetStep>);
 
 /// The bookkeeping of one Newton iteration: the step record, and whether
-/// the iteration stops (the sets repeat and the update is below
+/// the iteration stops (the sets repeat, the step was solved to the
+/// solver's tolerance, `tight`, and the update is below
 /// [`NEWTON_TOLERANCE`], or below [`ROUND_OFF_FLOOR`] and no longer halving).
 fn record(
     status: &mut Vec<Status>,
     new_status: Vec<Status>,
-    (change, linear_iterations): (f64, usize),
+    (change, linear_iterations, tight): (f64, usize, bool),
     steps: &mut Vec<ActiveSetStep>,
     max_steps: usize,
 ) -> Result<bool, ProblemError> {
@@ -507,11 +538,11 @@ fn record(
         added,
         removed,
         linear_iterations,
-        full_tolerance: true,
+        full_tolerance: tight,
         residual: change,
     });
     *status = new_status;
-    if settled && (change <= NEWTON_TOLERANCE || stagnating) {
+    if settled && tight && (change <= NEWTON_TOLERANCE || stagnating) {
         return Ok(true);
     }
     if steps.len() >= max_steps {
@@ -571,7 +602,13 @@ fn assembled_newton(
         x = next;
         let new_status =
             (0..points.len()).map(|p| at(&x, p)).enumerate().map(|(p, (j, z))| law.status(p, j, z));
-        if record(&mut status, new_status.collect(), (change, linear_iterations), &mut steps, max_steps)? {
+        if record(
+            &mut status,
+            new_status.collect(),
+            (change, linear_iterations, true),
+            &mut steps,
+            max_steps,
+        )? {
             break;
         }
     }
@@ -597,129 +634,371 @@ fn glued_multipliers(
     constraints.rows.iter().enumerate().map(|(i, row)| r[row.dof] / constraints.c.get(i, row.dof)).collect()
 }
 
-/// The Newton iteration condensed on the contact unknowns W (the direct
-/// solver; glued interfaces eliminated first, u = P_g y, `p_g`): in the nodal frames with relative
-/// tangents ([`rotation`]) the jumps of every contact point are unknowns of
-/// their own, A_OO (all others, the jumps held) is factored once and
-/// z_W = c − S w ([`Condensed`]); each Newton step is then a dense LU on W:
-/// z_W = 0 on inactive points, w_n = g on active ones, w_τ = the last step's
-/// on sticking ones, the linearised slip rows with z_W substituted on
-/// slipping ones.
-fn condensed_newton(
+/// A system in the unknowns y left by the elimination of the glued
+/// interfaces (u = P_g y; y = u without glued interfaces).
+#[derive(Clone, Copy)]
+struct Eliminated<'a> {
+    k: &'a CsrMatrix,
+    f: &'a [f64],
+    dirichlet: &'a Dirichlet,
+    /// P_g, if glued interfaces were eliminated.
+    p_g: Option<&'a CsrMatrix>,
+    /// Per dof: [`crate::constraints::NONE`] if eliminated.
+    retained: Option<&'a [usize]>,
+    /// The mesh points of all bodies (the rigid-body modes).
+    points: &'a [Point3],
+}
+
+/// The equation of a contact unknown (a jump of W) in a Newton step
+/// (module doc).
+#[derive(Clone, Copy, Debug)]
+enum JumpRow {
+    /// Equilibrium with z = 0 there (an inactive point).
+    Free,
+    /// The jump prescribed: the gap (an active normal), the last step's
+    /// (a sticking tangent).
+    Held(f64),
+    /// The linearised slip row ([`Law::slip_row`]).
+    Slip([f64; 3], [f64; 2], f64),
+}
+
+impl JumpRow {
+    /// The equation of jump k (0 normal, 1–2 tangents) of point p at its
+    /// `jump` and `z` with the set `status`.
+    fn of(law: &Law, p: usize, k: usize, status: Status, (jump, z): ([f64; 3], [f64; 3])) -> JumpRow {
+        match (status, k) {
+            (Status::Inactive, _) => JumpRow::Free,
+            (_, 0) => JumpRow::Held(law.points[p].gap),
+            (Status::Stick, k) => JumpRow::Held(law.before[p][k - 1]),
+            (Status::Slip, k) => {
+                let (on_z, on_jump, rhs) = law.slip_row(p, k - 1, jump, z);
+                JumpRow::Slip(on_z, on_jump, rhs)
+            }
+        }
+    }
+}
+
+/// The jumps W of the rotated Newton iteration: W's index of each point's
+/// jumps (normal, tangents), the point and jump of each entry of W, and its
+/// dof.
+#[derive(Clone, Copy)]
+struct Jumps<'a> {
+    slot: &'a [[Option<usize>; 3]],
+    owner: &'a [(usize, usize)],
+    dofs: &'a [usize],
+}
+
+/// How the rotated Newton iteration solves its steps.
+enum Steps<'a> {
+    /// z_W = c − S w; a dense LU on W per step (the direct solver); the
+    /// fingerprint of S ([`fingerprint`]).
+    Condensed(Condensed<'a>, u64),
+    /// The step's system in x alone, z_W = (b − A x)_W substituted, by a
+    /// PETSc KSP from the last iterate `x`; `modes` the rigid-body modes in x.
+    Reduced { x: Vec<f64>, modes: Vec<Vec<f64>> },
+}
+
+/// The Newton iteration in nodal frames with relative tangents
+/// ([`rotation`]: the jumps of every contact point are unknowns of their
+/// own, W), glued interfaces eliminated first (`system`). With the direct
+/// solver condensed on W: A_OO (all others, the jumps held) is factored
+/// once and z_W = c − S w ([`Condensed`], S kept in `cache` for the next
+/// load step), each Newton step a dense LU on W. With PETSc reduced to x:
+/// z_W = (b − A x)_W is substituted in the rows of W, so each step is a
+/// system in x alone — the rows of A off W and at inactive points, x_W held
+/// at the gap (active normals) and at the last step's jump (sticking
+/// tangents), the linearised slip rows combining the point's rows of A
+/// (not symmetric: FGMRES with GAMG), solved to 10⁻³ while the sets change
+/// and to the solver's tolerance once they repeat.
+fn rotated_newton(
     law: &Law,
-    (k, f, dirichlet, p_g): (&CsrMatrix, &[f64], &Dirichlet, Option<&CsrMatrix>),
-    (jumps_prev, mut status): (&[[f64; 3]], Vec<Status>),
-    (max_steps, cache): (usize, &mut Option<(u64, Mat<f64>)>),
+    system: Eliminated,
+    (jumps_prev, y_prev, mut status): (&[[f64; 3]], &[f64], Vec<Status>),
+    (solver, max_steps, cache): (Solver, usize, &mut Option<(u64, Mat<f64>)>),
+    summary: &mut PetscSummary,
     seconds: &mut Timings,
 ) -> Result<Newton, ProblemError> {
     let clock = Instant::now();
-    let (n, points) = (k.nrows, law.points);
+    let (n, points) = (system.k.nrows, law.points);
     let relative: Vec<[bool; 2]> = (0..points.len()).map(|p| [0, 1].map(|t| law.frictional(p, t))).collect();
-    let rotate = rotation(n, points, Some(&relative), p_g);
-    let a = triple_product(&rotate, k);
-    let b = rotate.transpose_mul_vec(f, 1);
+    let rotate = rotation(n, points, Some(&relative), system.p_g);
+    let a = triple_product(&rotate, system.k);
+    let b = rotate.transpose_mul_vec(system.f, 1);
     // W: per point its normal jump and its frictional tangential jumps.
     let mut slot: Vec<[Option<usize>; 3]> = vec![[None; 3]; points.len()];
-    let mut w_dofs = Vec::new();
+    let (mut w_dofs, mut owner) = (Vec::new(), Vec::new());
     for (p, c) in points.iter().enumerate() {
         for k in (0..3).filter(|&k| k == 0 || relative[p][k - 1]) {
             slot[p][k] = Some(w_dofs.len());
             w_dofs.push(c.first_dof + k);
+            owner.push((p, k));
         }
     }
-    let mut tied = rotated_dirichlet(n, dirichlet, points);
-    for &dof in &w_dofs {
-        tied.fix_dof(dof, 0.0);
-    }
-    let analysis = CholeskyAnalysis::new(&a, &tied, &DirectOptions::default())?;
-    let key = fingerprint(&a, &w_dofs, &tied);
-    let known = cache.take().filter(|(k, _)| *k == key).map(|(_, s)| s);
-    let condensed = Condensed::new(&analysis, &a, &b, &tied, (&w_dofs, known)).map_err(|e| match e {
-        SolveError::Singular => ProblemError::Unsupported { points: points.len() },
-        e => ProblemError::Solve(e),
-    })?;
+    let jumps = Jumps { slot: &slot, owner: &owner, dofs: &w_dofs };
+    let held = rotated_dirichlet(n, system.dirichlet, points);
+    // x = P⁻¹ y: y off the contact points; there the normal jump, the
+    // relative tangents' jumps and the others' slave displacements.
+    let to_x = |y: &[f64]| -> Vec<f64> {
+        let mut x = y.to_vec();
+        for (p, c) in points.iter().enumerate() {
+            for (k, e) in c.frame.iter().enumerate() {
+                let slave: f64 = (0..3).map(|j| e[j] * y[c.first_dof + j]).sum();
+                let master = if slot[p][k].is_some() {
+                    normal_row(&c.t_row, *e, system.p_g).iter().map(|&(j, v)| v * y[j]).sum()
+                } else {
+                    0.0
+                };
+                x[c.first_dof + k] = slave - master;
+            }
+        }
+        x
+    };
+    let analysis;
+    let mut steps_by = match solver {
+        Solver::Direct => {
+            let mut tied = held.clone();
+            for &dof in &w_dofs {
+                tied.fix_dof(dof, 0.0);
+            }
+            analysis = CholeskyAnalysis::new(&a, &tied, &DirectOptions::default())?;
+            let key = fingerprint(&a, &w_dofs, &tied);
+            let known = cache.take().filter(|(k, _)| *k == key).map(|(_, s)| s);
+            let condensed =
+                Condensed::new(&analysis, &a, &b, &tied, (&w_dofs, known)).map_err(|e| match e {
+                    SolveError::Singular => ProblemError::Unsupported { points: points.len() },
+                    e => ProblemError::Solve(e),
+                })?;
+            Steps::Condensed(condensed, key)
+        }
+        Solver::Petsc(_) => {
+            let modes = solver.near_nullspace(system.points, system.retained, None);
+            Steps::Reduced { x: to_x(y_prev), modes: modes.iter().map(|m| to_x(m)).collect() }
+        }
+        Solver::Pcg(_) => unreachable!("refused by Path::of"),
+    };
     seconds.factorization += clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let (s, c) = (&condensed.s, &condensed.c);
     let nw = w_dofs.len();
-    let mut w = vec![0.0; nw];
-    for (p, jump) in jumps_prev.iter().enumerate() {
-        (0..3).for_each(|k| slot[p][k].into_iter().for_each(|i| w[i] = jump[k]));
-    }
-    // z_W = c − S w, exactly 0 at inactive points (their rows say so).
-    let z_of = |w: &[f64], status: &[Status]| -> Vec<f64> {
-        let mut z: Vec<f64> =
-            (0..nw).map(|i| c[i] - (0..nw).map(|j| s[(i, j)] * w[j]).sum::<f64>()).collect();
+    // z_W, exactly 0 at inactive points (their rows say so): c − S w, or b − A x.
+    let z_of = |steps_by: &Steps, w: &[f64], status: &[Status]| -> Vec<f64> {
+        let mut z: Vec<f64> = match steps_by {
+            Steps::Condensed(c, _) => {
+                (0..nw).map(|i| c.c[i] - (0..nw).map(|j| c.s[(i, j)] * w[j]).sum::<f64>()).collect()
+            }
+            Steps::Reduced { x, .. } => w_dofs
+                .iter()
+                .map(|&dof| {
+                    let (cols, vals) = a.row(dof);
+                    b[dof] - cols.iter().zip(vals).map(|(&j, &v)| v * x[j]).sum::<f64>()
+                })
+                .collect(),
+        };
         for p in (0..status.len()).filter(|&p| status[p] == Status::Inactive) {
             slot[p].iter().flatten().for_each(|&i| z[i] = 0.0);
         }
         z
     };
-    let mut z = z_of(&w, &[]);
+    let mut w = vec![0.0; nw];
+    for (p, jump) in jumps_prev.iter().enumerate() {
+        (0..3).for_each(|k| slot[p][k].into_iter().for_each(|i| w[i] = jump[k]));
+    }
+    let mut z = z_of(&steps_by, &w, &[]);
     let at = |v: &[f64], p: usize, fill: [f64; 3]| -> [f64; 3] {
         std::array::from_fn(|k| slot[p][k].map_or(fill[k], |i| v[i]))
     };
     // Tangents off W: their jump is the last step's (no slip), z = 0.
     let jump_at = |w: &[f64], p: usize| at(w, p, [0.0, law.before[p][0], law.before[p][1]]);
     let mut steps = Vec::new();
+    // The KSP's forcing: loose while the sets change, then shrinking with
+    // the updates (the direct steps are exact).
+    let mut forcing = match solver {
+        Solver::Direct => 0.0,
+        _ => super::LOOSE_RTOL,
+    };
     loop {
-        let mut j = Mat::<f64>::zeros(nw, nw);
-        let mut r = Mat::<f64>::zeros(nw, 1);
-        for p in 0..points.len() {
-            let (jump, zp) = (jump_at(&w, p), at(&z, p, [0.0; 3]));
-            for (k, i) in slot[p].iter().enumerate().filter_map(|(k, i)| i.map(|i| (k, i))) {
-                match (status[p], k) {
-                    (Status::Inactive, _) => {
-                        (0..nw).for_each(|l| j[(i, l)] = s[(i, l)]);
-                        r[(i, 0)] = c[i];
-                    }
-                    (_, 0) => {
-                        j[(i, i)] = 1.0;
-                        r[(i, 0)] = points[p].gap;
-                    }
-                    (Status::Stick, k) => {
-                        j[(i, i)] = 1.0;
-                        r[(i, 0)] = law.before[p][k - 1];
-                    }
-                    (Status::Slip, k) => {
-                        let (on_z, on_jump, rhs) = law.slip_row(p, k - 1, jump, zp);
-                        let mut rhs = rhs;
-                        for (kk, &a) in on_z.iter().enumerate() {
-                            if let Some(m) = slot[p][kk] {
-                                (0..nw).for_each(|l| j[(i, l)] -= a * s[(m, l)]);
-                                rhs -= a * c[m];
-                            }
-                        }
-                        for (q, &a) in on_jump.iter().enumerate() {
-                            if let Some(m) = slot[p][q + 1] {
-                                j[(i, m)] += a;
-                            }
-                        }
-                        r[(i, 0)] = rhs;
-                    }
-                }
+        let rows: Vec<JumpRow> = owner
+            .iter()
+            .map(|&(p, k)| JumpRow::of(law, p, k, status[p], (jump_at(&w, p), at(&z, p, [0.0; 3]))))
+            .collect();
+        let (next, (linear_iterations, tight)) = match &mut steps_by {
+            Steps::Condensed(c, _) => (condensed_step(c, &rows, jumps), (0, true)),
+            Steps::Reduced { x, modes } => {
+                let system = (&a, &b[..], &held);
+                let solved =
+                    reduced_step(system, (&rows, jumps), points, (solver, forcing), (x, modes), summary);
+                let solved = solved.map_err(ProblemError::Solve)?;
+                (w_dofs.iter().map(|&dof| x[dof]).collect(), solved)
             }
-        }
-        let next = j.partial_piv_lu().solve(&r);
-        let next: Vec<f64> = (0..nw).map(|i| next[(i, 0)]).collect();
+        };
         if next.iter().any(|v| !v.is_finite()) {
             let active = status.iter().filter(|&&s| s != Status::Inactive).count();
             return Err(ProblemError::SingularStep { step: steps.len() + 1, active });
         }
-        let z_next = z_of(&next, &status);
+        let z_next = z_of(&steps_by, &next, &status);
         let change = relative_change(&w, &next).max(relative_change(&z, &z_next));
         (w, z) = (next, z_next);
-        let new_status = (0..points.len()).map(|p| law.status(p, jump_at(&w, p), at(&z, p, [0.0; 3])));
-        if record(&mut status, new_status.collect(), (change, 0), &mut steps, max_steps)? {
+        let new_status: Vec<Status> =
+            (0..points.len()).map(|p| law.status(p, jump_at(&w, p), at(&z, p, [0.0; 3]))).collect();
+        let settled = new_status == status;
+        if record(&mut status, new_status, (change, linear_iterations, tight), &mut steps, max_steps)? {
             break;
         }
+        if settled && forcing > 0.0 {
+            forcing = (FORCING * change * change).min(super::LOOSE_RTOL);
+        }
     }
-    let u = rotate.mul_vec(&condensed.expand(&a, &w), 1);
-    *cache = Some((key, condensed.s));
+    let y = match steps_by {
+        Steps::Condensed(c, key) => {
+            let y = c.expand(&a, &w);
+            *cache = Some((key, c.s));
+            y
+        }
+        Steps::Reduced { x, .. } => x,
+    };
+    let u = rotate.mul_vec(&y, 1);
     seconds.solve += clock.elapsed().as_secs_f64();
     let z = (0..points.len()).map(|p| at(&z, p, [0.0; 3])).collect();
     Ok((u, Vec::new(), z, status, steps))
+}
+
+/// The next w of a condensed Newton step (`rows` the equations of the
+/// `jumps`): z_W = c − S w substituted, a dense LU.
+fn condensed_step(c: &Condensed, rows: &[JumpRow], Jumps { slot, owner, .. }: Jumps) -> Vec<f64> {
+    let (s, c) = (&c.s, &c.c);
+    let nw = rows.len();
+    let mut j = Mat::<f64>::zeros(nw, nw);
+    let mut r = Mat::<f64>::zeros(nw, 1);
+    for (i, row) in rows.iter().enumerate() {
+        match *row {
+            JumpRow::Free => {
+                (0..nw).for_each(|l| j[(i, l)] = s[(i, l)]);
+                r[(i, 0)] = c[i];
+            }
+            JumpRow::Held(v) => {
+                j[(i, i)] = 1.0;
+                r[(i, 0)] = v;
+            }
+            JumpRow::Slip(on_z, on_jump, rhs) => {
+                let p = owner[i].0;
+                let mut rhs = rhs;
+                for (kk, &a) in on_z.iter().enumerate() {
+                    if let Some(m) = slot[p][kk] {
+                        (0..nw).for_each(|l| j[(i, l)] -= a * s[(m, l)]);
+                        rhs -= a * c[m];
+                    }
+                }
+                for (q, &a) in on_jump.iter().enumerate() {
+                    if let Some(m) = slot[p][q + 1] {
+                        j[(i, m)] += a;
+                    }
+                }
+                r[(i, 0)] = rhs;
+            }
+        }
+    }
+    let next = j.partial_piv_lu().solve(&r);
+    (0..nw).map(|i| next[(i, 0)]).collect()
+}
+
+/// A reduced Newton step (`rotated_newton`): A x = b with the rows of the
+/// `jumps` replaced by their equations `rows` — held jumps as prescribed
+/// values besides `held`, each slip row Σ_k a_k A_{W(p,k)} − Σ_q c_q e_{W(p,q+1)}
+/// = Σ_k a_k b_{W(p,k)} − r (z = b − A x in a·z + c·s = r), times d_p so
+/// that it weighs as a row of A — solved by PETSc from `x` into `x`, `modes`
+/// the near-nullspace, to the relative residual `forcing` (or the solver's
+/// tolerance if that is looser, or if x already meets the forcing; no solve
+/// if x meets that tolerance); returns the KSP iterations and whether the
+/// solve was to the solver's tolerance.
+fn reduced_step(
+    (a, b, held): (&CsrMatrix, &[f64], &Dirichlet),
+    (rows, jumps): (&[JumpRow], Jumps),
+    points: &[ContactPoint],
+    (solver, forcing): (Solver, f64),
+    (x, modes): (&mut Vec<f64>, &[Vec<f64>]),
+    summary: &mut PetscSummary,
+) -> Result<(usize, bool), SolveError> {
+    let (n, Jumps { slot, owner, dofs: w_dofs }) = (a.nrows, jumps);
+    let mut w_of = vec![usize::MAX; n];
+    for (i, &dof) in w_dofs.iter().enumerate() {
+        w_of[dof] = i;
+    }
+    let mut fixed = held.clone();
+    let mut m = CsrMatrix::zeros(0, n);
+    let mut rhs = b.to_vec();
+    let mut row: Vec<(usize, f64)> = Vec::new();
+    for i in 0..n {
+        row.clear();
+        let (cols, vals) = a.row(i);
+        match w_of.get(i).and_then(|&wi| rows.get(wi).map(|r| (wi, *r))) {
+            Some((wi, JumpRow::Slip(on_z, on_jump, r))) => {
+                let p = owner[wi].0;
+                let d = points[p].d;
+                rhs[i] = -r;
+                for (k, &c) in on_z.iter().enumerate() {
+                    if let Some(m) = slot[p][k] {
+                        let (cols, vals) = a.row(w_dofs[m]);
+                        row.extend(cols.iter().zip(vals).map(|(&j, &v)| (j, c * v)));
+                        rhs[i] += c * b[w_dofs[m]];
+                    }
+                }
+                for (q, &c) in on_jump.iter().enumerate() {
+                    if let Some(m) = slot[p][q + 1] {
+                        row.push((w_dofs[m], -c));
+                    }
+                }
+                row = super::frames::merged(&mut row);
+                row.iter_mut().for_each(|e| e.1 *= d);
+                rhs[i] *= d;
+            }
+            found => {
+                if let Some((_, JumpRow::Held(v))) = found {
+                    fixed.fix_dof(i, v);
+                }
+                row.extend(cols.iter().zip(vals).map(|(&j, &v)| (j, v)));
+            }
+        }
+        m.indices.extend(row.iter().map(|e| e.0));
+        m.values.extend(row.iter().map(|e| e.1));
+        m.indptr.push(m.indices.len());
+        m.nrows += 1;
+    }
+    // Both the forcing and the solver's rtol are relative to the
+    // right-hand side (on the free rows, the prescribed values moved to the
+    // right); a forcing above the residual at the start would leave x as it
+    // is, so the solve is then to rtol.
+    let mut start = x.clone();
+    let mut is_fixed = vec![false; n];
+    for (dof, v) in fixed.iter() {
+        (start[dof], is_fixed[dof]) = (v, true);
+    }
+    let (mut r0, mut b0) = (0.0, 0.0);
+    for i in (0..n).filter(|&i| !is_fixed[i]) {
+        let (cols, vals) = m.row(i);
+        let (mut ax, mut moved) = (0.0, 0.0);
+        for (&j, &v) in cols.iter().zip(vals) {
+            ax += v * start[j];
+            if is_fixed[j] {
+                moved += v * start[j];
+            }
+        }
+        (r0, b0) = (r0 + (rhs[i] - ax).powi(2), b0 + (rhs[i] - moved).powi(2));
+    }
+    let relative = if b0 > 0.0 { (r0 / b0).sqrt() } else { 1.0 };
+    let rtol = match solver {
+        Solver::Petsc(o) => o.rtol,
+        _ => 0.0,
+    };
+    if relative <= rtol {
+        // x solves this step already (PETSc would stop before iterating).
+        *x = start;
+        return Ok((0, true));
+    }
+    let step_solver = if forcing < relative { solver.loosened(forcing) } else { solver };
+    let (next, iterations) =
+        step_solver.solve_nearly_symmetric(&m, &rhs, &fixed, (Some(&x[..]), modes), summary)?;
+    *x = next;
+    Ok((iterations, step_solver == solver))
 }
 
 /// The semismooth Newton system at the jumps and z of every contact point
@@ -864,7 +1143,8 @@ mod tests {
                 Constraints::new((&interfaces, &bodies), &system.mortars, &system.offsets, &system.dirichlet);
             assert!(constraints.rows.is_empty());
             let mut solve = |condense: bool, state: &mut FrictionState| {
-                let how = (options.solver, options.max_active_set_steps, condense);
+                let path = if condense { Path::Condensed } else { Path::Assembled };
+                let how = (options.solver, options.max_active_set_steps, path);
                 frictional_step(&bodies, &interfaces, how, &system, &constraints, state, &mut seconds)
                     .unwrap()
             };
