@@ -112,36 +112,11 @@ impl Solver {
         (start, modes): (Option<&[f64]>, &[Vec<f64>]),
         summary: &mut PetscSummary,
     ) -> Result<Solved, SolveError> {
-        self.general((a, b, fixed, false), (start, modes), summary)
-    }
-
-    /// [`Solver::solve_general`] for a matrix of elasticity in points of 3
-    /// unknowns that is symmetric but for a few rows (a frictional Newton
-    /// step): PETSc's FGMRES then takes GAMG.
-    pub(crate) fn solve_nearly_symmetric(
-        &self,
-        a: &CsrMatrix,
-        b: &[f64],
-        fixed: &Dirichlet,
-        (start, modes): (Option<&[f64]>, &[Vec<f64>]),
-        summary: &mut PetscSummary,
-    ) -> Result<Solved, SolveError> {
-        self.general((a, b, fixed, true), (start, modes), summary)
-    }
-
-    fn general(
-        &self,
-        (a, b, fixed, nearly_symmetric): (&CsrMatrix, &[f64], &Dirichlet, bool),
-        (start, modes): (Option<&[f64]>, &[Vec<f64>]),
-        summary: &mut PetscSummary,
-    ) -> Result<Solved, SolveError> {
         match self {
             Solver::Direct => sparse_lu(a, b, fixed).map(|x| (x, 0)),
             Solver::Pcg(_) => Err(SolveError::NotSymmetric),
-            Solver::Petsc(o) => {
-                crate::petsc::solve_petsc_general(a, b, fixed, (modes, nearly_symmetric), o, start, summary)
-                    .map(|x| (x, last_iterations(summary)))
-            }
+            Solver::Petsc(o) => crate::petsc::solve_petsc_general(a, b, fixed, modes, o, start, summary)
+                .map(|x| (x, last_iterations(summary))),
         }
     }
 }

@@ -198,9 +198,7 @@ pub(crate) fn solve_petsc_from(
 /// Jacobi, ILU(0) per rank (GAMG's default Chebyshev smoothing diverges on
 /// systems that are not symmetric; `-pc_type gamg -mg_levels_pc_type sor`
 /// is the multigrid choice), `modes` the near-nullspace a multigrid gets; the
-/// solve is appended to `summary`. A matrix of elasticity that is symmetric
-/// but for a few rows (`nearly_symmetric`: a frictional Newton step) gets
-/// GAMG instead.
+/// solve is appended to `summary`.
 ///
 /// # Errors
 /// As [`solve_petsc_from`].
@@ -208,13 +206,12 @@ pub(crate) fn solve_petsc_general(
     a: &CsrMatrix,
     b: &[f64],
     fixed: &Dirichlet,
-    (modes, nearly_symmetric): (&[Vec<f64>], bool),
+    modes: &[Vec<f64>],
     options: &PetscOptions,
     start: Option<&[f64]>,
     summary: &mut PetscSummary,
 ) -> Result<Vec<f64>, SolveError> {
-    let split = if nearly_symmetric { Split::NearlySymmetric } else { Split::General };
-    solve_free_rows(Cow::Borrowed(a), b, fixed, (split, modes), options, start, summary)
+    solve_free_rows(Cow::Borrowed(a), b, fixed, (Split::General, modes), options, start, summary)
 }
 
 /// K u = f with the values of `dirichlet` by PETSc (`split`: symmetric
@@ -230,8 +227,27 @@ fn solve_free_rows(
     start: Option<&[f64]>,
     summary: &mut PetscSummary,
 ) -> Result<Vec<f64>, SolveError> {
+    let (a, b, mut u) = free_rows(&k, f, dirichlet, start)?;
+    drop(k); // an owned K (a reduced system) is not needed any more: PETSc gets A
+    ksp_solve(a, &b, &mut u, (split, modes), options, start.is_some(), summary)?;
+    for (dof, v) in dirichlet.iter() {
+        u[dof] = v;
+    }
+    Ok(u)
+}
+
+/// The system PETSc gets for K u = f with the values of `dirichlet` (module
+/// doc): A = K on the free rows and columns and the identity elsewhere,
+/// b = f − K ū on the free rows and 0 elsewhere, and the initial guess:
+/// `start`'s free entries.
+fn free_rows(
+    k: &CsrMatrix,
+    f: &[f64],
+    dirichlet: &Dirichlet,
+    start: Option<&[f64]>,
+) -> Result<(Rows, Vec<f64>, Vec<f64>), SolveError> {
     let n = k.nrows;
-    let (active, b) = free_system(&k, f, dirichlet, start)?;
+    let (active, b) = free_system(k, f, dirichlet, start)?;
     let mut a = Rows::new(n, n, k.nnz())?;
     for i in 0..n {
         if active[i] {
@@ -244,16 +260,75 @@ fn solve_free_rows(
         }
         a.end_row()?;
     }
-    drop(k); // an owned K (a reduced system) is not needed any more: PETSc gets A
-    let mut u: Vec<f64> = match start {
+    let u: Vec<f64> = match start {
         Some(s) => s.iter().zip(&active).map(|(&v, &a)| if a { v } else { 0.0 }).collect(),
         None => vec![0.0; n],
     };
-    ksp_solve(a, &b, &mut u, (split, modes), options, start.is_some(), summary)?;
-    for (dof, v) in dirichlet.iter() {
-        u[dof] = v;
+    Ok((a, b, u))
+}
+
+/// A KSP kept over the semismooth Newton steps of a frictional load step,
+/// for matrices of elasticity that are symmetric but for a few rows (FGMRES
+/// preconditioned by GAMG): the preconditioner set up for one step's matrix
+/// serves the later steps whose prescribed dofs are the same — only the
+/// operator is replaced, GAMG is not set up again — and is set up anew for
+/// a step whose prescribed dofs differ (a change of the contact sets).
+#[derive(Default)]
+pub(crate) struct NewtonKsp {
+    /// The system and the prescribed dofs of its preconditioner's matrix.
+    #[cfg(feature = "petsc")]
+    kept: Option<(seam_petsc::System, Vec<usize>)>,
+}
+
+impl NewtonKsp {
+    /// A x = b with the values of `fixed`, from `start`, to `options`'
+    /// relative tolerance, `modes` the near-nullspace of a new
+    /// preconditioner; the solve is appended to `summary`.
+    ///
+    /// # Errors
+    /// As [`solve_petsc_from`].
+    #[cfg(feature = "petsc")]
+    pub(crate) fn solve(
+        &mut self,
+        (a, b, fixed): (&CsrMatrix, &[f64], &Dirichlet),
+        modes: &[Vec<f64>],
+        options: &PetscOptions,
+        start: &[f64],
+        summary: &mut PetscSummary,
+    ) -> Result<Vec<f64>, SolveError> {
+        let (rows, b, mut x) = free_rows(a, b, fixed, Some(start))?;
+        let matrix = seam_petsc::Csr { rowptr: &rows.indptr, cols: &rows.indices, values: &rows.values };
+        let held: Vec<usize> = fixed.iter().map(|(dof, _)| dof).collect();
+        let system = match self.kept.take() {
+            Some((mut system, kept)) if kept == held => {
+                system.set_operator(matrix).map_err(petsc)?;
+                (system, kept)
+            }
+            _ => {
+                let (structure, config) = structure_and_config(Split::NearlySymmetric, b.len(), options);
+                (seam_petsc::System::new(matrix, structure, modes, &config).map_err(petsc)?, held)
+            }
+        };
+        drop(rows);
+        let (system, _) = self.kept.insert(system);
+        solve_and_report(system, &b, &mut x, (true, Some(options.rtol)), summary)?;
+        for (dof, v) in fixed.iter() {
+            x[dof] = v;
+        }
+        Ok(x)
     }
-    Ok(u)
+
+    #[cfg(not(feature = "petsc"))]
+    pub(crate) fn solve(
+        &mut self,
+        _: (&CsrMatrix, &[f64], &Dirichlet),
+        _: &[Vec<f64>],
+        _: &PetscOptions,
+        _: &[f64],
+        _: &mut PetscSummary,
+    ) -> Result<Vec<f64>, SolveError> {
+        Err(SolveError::PetscUnavailable)
+    }
 }
 
 /// A matrix in compressed rows with PETSc's indices (32 bits), built row by
@@ -488,7 +563,7 @@ fn ksp_solve(
     let (structure, config) = structure_and_config(split, b.len(), options);
     let mut system = seam_petsc::System::new(matrix, structure, modes, &config).map_err(petsc)?;
     drop(a); // PETSc has its copy: ours goes before the preconditioner's setup
-    solve_and_report(&mut system, b, x, warm, summary)
+    solve_and_report(&mut system, b, x, (warm, None), summary)
 }
 
 /// The structure of a system of n unknowns and its KSP: CG (+ GAMG) on
@@ -523,17 +598,17 @@ fn petsc(e: seam_petsc::PetscError) -> SolveError {
     SolveError::Petsc(e.0)
 }
 
-/// Solves `system` for b from x (when `warm`) and appends the solve to
-/// `summary`.
+/// Solves `system` for b from x (when `warm`), to `rtol` if given, and
+/// appends the solve to `summary`.
 #[cfg(feature = "petsc")]
 fn solve_and_report(
     system: &mut seam_petsc::System,
     b: &[f64],
     x: &mut [f64],
-    warm: bool,
+    (warm, rtol): (bool, Option<f64>),
     summary: &mut PetscSummary,
 ) -> Result<(), SolveError> {
-    let report = system.solve(b, x, warm).map_err(petsc)?;
+    let report = system.solve_to(b, x, warm, rtol).map_err(petsc)?;
     let residual = report.residual;
     summary.ksp_type = report.ksp_type.clone();
     summary.pc_type = report.pc_type.clone();
@@ -578,7 +653,7 @@ pub(crate) fn solve_staged_over_ranks(
     let (structure, config) = structure_and_config(split, b.len(), options);
     let mut system = seam_petsc::System::staged(&ranges, structure, modes, &config).map_err(petsc)?;
     let mut y = vec![0.0; b.len()];
-    solve_and_report(&mut system, b, &mut y, false, summary)?;
+    solve_and_report(&mut system, b, &mut y, (false, None), summary)?;
     Ok(y)
 }
 

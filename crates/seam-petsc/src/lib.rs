@@ -137,7 +137,16 @@ mod ffi {
             b: *const f64,
             x: *mut f64,
             nonzero_guess: c_int,
+            rtol: f64,
             report: *mut RawReport,
+            err: *mut c_char,
+            errlen: usize,
+        ) -> c_int;
+        pub fn seam_petsc_system_set_operator(
+            s: *mut RawSystem,
+            rowptr: *const PetscInt,
+            cols: *const PetscInt,
+            vals: *const f64,
             err: *mut c_char,
             errlen: usize,
         ) -> c_int;
@@ -674,6 +683,61 @@ impl System {
     /// A PETSc error during the solve (not a KSP that did not converge: see
     /// [`Report::converged`]).
     pub fn solve(&mut self, b: &[f64], x: &mut [f64], nonzero_guess: bool) -> Result<Report, PetscError> {
+        self.solve_to(b, x, nonzero_guess, None)
+    }
+
+    /// Replaces the operator by `matrix` (n × n, any pattern; e.g. the next
+    /// Newton matrix) and keeps the preconditioner set up for the matrix the
+    /// system was built with: later solves apply `matrix`, preconditioned as
+    /// before, without a new setup.
+    ///
+    /// # Errors
+    /// A PETSc error, or a matrix of another size or inconsistent.
+    pub fn set_operator(&mut self, matrix: Csr<'_>) -> Result<(), PetscError> {
+        let n = self.n;
+        let nnz = matrix.rowptr.last().map_or(0, |&v| v.max(0) as usize);
+        let consistent = matrix.rowptr.len() == n + 1
+            && matrix.rowptr[0] == 0
+            && matrix.cols.len() == nnz
+            && matrix.values.len() == nnz
+            && matrix.cols.iter().all(|&c| c >= 0 && (c as usize) < n)
+            && matrix.rowptr.windows(2).all(|w| w[0] <= w[1]);
+        if !consistent {
+            return Err(PetscError("inconsistent operator passed to PETSc".into()));
+        }
+        let _guard = lock();
+        let mut err = [0 as c_char; ERR_LEN];
+        // SAFETY: self.raw is a live system of size n; the arrays have the
+        // lengths the shim reads (n + 1 offsets, nnz columns and values),
+        // checked above, and are copied into a PETSc matrix before it returns.
+        let code = unsafe {
+            ffi::seam_petsc_system_set_operator(
+                self.raw.as_ptr(),
+                matrix.rowptr.as_ptr(),
+                matrix.cols.as_ptr(),
+                matrix.values.as_ptr(),
+                err.as_mut_ptr(),
+                ERR_LEN,
+            )
+        };
+        match code {
+            0 => Ok(()),
+            code => Err(error_text(&err, code)),
+        }
+    }
+
+    /// [`System::solve`] to the relative tolerance `rtol` for this solve
+    /// (None: the system's, after PETSc's options).
+    ///
+    /// # Errors
+    /// As [`System::solve`].
+    pub fn solve_to(
+        &mut self,
+        b: &[f64],
+        x: &mut [f64],
+        nonzero_guess: bool,
+        rtol: Option<f64>,
+    ) -> Result<Report, PetscError> {
         if b.len() != self.n || x.len() != self.n {
             return Err(PetscError(format!(
                 "right-hand side of {} and solution of {} entries for a system of {}",
@@ -695,6 +759,7 @@ impl System {
                 b.as_ptr(),
                 x.as_mut_ptr(),
                 c_int::from(nonzero_guess),
+                rtol.unwrap_or(0.0),
                 raw.as_mut_ptr(),
                 err.as_mut_ptr(),
                 ERR_LEN,
@@ -852,6 +917,70 @@ mod tests {
         let mut system = System::new(matrix, Structure::Blocks(1), &[], &capped).unwrap();
         let report = system.solve(&b, &mut x, false).unwrap();
         assert!(!report.converged() && report.reason_name == "DIVERGED_ITS", "{report:?}");
+    }
+
+    /// A replaced operator is what later solves apply, preconditioned as
+    /// before: ILU(0) of the Laplacian, exact for it, preconditions GMRES on
+    /// the Laplacian plus a nonsymmetric band (and a row that changes its
+    /// pattern); each solve's tolerance as asked.
+    #[test]
+    fn a_replaced_operator_is_solved_with_the_kept_preconditioner() {
+        initialize("").unwrap();
+        let n = 30;
+        let (rowptr, cols, values) = laplacian(n);
+        let config = KspConfig {
+            ksp_type: "gmres".into(),
+            pc_type: "ilu".into(),
+            rtol: 1e-12,
+            symmetric: false,
+            ..KspConfig::default()
+        };
+        let matrix = Csr { rowptr: &rowptr, cols: &cols, values: &values };
+        let mut system = System::new(matrix, Structure::Blocks(1), &[], &config).unwrap();
+        let exact: Vec<f64> = (1..=n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let times = |rowptr: &[Index], cols: &[Index], values: &[f64]| -> Vec<f64> {
+            (0..n)
+                .map(|i| {
+                    (rowptr[i] as usize..rowptr[i + 1] as usize)
+                        .map(|k| values[k] * exact[cols[k] as usize])
+                        .sum()
+                })
+                .collect()
+        };
+        let mut x = vec![0.0; n];
+        let report = system.solve(&times(&rowptr, &cols, &values), &mut x, false).unwrap();
+        assert_eq!(report.iterations, 1, "ILU(0) of a tridiagonal matrix is exact: {report:?}");
+        // B = A + 0.3 (superdiagonal) and row 0 = e₀ (a held unknown).
+        let (mut rb, mut cb, mut vb) = (vec![0], Vec::new(), Vec::new());
+        for i in 0..n {
+            if i == 0 {
+                cb.push(0);
+                vb.push(1.0);
+            } else {
+                for k in rowptr[i] as usize..rowptr[i + 1] as usize {
+                    cb.push(cols[k]);
+                    vb.push(values[k] + if cols[k] as usize == i + 1 { 0.3 } else { 0.0 });
+                }
+            }
+            rb.push(cb.len() as Index);
+        }
+        system.set_operator(Csr { rowptr: &rb, cols: &cb, values: &vb }).unwrap();
+        let b = times(&rb, &cb, &vb);
+        let mut x = vec![0.0; n];
+        let loose = system.solve_to(&b, &mut x, false, Some(1e-2)).unwrap();
+        let mut x = vec![0.0; n];
+        let tight = system.solve_to(&b, &mut x, false, None).unwrap();
+        assert!(
+            loose.converged() && tight.converged() && loose.iterations < tight.iterations,
+            "{loose:?} {tight:?}"
+        );
+        assert!(tight.iterations > 1 && tight.residual < 1e-11, "{tight:?}");
+        for i in 0..n {
+            assert!((x[i] - exact[i]).abs() < 1e-10, "{i}: {} against {}", x[i], exact[i]);
+        }
+        // Another size: refused.
+        let (r, c, v) = laplacian(n + 3);
+        assert!(system.set_operator(Csr { rowptr: &r, cols: &c, values: &v }).is_err());
     }
 
     /// A 1D Laplacian staged in halves (as two cells sharing each entry

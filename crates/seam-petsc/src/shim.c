@@ -68,16 +68,18 @@ typedef struct {
  * of n; the leader also keeps every rank's first row (ranges, size + 1). */
 typedef struct {
   Mat A;
+  Mat op; /* the operator when it is not A (seam_petsc_system_set_operator), else NULL */
   KSP ksp;
   PetscInt n, bs, rstart, m;
   PetscInt *ranges;
   int id;
+  double rtol; /* the KSP's relative tolerance after the options */
   double assembly_seconds, setup_seconds;
 } seam_petsc_system;
 
 /* What the leader broadcasts before each call (all ranks run one binary:
  * the layout is the same everywhere). */
-enum { CMD_INIT = 1, CMD_CREATE, CMD_SOLVE, CMD_DESTROY, CMD_EXIT, CMD_YIELD, CMD_JOB, CMD_STAGED };
+enum { CMD_INIT = 1, CMD_CREATE, CMD_SOLVE, CMD_DESTROY, CMD_EXIT, CMD_YIELD, CMD_JOB, CMD_STAGED, CMD_OPERATOR };
 typedef struct {
   int cmd, id;
   PetscInt n, n_first, bs, n_modes, max_it;
@@ -488,6 +490,7 @@ static int configure_here(const command *c, PetscInt rstart, PetscInt m, Mat A, 
    * for other KSP types. */
   TRY(KSPGMRESSetRestart(s->ksp, 100));
   TRY(KSPSetFromOptions(s->ksp));
+  TRY(KSPGetTolerances(s->ksp, &s->rtol, NULL, NULL, NULL));
   s->setup_seconds = now() - t0; /* KSPSetUp follows at the first solve */
   MatNullSpaceDestroy(&nullspace);
   for (PetscInt k = 0; k < 16; k++) VecDestroy(&near[k]);
@@ -531,9 +534,24 @@ static void destroy_here(seam_petsc_system *s)
 {
   if (!s) return;
   KSPDestroy(&s->ksp);
+  MatDestroy(&s->op);
   MatDestroy(&s->A);
   free(s->ranges);
   free(s);
+}
+
+/* The leader sends rank r the m rows from r0 of a CSR matrix (their offsets
+ * from 0, columns and values), which the follower receives in this order. */
+static void send_rows(const PetscInt *rowptr, const PetscInt *cols, const PetscScalar *vals, PetscInt r0, PetscInt m,
+                      int r)
+{
+  PetscInt *local = (PetscInt *)malloc(((size_t)m + 1) * sizeof(PetscInt));
+  if (!local) MPI_Abort(MPI_COMM_WORLD, 2); /* the followers wait for these rows */
+  for (PetscInt i = 0; i <= m; i++) local[i] = rowptr[r0 + i] - rowptr[r0];
+  send_array(local, (size_t)m + 1, MPIU_INT, sizeof(PetscInt), r);
+  free(local);
+  send_array(cols + rowptr[r0], (size_t)(rowptr[r0 + m] - rowptr[r0]), MPIU_INT, sizeof(PetscInt), r);
+  send_array(vals + rowptr[r0], (size_t)(rowptr[r0 + m] - rowptr[r0]), MPIU_SCALAR, sizeof(PetscScalar), r);
 }
 
 /* The leader's command that creates a system (a new id). */
@@ -581,14 +599,8 @@ int seam_petsc_system_create(PetscInt n, PetscInt n_first, PetscInt bs, const Pe
     broadcast(&c);
     (void)MPI_Bcast(ranges, (size + 1) * (int)sizeof(PetscInt), MPI_BYTE, 0, MPI_COMM_WORLD);
     for (int r = 1; r < size; r++) {
-      PetscInt  r0 = ranges[r], m = ranges[r + 1] - r0, m_first = first_part(n_first, r0, m);
-      PetscInt *local = (PetscInt *)malloc(((size_t)m + 1) * sizeof(PetscInt));
-      if (!local) MPI_Abort(MPI_COMM_WORLD, 2); /* the followers wait for these rows */
-      for (PetscInt i = 0; i <= m; i++) local[i] = rowptr[r0 + i] - rowptr[r0];
-      send_array(local, (size_t)m + 1, MPIU_INT, sizeof(PetscInt), r);
-      free(local);
-      send_array(cols + rowptr[r0], (size_t)(rowptr[r0 + m] - rowptr[r0]), MPIU_INT, sizeof(PetscInt), r);
-      send_array(vals + rowptr[r0], (size_t)(rowptr[r0 + m] - rowptr[r0]), MPIU_SCALAR, sizeof(PetscScalar), r);
+      PetscInt r0 = ranges[r], m = ranges[r + 1] - r0, m_first = first_part(n_first, r0, m);
+      send_rows(rowptr, cols, vals, r0, m, r);
       for (PetscInt k = 0; k < n_modes; k++)
         send_array(modes + (size_t)k * (size_t)n_first + r0, (size_t)m_first, MPIU_SCALAR, sizeof(PetscScalar), r);
     }
@@ -963,7 +975,7 @@ static int follow_staged(const command *c, seam_petsc_system **s, char *err, siz
 }
 
 /* Every rank: solves with this rank's rows of b and x. */
-static int solve_here(seam_petsc_system *s, const PetscScalar *b, PetscScalar *x, int nonzero_guess,
+static int solve_here(seam_petsc_system *s, const PetscScalar *b, PetscScalar *x, int nonzero_guess, double rtol,
                       seam_petsc_report *report, char *err, size_t errlen)
 {
   PetscErrorCode     code = 0;
@@ -979,6 +991,7 @@ static int solve_here(seam_petsc_system *s, const PetscScalar *b, PetscScalar *x
   TRY(VecCreateMPIWithArray(PETSC_COMM_WORLD, s->bs, s->m, s->n, b, &vb));
   TRY(VecCreateMPIWithArray(PETSC_COMM_WORLD, s->bs, s->m, s->n, x, &vx));
   TRY(KSPSetInitialGuessNonzero(s->ksp, nonzero_guess ? PETSC_TRUE : PETSC_FALSE));
+  TRY(KSPSetTolerances(s->ksp, rtol > 0 ? rtol : s->rtol, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
   t0 = now();
   TRY(KSPSetUp(s->ksp));
   s->setup_seconds += now() - t0;
@@ -1025,7 +1038,7 @@ fail:
  * when nonzero_guess. The followers get their rows of b and x, and send
  * their rows of the solution back. */
 int seam_petsc_system_solve(seam_petsc_system *s, const PetscScalar *b, PetscScalar *x, int nonzero_guess,
-                            seam_petsc_report *report, char *err, size_t errlen)
+                            double rtol, seam_petsc_report *report, char *err, size_t errlen)
 {
   int size = distributed() ? world_size() : 1, code;
   if (size > 1) {
@@ -1034,6 +1047,7 @@ int seam_petsc_system_solve(seam_petsc_system *s, const PetscScalar *b, PetscSca
     c.cmd           = CMD_SOLVE;
     c.id            = s->id;
     c.nonzero_guess = nonzero_guess;
+    c.rtol          = rtol;
     broadcast(&c);
     for (int r = 1; r < size; r++) {
       size_t r0 = (size_t)s->ranges[r], m = (size_t)(s->ranges[r + 1] - s->ranges[r]);
@@ -1041,13 +1055,60 @@ int seam_petsc_system_solve(seam_petsc_system *s, const PetscScalar *b, PetscSca
       send_array(x + r0, m, MPIU_SCALAR, sizeof(PetscScalar), r);
     }
   }
-  code = solve_here(s, b, x, nonzero_guess, report, err, errlen);
+  code = solve_here(s, b, x, nonzero_guess, rtol, report, err, errlen);
   for (int r = 1; r < size; r++) {
     size_t r0 = (size_t)s->ranges[r], m = (size_t)(s->ranges[r + 1] - s->ranges[r]);
     receive_array(x + r0, m, MPIU_SCALAR, sizeof(PetscScalar), r);
   }
   if (!agreed(code) && !code) {
     snprintf(err, errlen, "PETSc failed on another MPI rank during the solve");
+    code = PETSC_ERR_LIB;
+  }
+  return code;
+}
+
+/* Every rank: this rank's rows of a new operator (same size and layout as
+ * the system's matrix, any pattern), which the next solves apply while the
+ * preconditioner stays the one set up for the system's matrix. */
+static int operator_here(seam_petsc_system *s, const PetscInt *rowptr, const PetscInt *cols, const PetscScalar *vals,
+                         char *err, size_t errlen)
+{
+  PetscErrorCode code = 0;
+  Mat            B = NULL;
+  double         t0 = now();
+  code = build_matrix(s->n, s->rstart, s->m, s->bs, rowptr, cols, vals, 0, 1, &B);
+  if (code) {
+    message(code, err, errlen);
+    return (int)code;
+  }
+  MatDestroy(&s->op);
+  s->op = B;
+  TRY(KSPSetOperators(s->ksp, s->op, s->A));
+  TRY(KSPSetReusePreconditioner(s->ksp, PETSC_TRUE));
+  s->assembly_seconds += now() - t0;
+  return 0;
+fail:
+  return (int)code;
+}
+
+/* Replaces the operator of `s` by the n × n matrix (CSR on the leader, as
+ * for seam_petsc_system_create), keeping the preconditioner: the followers
+ * get their rows first. */
+int seam_petsc_system_set_operator(seam_petsc_system *s, const PetscInt *rowptr, const PetscInt *cols,
+                                   const PetscScalar *vals, char *err, size_t errlen)
+{
+  int size = distributed() ? world_size() : 1, code;
+  if (size > 1) {
+    command c;
+    memset(&c, 0, sizeof(c));
+    c.cmd = CMD_OPERATOR;
+    c.id  = s->id;
+    broadcast(&c);
+    for (int r = 1; r < size; r++) send_rows(rowptr, cols, vals, s->ranges[r], s->ranges[r + 1] - s->ranges[r], r);
+  }
+  code = operator_here(s, rowptr, cols, vals, err, errlen);
+  if (!agreed(code) && !code) {
+    snprintf(err, errlen, "PETSc failed on another MPI rank while replacing the operator");
     code = PETSC_ERR_LIB;
   }
   return code;
@@ -1213,10 +1274,27 @@ int seam_petsc_follow(int *failed, unsigned char **job, size_t *job_len, char *e
       if (!b || !x) MPI_Abort(MPI_COMM_WORLD, 2);
       receive_array(b, (size_t)s->m, MPIU_SCALAR, sizeof(PetscScalar), 0);
       receive_array(x, (size_t)s->m, MPIU_SCALAR, sizeof(PetscScalar), 0);
-      code = solve_here(s, b, x, c.nonzero_guess, &report, err, errlen);
+      code = solve_here(s, b, x, c.nonzero_guess, c.rtol, &report, err, errlen);
       send_array(x, (size_t)s->m, MPIU_SCALAR, sizeof(PetscScalar), 0);
       free(b);
       free(x);
+      agreed(code);
+    } else if (c.cmd == CMD_OPERATOR) {
+      seam_petsc_system *s = find(&all, c.id);
+      if (!s) MPI_Abort(MPI_COMM_WORLD, 2); /* the leader replaces the operator of a system it has */
+      PetscInt *rowptr = (PetscInt *)malloc(((size_t)s->m + 1) * sizeof(PetscInt));
+      if (!rowptr) MPI_Abort(MPI_COMM_WORLD, 2);
+      receive_array(rowptr, (size_t)s->m + 1, MPIU_INT, sizeof(PetscInt), 0);
+      size_t       nnz = (size_t)rowptr[s->m];
+      PetscInt    *cols = (PetscInt *)malloc((nnz + 1) * sizeof(PetscInt));
+      PetscScalar *vals = (PetscScalar *)malloc((nnz + 1) * sizeof(PetscScalar));
+      if (!cols || !vals) MPI_Abort(MPI_COMM_WORLD, 2);
+      receive_array(cols, nnz, MPIU_INT, sizeof(PetscInt), 0);
+      receive_array(vals, nnz, MPIU_SCALAR, sizeof(PetscScalar), 0);
+      code = operator_here(s, rowptr, cols, vals, err, errlen);
+      free(rowptr);
+      free(cols);
+      free(vals);
       agreed(code);
     } else if (c.cmd == CMD_DESTROY) {
       seam_petsc_system *s = find(&all, c.id);

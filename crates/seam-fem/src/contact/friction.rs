@@ -67,7 +67,7 @@ use crate::backend::{free_block, Solver};
 use crate::constraints::{triple_product, Constraints, Elimination};
 use crate::multibody::{Body, Coupling, Interface, ProblemError, System, Timings};
 use crate::pcg::free_system;
-use crate::petsc::PetscSummary;
+use crate::petsc::{NewtonKsp, PetscOptions, PetscSummary};
 use crate::saddle::solve_nearly_saddle;
 use crate::solution::ActiveSetStep;
 use crate::solve::Dirichlet;
@@ -694,8 +694,10 @@ enum Steps<'a> {
     /// fingerprint of S ([`fingerprint`]).
     Condensed(Condensed<'a>, u64),
     /// The step's system in x alone, z_W = (b − A x)_W substituted, by a
-    /// PETSc KSP from the last iterate `x`; `modes` the rigid-body modes in x.
-    Reduced { x: Vec<f64>, modes: Vec<Vec<f64>> },
+    /// PETSc KSP with `options` (`ksp`, its preconditioner kept while the
+    /// held dofs stay) from the last iterate `x`; `modes` the rigid-body
+    /// modes in x.
+    Reduced { x: Vec<f64>, modes: Vec<Vec<f64>>, options: PetscOptions, ksp: NewtonKsp },
 }
 
 /// The Newton iteration in nodal frames with relative tangents
@@ -770,9 +772,10 @@ fn rotated_newton(
                 })?;
             Steps::Condensed(condensed, key)
         }
-        Solver::Petsc(_) => {
+        Solver::Petsc(options) => {
             let modes = solver.near_nullspace(system.points, system.retained, None);
-            Steps::Reduced { x: to_x(y_prev), modes: modes.iter().map(|m| to_x(m)).collect() }
+            let modes = modes.iter().map(|m| to_x(m)).collect();
+            Steps::Reduced { x: to_x(y_prev), modes, options, ksp: NewtonKsp::default() }
         }
         Solver::Pcg(_) => unreachable!("refused by Path::of"),
     };
@@ -823,10 +826,16 @@ fn rotated_newton(
             .collect();
         let (next, (linear_iterations, tight)) = match &mut steps_by {
             Steps::Condensed(c, _) => (condensed_step(c, &rows, jumps), (0, true)),
-            Steps::Reduced { x, modes } => {
+            Steps::Reduced { x, modes, options, ksp } => {
                 let system = (&a, &b[..], &held);
-                let solved =
-                    reduced_step(system, (&rows, jumps), points, (solver, forcing), (x, modes), summary);
+                let solved = reduced_step(
+                    system,
+                    (&rows, jumps),
+                    points,
+                    (*options, forcing),
+                    (x, modes, ksp),
+                    summary,
+                );
                 let solved = solved.map_err(ProblemError::Solve)?;
                 (w_dofs.iter().map(|&dof| x[dof]).collect(), solved)
             }
@@ -914,8 +923,8 @@ fn reduced_step(
     (a, b, held): (&CsrMatrix, &[f64], &Dirichlet),
     (rows, jumps): (&[JumpRow], Jumps),
     points: &[ContactPoint],
-    (solver, forcing): (Solver, f64),
-    (x, modes): (&mut Vec<f64>, &[Vec<f64>]),
+    (options, forcing): (PetscOptions, f64),
+    (x, modes, ksp): (&mut Vec<f64>, &[Vec<f64>], &mut NewtonKsp),
     summary: &mut PetscSummary,
 ) -> Result<(usize, bool), SolveError> {
     let (n, Jumps { slot, owner, dofs: w_dofs }) = (a.nrows, jumps);
@@ -985,20 +994,15 @@ fn reduced_step(
         (r0, b0) = (r0 + (rhs[i] - ax).powi(2), b0 + (rhs[i] - moved).powi(2));
     }
     let relative = if b0 > 0.0 { (r0 / b0).sqrt() } else { 1.0 };
-    let rtol = match solver {
-        Solver::Petsc(o) => o.rtol,
-        _ => 0.0,
-    };
-    if relative <= rtol {
+    if relative <= options.rtol {
         // x solves this step already (PETSc would stop before iterating).
         *x = start;
         return Ok((0, true));
     }
-    let step_solver = if forcing < relative { solver.loosened(forcing) } else { solver };
-    let (next, iterations) =
-        step_solver.solve_nearly_symmetric(&m, &rhs, &fixed, (Some(&x[..]), modes), summary)?;
-    *x = next;
-    Ok((iterations, step_solver == solver))
+    let tight = forcing >= relative || forcing <= options.rtol;
+    let step = PetscOptions { rtol: if tight { options.rtol } else { forcing }, ..options };
+    *x = ksp.solve((&m, &rhs, &fixed), modes, &step, x, summary)?;
+    Ok((summary.solves.last().map_or(0, |s| s.iterations), tight))
 }
 
 /// The semismooth Newton system at the jumps and z of every contact point
