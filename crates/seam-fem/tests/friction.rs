@@ -353,7 +353,7 @@ fn slip_stays_and_locked_in_tractions_balance_after_unloading() {
 /// the block's top (the cap's bottom the slave, with `multiplier`): the
 /// block's top loads and supports move to the cap's top, the cap's sides
 /// carry the same complementary shear.
-fn capped_block_on_base(mu: f64, tau_side: f64, top_x: TopX, multiplier: Multiplier) -> Problem {
+pub(crate) fn capped_block_on_base(mu: f64, tau_side: f64, top_x: TopX, multiplier: Multiplier) -> Problem {
     let mut problem = block_on_base(mu, tau_side, top_x);
     let material = Material::new(E, 0.0).unwrap();
     let sides = [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("xmax", Side::XMax)];

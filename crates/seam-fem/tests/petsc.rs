@@ -252,3 +252,22 @@ fn cattaneo_mindlin_as_the_direct_solver() {
         );
     }
 }
+
+/// Friction next to glue with PETSc: a cap glued on the block with dual
+/// multipliers (eliminated node by node) keeps the stick patch test exact;
+/// with standard ones (not eliminated) the solve is refused in one line.
+#[test]
+fn frictional_patch_test_with_a_glued_cap() {
+    use crate::friction::{capped_block_on_base, traction_miss, TopX, P};
+    let options = SolveOptions { solver: petsc(1e-13), ..SolveOptions::default() };
+    let tau = 0.5;
+    let problem = capped_block_on_base(0.3, tau, TopX::Traction(tau), Multiplier::Dual);
+    let s = problem.solve(&options).unwrap();
+    assert!(s.report.method.contains("PETSc"), "{}", s.report.method);
+    let miss = traction_miss(&s, [-tau, 0.0, P]);
+    println!("glued cap (dual), stick: traction off by {miss:.1e}");
+    assert!(miss < 1e-10, "traction off by {miss:e}");
+    let problem = capped_block_on_base(0.3, tau, TopX::Traction(tau), Multiplier::Standard);
+    let e = problem.solve(&options).err().expect("refused").to_string();
+    assert!(e.contains("eliminated node by node") && !e.contains('\n'), "{e}");
+}
