@@ -268,6 +268,6 @@ fn frictional_patch_test_with_a_glued_cap() {
     println!("glued cap (dual), stick: traction off by {miss:.1e}");
     assert!(miss < 1e-10, "traction off by {miss:e}");
     let problem = capped_block_on_base(0.3, tau, TopX::Traction(tau), Multiplier::Standard);
-    let e = problem.solve(&options).err().expect("refused").to_string();
+    let e = problem.solve(&options).expect_err("refused").to_string();
     assert!(e.contains("eliminated node by node") && !e.contains('\n'), "{e}");
 }
