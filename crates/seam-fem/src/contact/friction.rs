@@ -686,6 +686,8 @@ struct Jumps<'a> {
     slot: &'a [[Option<usize>; 3]],
     owner: &'a [(usize, usize)],
     dofs: &'a [usize],
+    /// Per dof: its index in W, or `usize::MAX`.
+    index: &'a [usize],
 }
 
 /// How the rotated Newton iteration solves its steps.
@@ -736,7 +738,11 @@ fn rotated_newton(
             owner.push((p, k));
         }
     }
-    let jumps = Jumps { slot: &slot, owner: &owner, dofs: &w_dofs };
+    let mut index = vec![usize::MAX; n];
+    for (i, &dof) in w_dofs.iter().enumerate() {
+        index[dof] = i;
+    }
+    let jumps = Jumps { slot: &slot, owner: &owner, dofs: &w_dofs, index: &index };
     let held = rotated_dirichlet(n, system.dirichlet, points);
     // x = P⁻¹ y: y off the contact points; there the normal jump, the
     // relative tangents' jumps and the others' slave displacements.
@@ -927,11 +933,7 @@ fn reduced_step(
     (x, modes, ksp): (&mut Vec<f64>, &[Vec<f64>], &mut NewtonKsp),
     summary: &mut PetscSummary,
 ) -> Result<(usize, bool), SolveError> {
-    let (n, Jumps { slot, owner, dofs: w_dofs }) = (a.nrows, jumps);
-    let mut w_of = vec![usize::MAX; n];
-    for (i, &dof) in w_dofs.iter().enumerate() {
-        w_of[dof] = i;
-    }
+    let (n, Jumps { slot, owner, dofs: w_dofs, index: w_of }) = (a.nrows, jumps);
     let mut fixed = held.clone();
     let mut m = CsrMatrix::zeros(0, n);
     let mut rhs = b.to_vec();
@@ -1037,35 +1039,34 @@ fn newton_system(
         }
         b[n + i] = constraints.g[i];
     }
-    for (p, c) in points.iter().enumerate() {
+    for p in 0..points.len() {
         let zp = z0 + 3 * p;
         for (t, row) in rows[p].iter().enumerate() {
             for &(j, a) in row {
                 triplets[j].push((zp + t, a));
             }
         }
-        let (normal, tangent) = (zp, [zp + 1, zp + 2]);
-        if status[p] == Status::Inactive {
-            (0..3).for_each(|t| triplets[zp + t].push((zp + t, 1.0)));
-            continue;
-        }
-        triplets[normal].extend(rows[p][0].iter().copied());
-        b[normal] = c.gap;
-        for t in 0..2 {
-            let r = tangent[t];
-            if !law.frictional(p, t) {
-                triplets[r].push((r, 1.0));
-            } else if status[p] == Status::Stick {
-                triplets[r].extend(rows[p][t + 1].iter().copied());
-                b[r] = law.before[p][t];
-            } else {
-                coupled[r] = true;
-                let (on_z, on_jump, rhs) = law.slip_row(p, t, at[p].0, at[p].1);
-                triplets[r].extend(on_z.iter().enumerate().map(|(k, &a)| (zp + k, a)));
-                for (q, &a) in on_jump.iter().enumerate().filter(|(_, &a)| a != 0.0) {
-                    triplets[r].extend(rows[p][q + 1].iter().map(|&(j, g)| (j, a * g)));
+        for k in 0..3 {
+            let r = zp + k;
+            // A tangent without friction carries z = 0, as an inactive point.
+            let row = match k > 0 && !law.frictional(p, k - 1) {
+                true => JumpRow::Free,
+                false => JumpRow::of(law, p, k, status[p], at[p]),
+            };
+            match row {
+                JumpRow::Free => triplets[r].push((r, 1.0)),
+                JumpRow::Held(v) => {
+                    triplets[r].extend(rows[p][k].iter().copied());
+                    b[r] = v;
                 }
-                b[r] = rhs;
+                JumpRow::Slip(on_z, on_jump, rhs) => {
+                    coupled[r] = true;
+                    triplets[r].extend(on_z.iter().enumerate().map(|(k, &a)| (zp + k, a)));
+                    for (q, &a) in on_jump.iter().enumerate().filter(|(_, &a)| a != 0.0) {
+                        triplets[r].extend(rows[p][q + 1].iter().map(|&(j, g)| (j, a * g)));
+                    }
+                    b[r] = rhs;
+                }
             }
         }
     }
