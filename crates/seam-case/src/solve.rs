@@ -1253,6 +1253,7 @@ fn problem_failure(e: ProblemError, case: &Case, path: &Path) -> Failure {
             Failure::Error(format!("{file}: {e}{hint}"))
         }
         e @ (ProblemError::ActiveSetNotSettled { .. }
+        | ProblemError::FrictionNotConverged { .. }
         | ProblemError::Solve(
             seam_fem::SolveError::NotConverged { .. }
             | seam_fem::SolveError::PetscNotConverged { .. }

@@ -236,9 +236,9 @@ pub struct ExampleArgs {
     /// slave (upper) side's (for tests and quick runs).
     #[arg(long, hide = true, value_name = "N")]
     pub ratio: Option<usize>,
-    /// warped-glue, bulging-contact: slave cells across x and y; hertz,
-    /// cattaneo-mindlin: slave cells across the uniform zone [0, 1.5a] (for
-    /// tests and quick runs).
+    /// warped-glue, bulging-contact: slave cells across x and y; hertz:
+    /// slave cells across the uniform zone [0, 1.5a], cattaneo-mindlin
+    /// across [0, 1.1a] (for tests and quick runs).
     #[arg(long, hide = true, value_name = "N")]
     pub slave_cells: Option<usize>,
     /// warped-glue: element order, 1 (Hex8) or 2 (Hex27 bodies with curved

@@ -137,3 +137,22 @@ fn driven_past_the_bound_every_point_slips_and_coulomb_holds_in_every_step() {
     // The frictional traction on the block opposes its slip (+x).
     assert!(tt.chunks(3).all(|t| (t[0] + 0.6).abs() < 1e-10 && t[1].abs() < 1e-10), "{tt:?}");
 }
+
+/// Semismooth Newton stopped by `[contact] max_iterations`: one line naming
+/// the case and what still changed, exit 2, nothing written.
+#[test]
+fn the_iteration_cap_stops_friction_in_one_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let extra = "[[dirichlet]]\nboundary = \"block:top\"\nux = 0.05\n\n[contact]\nmax_iterations = 1\n";
+    std::fs::write(tmp.path().join("case.toml"), case(tmp.path(), extra)).unwrap();
+    let o = seam(&["solve", "case.toml"], tmp.path());
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    assert!(
+        err.contains("case.toml")
+            && err.contains("semismooth Newton did not converge in 1 steps (last step: "),
+        "{err}"
+    );
+    assert!(!tmp.path().join("out").exists());
+}

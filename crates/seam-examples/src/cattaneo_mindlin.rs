@@ -3,7 +3,7 @@
 //! symmetry plane y = 0) of the Hertz example's indenter (R = 1) and block,
 //! both E = 1000, ν = 0.3 (equal materials: the normal and tangential
 //! problems decouple), Coulomb friction μ = 0.3: the indenter's top is
-//! pressed by P (the force of the contact radius a = 0.08) in one load step,
+//! pressed by P (the force of the contact radius a = 0.04) in one load step,
 //! then pushed along x by Q = 0.5 μP in [`SHEAR_STEPS`] steps, the moment of
 //! Q about the contact balanced on the top as a rigid holder would. The
 //! centre sticks within c = a (1 − Q/μP)^{1/3}, the annulus c < r < a slips.
@@ -33,7 +33,7 @@ use seam_fem::scene::{cattaneo_mindlin, CattaneoMindlin, Hertz, PartialSlip};
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// Slave cells across the uniform zone [0, 1.5a] of the block's top.
+/// Slave cells across the uniform zone [0, 1.1a] of the block's top.
 pub const FINE_CELLS: usize = 8;
 
 /// Load steps of the shear (after the one that presses).
@@ -118,7 +118,7 @@ fn markdown(s: &Solved, p: &CattaneoMindlin, m: &PartialSlip, table: &[String]) 
         t,
         "A half model (symmetry plane y = 0): an indenter with a spherical face (R = {}) pressed on a block, both \
          E = {}, ν = {}, by P/2 = {} in one load step, then pushed along x by Q/2 = {} (Q = {} μP, μ = {}) in {} \
-         steps; {} multipliers on the block's top (slave), {} slave cells across 1.5a (h = {}), {} dofs. At the \
+         steps; {} multipliers on the block's top (slave), {} slave cells across {}a (h = {}), {} dofs. At the \
          end {} contact nodes stick and {} slip.\n",
         p.hertz.radius,
         p.hertz.block.young(),
@@ -130,6 +130,7 @@ fn markdown(s: &Solved, p: &CattaneoMindlin, m: &PartialSlip, table: &[String]) 
         p.shear_steps,
         s.summary.multiplier,
         p.hertz.fine_cells,
+        p.hertz.fine_zone,
         sig(p.hertz.slave_size()),
         s.summary.dofs,
         m.stick,
@@ -228,8 +229,9 @@ fn report_lines(
         p.shear_steps
     ));
     lines.push(format!(
-        "  meshes     indenter.msh, block.msh: hexahedra, {} slave cells across 1.5a (h = {}), master {}× finer",
+        "  meshes     indenter.msh, block.msh: hexahedra, {} slave cells across {}a (h = {}), master {}× finer",
         p.hertz.fine_cells,
+        p.hertz.fine_zone,
         sig(p.hertz.slave_size()),
         p.hertz.master_ratio
     ));

@@ -5,26 +5,28 @@
 //! solver (condensed on the contact jumps) or with PETSc (`--solver petsc`,
 //! `--features petsc`: FGMRES + GAMG per Newton step on the reduced
 //! displacements, rtol 1e-10). Each row also solves the pressing step
-//! frictionless (μ = 0: Hertz on the same mesh, the same solver) and gives
-//! the ratio of the whole frictional history to it.
+//! frictionless (μ = 0: Hertz on the same mesh, the same solver, the
+//! indenter's symmetry plane also held along x) and gives the ratio of the
+//! whole frictional history to it.
 //!
 //! ```text
-//! cargo run --release -p seam-fem --example friction_bench                 # n = 4, 6, 8
-//! cargo run --release -p seam-fem --example friction_bench -- --sizes 10,12
+//! cargo run --release -p seam-fem --example friction_bench                 # n = 6, 8, 10
+//! cargo run --release -p seam-fem --example friction_bench -- --sizes 12,16
 //! cargo run --release -p seam-fem --features petsc --example friction_bench -- \
 //!     --solver petsc --shear-steps 10 --sizes 8,14,18
 //! ```
 //!
-//! `n`: slave cells across the fine zone [0, 1.5a], as for Hertz.
+//! `n`: slave cells across the fine zone [0, 1.1a] of the block's top;
+//! `--master-ratio R`: the indenter's cells R× finer (default 1.3).
 
 mod common;
 
 use common::{flag_sizes, flag_value, fresh_row, peak_mb, petsc};
 use seam_fem::scene::{cattaneo_mindlin, CattaneoMindlin, Hertz};
-use seam_fem::{solve_steps, SolveOptions};
+use seam_fem::{solve_steps, SolveOptions, Support};
 use std::time::Instant;
 
-fn row(n: usize, solver: &str, shear_steps: usize) {
+fn row(n: usize, solver: &str, shear_steps: usize, master_ratio: f64) {
     let solver = match solver {
         "direct" => seam_fem::Solver::Direct,
         "petsc" => petsc(1e-10),
@@ -32,11 +34,16 @@ fn row(n: usize, solver: &str, shear_steps: usize) {
     };
     let options = SolveOptions { solver, ..SolveOptions::default() };
     let defaults = CattaneoMindlin::default();
-    let p = CattaneoMindlin { hertz: Hertz { fine_cells: n, ..defaults.hertz }, shear_steps, ..defaults };
+    let hertz = Hertz { fine_cells: n, master_ratio, ..defaults.hertz };
+    let p = CattaneoMindlin { hertz, shear_steps, ..defaults };
     let problem = cattaneo_mindlin(&p).expect("valid scene");
-    // Hertz on the same mesh: the pressing step, frictionless.
+    // Hertz on the same mesh: the pressing step, frictionless, the
+    // indenter's symmetry plane also held along x (friction alone holds the
+    // indenter along x, and against turning about y, otherwise).
     let mut frictionless = problem.clone();
     frictionless.interfaces[0].friction = 0.0;
+    let plane = problem.supports[1].boundary;
+    frictionless.supports.push(Support::new(plane, [Some(0.0), None, None]));
     let clock = Instant::now();
     let hertz = solve_steps(&frictionless, &options).next().expect("a load step");
     hertz.expect("solvable");
@@ -83,19 +90,22 @@ fn row(n: usize, solver: &str, shear_steps: usize) {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    if args.len() == 5 && args[1] == "--row" {
-        row(args[2].parse().expect("size"), &args[3], args[4].parse().expect("shear steps"));
+    if args.len() == 6 && args[1] == "--row" {
+        let number = |i: usize| args[i].parse::<f64>().expect("a number");
+        row(args[2].parse().expect("size"), &args[3], number(4) as usize, number(5));
         return;
     }
     let solver = flag_value(&args, "--solver", "direct");
     let shear_steps = flag_value(&args, "--shear-steps", "4");
-    println!("solver {solver}, {shear_steps} shear steps");
+    let ratio =
+        flag_value(&args, "--master-ratio", &CattaneoMindlin::default().hertz.master_ratio.to_string());
+    println!("solver {solver}, {shear_steps} shear steps, master {ratio}× finer");
     println!(
         "| n | dofs | contact points | stick / slip | Newton iterations per load step | KSP iterations (PC setup + KSP solve) | setup (condensation) s | Newton s | total s | frictionless Hertz s | ratio | peak MB | c error | a error | q L2 error |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-    for n in flag_sizes(&args, "--sizes", "4,6,8") {
-        match fresh_row(&[&n.to_string(), &solver, &shear_steps]) {
+    for n in flag_sizes(&args, "--sizes", "6,8,10") {
+        match fresh_row(&[&n.to_string(), &solver, &shear_steps, &ratio]) {
             Ok(line) => println!("| {n} {line}"),
             Err(why) => println!("| {n} | failed: {why} |"),
         }

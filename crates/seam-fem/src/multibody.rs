@@ -213,6 +213,21 @@ pub enum ProblemError {
         /// Points removed by the last step.
         removed: usize,
     },
+    /// The semismooth Newton iteration of frictional contact did not
+    /// converge within the iteration cap.
+    #[error(
+        "frictional contact: semismooth Newton did not converge in {steps} steps (last step: {changed} points \
+         changed between inactive, stick and slip; relative update {update:.1e}); raise the iteration cap or \
+         use more load steps"
+    )]
+    FrictionNotConverged {
+        /// Steps taken (the cap).
+        steps: usize,
+        /// Points whose status (inactive, stick, slip) the last step changed.
+        changed: usize,
+        /// The last step's relative update.
+        update: f64,
+    },
     /// A displacement of the solution is NaN or infinite: an overflow (nothing
     /// non-finite passes as a result).
     #[error("body {body}: the solution is not finite at point {} (component {}): an overflow; check the magnitudes of loads, prescribed values and moduli", dof / 3, dof % 3)]

@@ -215,6 +215,19 @@ pub fn solve_nearly_saddle(
     if !coupled.contains(&true) {
         return solve_saddle(j, b, signs, group).map(|(x, _)| (x, 0));
     }
+    // Equilibrated: S J S y = S b, x = S y (S = `scaling`), so that the
+    // multipliers' pivots are not lost below the factor's regularisation.
+    let s = scaling(j, signs);
+    let mut j = j.clone();
+    for i in 0..n {
+        let (start, end) = (j.indptr[i], j.indptr[i + 1]);
+        for k in start..end {
+            j.values[k] *= s[i] * s[j.indices[k]];
+        }
+    }
+    let j = &j;
+    let b: Vec<f64> = b.iter().zip(&s).map(|(b, s)| b * s).collect();
+    let b = &b[..];
     let jt = j.transpose();
     let mut m = CsrMatrix::zeros(0, n);
     for i in 0..n {
@@ -250,7 +263,37 @@ pub fn solve_nearly_saddle(
     if relative > 1e3 * GMRES_RTOL {
         return Err(SolveError::NotConverged { iterations, relative_residual: relative });
     }
-    Ok((x, iterations))
+    Ok((x.iter().zip(&s).map(|(x, s)| x * s).collect(), iterations))
+}
+
+/// The diagonal scaling S of [`solve_nearly_saddle`]: 1/√|J_ii| for a primal
+/// unknown i, then for a multiplier the inverse of its column's largest entry
+/// |J_ci| S_c over primal rows c (its constraint column, 1 where it vanishes).
+fn scaling(j: &CsrMatrix, signs: &[i8]) -> Vec<f64> {
+    let mut s: Vec<f64> = (0..j.nrows)
+        .map(|i| {
+            let (cols, vals) = j.row(i);
+            let d = cols.iter().zip(vals).find(|(&c, _)| c == i).map_or(0.0, |(_, v)| v.abs());
+            if signs[i] > 0 && d > 0.0 {
+                1.0 / d.sqrt()
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let jt = j.transpose();
+    for i in (0..j.nrows).filter(|&i| signs[i] < 0) {
+        let (cols, vals) = jt.row(i);
+        let big = cols
+            .iter()
+            .zip(vals)
+            .filter(|(&c, _)| signs[c] > 0)
+            .fold(0.0f64, |m, (&c, v)| m.max((v * s[c]).abs()));
+        if big > 0.0 {
+            s[i] = 1.0 / big;
+        }
+    }
+    s
 }
 
 /// ‖x‖₂.

@@ -216,11 +216,10 @@ fn frictional_patch_tests() {
 
 /// Cattaneo–Mindlin (coarse, 2 shear steps) with PETSc: every load step ends
 /// in the direct solver's stick, slip and inactive sets with its
-/// displacements to 1e-8, and Newton stays superlinear with the inexact
+/// displacements to 1e-8, and Newton ends at round-off with the inexact
 /// (loose, then tight) Krylov solves.
 #[test]
 fn cattaneo_mindlin_as_the_direct_solver() {
-    use crate::cattaneo_mindlin::superlinear;
     use seam_fem::scene::{cattaneo_mindlin, CattaneoMindlin};
     let p = CattaneoMindlin::default();
     let p = CattaneoMindlin { hertz: Hertz { fine_cells: 3, ..p.hertz }, shear_steps: 2, ..p };
@@ -244,12 +243,13 @@ fn cattaneo_mindlin_as_the_direct_solver() {
         let krylov: Vec<usize> = steps.iter().map(|s| s.linear_iterations).collect();
         println!("t = {t:.2}: u off by {:.1e}; Newton {r:?}, KSP {krylov:?}", difference / scale);
         assert!(difference <= 1e-8 * scale, "t = {t}: {:e}", difference / scale);
-        // As with the direct solver: pressing ends at round-off, shearing superlinearly.
+        // Every load step ends at round-off; the shear steps' last update
+        // contracts by 10⁻³ at least (inexact Newton: a loose step's update
+        // may be followed by a larger one, so the direct solver's test of
+        // superlinear contraction does not apply to the whole sequence).
         let r: Vec<f64> = steps.iter().map(|s| s.residual).collect();
-        assert!(
-            if k == 0 { r.last().is_some_and(|&r| r < 1e-10) } else { superlinear(&r) },
-            "t = {t}: {r:?}"
-        );
+        let terminal = matches!(r.as_slice(), [.., before, last] if *last < 1e-10 && *last < 1e-3 * before);
+        assert!(if k == 0 { r.last().is_some_and(|&r| r < 1e-10) } else { terminal }, "t = {t}: {r:?}");
     }
 }
 

@@ -530,7 +530,8 @@ fn record(
         new_status.iter().zip(status.iter()).filter(|(n, o)| inactive(n) == now && inactive(o) != now).count()
     };
     let (added, removed) = (changed(false), changed(true));
-    let settled = new_status == *status;
+    let switched = new_status.iter().zip(status.iter()).filter(|(n, o)| n != o).count();
+    let settled = switched == 0;
     // Stagnating at the round-off of the solves: the update no longer halves.
     let stagnating = steps.last().is_some_and(|s| change <= ROUND_OFF_FLOOR && change > 0.5 * s.residual);
     steps.push(ActiveSetStep {
@@ -546,7 +547,11 @@ fn record(
         return Ok(true);
     }
     if steps.len() >= max_steps {
-        return Err(ProblemError::ActiveSetNotSettled { steps: steps.len(), added, removed });
+        return Err(ProblemError::FrictionNotConverged {
+            steps: steps.len(),
+            changed: switched,
+            update: change,
+        });
     }
     Ok(false)
 }

@@ -16,9 +16,19 @@ pub struct Hertz {
     pub radius: f64,
     /// The analytic contact radius a; the force is F = 4E*a³/(3R).
     pub contact_radius: f64,
-    /// Slave (block) cells across the fine zone [0, 1.5a] of each symmetry
-    /// axis: the slave element size near the contact is 1.5a / `fine_cells`.
+    /// Slave (block) cells across the fine zone [0, `fine_zone` a] of each
+    /// symmetry axis: the slave element size near the contact is
+    /// `fine_zone` a / `fine_cells`.
     pub fine_cells: usize,
+    /// The fine zone's extent in units of a (both meshes, and the depth).
+    pub fine_zone: f64,
+    /// The largest ratio (> 1) of neighbouring cell sizes outside the fine
+    /// zone, where the cells grow geometrically to the bodies' sides.
+    pub grading: f64,
+    /// Contact pairs are kept up to the gap `max_gap` a (the approach is
+    /// a²/R: every point that can close is a contact point while this
+    /// exceeds a/R).
+    pub max_gap: f64,
     /// Master (indenter) cells across its fine zone, relative to the slave's
     /// (non-matching meshes).
     pub master_ratio: f64,
@@ -43,7 +53,8 @@ pub struct Hertz {
 }
 
 impl Default for Hertz {
-    /// R = 1, a = 0.08 R, 8 slave cells across 1.5a, the master 1.3× finer;
+    /// R = 1, a = 0.08 R, 8 slave cells across 1.5a, the master 1.3× finer,
+    /// cells growing by at most 1.25× outside, pairs kept up to the gap a;
     /// indenter E = 2000, ν = 0.3 on a block E = 1000, ν = 0.25; lumped D;
     /// first-order hexahedra.
     fn default() -> Self {
@@ -51,6 +62,9 @@ impl Default for Hertz {
             radius: 1.0,
             contact_radius: 0.08,
             fine_cells: 8,
+            fine_zone: 1.5,
+            grading: 1.25,
+            max_gap: 1.0,
             master_ratio: 1.3,
             indenter: Material::new(2000.0, 0.3).expect("valid constants"),
             block: Material::new(1000.0, 0.25).expect("valid constants"),
@@ -100,9 +114,14 @@ impl Hertz {
         (0.5 * self.radius, 0.6 * self.radius)
     }
 
-    /// The slave element size in the fine zone, 1.5a / `fine_cells`.
+    /// The slave element size in the fine zone, `fine_zone` a / `fine_cells`.
     pub fn slave_size(&self) -> f64 {
-        1.5 * self.contact_radius / self.fine_cells as f64
+        self.fine_zone * self.contact_radius / self.fine_cells as f64
+    }
+
+    /// The extent of the fine zone, `fine_zone` a.
+    fn fine_length(&self) -> f64 {
+        self.fine_zone * self.contact_radius
     }
 
     /// The indenter's spherical face, z = R − √(R² − x² − y²).
@@ -113,15 +132,15 @@ impl Hertz {
 
 /// Grid coordinates on [0, length]: `fine` equal cells of size h on
 /// [0, fine_len], then cells growing geometrically from h to fill the rest
-/// (the ratio chosen so the sizes never shrink and stay below 1.25×).
-fn graded(length: f64, fine_len: f64, fine: usize) -> Vec<f64> {
+/// (the ratio chosen so the sizes never shrink and grow at most `ratio`×).
+fn graded(length: f64, (fine_len, fine): (f64, usize), ratio: f64) -> Vec<f64> {
     let h = fine_len / fine as f64;
     let mut x: Vec<f64> = (0..=fine).map(|i| i as f64 * h).collect();
     let rest = length - fine_len;
-    // The fewest cells k with ratio q ≤ 1.25: h (q^k − 1)/(q − 1) = rest.
-    let k = ((1.0 + rest * 0.25 / h).ln() / 1.25f64.ln()).ceil().max(1.0) as usize;
+    // The fewest cells k with ratio q ≤ `ratio`: h (q^k − 1)/(q − 1) = rest.
+    let k = ((1.0 + rest * (ratio - 1.0) / h).ln() / ratio.ln()).ceil().max(1.0) as usize;
     let sum = |q: f64| h * (1..=k).map(|i| q.powi(i as i32)).sum::<f64>();
-    let (mut lo, mut hi) = (1.0, 1.25);
+    let (mut lo, mut hi) = (1.0, ratio);
     for _ in 0..100 {
         let mid = 0.5 * (lo + hi);
         if sum(mid) < rest {
@@ -248,7 +267,6 @@ pub(super) const TOP: usize = 1;
 /// [`HALF_SIDES`] over the half [−·, ·] × [0, ·] (the grid mirrored at
 /// x = 0).
 pub(super) fn bodies(p: &Hertz, half: bool) -> Result<Vec<ProblemBody>, MeshError> {
-    let a = p.contact_radius;
     let w = p.block_size();
     let mirrored = |y: Vec<f64>| -> Vec<f64> {
         if half {
@@ -257,9 +275,10 @@ pub(super) fn bodies(p: &Hertz, half: bool) -> Result<Vec<ProblemBody>, MeshErro
             y
         }
     };
-    let ys = graded(w, 1.5 * a, p.fine_cells);
+    let fine = p.fine_length();
+    let ys = graded(w, (fine, p.fine_cells), p.grading);
     let xs = mirrored(ys.clone());
-    let depth: Vec<f64> = graded(w, 1.5 * a, p.fine_cells).iter().rev().map(|z| 1.0 - z / w).collect();
+    let depth: Vec<f64> = ys.iter().rev().map(|z| 1.0 - z / w).collect();
     let cells = (p.cells, p.second_order);
     let (slab, slab_grid) = tensor_block(
         [&xs, &ys, &depth],
@@ -269,10 +288,10 @@ pub(super) fn bodies(p: &Hertz, half: bool) -> Result<Vec<ProblemBody>, MeshErro
     )?;
 
     let (l, h) = p.indenter_size();
-    let fine = ((p.fine_cells as f64) * p.master_ratio).round() as usize;
-    let ym = graded(l, 1.5 * a, fine);
+    let master = (fine, ((p.fine_cells as f64) * p.master_ratio).round() as usize);
+    let ym = graded(l, master, p.grading);
     let xm = mirrored(ym.clone());
-    let up: Vec<f64> = graded(h, 1.5 * a, fine).iter().map(|z| z / h).collect();
+    let up: Vec<f64> = graded(h, master, p.grading).iter().map(|z| z / h).collect();
     let (ball, ball_grid) = tensor_block(
         [&xm, &ym, &up],
         cells,
@@ -299,7 +318,7 @@ pub(super) fn contact(p: &Hertz) -> ProblemInterface {
     let options = MortarOptions {
         multiplier: p.multiplier,
         facing: Facing::Opposite,
-        max_gap: MaxGap::Absolute(p.contact_radius),
+        max_gap: MaxGap::Absolute(p.max_gap * p.contact_radius),
         ..MortarOptions::default()
     };
     ProblemInterface {
@@ -317,7 +336,7 @@ mod tests {
 
     #[test]
     fn graded_coordinates_are_uniform_then_growing() {
-        let x = graded(1.0, 0.12, 8);
+        let x = graded(1.0, (0.12, 8), 1.25);
         assert_eq!(x[0], 0.0);
         assert_eq!(*x.last().unwrap(), 1.0);
         let h: Vec<f64> = x.windows(2).map(|s| s[1] - s[0]).collect();
