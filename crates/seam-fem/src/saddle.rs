@@ -199,11 +199,13 @@ pub const GMRES_MAX_ITERATIONS: usize = 400;
 /// column (a constraint row, as sticking is for a slipping point). J M⁻¹ − I
 /// then has rank at most the number of coupled unknowns, which bounds the
 /// iterations (plus one); without coupled unknowns J = M is solved directly,
-/// with iterative refinement.
+/// with iterative refinement. With coupled unknowns the system is first
+/// equilibrated, S J S (S x) = S b, S diagonal (`scaling`).
 ///
 /// # Errors
-/// As [`solve_saddle`]; [`SolveError::NotConverged`] after
-/// [`GMRES_MAX_ITERATIONS`].
+/// As [`solve_saddle`]; [`SolveError::NotConverged`] when the residual of
+/// the equilibrated system stays above 10³ [`GMRES_RTOL`] of its right-hand
+/// side (GMRES stops after [`GMRES_MAX_ITERATIONS`]).
 pub fn solve_nearly_saddle(
     j: &CsrMatrix,
     b: &[f64],
