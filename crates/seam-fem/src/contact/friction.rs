@@ -917,8 +917,23 @@ fn condensed_step(c: &Condensed, rows: &[JumpRow], Jumps { slot, owner, .. }: Ju
             }
         }
     }
+    // Equilibrated (rows, then columns, by their largest entries): the held
+    // rows' 1 and the stiffness rows of S differ by orders of magnitude.
+    let largest = |v: &mut dyn Iterator<Item = f64>| match v.fold(0.0f64, |m, x| m.max(x.abs())) {
+        m if m > 0.0 => 1.0 / m,
+        _ => 1.0,
+    };
+    for i in 0..nw {
+        let f = largest(&mut (0..nw).map(|l| j[(i, l)]));
+        (0..nw).for_each(|l| j[(i, l)] *= f);
+        r[(i, 0)] *= f;
+    }
+    let columns: Vec<f64> = (0..nw).map(|l| largest(&mut (0..nw).map(|i| j[(i, l)]))).collect();
+    for (l, &f) in columns.iter().enumerate() {
+        (0..nw).for_each(|i| j[(i, l)] *= f);
+    }
     let next = j.partial_piv_lu().solve(&r);
-    (0..nw).map(|i| next[(i, 0)]).collect()
+    (0..nw).map(|i| next[(i, 0)] * columns[i]).collect()
 }
 
 /// A reduced Newton step (`rotated_newton`): A x = b with the rows of the
