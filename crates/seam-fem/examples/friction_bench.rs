@@ -42,8 +42,8 @@ fn row(n: usize, solver: &str, shear_steps: usize, master_ratio: f64) {
     // indenter along x, and against turning about y, otherwise).
     let mut frictionless = problem.clone();
     frictionless.interfaces[0].friction = 0.0;
-    let plane = problem.supports[1].boundary;
-    frictionless.supports.push(Support::new(plane, [Some(0.0), None, None]));
+    let indenter = problem.supports.iter().find(|s| s.boundary.body == 0).expect("the indenter's y = 0");
+    frictionless.supports.push(Support::new(indenter.boundary, [Some(0.0), None, None]));
     let clock = Instant::now();
     let hertz = solve_steps(&frictionless, &options).next().expect("a load step");
     hertz.expect("solvable");
@@ -91,8 +91,8 @@ fn row(n: usize, solver: &str, shear_steps: usize, master_ratio: f64) {
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     if args.len() == 6 && args[1] == "--row" {
-        let number = |i: usize| args[i].parse::<f64>().expect("a number");
-        row(args[2].parse().expect("size"), &args[3], number(4) as usize, number(5));
+        let (steps, ratio) = (args[4].parse().expect("shear steps"), args[5].parse().expect("master ratio"));
+        row(args[2].parse().expect("size"), &args[3], steps, ratio);
         return;
     }
     let solver = flag_value(&args, "--solver", "direct");

@@ -219,18 +219,18 @@ pub fn solve_nearly_saddle(
     }
     // Equilibrated: S J S y = S b, x = S y (S = `scaling`), so that the
     // multipliers' pivots are not lost below the factor's regularisation.
-    let s = scaling(j, signs);
-    let mut j = j.clone();
-    for i in 0..n {
-        let (start, end) = (j.indptr[i], j.indptr[i + 1]);
-        for k in start..end {
-            j.values[k] *= s[i] * s[j.indices[k]];
+    let (mut j, mut jt) = (j.clone(), j.transpose());
+    let s = scaling(&j, &jt, signs);
+    for m in [&mut j, &mut jt] {
+        for i in 0..n {
+            for k in m.indptr[i]..m.indptr[i + 1] {
+                m.values[k] *= s[i] * s[m.indices[k]];
+            }
         }
     }
     let j = &j;
     let b: Vec<f64> = b.iter().zip(&s).map(|(b, s)| b * s).collect();
     let b = &b[..];
-    let jt = j.transpose();
     let mut m = CsrMatrix::zeros(0, n);
     for i in 0..n {
         let (cols, vals) = if coupled[i] { jt.row(i) } else { j.row(i) };
@@ -271,7 +271,7 @@ pub fn solve_nearly_saddle(
 /// The diagonal scaling S of [`solve_nearly_saddle`]: 1/√|J_ii| for a primal
 /// unknown i, then for a multiplier the inverse of its column's largest entry
 /// |J_ci| S_c over primal rows c (its constraint column, 1 where it vanishes).
-fn scaling(j: &CsrMatrix, signs: &[i8]) -> Vec<f64> {
+fn scaling(j: &CsrMatrix, jt: &CsrMatrix, signs: &[i8]) -> Vec<f64> {
     let mut s: Vec<f64> = (0..j.nrows)
         .map(|i| {
             let (cols, vals) = j.row(i);
@@ -283,7 +283,6 @@ fn scaling(j: &CsrMatrix, signs: &[i8]) -> Vec<f64> {
             }
         })
         .collect();
-    let jt = j.transpose();
     for i in (0..j.nrows).filter(|&i| signs[i] < 0) {
         let (cols, vals) = jt.row(i);
         let big = cols
