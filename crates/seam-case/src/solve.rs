@@ -313,6 +313,9 @@ pub struct PetscSummary {
     pub residual: f64,
     /// PETSc's converged reason of each solve, e.g. "CONVERGED_RTOL".
     pub reasons: Vec<String>,
+    /// The preconditioner of each solve: "new", "refreshed" (GAMG's
+    /// interpolation kept) or "kept".
+    pub setups: Vec<&'static str>,
     /// PETSc's own seconds: building its matrices (`assembly`), the
     /// preconditioner's setup (`setup`) and the KSP solves (`solve`).
     pub seconds: PetscSeconds,
@@ -337,6 +340,7 @@ impl From<&seam_fem::petsc::PetscSummary> for PetscSummary {
             iterations: p.solves.iter().map(|s| s.iterations).collect(),
             residual: p.solves.last().map_or(0.0, |s| s.residual),
             reasons: p.solves.iter().map(|s| s.reason.clone()).collect(),
+            setups: p.solves.iter().map(|s| s.setup.name()).collect(),
             seconds: PetscSeconds {
                 assembly: p.assembly_seconds,
                 setup: p.setup_seconds,

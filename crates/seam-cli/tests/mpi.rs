@@ -351,6 +351,28 @@ fn ranks_solve_warped_glue_as_one_process_does() {
     }
 }
 
+/// Contact with active-set steps over the ranks: PETSc's system is refreshed
+/// on every rank for each new active set (GAMG's interpolation kept), and
+/// the answer is one process's, to the solver's tolerance.
+#[test]
+fn ranks_solve_bulging_contact_as_one_process_does() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let o = common::seam(&["example", "bulging-contact", "-o", ".", "--slave-cells", "4"], dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rtol = ["--rtol", "1e-12"];
+    let one = solve_on(dir, None, &rtol, "one");
+    for n in 2..=3 {
+        let to = format!("np{n}");
+        let s = solve_on(dir, Some(n), &rtol, &to);
+        assert_eq!(s["contact"]["active_points"], one["contact"]["active_points"], "{n} ranks");
+        let setups = s["petsc"]["setups"].as_array().unwrap();
+        assert!(setups[0] == "new" && setups[1..].contains(&"refreshed".into()), "{n} ranks: {setups:?}");
+        let e = difference(dir, "one", (&to, n));
+        assert!(e <= 1e-8, "{n} ranks: {e:.1e} from one process");
+    }
+}
+
 #[test]
 fn a_bad_mesh_another_solver_or_a_failed_solve_stops_every_rank() {
     let tmp = tempfile::tempdir().unwrap();

@@ -107,6 +107,20 @@ fn contact_gives_the_direct_answer() {
         assert_eq!(step["linear_iterations"].as_u64().unwrap(), its, "step {k}");
         assert_eq!(step["full_tolerance"], k >= refined, "step {k}");
     }
+    // One PETSc system over the steps: set up at the first, refreshed for
+    // each new active set (GAMG's interpolation kept), kept for the solve
+    // to --rtol of the step whose active set stayed.
+    let setups: Vec<&str> =
+        s["petsc"]["setups"].as_array().unwrap().iter().map(|k| k.as_str().unwrap()).collect();
+    assert_eq!(setups.len(), ksp.len(), "{setups:?}");
+    for (k, setup) in setups.iter().enumerate() {
+        let expected = match k {
+            0 => "new",
+            k if k == refined + 1 => "kept",
+            _ => "refreshed",
+        };
+        assert_eq!(*setup, expected, "solve {k}: {setups:?}");
+    }
 }
 
 #[test]

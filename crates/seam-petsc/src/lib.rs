@@ -147,6 +147,7 @@ mod ffi {
             rowptr: *const PetscInt,
             cols: *const PetscInt,
             vals: *const f64,
+            refresh: c_int,
             err: *mut c_char,
             errlen: usize,
         ) -> c_int;
@@ -694,6 +695,25 @@ impl System {
     /// # Errors
     /// A PETSc error, or a matrix of another size or inconsistent.
     pub fn set_operator(&mut self, matrix: Csr<'_>) -> Result<(), PetscError> {
+        self.replace(matrix, false)
+    }
+
+    /// Gives the system's matrix the values of `matrix`, whose entries lie in
+    /// the pattern the system was built with (entries of that pattern
+    /// missing from it become zeros), and makes it the operator again: the
+    /// next solve sets the preconditioner up for it anew, GAMG keeping the
+    /// interpolation it built at the first setup (only the coarse
+    /// operators PᵀAP and the smoothers are formed again).
+    ///
+    /// # Errors
+    /// A PETSc error (an entry outside the pattern), or a matrix of another
+    /// size or inconsistent.
+    pub fn refresh(&mut self, matrix: Csr<'_>) -> Result<(), PetscError> {
+        self.replace(matrix, true)
+    }
+
+    /// [`System::set_operator`] (`refresh` false) or [`System::refresh`].
+    fn replace(&mut self, matrix: Csr<'_>, refresh: bool) -> Result<(), PetscError> {
         let n = self.n;
         let nnz = matrix.rowptr.last().map_or(0, |&v| v.max(0) as usize);
         let consistent = matrix.rowptr.len() == n + 1
@@ -716,6 +736,7 @@ impl System {
                 matrix.rowptr.as_ptr(),
                 matrix.cols.as_ptr(),
                 matrix.values.as_ptr(),
+                c_int::from(refresh),
                 err.as_mut_ptr(),
                 ERR_LEN,
             )
@@ -883,6 +904,14 @@ mod tests {
         (rowptr, cols, values)
     }
 
+    /// A x.
+    fn multiply(a: Csr<'_>, x: &[f64]) -> Vec<f64> {
+        a.rowptr
+            .windows(2)
+            .map(|r| (r[0] as usize..r[1] as usize).map(|k| a.values[k] * x[a.cols[k] as usize]).sum())
+            .collect()
+    }
+
     #[test]
     fn cg_solves_a_laplacian_and_bad_options_are_one_line_errors() {
         initialize("").unwrap();
@@ -938,15 +967,8 @@ mod tests {
         let matrix = Csr { rowptr: &rowptr, cols: &cols, values: &values };
         let mut system = System::new(matrix, Structure::Blocks(1), &[], &config).unwrap();
         let exact: Vec<f64> = (1..=n).map(|i| (i as f64 * 0.37).sin()).collect();
-        let times = |rowptr: &[Index], cols: &[Index], values: &[f64]| -> Vec<f64> {
-            (0..n)
-                .map(|i| {
-                    (rowptr[i] as usize..rowptr[i + 1] as usize)
-                        .map(|k| values[k] * exact[cols[k] as usize])
-                        .sum()
-                })
-                .collect()
-        };
+        let times =
+            |rowptr: &[Index], cols: &[Index], values: &[f64]| multiply(Csr { rowptr, cols, values }, &exact);
         let mut x = vec![0.0; n];
         let report = system.solve(&times(&rowptr, &cols, &values), &mut x, false).unwrap();
         assert_eq!(report.iterations, 1, "ILU(0) of a tridiagonal matrix is exact: {report:?}");
@@ -981,6 +1003,54 @@ mod tests {
         // Another size: refused.
         let (r, c, v) = laplacian(n + 3);
         assert!(system.set_operator(Csr { rowptr: &r, cols: &c, values: &v }).is_err());
+    }
+
+    /// A refreshed matrix is what later solves apply, and the preconditioner
+    /// is set up for it: GAMG on a 1D Laplacian of 3 000 unknowns (several
+    /// levels), then the same pattern with unknowns held (their rows and
+    /// columns zero but for the diagonal), solved as a new system solves it;
+    /// a value outside the pattern is refused in one line.
+    #[test]
+    fn a_refreshed_matrix_is_solved_with_its_own_preconditioner() {
+        initialize("").unwrap();
+        let n = 3000;
+        let (rowptr, cols, values) = laplacian(n);
+        let config = KspConfig { pc_type: "gamg".into(), rtol: 1e-12, ..KspConfig::default() };
+        let matrix = Csr { rowptr: &rowptr, cols: &cols, values: &values };
+        let mut system = System::new(matrix, Structure::Blocks(1), &[], &config).unwrap();
+        let exact: Vec<f64> = (0..n).map(|i| (i as f64 * 0.01).sin()).collect();
+        let times = |values: &[f64]| multiply(Csr { rowptr: &rowptr, cols: &cols, values }, &exact);
+        let mut x = vec![0.0; n];
+        assert!(system.solve(&times(&values), &mut x, false).unwrap().converged());
+        let held = |i: usize| [0, 700, 701, 1500, 2999].contains(&i);
+        let mut refreshed = values.clone();
+        for i in 0..n {
+            for k in rowptr[i] as usize..rowptr[i + 1] as usize {
+                let j = cols[k] as usize;
+                if i != j && (held(i) || held(j)) {
+                    refreshed[k] = 0.0;
+                }
+            }
+        }
+        let b = times(&refreshed);
+        system.refresh(Csr { rowptr: &rowptr, cols: &cols, values: &refreshed }).unwrap();
+        let mut x = vec![0.0; n];
+        let report = system.solve(&b, &mut x, false).unwrap();
+        assert!(report.converged() && report.residual < 1e-11, "{report:?}");
+        let error = x.iter().zip(&exact).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(error < 1e-8, "error {error:e}");
+        let fresh = Csr { rowptr: &rowptr, cols: &cols, values: &refreshed };
+        let mut new = System::new(fresh, Structure::Blocks(1), &[], &config).unwrap();
+        let mut y = vec![0.0; n];
+        let anew = new.solve(&b, &mut y, false).unwrap();
+        assert!(report.iterations <= anew.iterations + 2, "refreshed {report:?}, new {anew:?}");
+        // An entry outside the pattern: one line.
+        let (mut r, mut c, mut v) = (rowptr.clone(), cols.clone(), refreshed.clone());
+        c.insert(3, 5);
+        v.insert(3, 1.0);
+        r.iter_mut().skip(2).for_each(|e| *e += 1);
+        let e = system.refresh(Csr { rowptr: &r, cols: &c, values: &v }).unwrap_err();
+        assert!(!e.0.contains('\n') && !e.0.is_empty(), "{e}");
     }
 
     /// A 1D Laplacian staged in halves (as two cells sharing each entry

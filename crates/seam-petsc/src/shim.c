@@ -83,7 +83,8 @@ enum { CMD_INIT = 1, CMD_CREATE, CMD_SOLVE, CMD_DESTROY, CMD_EXIT, CMD_YIELD, CM
 typedef struct {
   int cmd, id;
   PetscInt n, n_first, bs, n_modes, max_it;
-  int symmetric, nonzero_guess, argc;
+  int symmetric; /* CMD_CREATE, CMD_STAGED: the matrix is symmetric; CMD_OPERATOR: refresh */
+  int nonzero_guess, argc;
   long long bytes; /* CMD_INIT: the options that follow */
   double rtol;
   char ksp_type[64], pc_type[64];
@@ -483,6 +484,9 @@ static int configure_here(const command *c, PetscInt rstart, PetscInt m, Mat A, 
     TRY(PetscOptionsHasName(NULL, NULL, "-matptap_via", &set));
     if (seqaij && !set) TRY(PetscOptionsSetValue(NULL, "-matptap_via", "rap"));
   }
+  /* A refreshed matrix (operator_here) keeps GAMG's interpolation; a no-op
+   * for other PC types, -pc_gamg_reuse_interpolation false undoes it. */
+  TRY(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE));
   TRY(KSPSetTolerances(s->ksp, c->rtol, PETSC_DEFAULT, PETSC_DEFAULT, c->max_it));
   /* (F)GMRES restarts after 100 iterations, not 30 (unless -ksp_gmres_restart
    * says otherwise): a frictional Newton step with GAMG needs some 90 to
@@ -1068,14 +1072,35 @@ int seam_petsc_system_solve(seam_petsc_system *s, const PetscScalar *b, PetscSca
 }
 
 /* Every rank: this rank's rows of a new operator (same size and layout as
- * the system's matrix, any pattern), which the next solves apply while the
- * preconditioner stays the one set up for the system's matrix. */
+ * the system's matrix). Kept (refresh 0): any pattern; the next solves apply
+ * it while the preconditioner stays the one set up for the system's matrix.
+ * Refreshed (refresh 1): the values of the system's matrix itself, in the
+ * pattern it was built with (an entry outside it is an error); it is the
+ * operator again, and the next solve sets the preconditioner up for it —
+ * GAMG keeping its interpolation (PCGAMGSetReuseInterpolation, set at the
+ * creation unless the options say otherwise): only the Galerkin products
+ * and the smoothers are formed again. */
 static int operator_here(seam_petsc_system *s, const PetscInt *rowptr, const PetscInt *cols, const PetscScalar *vals,
-                         char *err, size_t errlen)
+                         int refresh, char *err, size_t errlen)
 {
   PetscErrorCode code = 0;
   Mat            B = NULL;
   double         t0 = now();
+  if (refresh) {
+    TRY(MatSetOption(s->A, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
+    TRY(MatZeroEntries(s->A));
+    for (PetscInt i = 0; i < s->m; i++) {
+      PetscInt row = s->rstart + i;
+      TRY(MatSetValues(s->A, 1, &row, rowptr[i + 1] - rowptr[i], cols + rowptr[i], vals + rowptr[i], INSERT_VALUES));
+    }
+    TRY(MatAssemblyBegin(s->A, MAT_FINAL_ASSEMBLY));
+    TRY(MatAssemblyEnd(s->A, MAT_FINAL_ASSEMBLY));
+    MatDestroy(&s->op);
+    TRY(KSPSetOperators(s->ksp, s->A, s->A));
+    TRY(KSPSetReusePreconditioner(s->ksp, PETSC_FALSE));
+    s->assembly_seconds += now() - t0;
+    return 0;
+  }
   code = build_matrix(s->n, s->rstart, s->m, s->bs, rowptr, cols, vals, 0, 1, &B);
   if (code) {
     message(code, err, errlen);
@@ -1092,21 +1117,23 @@ fail:
 }
 
 /* Replaces the operator of `s` by the n × n matrix (CSR on the leader, as
- * for seam_petsc_system_create), keeping the preconditioner: the followers
- * get their rows first. */
+ * for seam_petsc_system_create), keeping the preconditioner, or refreshes
+ * the system's matrix with new values in its pattern (operator_here): the
+ * followers get their rows first. */
 int seam_petsc_system_set_operator(seam_petsc_system *s, const PetscInt *rowptr, const PetscInt *cols,
-                                   const PetscScalar *vals, char *err, size_t errlen)
+                                   const PetscScalar *vals, int refresh, char *err, size_t errlen)
 {
   int size = distributed() ? world_size() : 1, code;
   if (size > 1) {
     command c;
     memset(&c, 0, sizeof(c));
-    c.cmd = CMD_OPERATOR;
-    c.id  = s->id;
+    c.cmd       = CMD_OPERATOR;
+    c.id        = s->id;
+    c.symmetric = refresh;
     broadcast(&c);
     for (int r = 1; r < size; r++) send_rows(rowptr, cols, vals, s->ranges[r], s->ranges[r + 1] - s->ranges[r], r);
   }
-  code = operator_here(s, rowptr, cols, vals, err, errlen);
+  code = operator_here(s, rowptr, cols, vals, refresh, err, errlen);
   if (!agreed(code) && !code) {
     snprintf(err, errlen, "PETSc failed on another MPI rank while replacing the operator");
     code = PETSC_ERR_LIB;
@@ -1291,7 +1318,7 @@ int seam_petsc_follow(int *failed, unsigned char **job, size_t *job_len, char *e
       if (!cols || !vals) MPI_Abort(MPI_COMM_WORLD, 2);
       receive_array(cols, nnz, MPIU_INT, sizeof(PetscInt), 0);
       receive_array(vals, nnz, MPIU_SCALAR, sizeof(PetscScalar), 0);
-      code = operator_here(s, rowptr, cols, vals, err, errlen);
+      code = operator_here(s, rowptr, cols, vals, c.symmetric, err, errlen);
       free(rowptr);
       free(cols);
       free(vals);

@@ -67,7 +67,7 @@ use crate::backend::{free_block, Solver};
 use crate::constraints::{triple_product, Constraints, Elimination};
 use crate::multibody::{Body, Coupling, Interface, ProblemError, System, Timings};
 use crate::pcg::free_system;
-use crate::petsc::{NewtonKsp, PetscOptions, PetscSummary};
+use crate::petsc::{KeptKsp, PetscOptions, PetscSummary, Split};
 use crate::saddle::solve_nearly_saddle;
 use crate::solution::ActiveSetStep;
 use crate::solve::Dirichlet;
@@ -701,10 +701,9 @@ enum Steps<'a> {
     /// fingerprint of S ([`fingerprint`]).
     Condensed(Condensed<'a>, u64),
     /// The step's system in x alone, z_W = (b − A x)_W substituted, by a
-    /// PETSc KSP with `options` (`ksp`, its preconditioner kept while the
-    /// held dofs stay) from the last iterate `x`; `modes` the rigid-body
+    /// PETSc KSP with `options` (`ksp`, kept over the steps: [`KeptKsp`]) from the last iterate `x`; `modes` the rigid-body
     /// modes in x.
-    Reduced { x: Vec<f64>, modes: Vec<Vec<f64>>, options: PetscOptions, ksp: NewtonKsp },
+    Reduced { x: Vec<f64>, modes: Vec<Vec<f64>>, options: PetscOptions, ksp: KeptKsp },
 }
 
 /// The Newton iteration in nodal frames with relative tangents
@@ -786,7 +785,7 @@ fn rotated_newton(
         Solver::Petsc(options) => {
             let modes = solver.near_nullspace(system.points, system.retained, None);
             let modes = modes.iter().map(|m| to_x(m)).collect();
-            Steps::Reduced { x: to_x(y_prev), modes, options, ksp: NewtonKsp::default() }
+            Steps::Reduced { x: to_x(y_prev), modes, options, ksp: KeptKsp::default() }
         }
         Solver::Pcg(_) => unreachable!("refused by Path::of"),
     };
@@ -950,7 +949,7 @@ fn reduced_step(
     (rows, jumps): (&[JumpRow], Jumps),
     points: &[ContactPoint],
     (options, forcing): (PetscOptions, f64),
-    (x, modes, ksp): (&mut Vec<f64>, &[Vec<f64>], &mut NewtonKsp),
+    (x, modes, ksp): (&mut Vec<f64>, &[Vec<f64>], &mut KeptKsp),
     summary: &mut PetscSummary,
 ) -> Result<(usize, bool), SolveError> {
     let (n, Jumps { slot, owner, dofs: w_dofs, index: w_of }) = (a.nrows, jumps);
@@ -966,6 +965,9 @@ fn reduced_step(
                 let p = owner[wi].0;
                 let d = points[p].d;
                 rhs[i] = -r;
+                // Row i's own entries, as zeros: the slip row keeps A's
+                // pattern, so the KSP keeps its system (KeptKsp).
+                row.extend(cols.iter().map(|&j| (j, 0.0)));
                 for (k, &c) in on_z.iter().enumerate() {
                     if let Some(m) = slot[p][k] {
                         let (cols, vals) = a.row(w_dofs[m]);
@@ -1023,7 +1025,7 @@ fn reduced_step(
     }
     let tight = forcing >= relative || forcing <= options.rtol;
     let step = PetscOptions { rtol: if tight { options.rtol } else { forcing }, ..options };
-    *x = ksp.solve((&m, &rhs, &fixed), modes, &step, x, summary)?;
+    *x = ksp.solve((&m, &rhs, &fixed), (Split::NearlySymmetric, modes), &step, Some(&x[..]), summary)?;
     Ok((summary.solves.last().map_or(0, |s| s.iterations), tight))
 }
 

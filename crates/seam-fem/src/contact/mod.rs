@@ -116,7 +116,7 @@ use crate::backend::Solver;
 use crate::constraints::{free_dofs, triple_product};
 use crate::constraints::{Constraints, Elimination, Row};
 use crate::multibody::{bodies_stiffness, Body, Coupling, Interface, ProblemError, System, Timings};
-use crate::petsc::PetscSummary;
+use crate::petsc::{KeptKsp, PetscSummary, Split};
 use crate::solution::{ActiveSetStep, ContactFields, InterfaceSolution, Kkt, SolveOptions};
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
@@ -292,6 +292,7 @@ fn rotated_steps(
             let retained = glued.as_ref().map(|g| &g.retained[..]);
             let modes = options.solver.near_nullspace(&system.points, retained, Some(&p));
             let mut summary = PetscSummary::default();
+            let mut ksp = KeptKsp::default();
             let mut previous: Option<Vec<f64>> = None;
             let (active, _, mu, steps) = active_set_method(
                 &points,
@@ -304,15 +305,17 @@ fn rotated_steps(
                         fixed.fix_dof(c.first_dof, c.gap);
                     }
                     let n_active = active.iter().filter(|&&on| on).count();
-                    // Each step from the previous one's solution.
+                    // Each step from the previous one's solution; PETSc's
+                    // system kept over the steps (KeptKsp).
                     let start = previous.as_deref();
-                    let solved = step_solver(options.solver, tight).solve_spd(
-                        Cow::Borrowed(&a),
-                        &b,
-                        &fixed,
-                        (start, &modes),
-                        &mut summary,
-                    );
+                    let solved = match step_solver(options.solver, tight) {
+                        Solver::Petsc(o) => ksp
+                            .solve((&a, &b, &fixed), (Split::None, &modes), &o, start, &mut summary)
+                            .map(|x| (x, summary.solves.last().map_or(0, |s| s.iterations))),
+                        solver => {
+                            solver.solve_spd(Cow::Borrowed(&a), &b, &fixed, (start, &modes), &mut summary)
+                        }
+                    };
                     let (x, iterations) = solved.map_err(|e| match e {
                         SolveError::Singular => singular(step, n_active),
                         e => ProblemError::Solve(e),
