@@ -312,19 +312,24 @@ fn free_rows(
     Ok((a, b, u))
 }
 
-/// A KSP kept over a sequence of systems of one pattern with changing held
-/// dofs: the active-set steps of contact, the semismooth Newton steps of
-/// friction. Each system keeps the pattern of its A ([`free_rows`]), and
-/// - the first, or one of another pattern, is set up anew;
-/// - one with other held dofs refreshes the matrix: GAMG keeps the
-///   interpolation of its first setup and forms only the coarse operators
-///   and the smoothers again;
-/// - one with the same held dofs and other values replaces the operator
-///   and keeps the preconditioner (no setup);
-/// - the same system again (a step solved once more to a tighter
+/// A KSP kept over a sequence of systems with changing held dofs: the
+/// active-set steps of contact, the semismooth Newton steps of friction.
+/// - The first system is set up anew.
+/// - One with other held dofs, when the solve says `refresh`, refreshes the matrix
+///   (systems of one pattern: each keeps the pattern of its A, [`free_rows`]):
+///   GAMG keeps the interpolation of its first setup and forms only the
+///   coarse operators and the smoothers again. Otherwise, or when the
+///   pattern differs, it is set up anew.
+/// - One with the same held dofs and other values replaces the operator
+///   and keeps the preconditioner (no setup).
+/// - The same system again (a step solved once more to a tighter
 ///   tolerance) is solved from where the last solve stopped.
 ///
-/// Each solve's [`PetscSolve::setup`] says which.
+/// Each solve's [`PetscSolve::setup`] says which. Refreshing pays on the
+/// symmetric active-set steps (Hertz at 1M unknowns: PETSc's setups 185 →
+/// 54 s, the same iterations), not on friction's Newton steps, whose
+/// preconditioner then needs more FGMRES iterations than a new setup saves
+/// (Cattaneo–Mindlin n = 8: 13 967 against 11 200, BENCHMARKS.md).
 #[derive(Default)]
 pub(crate) struct KeptKsp {
     #[cfg(feature = "petsc")]
@@ -350,7 +355,8 @@ fn fingerprint(words: impl Iterator<Item = u64>) -> u64 {
 impl KeptKsp {
     /// A x = b with the values of `fixed`, from `start`, to `options`'
     /// relative tolerance, a matrix of `split` with `modes` as its
-    /// near-nullspace; the solve is appended to `summary`.
+    /// near-nullspace, refreshed for other held dofs if `refresh` (else set
+    /// up anew); the solve is appended to `summary`.
     ///
     /// # Errors
     /// As [`solve_petsc_from`].
@@ -358,28 +364,26 @@ impl KeptKsp {
     pub(crate) fn solve(
         &mut self,
         (a, b, fixed): (&CsrMatrix, &[f64], &Dirichlet),
-        (split, modes): (Split, &[Vec<f64>]),
+        (split, modes, refresh): (Split, &[Vec<f64>], bool),
         options: &PetscOptions,
         start: Option<&[f64]>,
         summary: &mut PetscSummary,
     ) -> Result<Vec<f64>, SolveError> {
-        let (rows, b, mut x) = free_rows(a, b, fixed, start, true)?;
+        let (rows, b, mut x) = free_rows(a, b, fixed, start, refresh)?;
         let matrix = seam_petsc::Csr { rowptr: &rows.indptr, cols: &rows.indices, values: &rows.values };
         let pattern = fingerprint(rows.indptr.iter().chain(&rows.indices).map(|&i| i as u64));
         let values = fingerprint(rows.values.iter().map(|v| v.to_bits()));
         let held: Vec<usize> = fixed.iter().map(|(dof, _)| dof).collect();
         let (kept, setup) = match self.kept.take() {
-            Some(mut kept) if kept.pattern == pattern => {
-                let setup = if kept.held != held {
-                    kept.system.refresh(matrix).map_err(petsc)?;
-                    Setup::Refreshed
-                } else {
-                    if kept.values != values {
-                        kept.system.set_operator(matrix).map_err(petsc)?;
-                    }
-                    Setup::Kept
-                };
-                (Kept { values, held, ..kept }, setup)
+            Some(mut kept) if kept.held == held => {
+                if kept.values != values {
+                    kept.system.set_operator(matrix).map_err(petsc)?;
+                }
+                (Kept { values, ..kept }, Setup::Kept)
+            }
+            Some(mut kept) if refresh && kept.pattern == pattern => {
+                kept.system.refresh(matrix).map_err(petsc)?;
+                (Kept { values, held, ..kept }, Setup::Refreshed)
             }
             _ => {
                 let (structure, config) = structure_and_config(split, b.len(), options);
@@ -404,7 +408,7 @@ impl KeptKsp {
     pub(crate) fn solve(
         &mut self,
         _: (&CsrMatrix, &[f64], &Dirichlet),
-        _: (Split, &[Vec<f64>]),
+        _: (Split, &[Vec<f64>], bool),
         _: &PetscOptions,
         _: Option<&[f64]>,
         _: &mut PetscSummary,

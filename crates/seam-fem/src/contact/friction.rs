@@ -112,7 +112,7 @@ const ROUND_OFF_FLOOR: f64 = 1e-8;
 const FORCING: f64 = 0.1;
 
 /// What a frictional solve carries from one load step to the next.
-#[derive(Clone, Debug, Default)]
+#[derive(Default)]
 pub(crate) struct FrictionState {
     /// The displacements at the end of the last step (empty before the first).
     pub(crate) u: Vec<f64>,
@@ -123,6 +123,9 @@ pub(crate) struct FrictionState {
     /// fingerprint of the matrix, the unknowns W and the held dofs it belongs
     /// to: the load steps of one problem share it ([`Condensed`]).
     condensed: Option<(u64, Mat<f64>)>,
+    /// PETSc's system of the last step's Newton iteration, kept for the next
+    /// load step ([`KeptKsp`]).
+    ksp: KeptKsp,
 }
 
 /// A fingerprint of A, W and the held dofs (FNV-1a over their bits), to know
@@ -330,7 +333,7 @@ fn frictional_step(
                 points: &system.points,
             };
             let start = (&jumps_prev[..], &u_prev[..], status);
-            let how = (solver, max_steps, &mut state.condensed);
+            let how = (solver, max_steps, (&mut state.condensed, &mut state.ksp));
             let solved = rotated_newton(&law, eliminated, start, how, &mut summary, seconds);
             solved.map(|(y, _, z, status, steps)| match &glued {
                 None => (y, Vec::new(), z, status, steps),
@@ -701,10 +704,14 @@ enum Steps<'a> {
     /// fingerprint of S ([`fingerprint`]).
     Condensed(Condensed<'a>, u64),
     /// The step's system in x alone, z_W = (b − A x)_W substituted, by a
-    /// PETSc KSP with `options` (`ksp`, kept over the steps: [`KeptKsp`]) from the last iterate `x`; `modes` the rigid-body
-    /// modes in x.
+    /// PETSc KSP with `options` (`ksp`, kept over the steps: [`KeptKsp`])
+    /// from the last iterate `x`; `modes` the rigid-body modes in x.
     Reduced { x: Vec<f64>, modes: Vec<Vec<f64>>, options: PetscOptions, ksp: KeptKsp },
 }
+
+/// What the Newton iteration keeps for the next load step: the direct
+/// solver's S with its fingerprint, PETSc's system.
+type Carried<'s> = (&'s mut Option<(u64, Mat<f64>)>, &'s mut KeptKsp);
 
 /// The Newton iteration in nodal frames with relative tangents
 /// ([`rotation`]: the jumps of every contact point are unknowns of their
@@ -717,12 +724,13 @@ enum Steps<'a> {
 /// at the gap (active normals) and at the last step's jump (sticking
 /// tangents), the linearised slip rows combining the point's rows of A
 /// (not symmetric: FGMRES with GAMG), solved to 10⁻³ while the sets change
-/// and to the solver's tolerance once they repeat.
+/// and to the solver's tolerance once they repeat; PETSc's system is `kept`
+/// for the next load step.
 fn rotated_newton(
     law: &Law,
     system: Eliminated,
     (jumps_prev, y_prev, mut status): (&[[f64; 3]], &[f64], Vec<Status>),
-    (solver, max_steps, cache): (Solver, usize, &mut Option<(u64, Mat<f64>)>),
+    (solver, max_steps, (cache, kept)): (Solver, usize, Carried),
     summary: &mut PetscSummary,
     seconds: &mut Timings,
 ) -> Result<Newton, ProblemError> {
@@ -785,7 +793,7 @@ fn rotated_newton(
         Solver::Petsc(options) => {
             let modes = solver.near_nullspace(system.points, system.retained, None);
             let modes = modes.iter().map(|m| to_x(m)).collect();
-            Steps::Reduced { x: to_x(y_prev), modes, options, ksp: KeptKsp::default() }
+            Steps::Reduced { x: to_x(y_prev), modes, options, ksp: std::mem::take(kept) }
         }
         Solver::Pcg(_) => unreachable!("refused by Path::of"),
     };
@@ -873,7 +881,10 @@ fn rotated_newton(
             *cache = Some((key, c.s));
             y
         }
-        Steps::Reduced { x, .. } => x,
+        Steps::Reduced { x, ksp, .. } => {
+            *kept = ksp;
+            x
+        }
     };
     let u = rotate.mul_vec(&y, 1);
     seconds.solve += clock.elapsed().as_secs_f64();
@@ -965,9 +976,6 @@ fn reduced_step(
                 let p = owner[wi].0;
                 let d = points[p].d;
                 rhs[i] = -r;
-                // Row i's own entries, as zeros: the slip row keeps A's
-                // pattern, so the KSP keeps its system (KeptKsp).
-                row.extend(cols.iter().map(|&j| (j, 0.0)));
                 for (k, &c) in on_z.iter().enumerate() {
                     if let Some(m) = slot[p][k] {
                         let (cols, vals) = a.row(w_dofs[m]);
@@ -1025,7 +1033,9 @@ fn reduced_step(
     }
     let tight = forcing >= relative || forcing <= options.rtol;
     let step = PetscOptions { rtol: if tight { options.rtol } else { forcing }, ..options };
-    *x = ksp.solve((&m, &rhs, &fixed), (Split::NearlySymmetric, modes), &step, Some(&x[..]), summary)?;
+    // Set up anew when the held jumps change (refreshing costs iterations).
+    *x =
+        ksp.solve((&m, &rhs, &fixed), (Split::NearlySymmetric, modes, false), &step, Some(&x[..]), summary)?;
     Ok((summary.solves.last().map_or(0, |s| s.iterations), tight))
 }
 

@@ -306,11 +306,12 @@ fn rotated_steps(
                     }
                     let n_active = active.iter().filter(|&&on| on).count();
                     // Each step from the previous one's solution; PETSc's
-                    // system kept over the steps (KeptKsp).
+                    // system kept over the steps and refreshed for each
+                    // active set (KeptKsp).
                     let start = previous.as_deref();
                     let solved = match step_solver(options.solver, tight) {
                         Solver::Petsc(o) => ksp
-                            .solve((&a, &b, &fixed), (Split::None, &modes), &o, start, &mut summary)
+                            .solve((&a, &b, &fixed), (Split::None, &modes, true), &o, start, &mut summary)
                             .map(|x| (x, summary.solves.last().map_or(0, |s| s.iterations))),
                         solver => {
                             solver.solve_spd(Cow::Borrowed(&a), &b, &fixed, (start, &modes), &mut summary)
