@@ -282,34 +282,102 @@ fn free_rows(
     start: Option<&[f64]>,
     keep_pattern: bool,
 ) -> Result<(Rows, Vec<f64>, Vec<f64>), SolveError> {
-    let n = k.nrows;
+    let (active, b, u) = free_start(k, f, dirichlet, start)?;
+    let rows = rows_of(k, &active, keep_pattern)?;
+    Ok((rows, b, u))
+}
+
+/// Per dof whether it is free, b, and the initial guess ([`free_rows`]).
+type FreeStart = (Vec<bool>, Vec<f64>, Vec<f64>);
+
+/// Which dofs are free, b, and the initial guess ([`free_rows`]).
+fn free_start(
+    k: &CsrMatrix,
+    f: &[f64],
+    dirichlet: &Dirichlet,
+    start: Option<&[f64]>,
+) -> Result<FreeStart, SolveError> {
     let (active, b) = free_system(k, f, dirichlet, start)?;
-    let mut a = Rows::new(n, n, k.nnz() + if keep_pattern { n } else { 0 })?;
-    for i in 0..n {
-        let (cols, vals) = k.row(i);
-        if active[i] {
-            for (&j, &v) in cols.iter().zip(vals) {
-                if active[j] {
-                    a.push(j, v);
-                } else if keep_pattern {
-                    a.push(j, 0.0);
-                }
-            }
-        } else if keep_pattern {
-            let before = cols.partition_point(|&j| j < i);
-            cols[..before].iter().for_each(|&j| a.push(j, 0.0));
-            a.push(i, 1.0);
-            cols[before..].iter().filter(|&&j| j != i).for_each(|&j| a.push(j, 0.0));
-        } else {
-            a.push(i, 1.0);
-        }
-        a.end_row()?;
-    }
     let u: Vec<f64> = match start {
         Some(s) => s.iter().zip(&active).map(|(&v, &a)| if a { v } else { 0.0 }).collect(),
-        None => vec![0.0; n],
+        None => vec![0.0; k.nrows],
     };
-    Ok((a, b, u))
+    Ok((active, b, u))
+}
+
+/// A of [`free_rows`] for the free dofs `active`.
+fn rows_of(k: &CsrMatrix, active: &[bool], keep_pattern: bool) -> Result<Rows, SolveError> {
+    let n = k.nrows;
+    let mut a = Rows::new(n, n, k.nnz() + if keep_pattern { n } else { 0 })?;
+    for i in 0..n {
+        each_entry(k, active, keep_pattern, i, |j, v| a.push(j, v));
+        a.end_row()?;
+    }
+    Ok(a)
+}
+
+/// `entry(column, value)` for each entry of row i of A ([`free_rows`]), in
+/// order.
+#[inline]
+fn each_entry(
+    k: &CsrMatrix,
+    active: &[bool],
+    keep_pattern: bool,
+    i: usize,
+    mut entry: impl FnMut(usize, f64),
+) {
+    let (cols, vals) = k.row(i);
+    if active[i] {
+        for (&j, &v) in cols.iter().zip(vals) {
+            if active[j] {
+                entry(j, v);
+            } else if keep_pattern {
+                entry(j, 0.0);
+            }
+        }
+    } else if keep_pattern {
+        let before = cols.partition_point(|&j| j < i);
+        cols[..before].iter().for_each(|&j| entry(j, 0.0));
+        entry(i, 1.0);
+        cols[before..].iter().filter(|&&j| j != i).for_each(|&j| entry(j, 0.0));
+    } else {
+        entry(i, 1.0);
+    }
+}
+
+/// The fingerprints of A's pattern (columns and row ends) and of its values
+/// ([`free_rows`] with the pattern kept), and its entries, without forming A.
+#[cfg(feature = "petsc")]
+fn fingerprints(k: &CsrMatrix, active: &[bool]) -> (u64, u64, usize) {
+    let (mut pattern, mut values, mut count) = (Fnv::default(), Fnv::default(), 0);
+    for i in 0..k.nrows {
+        each_entry(k, active, true, i, |j, v| {
+            pattern.add(j as u64);
+            values.add(v.to_bits());
+            count += 1;
+        });
+        pattern.add(u64::MAX);
+    }
+    (pattern.0, values.0, count)
+}
+
+/// FNV-1a over 64-bit words.
+#[cfg(feature = "petsc")]
+struct Fnv(u64);
+
+#[cfg(feature = "petsc")]
+impl Default for Fnv {
+    fn default() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+#[cfg(feature = "petsc")]
+impl Fnv {
+    #[inline]
+    fn add(&mut self, word: u64) {
+        self.0 = (self.0 ^ word).wrapping_mul(0x0100_0000_01b3);
+    }
 }
 
 /// A KSP kept over a sequence of systems with changing held dofs: the
@@ -346,12 +414,6 @@ struct Kept {
     held: Vec<usize>,
 }
 
-/// FNV-1a over 64-bit words.
-#[cfg(feature = "petsc")]
-fn fingerprint(words: impl Iterator<Item = u64>) -> u64 {
-    words.fold(0xcbf2_9ce4_8422_2325, |h, x| (h ^ x).wrapping_mul(0x0100_0000_01b3))
-}
-
 impl KeptKsp {
     /// A x = b with the values of `fixed`, from `start`, to `options`'
     /// relative tolerance, a matrix of `split` with `modes` as its
@@ -369,29 +431,45 @@ impl KeptKsp {
         start: Option<&[f64]>,
         summary: &mut PetscSummary,
     ) -> Result<Vec<f64>, SolveError> {
-        let (rows, b, mut x) = free_rows(a, b, fixed, start, refresh)?;
-        let matrix = seam_petsc::Csr { rowptr: &rows.indptr, cols: &rows.indices, values: &rows.values };
-        let pattern = fingerprint(rows.indptr.iter().chain(&rows.indices).map(|&i| i as u64));
-        let values = fingerprint(rows.values.iter().map(|v| v.to_bits()));
+        let (active, b, mut x) = free_start(a, b, fixed, start)?;
         let held: Vec<usize> = fixed.iter().map(|(dof, _)| dof).collect();
+        let (pattern, values, count) = if refresh { fingerprints(a, &active) } else { (0, 0, 0) };
         let (kept, setup) = match self.kept.take() {
+            Some(kept) if kept.held == held && refresh && kept.values == values => (kept, Setup::Kept),
             Some(mut kept) if kept.held == held => {
-                if kept.values != values {
-                    kept.system.set_operator(matrix).map_err(petsc)?;
-                }
+                let rows = rows_of(a, &active, refresh)?;
+                kept.system.set_operator(rows.csr()).map_err(petsc)?;
                 (Kept { values, ..kept }, Setup::Kept)
             }
             Some(mut kept) if refresh && kept.pattern == pattern => {
-                kept.system.refresh(matrix).map_err(petsc)?;
+                // The values straight into PETSc's matrix, or through a copy
+                // of the rows (several ranks).
+                let mut filled = false;
+                let in_place = kept.system.refresh_in_place(|into| {
+                    if into.len() != count {
+                        return; // not the pattern of these rows: refreshed from them below
+                    }
+                    let mut next = 0;
+                    for i in 0..a.nrows {
+                        each_entry(a, &active, true, i, |_, v| {
+                            into[next] = v;
+                            next += 1;
+                        });
+                    }
+                    filled = true;
+                });
+                if !(in_place.map_err(petsc)? && filled) {
+                    kept.system.refresh(rows_of(a, &active, true)?.csr()).map_err(petsc)?;
+                }
                 (Kept { values, held, ..kept }, Setup::Refreshed)
             }
             _ => {
+                let rows = rows_of(a, &active, refresh)?;
                 let (structure, config) = structure_and_config(split, b.len(), options);
-                let system = seam_petsc::System::new(matrix, structure, modes, &config).map_err(petsc)?;
+                let system = seam_petsc::System::new(rows.csr(), structure, modes, &config).map_err(petsc)?;
                 (Kept { system, pattern, values, held }, Setup::New)
             }
         };
-        drop(rows);
         let kept = self.kept.insert(kept);
         let before = summary.solves.len();
         let solved = (start.is_some(), Some(options.rtol));
@@ -446,6 +524,12 @@ impl Rows {
         let end = Index::try_from(self.indices.len()).map_err(|_| too_large())?;
         self.indptr.push(end);
         Ok(())
+    }
+
+    /// The matrix as PETSc takes it.
+    #[cfg(feature = "petsc")]
+    fn csr(&self) -> seam_petsc::Csr<'_> {
+        seam_petsc::Csr { rowptr: &self.indptr, cols: &self.indices, values: &self.values }
     }
 }
 
@@ -645,9 +729,8 @@ fn ksp_solve(
     warm: bool,
     summary: &mut PetscSummary,
 ) -> Result<(), SolveError> {
-    let matrix = seam_petsc::Csr { rowptr: &a.indptr, cols: &a.indices, values: &a.values };
     let (structure, config) = structure_and_config(split, b.len(), options);
-    let mut system = seam_petsc::System::new(matrix, structure, modes, &config).map_err(petsc)?;
+    let mut system = seam_petsc::System::new(a.csr(), structure, modes, &config).map_err(petsc)?;
     drop(a); // PETSc has its copy: ours goes before the preconditioner's setup
     solve_and_report(&mut system, b, x, (warm, None), summary)
 }

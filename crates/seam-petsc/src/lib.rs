@@ -151,6 +151,14 @@ mod ffi {
             err: *mut c_char,
             errlen: usize,
         ) -> c_int;
+        pub fn seam_petsc_system_values(
+            s: *mut RawSystem,
+            values: *mut *mut f64,
+            count: *mut PetscInt,
+            err: *mut c_char,
+            errlen: usize,
+        ) -> c_int;
+        pub fn seam_petsc_system_values_written(s: *mut RawSystem, err: *mut c_char, errlen: usize) -> c_int;
         pub fn seam_petsc_system_destroy(s: *mut RawSystem);
     }
 }
@@ -712,6 +720,50 @@ impl System {
         self.replace(matrix, true)
     }
 
+    /// [`System::refresh`] in place: `fill` writes the new values into the
+    /// system's own array (its compressed rows, columns ascending within a
+    /// row, as the matrix it was built with), without a copy of the
+    /// matrix (`fill` must not call PETSc). Returns false, without calling
+    /// `fill`, where PETSc's matrix is not one array (several ranks, a type
+    /// other than AIJ).
+    ///
+    /// # Errors
+    /// A PETSc error.
+    pub fn refresh_in_place(&mut self, fill: impl FnOnce(&mut [f64])) -> Result<bool, PetscError> {
+        let _guard = lock();
+        let mut err = [0 as c_char; ERR_LEN];
+        let (mut values, mut count): (*mut f64, PetscInt) = (std::ptr::null_mut(), 0);
+        // SAFETY: self.raw is a live system; the shim writes the pointer to
+        // its matrix's value array (or NULL) and its length.
+        let code = unsafe {
+            ffi::seam_petsc_system_values(
+                self.raw.as_ptr(),
+                &mut values,
+                &mut count,
+                err.as_mut_ptr(),
+                ERR_LEN,
+            )
+        };
+        if code != 0 {
+            return Err(error_text(&err, code));
+        }
+        if values.is_null() {
+            return Ok(false);
+        }
+        // SAFETY: the shim gave the matrix's own array of `count` values,
+        // which nothing else touches while self is borrowed mutably (the
+        // lock is held; PETSc runs on this thread only) and which lives as
+        // long as the matrix; the slice ends with this call.
+        fill(unsafe { std::slice::from_raw_parts_mut(values, count.max(0) as usize) });
+        // SAFETY: as above; the shim marks the matrix changed.
+        let code =
+            unsafe { ffi::seam_petsc_system_values_written(self.raw.as_ptr(), err.as_mut_ptr(), ERR_LEN) };
+        match code {
+            0 => Ok(true),
+            code => Err(error_text(&err, code)),
+        }
+    }
+
     /// [`System::set_operator`] (`refresh` false) or [`System::refresh`].
     fn replace(&mut self, matrix: Csr<'_>, refresh: bool) -> Result<(), PetscError> {
         let n = self.n;
@@ -1008,8 +1060,9 @@ mod tests {
     /// A refreshed matrix is what later solves apply, and the preconditioner
     /// is set up for it: GAMG on a 1D Laplacian of 3 000 unknowns (several
     /// levels), then the same pattern with unknowns held (their rows and
-    /// columns zero but for the diagonal), solved as a new system solves it;
-    /// a value outside the pattern is refused in one line.
+    /// columns zero but for the diagonal), solved as a new system solves it,
+    /// then the first values written in place; a value outside the pattern
+    /// is refused in one line.
     #[test]
     fn a_refreshed_matrix_is_solved_with_its_own_preconditioner() {
         initialize("").unwrap();
@@ -1044,6 +1097,14 @@ mod tests {
         let mut y = vec![0.0; n];
         let anew = new.solve(&b, &mut y, false).unwrap();
         assert!(report.iterations <= anew.iterations + 2, "refreshed {report:?}, new {anew:?}");
+        // The first values again, written into PETSc's own array (one
+        // process, AIJ): solved as the first system was.
+        let written = system.refresh_in_place(|into| into.copy_from_slice(&values)).unwrap();
+        assert!(written);
+        let mut x = vec![0.0; n];
+        let report = system.solve(&times(&values), &mut x, false).unwrap();
+        let error = x.iter().zip(&exact).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(report.converged() && error < 1e-8, "{report:?}, error {error:e}");
         // An entry outside the pattern: one line.
         let (mut r, mut c, mut v) = (rowptr.clone(), cols.clone(), refreshed.clone());
         c.insert(3, 5);

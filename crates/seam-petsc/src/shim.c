@@ -1141,6 +1141,52 @@ int seam_petsc_system_set_operator(seam_petsc_system *s, const PetscInt *rowptr,
   return code;
 }
 
+/* One process, an AIJ matrix: the array of the system's values in its
+ * compressed rows (columns ascending within a row), *count entries, for the
+ * caller to write new values into before seam_petsc_system_values_written;
+ * NULL (and 0) on several ranks or for another matrix type. */
+int seam_petsc_system_values(seam_petsc_system *s, PetscScalar **values, PetscInt *count, char *err, size_t errlen)
+{
+  PetscErrorCode code = 0;
+  PetscBool      seqaij = PETSC_FALSE;
+  MatInfo        info;
+  *values = NULL;
+  *count  = 0;
+  if (distributed() && world_size() > 1) return 0;
+  TRY(PetscObjectTypeCompare((PetscObject)s->A, MATSEQAIJ, &seqaij));
+  if (!seqaij) return 0;
+  TRY(MatGetInfo(s->A, MAT_LOCAL, &info));
+  {
+    PetscScalar *a = NULL; /* the array stays where it is; the pair is balanced */
+    TRY(MatSeqAIJGetArray(s->A, &a));
+    *values = a;
+    TRY(MatSeqAIJRestoreArray(s->A, &a));
+  }
+  *count = (PetscInt)info.nz_used;
+  return 0;
+fail:
+  return (int)code;
+}
+
+/* The values written (seam_petsc_system_values): the system's matrix is the
+ * operator again and the next solve refreshes the preconditioner, as
+ * operator_here's refresh does. */
+int seam_petsc_system_values_written(seam_petsc_system *s, char *err, size_t errlen)
+{
+  PetscErrorCode code = 0;
+  PetscScalar   *values = NULL;
+  double         t0 = now();
+  TRY(MatSeqAIJGetArray(s->A, &values)); /* restoring it marks the matrix changed */
+  TRY(MatSeqAIJRestoreArray(s->A, &values));
+  MatDestroy(&s->op);
+  TRY(KSPSetOperators(s->ksp, s->A, s->A));
+  TRY(KSPSetReusePreconditioner(s->ksp, PETSC_FALSE));
+  s->assembly_seconds += now() - t0;
+  return 0;
+fail:
+  return (int)code;
+}
+
 void seam_petsc_system_destroy(seam_petsc_system *s)
 {
   PetscBool finalized = PETSC_FALSE;
