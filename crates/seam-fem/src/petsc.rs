@@ -273,8 +273,8 @@ fn solve_free_rows(
 /// `start`'s free entries. With `keep_pattern` A keeps all of K's entries
 /// (zeros off the free rows and columns), so that systems of one K with
 /// other held dofs share a pattern. (The identity rows of held dofs
-/// precondition better than K's diagonal there: Cattaneo–Mindlin n = 6 took
-/// 3 631 KSP iterations against 3 795.)
+/// precondition better than K's diagonal there: fewer KSP iterations on
+/// Cattaneo–Mindlin.)
 fn free_rows(
     k: &CsrMatrix,
     f: &[f64],
@@ -394,10 +394,10 @@ impl Fnv {
 ///   tolerance) is solved from where the last solve stopped.
 ///
 /// Each solve's [`PetscSolve::setup`] says which. Refreshing pays on the
-/// symmetric active-set steps (Hertz at 1M unknowns: PETSc's setups 185 →
-/// 54 s, the same iterations), not on friction's Newton steps, whose
-/// preconditioner then needs more FGMRES iterations than a new setup saves
-/// (Cattaneo–Mindlin n = 8: 13 967 against 11 200, BENCHMARKS.md).
+/// symmetric active-set steps (a third of the setup time at the same
+/// iterations), not on friction's Newton steps, whose preconditioner then
+/// needs more FGMRES iterations than a new setup saves (BENCHMARKS.md, "One
+/// PETSc system over the steps").
 #[derive(Default)]
 pub(crate) struct KeptKsp {
     #[cfg(feature = "petsc")]
