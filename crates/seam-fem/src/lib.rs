@@ -90,3 +90,27 @@ pub use stress::{recover_stresses, von_mises, Stresses};
 pub mod ordering;
 pub mod pcg;
 pub mod petsc;
+
+/// FNV-1a over 64-bit words: a fingerprint to know a matrix (its pattern,
+/// its values, the dofs it holds) again.
+pub(crate) struct Fnv(pub(crate) u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    #[inline]
+    pub(crate) fn add(&mut self, word: u64) {
+        self.0 = (self.0 ^ word).wrapping_mul(0x0100_0000_01b3);
+    }
+
+    /// The fingerprint of `words`.
+    pub(crate) fn of(words: impl Iterator<Item = u64>) -> u64 {
+        let mut h = Fnv::default();
+        words.for_each(|w| h.add(w));
+        h.0
+    }
+}

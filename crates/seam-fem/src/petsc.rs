@@ -349,6 +349,7 @@ fn each_entry(
 /// ([`free_rows`] with the pattern kept), and its entries, without forming A.
 #[cfg(feature = "petsc")]
 fn fingerprints(k: &CsrMatrix, active: &[bool]) -> (u64, u64, usize) {
+    use crate::Fnv;
     let (mut pattern, mut values, mut count) = (Fnv::default(), Fnv::default(), 0);
     for i in 0..k.nrows {
         each_entry(k, active, true, i, |j, v| {
@@ -359,25 +360,6 @@ fn fingerprints(k: &CsrMatrix, active: &[bool]) -> (u64, u64, usize) {
         pattern.add(u64::MAX);
     }
     (pattern.0, values.0, count)
-}
-
-/// FNV-1a over 64-bit words.
-#[cfg(feature = "petsc")]
-struct Fnv(u64);
-
-#[cfg(feature = "petsc")]
-impl Default for Fnv {
-    fn default() -> Self {
-        Fnv(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-#[cfg(feature = "petsc")]
-impl Fnv {
-    #[inline]
-    fn add(&mut self, word: u64) {
-        self.0 = (self.0 ^ word).wrapping_mul(0x0100_0000_01b3);
-    }
 }
 
 /// A KSP kept over a sequence of systems with changing held dofs: the
@@ -418,7 +400,8 @@ impl KeptKsp {
     /// A x = b with the values of `fixed`, from `start`, to `options`'
     /// relative tolerance, a matrix of `split` with `modes` as its
     /// near-nullspace, refreshed for other held dofs if `refresh` (else set
-    /// up anew); the solve is appended to `summary`.
+    /// up anew); the solve is appended to `summary`. Returns x and the KSP
+    /// iterations.
     ///
     /// # Errors
     /// As [`solve_petsc_from`].
@@ -430,7 +413,7 @@ impl KeptKsp {
         options: &PetscOptions,
         start: Option<&[f64]>,
         summary: &mut PetscSummary,
-    ) -> Result<Vec<f64>, SolveError> {
+    ) -> Result<crate::backend::Solved, SolveError> {
         let (active, b, mut x) = free_start(a, b, fixed, start)?;
         let held: Vec<usize> = fixed.iter().map(|(dof, _)| dof).collect();
         let (pattern, values, count) = if refresh { fingerprints(a, &active) } else { (0, 0, 0) };
@@ -476,10 +459,11 @@ impl KeptKsp {
         let report = solve_and_report(&mut kept.system, &b, &mut x, solved, summary);
         summary.solves.iter_mut().skip(before).for_each(|s| s.setup = setup);
         report?;
+        let iterations = summary.solves.last().map_or(0, |s| s.iterations);
         for (dof, v) in fixed.iter() {
             x[dof] = v;
         }
-        Ok(x)
+        Ok((x, iterations))
     }
 
     #[cfg(not(feature = "petsc"))]
@@ -490,7 +474,7 @@ impl KeptKsp {
         _: &PetscOptions,
         _: Option<&[f64]>,
         _: &mut PetscSummary,
-    ) -> Result<Vec<f64>, SolveError> {
+    ) -> Result<crate::backend::Solved, SolveError> {
         Err(SolveError::PetscUnavailable)
     }
 }

@@ -1071,6 +1071,20 @@ int seam_petsc_system_solve(seam_petsc_system *s, const PetscScalar *b, PetscSca
   return code;
 }
 
+/* The system's matrix has new values (since t0): it is the operator again,
+ * and the next solve sets the preconditioner up for it. */
+static int refreshed(seam_petsc_system *s, double t0, char *err, size_t errlen)
+{
+  PetscErrorCode code = 0;
+  MatDestroy(&s->op);
+  TRY(KSPSetOperators(s->ksp, s->A, s->A));
+  TRY(KSPSetReusePreconditioner(s->ksp, PETSC_FALSE));
+  s->assembly_seconds += now() - t0;
+  return 0;
+fail:
+  return (int)code;
+}
+
 /* Every rank: this rank's rows of a new operator (same size and layout as
  * the system's matrix). Kept (refresh 0): any pattern; the next solves apply
  * it while the preconditioner stays the one set up for the system's matrix.
@@ -1095,11 +1109,7 @@ static int operator_here(seam_petsc_system *s, const PetscInt *rowptr, const Pet
     }
     TRY(MatAssemblyBegin(s->A, MAT_FINAL_ASSEMBLY));
     TRY(MatAssemblyEnd(s->A, MAT_FINAL_ASSEMBLY));
-    MatDestroy(&s->op);
-    TRY(KSPSetOperators(s->ksp, s->A, s->A));
-    TRY(KSPSetReusePreconditioner(s->ksp, PETSC_FALSE));
-    s->assembly_seconds += now() - t0;
-    return 0;
+    return refreshed(s, t0, err, errlen);
   }
   code = build_matrix(s->n, s->rstart, s->m, s->bs, rowptr, cols, vals, 0, 1, &B);
   if (code) {
@@ -1178,11 +1188,7 @@ int seam_petsc_system_values_written(seam_petsc_system *s, char *err, size_t err
   double         t0 = now();
   TRY(MatSeqAIJGetArray(s->A, &values)); /* restoring it marks the matrix changed */
   TRY(MatSeqAIJRestoreArray(s->A, &values));
-  MatDestroy(&s->op);
-  TRY(KSPSetOperators(s->ksp, s->A, s->A));
-  TRY(KSPSetReusePreconditioner(s->ksp, PETSC_FALSE));
-  s->assembly_seconds += now() - t0;
-  return 0;
+  return refreshed(s, t0, err, errlen);
 fail:
   return (int)code;
 }

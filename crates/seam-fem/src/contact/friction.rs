@@ -133,8 +133,7 @@ pub(crate) struct FrictionState {
 fn fingerprint(a: &CsrMatrix, w: &[usize], held: &Dirichlet) -> u64 {
     let held: Vec<usize> = held.iter().map(|(dof, _)| dof).collect();
     let words = a.indptr.iter().chain(&a.indices).chain(w).chain(&held).map(|&i| i as u64);
-    let words = words.chain(a.values.iter().map(|v| v.to_bits()));
-    words.fold(0xcbf2_9ce4_8422_2325, |h, x| (h ^ x).wrapping_mul(0x0100_0000_01b3))
+    crate::Fnv::of(words.chain(a.values.iter().map(|v| v.to_bits())))
 }
 
 /// Where a contact point is in an iteration.
@@ -1034,9 +1033,10 @@ fn reduced_step(
     let tight = forcing >= relative || forcing <= options.rtol;
     let step = PetscOptions { rtol: if tight { options.rtol } else { forcing }, ..options };
     // Set up anew when the held jumps change (refreshing costs iterations).
-    *x =
+    let (next, iterations) =
         ksp.solve((&m, &rhs, &fixed), (Split::NearlySymmetric, modes, false), &step, Some(&x[..]), summary)?;
-    Ok((summary.solves.last().map_or(0, |s| s.iterations), tight))
+    *x = next;
+    Ok((iterations, tight))
 }
 
 /// The semismooth Newton system at the jumps and z of every contact point

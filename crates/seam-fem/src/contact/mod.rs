@@ -310,9 +310,9 @@ fn rotated_steps(
                     // active set (KeptKsp).
                     let start = previous.as_deref();
                     let solved = match step_solver(options.solver, tight) {
-                        Solver::Petsc(o) => ksp
-                            .solve((&a, &b, &fixed), (Split::None, &modes, true), &o, start, &mut summary)
-                            .map(|x| (x, summary.solves.last().map_or(0, |s| s.iterations))),
+                        Solver::Petsc(o) => {
+                            ksp.solve((&a, &b, &fixed), (Split::None, &modes, true), &o, start, &mut summary)
+                        }
                         solver => {
                             solver.solve_spd(Cow::Borrowed(&a), &b, &fixed, (start, &modes), &mut summary)
                         }
