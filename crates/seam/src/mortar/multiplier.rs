@@ -55,9 +55,11 @@ pub const BASIS_ALPHA: f64 = 0.2;
 /// `contact_hertz_second_order`, `glue_convergence_second_order`): Hertz's
 /// p₀ on Tet10 from −6.9 % to +0.6 % (n = 2) and −3.1 % to −2.2 % (n = 4);
 /// dual-glued Tet10 bodies within 3.4 % of standard multipliers' H1 errors
-/// instead of 22 %. Not everywhere better: with the curved indenter as the
-/// Tri6 slave, Hertz's p₀ reads −7.3 % instead of −4.5 % at n = 4 (its
-/// pressure profile along the axes is better, 0.086 instead of 0.114 of p₀).
+/// instead of 22 %. Not everywhere better: with the curved indenter as a
+/// Tri6 slave finer than its Tet10 master, Hertz's p₀ reads −7.3 % instead
+/// of −4.5 % at n = 4 (the master's resolution, amplified most at the
+/// corners; its pressure profile along the axes is better, 0.086 instead of
+/// 0.114 of p₀).
 pub const TRI6_ALPHA: f64 = 0.125;
 
 /// The weight α of the basis transformation of the slave surface's
