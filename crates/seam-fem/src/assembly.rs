@@ -128,7 +128,11 @@ pub fn geometry(kind: CellKind, x: &[Point3], xi: Xi3) -> Option<PointGeometry> 
 
 /// The geometry at every point of `rule`, or `None` if the cell is degenerate at
 /// one of them or det J changes sign between them.
-fn geometry_at_rule(kind: CellKind, x: &[Point3], rule: &VolumeRule) -> Option<Vec<PointGeometry>> {
+pub(crate) fn geometry_at_rule(
+    kind: CellKind,
+    x: &[Point3],
+    rule: &VolumeRule,
+) -> Option<Vec<PointGeometry>> {
     let geo: Vec<PointGeometry> =
         rule.points.iter().map(|&xi| geometry(kind, x, xi)).collect::<Option<_>>()?;
     let positive = geo[0].det > 0.0;
@@ -236,12 +240,25 @@ pub(crate) fn point_cells(mesh: &VolumeMesh) -> (Vec<usize>, Vec<(usize, usize)>
 /// # Performance
 /// Parallel over cells, then over points; deterministic (module doc).
 pub fn stiffness(mesh: &VolumeMesh, material: &Material) -> Result<CsrMatrix, AssemblyError> {
+    cell_matrix(mesh, |kind, x, _, out| {
+        element_stiffness(kind, x, material).map(|k| out.copy_from_slice(&k)).is_some()
+    })
+}
+
+/// The global matrix Σ_e A^e (3·n_points square, sorted CSR, the pattern
+/// of [`stiffness`]) of the dense row-major (3n)×(3n) cell blocks that
+/// `fill(kind, nodes' coordinates, cell, block)` writes (false for a
+/// degenerate cell), summed per point over its cells in increasing cell
+/// order.
+///
+/// # Errors
+/// [`AssemblyError::DegenerateCell`] for the first failing cell.
+pub(crate) fn cell_matrix(
+    mesh: &VolumeMesh,
+    fill: impl Fn(CellKind, &[Point3], usize, &mut [f64]) -> bool + Sync,
+) -> Result<CsrMatrix, AssemblyError> {
     let cells = mesh.cells();
-    let (start, blocks) = cell_blocks(
-        mesh,
-        |nodes| (3 * nodes).pow(2),
-        |kind, x, _, out| element_stiffness(kind, x, material).map(|k| out.copy_from_slice(&k)).is_some(),
-    )?;
+    let (start, blocks) = cell_blocks(mesh, |nodes| (3 * nodes).pow(2), fill)?;
     let (offsets, around) = point_cells(mesh);
     let n = mesh.points().len();
     // The neighbouring points of p (sorted, each once) in `nb`.
@@ -313,24 +330,35 @@ pub fn stiffness(mesh: &VolumeMesh, material: &Material) -> Result<CsrMatrix, As
 /// # Errors
 /// [`AssemblyError::DegenerateCell`] for the first degenerate or tangled cell.
 pub fn stiffness_times(mesh: &VolumeMesh, material: &Material, u: &[f64]) -> Result<Vec<f64>, AssemblyError> {
-    let (cells, n) = (mesh.cells(), mesh.points().len());
-    assert_eq!(u.len(), 3 * n, "u has 3 entries per point");
-    let (start, products) = cell_blocks(
-        mesh,
-        |nodes| 3 * nodes,
-        |kind, x, c, out| {
-            let Some(k) = element_stiffness(kind, x, material) else { return false };
-            let nodes = cells[c].nodes();
-            for (row, y) in k.chunks_exact(out.len()).zip(out.iter_mut()) {
-                *y = nodes
-                    .iter()
-                    .enumerate()
-                    .map(|(j, &q)| (0..3).map(|b| row[3 * j + b] * u[3 * q + b]).sum::<f64>())
-                    .sum();
-            }
-            true
-        },
-    )?;
+    let cells = mesh.cells();
+    assert_eq!(u.len(), 3 * mesh.points().len(), "u has 3 entries per point");
+    cell_vector(mesh, |kind, x, c, out| {
+        let Some(k) = element_stiffness(kind, x, material) else { return false };
+        let nodes = cells[c].nodes();
+        for (row, y) in k.chunks_exact(out.len()).zip(out.iter_mut()) {
+            *y = nodes
+                .iter()
+                .enumerate()
+                .map(|(j, &q)| (0..3).map(|b| row[3 * j + b] * u[3 * q + b]).sum::<f64>())
+                .sum();
+        }
+        true
+    })
+}
+
+/// The global vector Σ_e v^e (3·n_points) of the cell vectors (3n, local
+/// dofs 3i + a) that `fill(kind, nodes' coordinates, cell, block)` writes
+/// (false for a degenerate cell), each point's entries summed over its
+/// cells in increasing cell order (deterministic).
+///
+/// # Errors
+/// [`AssemblyError::DegenerateCell`] for the first failing cell.
+pub(crate) fn cell_vector(
+    mesh: &VolumeMesh,
+    fill: impl Fn(CellKind, &[Point3], usize, &mut [f64]) -> bool + Sync,
+) -> Result<Vec<f64>, AssemblyError> {
+    let n = mesh.points().len();
+    let (start, products) = cell_blocks(mesh, |nodes| 3 * nodes, fill)?;
     let (offsets, around) = point_cells(mesh);
     let mut ku = vec![0.0; 3 * n];
     ku.par_chunks_mut(3).enumerate().for_each(|(p, out)| {

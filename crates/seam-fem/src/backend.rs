@@ -180,7 +180,7 @@ fn last_iterations(summary: &PetscSummary) -> usize {
 /// (faer's supernodal LU with partial pivoting; A_FFᵀ is what A's rows give
 /// without a copy as a column matrix, so Aᵀ is factored and solved
 /// transposed).
-fn sparse_lu(a: &CsrMatrix, b: &[f64], fixed: &Dirichlet) -> Result<Vec<f64>, SolveError> {
+pub(crate) fn sparse_lu(a: &CsrMatrix, b: &[f64], fixed: &Dirichlet) -> Result<Vec<f64>, SolveError> {
     let n = a.nrows;
     let (active, rhs) = free_system(a, b, fixed, None)?;
     let (a_ff, free) = free_block(a, &active);

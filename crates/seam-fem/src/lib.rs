@@ -59,6 +59,7 @@ pub mod enrichment;
 pub mod generate;
 pub mod glue;
 pub mod history;
+pub mod hyperelastic;
 pub mod material;
 pub mod multibody;
 pub mod partition;

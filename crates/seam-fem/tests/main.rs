@@ -17,6 +17,7 @@ mod glue_convergence;
 mod glue_convergence_second_order;
 mod glue_oscillation;
 mod glue_supports;
+mod hyperelastic;
 mod mixed;
 mod patch;
 #[cfg(feature = "petsc")]

@@ -1,0 +1,489 @@
+//! Hyperelastic bodies in finite deformation, total Lagrangian: the laws, the
+//! cells' internal forces and consistent tangents, and Newton's method with a
+//! backtracking line search for one body under prescribed displacements and
+//! dead loads.
+//!
+//! With F = I + ∇_X u, C = FᵀF, J = det F, the second Piola–Kirchhoff stress
+//! S = 2 ∂W/∂C and the material tangent ℂ = 2 ∂S/∂C of
+//!
+//! ```text
+//! neo-Hookean (compressible):  W = μ/2 (I₁ − 3) − μ ln J + λ/2 (ln J)²
+//!     S = μ (I − C⁻¹) + λ ln J C⁻¹
+//!     ℂ = λ C⁻¹ ⊗ C⁻¹ + (μ − λ ln J) (C⁻¹_IK C⁻¹_JL + C⁻¹_IL C⁻¹_JK)
+//! Saint Venant–Kirchhoff:      W = λ/2 (tr E)² + μ E:E,  E = ½ (C − I)
+//!     S = λ tr E I + 2μ E,     ℂ = the small-strain C
+//! ```
+//!
+//! (λ, μ from Young's modulus and Poisson's ratio, [`Material::lame`]; both
+//! laws linearise at F = I to the small-strain body.) A cell's internal force
+//! and tangent, with g_i = ∇_X N_i in the reference configuration,
+//!
+//! ```text
+//! f_{3i+a}      = ∫ F_aI S_IJ g_iJ dV
+//! K_{3i+a,3j+b} = ∫ (g_i·S g_j) δ_ab + (B_i)ᵀ ℂ B_j dV ,   B_i[v][a] = δE_v / δu_ia
+//! ```
+//!
+//! in Voigt order xx yy zz yz xz xy with engineering shears (as
+//! [`crate::material`]), by the cell's stiffness rule. The Cauchy stress is
+//! σ = F S Fᵀ / J.
+
+use crate::assembly::{cell_matrix, cell_vector, geometry, geometry_at_rule, AssemblyError};
+use crate::material::Material;
+use crate::solve::{solve, Dirichlet, SolveError};
+use seam::{CellKind, CsrMatrix, Point3, VolumeMesh, Xi3, MAX_CELL_NODES};
+
+/// A 3 × 3 matrix, row-major: m[row][column].
+pub type Mat3 = [[f64; 3]; 3];
+
+/// The index pairs of the Voigt order xx yy zz yz xz xy.
+const VOIGT: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];
+
+/// A hyperelastic law (module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Hyperelastic {
+    /// Compressible neo-Hookean, W = μ/2 (I₁ − 3) − μ ln J + λ/2 (ln J)².
+    NeoHookean {
+        /// Lamé's λ.
+        lambda: f64,
+        /// The shear modulus μ.
+        mu: f64,
+    },
+    /// Saint Venant–Kirchhoff, W = λ/2 (tr E)² + μ E:E.
+    SaintVenantKirchhoff {
+        /// Lamé's λ.
+        lambda: f64,
+        /// The shear modulus μ.
+        mu: f64,
+    },
+}
+
+impl Hyperelastic {
+    /// The neo-Hookean law with λ and μ of `material`.
+    pub fn neo_hookean(material: &Material) -> Hyperelastic {
+        let (lambda, mu) = material.lame();
+        Hyperelastic::NeoHookean { lambda, mu }
+    }
+
+    /// The Saint Venant–Kirchhoff law with λ and μ of `material`.
+    pub fn saint_venant_kirchhoff(material: &Material) -> Hyperelastic {
+        let (lambda, mu) = material.lame();
+        Hyperelastic::SaintVenantKirchhoff { lambda, mu }
+    }
+
+    /// S and ℂ (Voigt, module doc) at the deformation gradient `f`; `None`
+    /// where the law is undefined (neo-Hookean: J ≤ 0).
+    pub fn stress(&self, f: &Mat3) -> Option<(Mat3, [[f64; 6]; 6])> {
+        let c = mul(&transpose(f), f);
+        let mut s = [[0.0; 3]; 3];
+        let mut tangent = [[0.0; 6]; 6];
+        match *self {
+            Hyperelastic::NeoHookean { lambda, mu } => {
+                let j = det(f);
+                if j.is_nan() || j <= 0.0 {
+                    return None;
+                }
+                let ci = inverse(&c)?;
+                let ln_j = j.ln();
+                for (a, row) in s.iter_mut().enumerate() {
+                    for (b, v) in row.iter_mut().enumerate() {
+                        *v = mu * (delta(a, b) - ci[a][b]) + lambda * ln_j * ci[a][b];
+                    }
+                }
+                let m = mu - lambda * ln_j;
+                for (v, &(i, j)) in VOIGT.iter().enumerate() {
+                    for (w, &(k, l)) in VOIGT.iter().enumerate() {
+                        tangent[v][w] =
+                            lambda * ci[i][j] * ci[k][l] + m * (ci[i][k] * ci[j][l] + ci[i][l] * ci[j][k]);
+                    }
+                }
+            }
+            Hyperelastic::SaintVenantKirchhoff { lambda, mu } => {
+                let e: Mat3 = std::array::from_fn(|a| std::array::from_fn(|b| 0.5 * (c[a][b] - delta(a, b))));
+                let trace = e[0][0] + e[1][1] + e[2][2];
+                for (a, row) in s.iter_mut().enumerate() {
+                    for (b, v) in row.iter_mut().enumerate() {
+                        *v = lambda * trace * delta(a, b) + 2.0 * mu * e[a][b];
+                    }
+                }
+                for (v, &(i, j)) in VOIGT.iter().enumerate() {
+                    for (w, &(k, l)) in VOIGT.iter().enumerate() {
+                        tangent[v][w] = lambda * delta(i, j) * delta(k, l)
+                            + mu * (delta(i, k) * delta(j, l) + delta(i, l) * delta(j, k));
+                    }
+                }
+            }
+        }
+        Some((s, tangent))
+    }
+
+    /// The Cauchy stress σ = F S Fᵀ / J at `f`; `None` where J ≤ 0.
+    pub fn cauchy(&self, f: &Mat3) -> Option<Mat3> {
+        let j = det(f);
+        if j.is_nan() || j <= 0.0 {
+            return None;
+        }
+        let (s, _) = self.stress(f)?;
+        let sigma = mul(&mul(f, &s), &transpose(f));
+        Some(sigma.map(|row| row.map(|v| v / j)))
+    }
+}
+
+/// The deformation gradient F = I + Σ_i u_i ⊗ g_i of a cell's nodal
+/// displacements `u` and reference gradients `grads`.
+fn deformation_gradient(u: &[[f64; 3]], grads: &[[f64; 3]]) -> Mat3 {
+    let mut f: Mat3 = std::array::from_fn(|a| std::array::from_fn(|b| delta(a, b)));
+    for (ui, gi) in u.iter().zip(grads) {
+        for a in 0..3 {
+            for b in 0..3 {
+                f[a][b] += ui[a] * gi[b];
+            }
+        }
+    }
+    f
+}
+
+/// F at the reference point `xi` of a cell of `kind` with reference nodes
+/// `x` and nodal displacements `u`; `None` for a degenerate cell.
+pub fn cell_deformation_gradient(kind: CellKind, x: &[Point3], u: &[[f64; 3]], xi: Xi3) -> Option<Mat3> {
+    let g = geometry(kind, x, xi)?;
+    Some(deformation_gradient(u, &g.grads[..x.len()]))
+}
+
+/// A cell's internal force (3n) and, with `tangent`, its consistent tangent
+/// ((3n)², row-major) at the nodal displacements `u` (module doc); false
+/// where the cell is degenerate or the law undefined.
+fn element(
+    kind: CellKind,
+    x: &[Point3],
+    u: &[[f64; 3]],
+    law: &Hyperelastic,
+    force: &mut [f64],
+    tangent: Option<&mut [f64]>,
+) -> bool {
+    let rule = kind.stiffness_rule();
+    let Some(geo) = geometry_at_rule(kind, x, rule) else { return false };
+    let n = x.len();
+    let nd = 3 * n;
+    force.fill(0.0);
+    let mut tangent = tangent;
+    if let Some(k) = tangent.as_deref_mut() {
+        k.fill(0.0);
+    }
+    for (g, w) in geo.iter().zip(&rule.weights) {
+        let grads = &g.grads[..n];
+        let f = deformation_gradient(u, grads);
+        let Some((s, c)) = law.stress(&f) else { return false };
+        let wd = w * g.det.abs();
+        // P = F S: f_{3i+a} = ∫ P_aJ g_iJ.
+        let p = mul(&f, &s);
+        for (i, gi) in grads.iter().enumerate() {
+            for a in 0..3 {
+                force[3 * i + a] += wd * (p[a][0] * gi[0] + p[a][1] * gi[1] + p[a][2] * gi[2]);
+            }
+        }
+        let Some(k) = tangent.as_deref_mut() else { continue };
+        // B_i[v][a] = ∂E_v/∂u_ia (engineering shears).
+        let b = |i: usize| -> [[f64; 3]; 6] {
+            let gi = grads[i];
+            std::array::from_fn(|v| {
+                let (p, q) = VOIGT[v];
+                std::array::from_fn(
+                    |a| if p == q { f[a][p] * gi[p] } else { f[a][p] * gi[q] + f[a][q] * gi[p] },
+                )
+            })
+        };
+        let mut bs = [[[0.0; 3]; 6]; MAX_CELL_NODES];
+        for (i, bi) in bs.iter_mut().take(n).enumerate() {
+            *bi = b(i);
+        }
+        for i in 0..n {
+            // ℂ B_i, 6 × 3.
+            let cb: [[f64; 3]; 6] =
+                std::array::from_fn(|v| std::array::from_fn(|a| (0..6).map(|w| c[v][w] * bs[i][w][a]).sum()));
+            for j in 0..n {
+                let sg = (0..3)
+                    .map(|p| (0..3).map(|q| grads[i][p] * s[p][q] * grads[j][q]).sum::<f64>())
+                    .sum::<f64>();
+                for a in 0..3 {
+                    for bb in 0..3 {
+                        let material: f64 = (0..6).map(|v| cb[v][a] * bs[j][v][bb]).sum();
+                        let geometric = if a == bb { sg } else { 0.0 };
+                        k[(3 * i + a) * nd + 3 * j + bb] += wd * (material + geometric);
+                    }
+                }
+            }
+        }
+    }
+    true
+}
+
+/// The displacements of cell `c`'s nodes out of the global `u` (entries
+/// past its node count 0).
+fn cell_displacements(mesh: &VolumeMesh, c: usize, u: &[f64]) -> [[f64; 3]; MAX_CELL_NODES] {
+    let mut out = [[0.0; 3]; MAX_CELL_NODES];
+    for (o, &p) in out.iter_mut().zip(mesh.cells()[c].nodes()) {
+        *o = [u[3 * p], u[3 * p + 1], u[3 * p + 2]];
+    }
+    out
+}
+
+/// What stops a finite-deformation evaluation or solve.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FiniteError {
+    /// A cell is degenerate in the reference configuration.
+    #[error(transparent)]
+    Assembly(#[from] AssemblyError),
+    /// A cell is inverted (J ≤ 0 at one of its quadrature points) by the
+    /// displacements.
+    #[error("cell {cell} is inverted by the displacements (J ≤ 0)")]
+    Inverted {
+        /// The cell index.
+        cell: usize,
+    },
+    /// A linear solve failed.
+    #[error("Newton's linear solve: {0}")]
+    Solve(#[from] SolveError),
+    /// Newton's method did not reach the tolerance.
+    #[error(
+        "Newton did not converge in {iterations} iterations (relative residual {residual:.3e}, asked {rtol:.0e})"
+    )]
+    NotConverged {
+        /// The iterations taken.
+        iterations: usize,
+        /// The last relative residual.
+        residual: f64,
+        /// The tolerance asked.
+        rtol: f64,
+    },
+    /// The line search found no step that lowers the residual.
+    #[error("Newton's line search found no step that lowers the residual at iteration {iteration} (relative residual {residual:.3e})")]
+    LineSearch {
+        /// The iteration (from 1).
+        iteration: usize,
+        /// The relative residual it stopped at.
+        residual: f64,
+    },
+}
+
+/// A failed cell evaluation: [`FiniteError::Inverted`] if the cell is sound
+/// in the reference configuration, else the assembly error.
+fn failure(mesh: &VolumeMesh, e: AssemblyError) -> FiniteError {
+    let AssemblyError::DegenerateCell { cell } = e;
+    let (x, kind) = crate::assembly::corners(mesh, cell);
+    match geometry_at_rule(kind, &x[..kind.n_nodes()], kind.stiffness_rule()) {
+        Some(_) => FiniteError::Inverted { cell },
+        None => FiniteError::Assembly(e),
+    }
+}
+
+/// The internal force f_int(u) of `mesh` (3·n_points; module doc).
+///
+/// # Errors
+/// [`FiniteError::Inverted`] or [`FiniteError::Assembly`] for the first
+/// failing cell.
+pub fn internal_force(mesh: &VolumeMesh, law: &Hyperelastic, u: &[f64]) -> Result<Vec<f64>, FiniteError> {
+    assert_eq!(u.len(), 3 * mesh.points().len(), "u has 3 entries per point");
+    cell_vector(mesh, |kind, x, c, out| {
+        element(kind, x, &cell_displacements(mesh, c, u)[..x.len()], law, out, None)
+    })
+    .map_err(|e| failure(mesh, e))
+}
+
+/// The consistent tangent K(u) = ∂f_int/∂u of `mesh` (the pattern of
+/// [`crate::stiffness`]; symmetric).
+///
+/// # Errors
+/// As [`internal_force`].
+pub fn tangent(mesh: &VolumeMesh, law: &Hyperelastic, u: &[f64]) -> Result<CsrMatrix, FiniteError> {
+    assert_eq!(u.len(), 3 * mesh.points().len(), "u has 3 entries per point");
+    cell_matrix(mesh, |kind, x, c, out| {
+        let mut force = [0.0; 3 * MAX_CELL_NODES];
+        element(
+            kind,
+            x,
+            &cell_displacements(mesh, c, u)[..x.len()],
+            law,
+            &mut force[..3 * x.len()],
+            Some(out),
+        )
+    })
+    .map_err(|e| failure(mesh, e))
+}
+
+/// Newton's tolerance and iteration cap.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NewtonOptions {
+    /// Converged when ‖R‖ ≤ rtol · the force scale on the free dofs
+    /// ([`solve_newton`]).
+    pub rtol: f64,
+    /// The most iterations.
+    pub max_iterations: usize,
+}
+
+impl Default for NewtonOptions {
+    /// rtol 1e-10, 25 iterations.
+    fn default() -> Self {
+        NewtonOptions { rtol: 1e-10, max_iterations: 25 }
+    }
+}
+
+/// How Newton's method went.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NewtonReport {
+    /// The relative residual after each iteration.
+    pub residuals: Vec<f64>,
+    /// The line search's step factor of each iteration (1 for a full step).
+    pub line_search: Vec<f64>,
+}
+
+/// The smallest step factor of the line search (halving from 1).
+const MIN_STEP: f64 = 1.0 / 1024.0;
+
+/// K(u) Δu = r with the Dirichlet values `increments`: sparse Cholesky, or
+/// sparse LU where the tangent is not positive definite (far from
+/// equilibrium).
+fn newton_step(k: &CsrMatrix, r: &[f64], increments: &Dirichlet) -> Result<Vec<f64>, FiniteError> {
+    match solve(k, r, increments) {
+        Err(SolveError::Singular) => Ok(crate::backend::sparse_lu(k, r, increments)?),
+        du => Ok(du?),
+    }
+}
+
+/// Solves f_int(u) = `load` (dead loads) for `mesh` of `law` with the
+/// displacements `dirichlet` prescribed, from `start`:
+///
+/// 1. the predictor: the prescribed values are reached through the
+///    linearised response, K(u) Δu = load − f_int(u) with Δu = (prescribed
+///    − u) on the prescribed dofs, the step halved while a cell would
+///    invert (then again from there);
+/// 2. Newton's method on the free dofs with a backtracking line search on
+///    the residual norm (halving from the full step until ‖R‖ falls by the
+///    factor 1 − 10⁻⁴ α, or a cell inverts), until ‖R‖ ≤ rtol · s, s the
+///    larger of ‖load‖ and ‖f_int‖ over all dofs after the predictor (the
+///    body's force level, reactions included).
+///
+/// # Errors
+/// [`FiniteError`]: an inverted cell that no predictor step avoids, a
+/// singular tangent, no convergence within the cap, or a line search that
+/// found no lower residual.
+pub fn solve_newton(
+    mesh: &VolumeMesh,
+    law: &Hyperelastic,
+    (load, dirichlet): (&[f64], &Dirichlet),
+    start: &[f64],
+    options: &NewtonOptions,
+) -> Result<(Vec<f64>, NewtonReport), FiniteError> {
+    let n = 3 * mesh.points().len();
+    assert!(load.len() == n && start.len() == n, "3 entries per point");
+    let mut u = start.to_vec();
+    let mut held = vec![false; n];
+    let mut zero = Dirichlet::new();
+    for (dof, _) in dirichlet.iter() {
+        held[dof] = true;
+        zero.fix_dof(dof, 0.0);
+    }
+    let free_residual = |f: &[f64]| -> (Vec<f64>, f64) {
+        let r: Vec<f64> = (0..n).map(|i| if held[i] { 0.0 } else { load[i] - f[i] }).collect();
+        let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
+        (r, norm)
+    };
+    let norm2 = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    // 1. The predictor.
+    let mut f = internal_force(mesh, law, &u)?;
+    while dirichlet.iter().any(|(dof, v)| u[dof] != v) {
+        let mut remaining = Dirichlet::new();
+        for (dof, v) in dirichlet.iter() {
+            remaining.fix_dof(dof, v - u[dof]);
+        }
+        let du = newton_step(&tangent(mesh, law, &u)?, &free_residual(&f).0, &remaining)?;
+        let mut step = 1.0;
+        loop {
+            let trial: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + step * d).collect();
+            match internal_force(mesh, law, &trial) {
+                Ok(next) => {
+                    (u, f) = (trial, next);
+                    break;
+                }
+                Err(FiniteError::Inverted { .. }) if step > MIN_STEP => step *= 0.5,
+                Err(e) => return Err(e),
+            }
+        }
+        if step == 1.0 {
+            // Exactly the prescribed values (the step added v − u).
+            for (dof, v) in dirichlet.iter() {
+                u[dof] = v;
+            }
+            f = internal_force(mesh, law, &u)?;
+        }
+    }
+    // 2. Newton.
+    let scale = norm2(load).max(norm2(&f));
+    let (mut r, mut norm) = free_residual(&f);
+    let mut report = NewtonReport::default();
+    if norm <= options.rtol * scale {
+        return Ok((u, report));
+    }
+    for iteration in 1..=options.max_iterations {
+        let du = newton_step(&tangent(mesh, law, &u)?, &r, &zero)?;
+        let mut step = 1.0;
+        loop {
+            let trial: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + step * d).collect();
+            match internal_force(mesh, law, &trial).map(|f| free_residual(&f)) {
+                Ok((r_trial, n_trial)) if n_trial <= (1.0 - 1e-4 * step) * norm => {
+                    (u, r, norm) = (trial, r_trial, n_trial);
+                    break;
+                }
+                Ok(_) | Err(FiniteError::Inverted { .. }) if step > MIN_STEP => step *= 0.5,
+                Ok(_) | Err(FiniteError::Inverted { .. }) => {
+                    return Err(FiniteError::LineSearch { iteration, residual: norm / scale });
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        report.residuals.push(norm / scale);
+        report.line_search.push(step);
+        if norm <= options.rtol * scale {
+            return Ok((u, report));
+        }
+    }
+    Err(FiniteError::NotConverged {
+        iterations: options.max_iterations,
+        residual: norm / scale,
+        rtol: options.rtol,
+    })
+}
+
+fn delta(a: usize, b: usize) -> f64 {
+    if a == b {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+fn transpose(m: &Mat3) -> Mat3 {
+    std::array::from_fn(|a| std::array::from_fn(|b| m[b][a]))
+}
+
+fn mul(x: &Mat3, y: &Mat3) -> Mat3 {
+    std::array::from_fn(|a| std::array::from_fn(|b| (0..3).map(|k| x[a][k] * y[k][b]).sum()))
+}
+
+/// det m.
+pub fn det(m: &Mat3) -> f64 {
+    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+}
+
+fn inverse(m: &Mat3) -> Option<Mat3> {
+    let d = det(m);
+    if d == 0.0 || !d.is_finite() {
+        return None;
+    }
+    let cof = |r: usize, c: usize| {
+        let (r1, r2, c1, c2) = ((r + 1) % 3, (r + 2) % 3, (c + 1) % 3, (c + 2) % 3);
+        m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1]
+    };
+    // (m⁻¹)_ab = cof(b, a) / det.
+    Some(std::array::from_fn(|a| std::array::from_fn(|b| cof(b, a) / d)))
+}
