@@ -30,6 +30,8 @@
 use crate::assembly::{cell_matrix, cell_vector, geometry, geometry_at_rule, AssemblyError};
 use crate::material::Material;
 use crate::solve::{solve, Dirichlet, SolveError};
+use crate::stress::Stresses;
+use rayon::prelude::*;
 use seam::{CellKind, CsrMatrix, Point3, VolumeMesh, Xi3, MAX_CELL_NODES};
 
 /// A 3 × 3 matrix, row-major: m[row][column].
@@ -215,6 +217,36 @@ fn element(
         }
     }
     true
+}
+
+/// The Cauchy stresses of the displacements `u` of `mesh` ([`Stresses`]:
+/// per cell at its reference centroid, Voigt order xx yy zz yz xz xy; per
+/// point the volume-weighted average over its cells in the reference
+/// configuration; von Mises of both).
+///
+/// # Errors
+/// As [`internal_force`].
+pub fn cauchy_stresses(mesh: &VolumeMesh, law: &Hyperelastic, u: &[f64]) -> Result<Stresses, FiniteError> {
+    assert_eq!(u.len(), 3 * mesh.points().len(), "u has 3 entries per point");
+    let cell: Vec<Option<[f64; 6]>> = (0..mesh.cells().len())
+        .into_par_iter()
+        .map(|c| {
+            let (x, kind) = crate::assembly::corners(mesh, c);
+            let x = &x[..kind.n_nodes()];
+            let f = cell_deformation_gradient(
+                kind,
+                x,
+                &cell_displacements(mesh, c, u)[..x.len()],
+                kind.centroid(),
+            )?;
+            let sigma = law.cauchy(&f)?;
+            Some(VOIGT.map(|(a, b)| sigma[a][b]))
+        })
+        .collect();
+    if let Some(c) = cell.iter().position(Option::is_none) {
+        return Err(failure(mesh, AssemblyError::DegenerateCell { cell: c }));
+    }
+    Ok(Stresses::of_cells(mesh, cell.into_iter().flatten().collect())?)
 }
 
 /// The displacements of cell `c`'s nodes out of the global `u` (entries

@@ -83,31 +83,44 @@ pub fn recover_stresses(
         return Err(AssemblyError::DegenerateCell { cell });
     }
     let cell: Vec<[f64; 6]> = strains.into_iter().flatten().map(|e| material.stress(e)).collect();
-    let volumes = cell_volumes(mesh)?;
-    let (offsets, around) = point_cells(mesh);
-    let nodal: Vec<[f64; 6]> = (0..mesh.points().len())
-        .into_par_iter()
-        .map(|p| {
-            let (mut s, mut v) = ([0.0; 6], 0.0);
-            for &(c, _) in &around[offsets[p]..offsets[p + 1]] {
-                for k in 0..6 {
-                    s[k] += volumes[c] * cell[c][k];
+    Stresses::of_cells(mesh, cell)
+}
+
+impl Stresses {
+    /// The stresses of the cell values `cell` (one per cell of `mesh`): the
+    /// nodal ones their volume-weighted averages (module doc), and von Mises
+    /// of both.
+    ///
+    /// # Errors
+    /// [`AssemblyError::DegenerateCell`] for the first degenerate cell.
+    pub fn of_cells(mesh: &VolumeMesh, cell: Vec<[f64; 6]>) -> Result<Stresses, AssemblyError> {
+        assert_eq!(cell.len(), mesh.cells().len(), "one stress per cell");
+        let volumes = cell_volumes(mesh)?;
+        let (offsets, around) = point_cells(mesh);
+        let nodal: Vec<[f64; 6]> = (0..mesh.points().len())
+            .into_par_iter()
+            .map(|p| {
+                let (mut s, mut v) = ([0.0; 6], 0.0);
+                for &(c, _) in &around[offsets[p]..offsets[p + 1]] {
+                    for k in 0..6 {
+                        s[k] += volumes[c] * cell[c][k];
+                    }
+                    v += volumes[c];
                 }
-                v += volumes[c];
-            }
-            if v > 0.0 {
-                s.map(|x| x / v)
-            } else {
-                s
-            }
+                if v > 0.0 {
+                    s.map(|x| x / v)
+                } else {
+                    s
+                }
+            })
+            .collect();
+        Ok(Stresses {
+            cell_von_mises: cell.iter().map(von_mises).collect(),
+            nodal_von_mises: nodal.iter().map(von_mises).collect(),
+            cell,
+            nodal,
         })
-        .collect();
-    Ok(Stresses {
-        cell_von_mises: cell.iter().map(von_mises).collect(),
-        nodal_von_mises: nodal.iter().map(von_mises).collect(),
-        cell,
-        nodal,
-    })
+    }
 }
 
 #[cfg(test)]

@@ -9,8 +9,8 @@ use common::{distorted, material, Rng, KINDS};
 use seam::{CellKind, Point3, VolumeMesh};
 use seam_fem::generate::{block, raise_order, BlockKind};
 use seam_fem::hyperelastic::{
-    cell_deformation_gradient, det, internal_force, solve_newton, tangent, FiniteError, Hyperelastic, Mat3,
-    NewtonOptions,
+    cauchy_stresses, cell_deformation_gradient, det, internal_force, solve_newton, tangent, FiniteError,
+    Hyperelastic, Mat3, NewtonOptions,
 };
 use seam_fem::{stiffness, Dirichlet, Material};
 
@@ -262,7 +262,8 @@ fn the_tangent_is_the_derivative_of_the_internal_force() {
 /// boundary of a distorted block of every cell kind (the interior nodes
 /// free, starting at rest), F the 50 % stretch or simple shear γ = 0.5,
 /// both laws. The solve reproduces u inside to 1e-10 and the Cauchy stress
-/// at every quadrature point equals the closed form to 1e-10 (the
+/// at every quadrature point, and as recovered per cell and per point,
+/// equals the closed form to 1e-10 (the
 /// predictor's linearised step reaches the affine field, which is in
 /// equilibrium: Newton has nothing left).
 #[test]
@@ -297,6 +298,17 @@ fn homogeneous_large_deformations_on_every_cell_kind() {
                     }
                 }
                 let sigma_exact = analytic_cauchy(&law, &f);
+                // The recovered stresses (cells and points), Voigt order.
+                let recovered = cauchy_stresses(&mesh, &law, &u).unwrap();
+                let voigt = VOIGT.map(|(a, b)| sigma_exact[a][b]);
+                for s in recovered.cell.iter().chain(&recovered.nodal) {
+                    for k in 0..6 {
+                        assert!(
+                            (s[k] - voigt[k]).abs() <= 1e-10 * largest(&sigma_exact),
+                            "{kind:?}, {label}, {name}: {s:?}"
+                        );
+                    }
+                }
                 for (c, cell) in mesh.cells().iter().enumerate() {
                     let x: Vec<Point3> = cell.nodes().iter().map(|&p| mesh.points()[p]).collect();
                     let ue: Vec<[f64; 3]> =
