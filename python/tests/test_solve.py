@@ -228,3 +228,30 @@ def test_load_steps_are_solutions_and_files(example, monkeypatch, tmp_path):
         for f, s in zip(step.interfaces, solution.summary["interfaces"]):
             vtu = meshio.read(out / "steps" / f"{s['file'][:-4]}_{k:04d}.vtu")
             np.testing.assert_array_equal(f.traction, vtu.point_data["traction"])
+
+
+def test_hyperelastic_bodies_in_a_case_dict(tmp_path, monkeypatch):
+    """`material = "neo-hookean"` on every body of the warped-glue example
+    (dual multipliers, two load steps): each step is Newton's, with its
+    residuals and line search in the summary; under the example's small load
+    (strains of 1e-3) the displacements are the linear ones to 1 %; a linear
+    body among hyperelastic ones is refused naming both."""
+    done = run_cli("example", "warped-glue", "-o", "ex", *EXAMPLES["warped-glue"], cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    monkeypatch.chdir(tmp_path / "ex")
+    case = tomllib.loads(Path("case.toml").read_text())
+    for f in case["interface"]:
+        f["multiplier"] = "dual"
+    linear = seam.solve(case)
+    finite = {**case, "load": {"steps": 2}, "body": [{**b, "material": "neo-hookean"} for b in case["body"]]}
+    solution = seam.solve(finite)
+    assert len(solution.steps) == 2
+    for step in solution.summary["steps"]:
+        assert step["iterations"] == len(step["residuals"]) == len(step["line_search"]) >= 1
+        assert step["residuals"][-1] <= 1e-10
+    for name, body in solution.bodies.items():
+        u, v = body.displacement, linear.bodies[name].displacement
+        assert np.abs(u - v).max() <= 1e-2 * np.abs(v).max(), name
+    mixed = {**finite, "body": [finite["body"][0], case["body"][1]]}
+    with pytest.raises(seam.CaseError, match='is linear and body ".*" hyperelastic'):
+        seam.solve(mixed)

@@ -9,6 +9,7 @@
 //! volume = "steel"      # optional: the cells of this physical volume (default: all cells)
 //! young = 1.0e3
 //! poisson = 0.3
+//! material = "linear"   # or "neo-hookean", "saint-venant-kirchhoff" (finite deformation)
 //! body_force = [0.0, 0.0, 0.0]   # optional, force per volume
 //! # body_force_amplitude = [[0.0, 0.0], [1.0, 1.0]]   # its factor over t (default)
 //!
@@ -24,6 +25,10 @@
 //!
 //! [contact]             # optional: the active-set method of contact cases
 //! max_iterations = 50   # the default: the most active-set steps before giving up
+//!
+//! [newton]              # optional: hyperelastic bodies' Newton iteration
+//! rtol = 1e-10          # the default
+//! max_iterations = 25   # the default
 //!
 //! [load]                # optional: pseudo-time t from 0 to 1 in load steps
 //! steps = 1             # the default: equal increments, t_k = k / steps
@@ -138,6 +143,9 @@ pub struct Case {
     /// The `[load]` table: the load steps.
     #[serde(default)]
     pub load: LoadTable,
+    /// The `[newton]` table: finite deformation's Newton iteration.
+    #[serde(default)]
+    pub newton: NewtonSettings,
     /// The directory of the case file: meshes and outputs are relative to it.
     #[serde(skip)]
     pub base: PathBuf,
@@ -157,11 +165,39 @@ pub struct Body {
     pub young: f64,
     /// Poisson's ratio ν.
     pub poisson: f64,
+    /// The law: "linear" (small strain, the default), "neo-hookean" or
+    /// "saint-venant-kirchhoff" (finite deformation).
+    #[serde(default)]
+    pub material: MaterialLaw,
     /// Force per volume.
     #[serde(default)]
     pub body_force: [f64; 3],
     /// The body force's factor over pseudo-time (default: the ramp).
     pub body_force_amplitude: Option<Vec<[f64; 2]>>,
+}
+
+/// A body's `material`: its constitutive law.
+#[derive(Debug, Deserialize, Clone, Copy, Default, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum MaterialLaw {
+    /// Linear elasticity, small strain.
+    #[default]
+    Linear,
+    /// Compressible neo-Hookean, finite deformation.
+    NeoHookean,
+    /// Saint Venant–Kirchhoff, finite deformation.
+    SaintVenantKirchhoff,
+}
+
+impl MaterialLaw {
+    /// The solver's law.
+    pub fn law(self) -> seam_fem::Law {
+        match self {
+            MaterialLaw::Linear => seam_fem::Law::Linear,
+            MaterialLaw::NeoHookean => seam_fem::Law::NeoHookean,
+            MaterialLaw::SaintVenantKirchhoff => seam_fem::Law::SaintVenantKirchhoff,
+        }
+    }
 }
 
 /// How an interface couples its two surfaces.
@@ -360,6 +396,32 @@ fn default_max_iterations() -> usize {
 impl Default for ContactSettings {
     fn default() -> Self {
         ContactSettings { max_iterations: default_max_iterations() }
+    }
+}
+
+/// The `[newton]` table (bodies in finite deformation).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NewtonSettings {
+    /// Converged when the residual falls to rtol times the force level.
+    #[serde(default = "default_newton_rtol")]
+    pub rtol: f64,
+    /// The most Newton iterations per load step.
+    #[serde(default = "default_newton_iterations")]
+    pub max_iterations: usize,
+}
+
+fn default_newton_rtol() -> f64 {
+    seam_fem::hyperelastic::NewtonOptions::default().rtol
+}
+
+fn default_newton_iterations() -> usize {
+    seam_fem::hyperelastic::NewtonOptions::default().max_iterations
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        NewtonSettings { rtol: default_newton_rtol(), max_iterations: default_newton_iterations() }
     }
 }
 
@@ -572,6 +634,21 @@ impl Case {
         self.check_acyclic()?;
         if self.contact.max_iterations == 0 {
             return fail("[contact]: max_iterations must be at least 1");
+        }
+        let linear = self.bodies.iter().find(|b| b.material == MaterialLaw::Linear);
+        if let (Some(l), Some(h)) = (linear, self.bodies.iter().find(|b| b.material != MaterialLaw::Linear)) {
+            return fail(format!(
+                "body \"{}\" is linear and body \"{}\" hyperelastic: a case is solved either in small strain or \
+                 in finite deformation, so give every body a hyperelastic material or none",
+                l.name, h.name
+            ));
+        }
+        let newton = &self.newton;
+        if !(newton.rtol > 0.0 && newton.rtol < 1.0) {
+            return fail(format!("[newton]: rtol = {} must lie in (0, 1)", newton.rtol));
+        }
+        if newton.max_iterations == 0 {
+            return fail("[newton]: max_iterations must be at least 1");
         }
         for (i, d) in self.dirichlet.iter().enumerate() {
             let what = format!("dirichlet {}", i + 1);

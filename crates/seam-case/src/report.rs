@@ -72,7 +72,11 @@ pub fn report(s: &Solved) -> Vec<String> {
     match m.contact.as_ref() {
         None => {
             let iterative = m.method.contains("CG") || m.petsc.is_some();
-            let steps = if iterative { "iterations" } else { "refinement steps" };
+            let steps = match (m.method.starts_with("Newton"), iterative) {
+                (true, _) => "Newton iterations",
+                (false, true) => "iterations",
+                (false, false) => "refinement steps",
+            };
             lines.push(format!(
                 "system     {} dofs, {} constraints; {}, {} {steps}, residual {:.1e}",
                 m.dofs, m.constraints, m.method, m.iterations, m.residual

@@ -190,6 +190,10 @@ pub struct LoadStepSummary {
     /// complementarity residual of each active-set step, else the one
     /// residual of the glued solve.
     pub residuals: Vec<f64>,
+    /// Finite deformation: the line search's step factor of each Newton
+    /// iteration.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line_search: Option<Vec<f64>>,
     /// Contact points active at the end of the step (0 without contact).
     pub active: usize,
     /// With friction: the active points that stick.
@@ -269,6 +273,7 @@ impl LoadStepSummary {
                 c.active,
                 c.steps.iter().map(|s| s.linear_iterations).sum::<usize>(),
             ),
+            None if let Some(n) = &r.newton => (n.residuals.clone(), 0, 0),
             None => {
                 let linear = match solver {
                     LinearSolver::Direct => 0,
@@ -291,6 +296,7 @@ impl LoadStepSummary {
             time,
             iterations: r.iterations,
             residuals,
+            line_search: r.newton.as_ref().map(|n| n.line_search.clone()),
             active,
             stick,
             slip,
@@ -739,6 +745,10 @@ fn run_problem(
         solver,
         max_active_set_steps: case.contact.max_iterations,
         operators: options.operators,
+        newton: seam_fem::hyperelastic::NewtonOptions {
+            rtol: case.newton.rtol,
+            max_iterations: case.newton.max_iterations,
+        },
     };
     // Each load step in turn; the last one is the final state.
     let mut states: Vec<StepState> = Vec::with_capacity(problem.steps.len());
@@ -1128,6 +1138,7 @@ fn read_body(case: &Case, b: &crate::Body) -> anyhow::Result<ProblemBody> {
         name: b.name.clone(),
         mesh,
         material,
+        law: b.material.law(),
         body_force: b.body_force,
         body_force_amplitude,
         surfaces,
@@ -1263,8 +1274,25 @@ fn problem_failure(e: ProblemError, case: &Case, path: &Path) -> Failure {
             | seam_fem::SolveError::PetscNotConverged { .. }
             | seam_fem::SolveError::ToleranceUnreachable { .. },
         )) => Failure::Convergence(format!("{file}: {e}")),
+        ProblemError::Newton { source } => {
+            use seam_fem::hyperelastic::FiniteError;
+            let text = match &source {
+                FiniteError::Body { body, source } => {
+                    format!("body \"{}\": {source}", case.bodies[*body].name)
+                }
+                e => e.to_string(),
+            };
+            match source {
+                FiniteError::NotConverged { .. } | FiniteError::LineSearch { .. } => {
+                    Failure::Convergence(format!("{file}: finite deformation: {text}"))
+                }
+                _ => Failure::Error(format!("{file}: finite deformation: {text}")),
+            }
+        }
         e @ (ProblemError::BadInterface { .. }
         | ProblemError::BadBody { .. }
+        | ProblemError::MixedLaws { .. }
+        | ProblemError::Finite { .. }
         | ProblemError::Value { .. }) => Failure::Case(format!("{file}: {e}")),
         e => Failure::Error(format!("{file}: {e}")),
     }

@@ -6,6 +6,7 @@ mod cli;
 mod common;
 mod contact;
 mod examples;
+mod finite;
 mod friction;
 mod history;
 #[cfg(feature = "mpi")]

@@ -100,19 +100,11 @@ pub(crate) fn solve_coupled_from(
     }
 
     let clock = Instant::now();
-    let mut out: Vec<InterfaceSolution> = system
-        .mortars
-        .into_iter()
-        .zip(interfaces)
-        .map(|(mortar, f)| InterfaceSolution::new(f.kind, mortar, f.slave_surface.n_points()))
-        .collect();
-    add_tractions(&mut out, &constraints, &lambda);
-    if let Some(steps) = &steps {
-        add_contact_fields(&mut out, steps, friction.as_ref());
-    }
-    for (s, f) in out.iter_mut().zip(interfaces) {
-        normal_parts(s, &seam::nodal_normals(f.slave_surface));
-    }
+    let out = interface_solutions(system.mortars, interfaces, (&constraints, &lambda), |out| {
+        if let Some(steps) = &steps {
+            add_contact_fields(out, steps, friction.as_ref());
+        }
+    });
     let stresses = bodies
         .par_iter()
         .zip(&displacement)
@@ -123,9 +115,40 @@ pub(crate) fn solve_coupled_from(
         })
         .collect::<Result<Vec<_>, _>>()?;
     seconds.stresses = clock.elapsed().as_secs_f64();
-    let report =
-        Report { dofs, constraints: n_constraints, method, iterations, residual, contact, petsc, seconds };
+    let report = Report {
+        dofs,
+        constraints: n_constraints,
+        method,
+        iterations,
+        residual,
+        contact,
+        petsc,
+        newton: None,
+        seconds,
+    };
     Ok(Solution { displacement, stresses, interfaces: out, report })
+}
+
+/// The solutions of `interfaces` with their `mortars`: the glued tractions
+/// of the multipliers λ of `constraints`, then what `contact` adds, then
+/// the normal and tangential parts.
+pub(crate) fn interface_solutions(
+    mortars: Vec<seam::Mortar>,
+    interfaces: &[Interface],
+    (constraints, lambda): (&Constraints, &[f64]),
+    contact: impl FnOnce(&mut [InterfaceSolution]),
+) -> Vec<InterfaceSolution> {
+    let mut out: Vec<InterfaceSolution> = mortars
+        .into_iter()
+        .zip(interfaces)
+        .map(|(mortar, f)| InterfaceSolution::new(f.kind, mortar, f.slave_surface.n_points()))
+        .collect();
+    add_tractions(&mut out, constraints, lambda);
+    contact(&mut out);
+    for (s, f) in out.iter_mut().zip(interfaces) {
+        normal_parts(s, &seam::nodal_normals(f.slave_surface));
+    }
+    out
 }
 
 /// The normal (the nodal normal where no contact constraint set one) and the

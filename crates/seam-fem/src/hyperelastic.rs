@@ -40,6 +40,41 @@ pub type Mat3 = [[f64; 3]; 3];
 /// The index pairs of the Voigt order xx yy zz yz xz xy.
 const VOIGT: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];
 
+/// A body's constitutive law: small-strain linear elasticity (the
+/// default), or a hyperelastic law solved in finite deformation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Law {
+    /// Linear elasticity, small strain.
+    #[default]
+    Linear,
+    /// [`Hyperelastic::NeoHookean`].
+    NeoHookean,
+    /// [`Hyperelastic::SaintVenantKirchhoff`].
+    SaintVenantKirchhoff,
+}
+
+impl Law {
+    /// The hyperelastic law of `material`'s constants, `None` for
+    /// [`Law::Linear`].
+    pub fn hyperelastic(self, material: &Material) -> Option<Hyperelastic> {
+        match self {
+            Law::Linear => None,
+            Law::NeoHookean => Some(Hyperelastic::neo_hookean(material)),
+            Law::SaintVenantKirchhoff => Some(Hyperelastic::saint_venant_kirchhoff(material)),
+        }
+    }
+
+    /// Its name in a case file: "linear", "neo-hookean",
+    /// "saint-venant-kirchhoff".
+    pub fn name(self) -> &'static str {
+        match self {
+            Law::Linear => "linear",
+            Law::NeoHookean => "neo-hookean",
+            Law::SaintVenantKirchhoff => "saint-venant-kirchhoff",
+        }
+    }
+}
+
 /// A hyperelastic law (module doc).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Hyperelastic {
@@ -272,6 +307,14 @@ pub enum FiniteError {
         /// The cell index.
         cell: usize,
     },
+    /// A body's cell failed.
+    #[error("body {body}: {source}")]
+    Body {
+        /// The body index.
+        body: usize,
+        /// What failed in it.
+        source: Box<FiniteError>,
+    },
     /// A linear solve failed.
     #[error("Newton's linear solve: {0}")]
     Solve(#[from] SolveError),
@@ -371,14 +414,54 @@ pub struct NewtonReport {
 /// The smallest step factor of the line search (halving from 1).
 const MIN_STEP: f64 = 1.0 / 1024.0;
 
-/// K(u) Δu = r with the Dirichlet values `increments`: sparse Cholesky, or
-/// sparse LU where the tangent is not positive definite (far from
-/// equilibrium).
-fn newton_step(k: &CsrMatrix, r: &[f64], increments: &Dirichlet) -> Result<Vec<f64>, FiniteError> {
-    match solve(k, r, increments) {
-        Err(SolveError::Singular) => Ok(crate::backend::sparse_lu(k, r, increments)?),
-        du => Ok(du?),
+/// What Newton's method solves: f_int(u) = load for u of `len` entries.
+pub(crate) trait Nonlinear {
+    /// The number of unknowns.
+    fn len(&self) -> usize;
+    /// f_int(u).
+    fn force(&self, u: &[f64]) -> Result<Vec<f64>, FiniteError>;
+    /// K(u) = ∂f_int/∂u.
+    fn tangent(&self, u: &[f64]) -> Result<CsrMatrix, FiniteError>;
+}
+
+/// One body of one law.
+struct OneBody<'a>(&'a VolumeMesh, &'a Hyperelastic);
+
+impl Nonlinear for OneBody<'_> {
+    fn len(&self) -> usize {
+        3 * self.0.points().len()
     }
+    fn force(&self, u: &[f64]) -> Result<Vec<f64>, FiniteError> {
+        internal_force(self.0, self.1, u)
+    }
+    fn tangent(&self, u: &[f64]) -> Result<CsrMatrix, FiniteError> {
+        tangent(self.0, self.1, u)
+    }
+}
+
+/// Pᵀ K P Δy = r with the Dirichlet values `increments` (r reduced
+/// already), Δu = P Δy, for the tangent `k` and `elimination` P (the
+/// identity if `None`; in the numbering of all dofs, eliminated ones with
+/// empty rows and columns): sparse Cholesky, or sparse LU where the matrix
+/// is not positive definite (far from equilibrium).
+fn newton_step(
+    k: CsrMatrix,
+    r: &[f64],
+    increments: &Dirichlet,
+    elimination: Option<&CsrMatrix>,
+) -> Result<Vec<f64>, FiniteError> {
+    let k = match elimination {
+        Some(p) => crate::constraints::triple_product(p, &k),
+        None => k,
+    };
+    let dy = match solve(&k, r, increments) {
+        Err(SolveError::Singular) => crate::backend::sparse_lu(&k, r, increments)?,
+        dy => dy?,
+    };
+    Ok(match elimination {
+        Some(p) => p.mul_vec(&dy, 1),
+        None => dy,
+    })
 }
 
 /// Solves f_int(u) = `load` (dead loads) for `mesh` of `law` with the
@@ -394,6 +477,9 @@ fn newton_step(k: &CsrMatrix, r: &[f64], increments: &Dirichlet) -> Result<Vec<f
 ///    larger of ‖load‖ and ‖f_int‖ over all dofs after the predictor (the
 ///    body's force level, reactions included).
 ///
+/// Each step by sparse Cholesky of the tangent, or sparse LU where it is not
+/// positive definite.
+///
 /// # Errors
 /// [`FiniteError`]: an inverted cell that no predictor step avoids, a
 /// singular tangent, no convergence within the cap, or a line search that
@@ -405,7 +491,22 @@ pub fn solve_newton(
     start: &[f64],
     options: &NewtonOptions,
 ) -> Result<(Vec<f64>, NewtonReport), FiniteError> {
-    let n = 3 * mesh.points().len();
+    newton(&OneBody(mesh, law), None, (load, dirichlet), start, options)
+}
+
+/// [`solve_newton`] for any [`Nonlinear`] system, with the linear
+/// constraints u = P y of `elimination` (glue: P = [I; −C_S⁻¹C_R] in the
+/// numbering of all dofs, `start` satisfying them, no prescribed dof
+/// eliminated): the residual is Pᵀ (load − f_int(u)) and each step
+/// Δu = P Δy.
+pub(crate) fn newton(
+    system: &impl Nonlinear,
+    elimination: Option<&CsrMatrix>,
+    (load, dirichlet): (&[f64], &Dirichlet),
+    start: &[f64],
+    options: &NewtonOptions,
+) -> Result<(Vec<f64>, NewtonReport), FiniteError> {
+    let n = system.len();
     assert!(load.len() == n && start.len() == n, "3 entries per point");
     let mut u = start.to_vec();
     let mut held = vec![false; n];
@@ -414,24 +515,30 @@ pub fn solve_newton(
         held[dof] = true;
         zero.fix_dof(dof, 0.0);
     }
+    // The residual on the free (retained) dofs and its norm.
     let free_residual = |f: &[f64]| -> (Vec<f64>, f64) {
-        let r: Vec<f64> = (0..n).map(|i| if held[i] { 0.0 } else { load[i] - f[i] }).collect();
-        let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
-        (r, norm)
+        let r: Vec<f64> = (0..n).map(|i| load[i] - f[i]).collect();
+        let mut reduced = match elimination {
+            Some(p) => p.transpose_mul_vec(&r, 1),
+            None => r,
+        };
+        (0..n).filter(|&i| held[i]).for_each(|i| reduced[i] = 0.0);
+        let norm = reduced.iter().map(|v| v * v).sum::<f64>().sqrt();
+        (reduced, norm)
     };
     let norm2 = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     // 1. The predictor.
-    let mut f = internal_force(mesh, law, &u)?;
+    let mut f = system.force(&u)?;
     while dirichlet.iter().any(|(dof, v)| u[dof] != v) {
         let mut remaining = Dirichlet::new();
         for (dof, v) in dirichlet.iter() {
             remaining.fix_dof(dof, v - u[dof]);
         }
-        let du = newton_step(&tangent(mesh, law, &u)?, &free_residual(&f).0, &remaining)?;
+        let du = newton_step(system.tangent(&u)?, &free_residual(&f).0, &remaining, elimination)?;
         let mut step = 1.0;
         loop {
             let trial: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + step * d).collect();
-            match internal_force(mesh, law, &trial) {
+            match system.force(&trial) {
                 Ok(next) => {
                     (u, f) = (trial, next);
                     break;
@@ -445,7 +552,7 @@ pub fn solve_newton(
             for (dof, v) in dirichlet.iter() {
                 u[dof] = v;
             }
-            f = internal_force(mesh, law, &u)?;
+            f = system.force(&u)?;
         }
     }
     // 2. Newton.
@@ -456,11 +563,11 @@ pub fn solve_newton(
         return Ok((u, report));
     }
     for iteration in 1..=options.max_iterations {
-        let du = newton_step(&tangent(mesh, law, &u)?, &r, &zero)?;
+        let du = newton_step(system.tangent(&u)?, &r, &zero, elimination)?;
         let mut step = 1.0;
         loop {
             let trial: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + step * d).collect();
-            match internal_force(mesh, law, &trial).map(|f| free_residual(&f)) {
+            match system.force(&trial).map(|f| free_residual(&f)) {
                 Ok((r_trial, n_trial)) if n_trial <= (1.0 - 1e-4 * step) * norm => {
                     (u, r, norm) = (trial, r_trial, n_trial);
                     break;

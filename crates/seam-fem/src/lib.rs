@@ -56,6 +56,7 @@ pub mod contact;
 pub mod coupled;
 pub mod element;
 pub mod enrichment;
+pub mod finite;
 pub mod generate;
 pub mod glue;
 pub mod history;
@@ -78,6 +79,7 @@ pub use coupled::solve_coupled;
 pub use element::{CellKind, VolumeRule};
 pub use enrichment::{enrich, Enriched, Tie};
 pub use history::{Amplitude, HistoryError, LoadSteps, Value};
+pub use hyperelastic::Law;
 pub use material::{Material, MaterialError};
 pub use multibody::{Body, Coupling, Interface, OperatorAssembler, Operators, ProblemError, Timings};
 pub use problem::{

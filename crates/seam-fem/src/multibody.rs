@@ -228,6 +228,26 @@ pub enum ProblemError {
         /// The last step's relative update.
         update: f64,
     },
+    /// Linear and hyperelastic bodies in one problem.
+    #[error("body \"{linear}\" is linear and body \"{hyperelastic}\" hyperelastic: a problem is solved either in small strain or in finite deformation, so give every body a hyperelastic material or none")]
+    MixedLaws {
+        /// A linear body's name.
+        linear: String,
+        /// A hyperelastic body's name.
+        hyperelastic: String,
+    },
+    /// What finite deformation does not solve (yet).
+    #[error("{what}")]
+    Finite {
+        /// What and why.
+        what: String,
+    },
+    /// Newton's method in finite deformation failed.
+    #[error("finite deformation: {source}")]
+    Newton {
+        /// Why.
+        source: crate::hyperelastic::FiniteError,
+    },
     /// A displacement of the solution is NaN or infinite: an overflow (nothing
     /// non-finite passes as a result).
     #[error("body {body}: the solution is not finite at point {} (component {}): an overflow; check the magnitudes of loads, prescribed values and moduli", dof / 3, dof % 3)]

@@ -24,6 +24,9 @@ pub struct ProblemBody {
     pub mesh: VolumeMesh,
     /// Its material.
     pub material: Material,
+    /// Its law: linear (small strain) or hyperelastic (finite deformation)
+    /// with the material's constants.
+    pub law: crate::Law,
     /// Force per volume (at the amplitude's factor 1).
     pub body_force: [f64; 3],
     /// How the body force follows the pseudo-time.
@@ -33,7 +36,7 @@ pub struct ProblemBody {
 }
 
 impl ProblemBody {
-    /// A body without body force.
+    /// A linear body without body force.
     pub fn new(
         name: impl Into<String>,
         mesh: VolumeMesh,
@@ -44,6 +47,7 @@ impl ProblemBody {
             name: name.into(),
             mesh,
             material,
+            law: crate::Law::Linear,
             body_force: [0.0; 3],
             body_force_amplitude: Amplitude::ramp(),
             surfaces,
@@ -291,6 +295,24 @@ impl Problem {
             .collect()
     }
 
+    /// The bodies' hyperelastic laws when every body has one, `None` when
+    /// none has.
+    ///
+    /// # Errors
+    /// [`ProblemError::MixedLaws`] naming a linear and a hyperelastic body.
+    pub fn hyperelastic_laws(&self) -> Result<Option<Vec<crate::hyperelastic::Hyperelastic>>, ProblemError> {
+        let laws: Vec<_> = self.bodies.iter().map(|b| b.law.hyperelastic(&b.material)).collect();
+        let linear = self.bodies.iter().zip(&laws).find(|(_, l)| l.is_none());
+        let hyperelastic = self.bodies.iter().zip(&laws).find(|(_, l)| l.is_some());
+        match (linear, hyperelastic) {
+            (Some((l, _)), Some((h, _))) => {
+                Err(ProblemError::MixedLaws { linear: l.name.clone(), hyperelastic: h.name.clone() })
+            }
+            (_, Some(_)) => Ok(Some(laws.into_iter().flatten().collect())),
+            _ => Ok(None),
+        }
+    }
+
     /// The solver's view of the interfaces.
     pub(crate) fn coupled(&self) -> Vec<Interface<'_>> {
         self.interfaces
@@ -363,27 +385,44 @@ pub struct Steps<'a> {
     next: usize,
     /// What friction carries from one step to the next.
     state: crate::contact::friction::FrictionState,
+    /// Finite deformation: the last step's displacements (all bodies' dofs
+    /// in turn; empty before the first step).
+    finite: Vec<f64>,
 }
 
 impl<'a> Steps<'a> {
     fn new(problem: &'a Problem, options: SolveOptions) -> Steps<'a> {
-        Steps { problem, raised: problem.enriched(), options, next: 0, state: Default::default() }
+        Steps {
+            problem,
+            raised: problem.enriched(),
+            options,
+            next: 0,
+            state: Default::default(),
+            finite: Vec::new(),
+        }
     }
 
-    /// The solution at pseudo-time `t`.
+    /// The solution at pseudo-time `t`: in small strain, or in finite
+    /// deformation ([`crate::finite`]) when the bodies are hyperelastic.
     fn solve_at(&mut self, t: f64) -> Result<Solution, ProblemError> {
         let problem = self.problem;
+        let laws = problem.hyperelastic_laws()?;
+        let (options, state, finite) = (&self.options, &mut self.state, &mut self.finite);
+        let mut solve = |bodies: &[Body], interfaces: &[Interface]| match &laws {
+            Some(laws) => crate::finite::solve_finite_from(bodies, laws, interfaces, options, finite),
+            None => solve_coupled_from(bodies, interfaces, options, state),
+        };
         let Some((raised, ties)) = &self.raised else {
             let prepared = problem.loads_and_supports(t)?;
             let bodies = problem.solver_bodies(&prepared);
-            return solve_coupled_from(&bodies, &problem.coupled(), &self.options, &mut self.state);
+            return solve(&bodies, &problem.coupled());
         };
         let prepared = raised.loads_and_supports(t)?;
         let mut bodies = raised.solver_bodies(&prepared);
         for (body, ties) in bodies.iter_mut().zip(ties) {
             body.ties.clone_from(ties);
         }
-        let mut solution = solve_coupled_from(&bodies, &raised.coupled(), &self.options, &mut self.state)?;
+        let mut solution = solve(&bodies, &raised.coupled())?;
         // Back to the original points (the raised meshes append theirs).
         for (b, body) in problem.bodies.iter().enumerate() {
             let n = body.mesh.points().len();

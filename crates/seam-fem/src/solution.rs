@@ -17,12 +17,20 @@ pub struct SolveOptions {
     pub max_active_set_steps: usize,
     /// How the interfaces' operators are assembled.
     pub operators: Operators,
+    /// Finite deformation: Newton's tolerance and iteration cap.
+    pub newton: crate::hyperelastic::NewtonOptions,
 }
 
 impl Default for SolveOptions {
-    /// Direct solves, at most 50 active-set steps, operators assembled here.
+    /// Direct solves, at most 50 active-set steps, operators assembled
+    /// here, Newton to 1e-10 in at most 25 iterations.
     fn default() -> Self {
-        SolveOptions { solver: Solver::Direct, max_active_set_steps: 50, operators: Operators::Here }
+        SolveOptions {
+            solver: Solver::Direct,
+            max_active_set_steps: 50,
+            operators: Operators::Here,
+            newton: Default::default(),
+        }
     }
 }
 
@@ -185,6 +193,8 @@ pub struct Report {
     /// With [`crate::Solver::Petsc`]: the KSP and PC, each solve's
     /// iterations and residual, PETSc's own seconds.
     pub petsc: Option<crate::petsc::PetscSummary>,
+    /// Finite deformation: Newton's residuals and line-search steps.
+    pub newton: Option<crate::hyperelastic::NewtonReport>,
     /// Seconds per phase.
     pub seconds: Timings,
 }

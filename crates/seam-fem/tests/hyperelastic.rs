@@ -7,12 +7,12 @@ use crate::common;
 
 use common::{distorted, material, Rng, KINDS};
 use seam::{CellKind, Point3, VolumeMesh};
-use seam_fem::generate::{block, raise_order, BlockKind};
+use seam_fem::generate::{block, raise_order, BlockKind, Grid, Side};
 use seam_fem::hyperelastic::{
     cauchy_stresses, cell_deformation_gradient, det, internal_force, solve_newton, tangent, FiniteError,
     Hyperelastic, Mat3, NewtonOptions,
 };
-use seam_fem::{stiffness, Dirichlet, Material};
+use seam_fem::{stiffness, Dirichlet, Law, Material, ProblemBody};
 
 const VOIGT: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)];
 
@@ -394,4 +394,175 @@ fn an_inverting_deformation_is_refused_with_the_cell() {
             && error.to_string().ends_with("is inverted by the displacements (J ≤ 0)"),
         "{error}"
     );
+}
+
+/// The lateral stretch s of uniaxial stress at the axial stretch `axial`:
+/// σ_yy(diag(axial, s, s)) = 0, by Newton on s (closed forms above).
+fn lateral_stretch(law: &Hyperelastic, axial: f64) -> f64 {
+    let sigma = |s: f64| analytic_cauchy(law, &[[axial, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]])[1][1];
+    let mut s = 1.0;
+    for _ in 0..50 {
+        let h = 1e-7;
+        let step = sigma(s) / ((sigma(s + h) - sigma(s - h)) / (2.0 * h));
+        s -= step;
+        if step.abs() < 1e-15 {
+            break;
+        }
+    }
+    assert!(
+        sigma(s).abs()
+            < 1e-9 * analytic_cauchy(law, &[[axial, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]])[0][0]
+    );
+    s
+}
+
+/// A `kind` block [0, 1]² × [z0, z0 + 1] of n × n × nz cells (raised to
+/// second order with `raise`: complete or not) with the surfaces XMin,
+/// YMin, ZMin, ZMax.
+fn slab(
+    name: &str,
+    (n, nz): (usize, usize),
+    z0: f64,
+    kind: BlockKind,
+    raise: Option<bool>,
+    law: Law,
+) -> ProblemBody {
+    let cube = block(n, n, nz, |x, y, z| [x, y, z0 + z], kind);
+    let mesh = match raise {
+        Some(complete) => raise_order(&cube, complete).unwrap(),
+        None => cube,
+    };
+    let grid = Grid::new(n, n, nz);
+    let surfaces = [Side::XMin, Side::YMin, Side::ZMin, Side::ZMax]
+        .map(|side| (format!("{side:?}"), grid.side_faces(&mesh, side).unwrap()))
+        .to_vec();
+    ProblemBody { law, ..ProblemBody::new(name, mesh, material(), surfaces) }
+}
+
+/// Uniaxial stress to the stretch 1.5 along z over four load steps, in one
+/// body and across a non-matching glued interface (dual multipliers: Hex8
+/// under Tet4, Hex27 under Tet10 with its Tri6 slave faces raised), rollers
+/// on x = 0, y = 0 and the bottom, the top pulled up: the homogeneous state
+/// diag(s, s, 1.5), s from σ_xx = 0, reproduced to 1e-10 in displacement,
+/// Cauchy stress and interface traction (σ_zz per reference area, s² σ_zz),
+/// for both laws; Newton reports each step.
+#[test]
+fn uniaxial_stress_over_load_steps_in_one_body_and_across_glue() {
+    use seam_fem::{
+        solve_steps, Coupling, LoadSteps, Problem, ProblemInterface, SolveOptions, Support, SurfaceId,
+    };
+    let id = |body, surface| SurfaceId { body, surface };
+    let roller =
+        |b, s, k: usize, v: f64| Support::new(id(b, s), std::array::from_fn(|c| (c == k).then_some(v)));
+    let stretch = 1.5;
+    for (law_name, law) in
+        [("neo-Hookean", Law::NeoHookean), ("Saint Venant-Kirchhoff", Law::SaintVenantKirchhoff)]
+    {
+        let hyper = law.hyperelastic(&material()).unwrap();
+        let s = lateral_stretch(&hyper, stretch);
+        let f = [[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, stretch]];
+        let sigma = analytic_cauchy(&hyper, &[[stretch, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]]);
+        let sigma_zz = sigma[0][0];
+        let one = Problem {
+            bodies: vec![slab("one", (2, 2), 0.0, BlockKind::Tet, Some(false), law)],
+            supports: vec![
+                roller(0, 0, 0, 0.0),
+                roller(0, 1, 1, 0.0),
+                roller(0, 2, 2, 0.0),
+                roller(0, 3, 2, 0.5),
+            ],
+            steps: LoadSteps::equal(4).unwrap(),
+            ..Problem::default()
+        };
+        let glued = |lower: (BlockKind, Option<bool>), upper: (BlockKind, Option<bool>)| Problem {
+            bodies: vec![
+                slab("lower", (3, 2), 0.0, lower.0, lower.1, law),
+                slab("upper", (2, 2), 1.0, upper.0, upper.1, law),
+            ],
+            interfaces: vec![ProblemInterface {
+                master: id(0, 3),
+                slave: id(1, 2),
+                options: seam::MortarOptions { multiplier: seam::Multiplier::Dual, ..Default::default() },
+                kind: Coupling::Glue,
+                friction: 0.0,
+            }],
+            supports: vec![
+                roller(0, 2, 2, 0.0),
+                roller(0, 0, 0, 0.0),
+                roller(0, 1, 1, 0.0),
+                roller(1, 0, 0, 0.0),
+                roller(1, 1, 1, 0.0),
+                roller(1, 3, 2, 1.0),
+            ],
+            steps: LoadSteps::equal(4).unwrap(),
+            ..Problem::default()
+        };
+        let cases = [
+            ("one Tet10 body", one),
+            ("Hex8 | Tet4", glued((BlockKind::Hex, None), (BlockKind::Tet, None))),
+            ("Hex27 | Tet10", glued((BlockKind::Hex, Some(true)), (BlockKind::Tet, Some(false)))),
+        ];
+        for (label, problem) in cases {
+            let steps: Vec<_> = solve_steps(&problem, &SolveOptions::default())
+                .collect::<Result<_, _>>()
+                .unwrap_or_else(|e| panic!("{law_name}, {label}: {e}"));
+            assert_eq!(steps.len(), 4);
+            for (t, step) in &steps {
+                let newton = step.report.newton.as_ref().expect("a Newton report");
+                println!("{law_name}, {label}, t = {t}: residuals {:?}", newton.residuals);
+                assert!(
+                    newton.residuals.last().is_none_or(|&r| r <= 1e-10),
+                    "{law_name}, {label}: {newton:?}"
+                );
+            }
+            let solution = &steps[3].1;
+            let voigt = VOIGT.map(|(a, b)| if a == b && a == 2 { sigma_zz } else { 0.0 });
+            for (b, body) in problem.bodies.iter().enumerate() {
+                let u = &solution.displacement[b];
+                for (p, x) in body.mesh.points().iter().enumerate() {
+                    for a in 0..3 {
+                        let exact = (0..3).map(|k| f[a][k] * x[k]).sum::<f64>() - x[a];
+                        assert!(
+                            (u[3 * p + a] - exact).abs() <= 1e-10,
+                            "{law_name}, {label}: body {b}, point {p}"
+                        );
+                    }
+                }
+                for s in solution.stresses[b].cell.iter().chain(&solution.stresses[b].nodal) {
+                    for k in 0..6 {
+                        assert!(
+                            (s[k] - voigt[k]).abs() <= 1e-10 * sigma_zz,
+                            "{law_name}, {label}: body {b}: {s:?}"
+                        );
+                    }
+                }
+            }
+            // The traction on the slave (its bottom, normal −z): −P_zz per reference area, P_zz = s² σ_zz.
+            if let Some(i) = solution.interfaces.first() {
+                let nominal = s * s * sigma_zz;
+                for (p, t) in i.traction.iter().enumerate().filter(|(p, _)| i.constrained[*p]) {
+                    assert!(
+                        (t[2] + nominal).abs() <= 1e-8 * nominal && t[0].abs() + t[1].abs() <= 1e-8 * nominal,
+                        "{law_name}, {label}: traction {t:?} at {p}, expected (0, 0, {})",
+                        -nominal
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// A linear and a hyperelastic body in one problem: one line naming both.
+#[test]
+fn linear_and_hyperelastic_bodies_are_not_mixed() {
+    use seam_fem::{solve_steps, Problem, SolveOptions};
+    let problem = Problem {
+        bodies: vec![
+            slab("soft", (1, 1), 0.0, BlockKind::Hex, None, Law::NeoHookean),
+            slab("steel", (1, 1), 1.0, BlockKind::Hex, None, Law::Linear),
+        ],
+        ..Problem::default()
+    };
+    let error = solve_steps(&problem, &SolveOptions::default()).next().unwrap().unwrap_err().to_string();
+    assert!(error.starts_with("body \"steel\" is linear and body \"soft\" hyperelastic"), "{error}");
 }

@@ -302,7 +302,7 @@ pub(super) fn normal_row(t_row: &[(usize, f64)], n: Point3, p_g: Option<&CsrMatr
 }
 
 /// The entries of `row` sorted by index, those with equal indices summed.
-pub(super) fn merged(row: &mut [(usize, f64)]) -> Vec<(usize, f64)> {
+pub(crate) fn merged(row: &mut [(usize, f64)]) -> Vec<(usize, f64)> {
     row.sort_by_key(|e| e.0);
     let mut merged: Vec<(usize, f64)> = Vec::with_capacity(row.len());
     for &(j, v) in row.iter() {

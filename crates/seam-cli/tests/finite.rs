@@ -1,0 +1,105 @@
+//! Hyperelastic bodies in finite deformation from a case file
+//! (`material = "neo-hookean"`, `[newton]`): glued, over load steps, the
+//! Cauchy stress written, Newton's iterations in `summary.json`; mixed or
+//! bad materials refused in one line.
+
+use crate::common;
+
+use common::{assert_rejected, json, seam, stacked_case, stderr, vtu_field, write_stacked_blocks};
+use seam_fem::hyperelastic::Hyperelastic;
+use seam_fem::Material;
+
+const E: f64 = 1000.0;
+const NU: f64 = 0.3;
+
+/// The stacked glued blocks (dual multipliers), both neo-Hookean, the upper
+/// top pressed by the dead load `t` per reference area, then `rest`.
+fn case(t: f64, rest: &str) -> String {
+    let text = stacked_case(
+        (E, NU),
+        (E, NU),
+        "kind = \"glue\"\nmultiplier = \"dual\"",
+        &format!("[[traction]]\nboundary = \"upper:top\"\nt = [0.0, 0.0, {t:?}]\n\n{rest}"),
+    );
+    text.replace("poisson = 0.3\n", "poisson = 0.3\nmaterial = \"neo-hookean\"\n")
+}
+
+/// Compressed by a fifth of E over three load steps: a homogeneous state
+/// F = diag(s, s, λ) in both bodies (their displacements affine), whose
+/// Cauchy stress in the VTU is the law's at that F (σ_xx = σ_yy = 0) and
+/// carries the dead load, s² σ_zz = t; every step converged by Newton, its
+/// residuals and line-search steps in `summary.json`.
+#[test]
+fn glued_neo_hookean_blocks_under_a_dead_load_over_load_steps() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_stacked_blocks(tmp.path());
+    let t = -200.0;
+    let text = case(t, "[load]\nsteps = 3\n\n[newton]\nrtol = 1e-11\n");
+    std::fs::write(tmp.path().join("case.toml"), text).unwrap();
+    let o = seam(&["solve", "case.toml"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = tmp.path().join("out");
+    let s = json(&out.join("summary.json"));
+    let steps = s["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 3);
+    for step in steps {
+        let residuals = step["residuals"].as_array().unwrap();
+        let line_search = step["line_search"].as_array().unwrap();
+        assert!(!residuals.is_empty() && residuals.len() == line_search.len(), "{step}");
+        assert_eq!(step["iterations"].as_u64().unwrap() as usize, residuals.len(), "{step}");
+        assert!(residuals.last().unwrap().as_f64().unwrap() <= 1e-11, "{step}");
+    }
+    let law = Hyperelastic::neo_hookean(&Material::new(E, NU).unwrap());
+    for body in ["lower", "upper"] {
+        let path = out.join(format!("{body}.vtu"));
+        let (points, u) = vtu_field(&path, "displacement", false);
+        // F from two points: u_x = (s − 1) x, u_z = (λ − 1) z (the bottom at z = 0 held in z).
+        let (mut s_x, mut lambda) = (None, None);
+        for (x, u) in points.iter().zip(u.chunks(3)) {
+            if x[0] > 0.5 {
+                s_x.get_or_insert(1.0 + u[0] / x[0]);
+            }
+            if x[2] > 0.4 {
+                lambda.get_or_insert(1.0 + u[2] / x[2]);
+            }
+        }
+        let (s_x, lambda) = (s_x.unwrap(), lambda.unwrap());
+        for (x, u) in points.iter().zip(u.chunks(3)) {
+            let exact = [(s_x - 1.0) * x[0], (s_x - 1.0) * x[1], (lambda - 1.0) * x[2]];
+            for k in 0..3 {
+                assert!((u[k] - exact[k]).abs() <= 1e-9, "{body}: u at {x:?}: {u:?} against {exact:?}");
+            }
+        }
+        let sigma = law.cauchy(&[[s_x, 0.0, 0.0], [0.0, s_x, 0.0], [0.0, 0.0, lambda]]).unwrap();
+        let (_, stress) = vtu_field(&path, "stress", false);
+        for v in stress.chunks(6) {
+            assert!(v[0].abs() <= 1e-8 * t.abs() && v[1].abs() <= 1e-8 * t.abs(), "{body}: {v:?}");
+            assert!((v[2] - sigma[2][2]).abs() <= 1e-8 * t.abs(), "{body}: {v:?} against {sigma:?}");
+            assert!((s_x * s_x * v[2] - t).abs() <= 1e-8 * t.abs(), "{body}: the dead load: {v:?}");
+        }
+        assert!(lambda < 0.9 && s_x > 1.0, "{body}: compressed: λ = {lambda}, s = {s_x}");
+    }
+}
+
+/// A linear body with a hyperelastic one, an unknown material, a bad
+/// `[newton]`: one line, exit 2, nothing written.
+#[test]
+fn mixed_and_bad_materials_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_stacked_blocks(tmp.path());
+    let good = case(-1.0, "");
+    let mixed = good.replacen("material = \"neo-hookean\"\n", "", 1);
+    assert_rejected(
+        tmp.path(),
+        &[
+            (mixed, "body \"lower\" is linear and body \"upper\" hyperelastic"),
+            (good.replacen("neo-hookean", "rubber", 1), "rubber"),
+            (good.clone() + "[newton]\nrtol = 0.0\n", "[newton]: rtol = 0 must lie in (0, 1)"),
+            (good.clone() + "[newton]\nmax_iterations = 0\n", "[newton]: max_iterations must be at least 1"),
+            (
+                good.replace("multiplier = \"dual\"", "multiplier = \"standard\""),
+                "needs dual or lumped multipliers",
+            ),
+        ],
+    );
+}
