@@ -333,8 +333,9 @@ impl Problem {
 /// Assembles and solves `problem` at t = 1, glued and contact interfaces in
 /// any mix: the loads and supports of each body, then [`crate::solve_coupled`]
 /// (glue and frictionless contact do not depend on the load path, so the
-/// earlier steps of [`Problem::steps`] are not needed; with friction every
-/// step is solved in turn; [`solve_steps`] gives each).
+/// earlier steps of [`Problem::steps`] are not needed; with friction or
+/// hyperelastic bodies every step is solved in turn; [`solve_steps`] gives
+/// each).
 ///
 /// ```
 /// use seam_fem::scene::{warped_glue, WarpedGlue};
@@ -356,7 +357,7 @@ impl Problem {
 /// finite value somewhere.
 pub fn solve(problem: &Problem, options: &SolveOptions) -> Result<Solution, ProblemError> {
     let mut steps = Steps::new(problem, *options);
-    if !problem.has_friction() {
+    if !problem.has_friction() && problem.hyperelastic_laws()?.is_none() {
         return steps.solve_at(1.0);
     }
     // Friction depends on the path: every step, the last one kept.

@@ -516,6 +516,9 @@ fn uniaxial_stress_over_load_steps_in_one_body_and_across_glue() {
                 );
             }
             let solution = &steps[3].1;
+            // `solve` follows the same load path (finite deformation depends on it).
+            let at_once = seam_fem::solve(&problem, &SolveOptions::default()).unwrap();
+            assert_eq!(at_once.displacement, solution.displacement, "{law_name}, {label}");
             let voigt = VOIGT.map(|(a, b)| if a == b && a == 2 { sigma_zz } else { 0.0 });
             for (b, body) in problem.bodies.iter().enumerate() {
                 let u = &solution.displacement[b];
