@@ -29,7 +29,7 @@
 
 use crate::assembly::{cell_matrix, cell_vector, geometry, geometry_at_rule, AssemblyError};
 use crate::material::Material;
-use crate::solve::{solve, Dirichlet, SolveError};
+use crate::solve::{CholeskyAnalysis, DirectOptions, Dirichlet, SolveError};
 use crate::stress::Stresses;
 use rayon::prelude::*;
 use seam::{CellKind, CsrMatrix, Point3, VolumeMesh, Xi3, MAX_CELL_NODES};
@@ -442,21 +442,28 @@ impl Nonlinear for OneBody<'_> {
 /// Pᵀ K P Δy = r with the Dirichlet values `increments` (r reduced
 /// already), Δu = P Δy, for the tangent `k` and `elimination` P (the
 /// identity if `None`; in the numbering of all dofs, eliminated ones with
-/// empty rows and columns): sparse Cholesky, or sparse LU where the matrix
-/// is not positive definite (far from equilibrium).
+/// empty rows and columns): sparse Cholesky, its ordering and symbolic
+/// factorisation kept in `analysis` over the iterations (the pattern and
+/// the held dofs do not change), or sparse LU where the matrix is not
+/// positive definite (far from equilibrium).
 fn newton_step(
     k: CsrMatrix,
     r: &[f64],
     increments: &Dirichlet,
-    elimination: Option<&CsrMatrix>,
+    (elimination, analysis): (Option<&CsrMatrix>, &mut Option<CholeskyAnalysis>),
 ) -> Result<Vec<f64>, FiniteError> {
     let k = match elimination {
         Some(p) => crate::constraints::triple_product(p, &k),
         None => k,
     };
-    let dy = match solve(&k, r, increments) {
+    if analysis.is_none() {
+        *analysis = Some(CholeskyAnalysis::new(&k, increments, &DirectOptions::default())?);
+    }
+    let solved = analysis.as_ref().expect("analysed").solve(&k, r, increments);
+    let dy = match solved {
+        Ok((dy, _)) => dy,
         Err(SolveError::Singular) => crate::backend::sparse_lu(&k, r, increments)?,
-        dy => dy?,
+        Err(e) => return Err(e.into()),
     };
     Ok(match elimination {
         Some(p) => p.mul_vec(&dy, 1),
@@ -527,6 +534,7 @@ pub(crate) fn newton(
         (reduced, norm)
     };
     let norm2 = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mut analysis = None;
     // 1. The predictor.
     let mut f = system.force(&u)?;
     while dirichlet.iter().any(|(dof, v)| u[dof] != v) {
@@ -534,7 +542,8 @@ pub(crate) fn newton(
         for (dof, v) in dirichlet.iter() {
             remaining.fix_dof(dof, v - u[dof]);
         }
-        let du = newton_step(system.tangent(&u)?, &free_residual(&f).0, &remaining, elimination)?;
+        let du =
+            newton_step(system.tangent(&u)?, &free_residual(&f).0, &remaining, (elimination, &mut analysis))?;
         let mut step = 1.0;
         loop {
             let trial: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + step * d).collect();
@@ -563,7 +572,7 @@ pub(crate) fn newton(
         return Ok((u, report));
     }
     for iteration in 1..=options.max_iterations {
-        let du = newton_step(system.tangent(&u)?, &r, &zero, elimination)?;
+        let du = newton_step(system.tangent(&u)?, &r, &zero, (elimination, &mut analysis))?;
         let mut step = 1.0;
         loop {
             let trial: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + step * d).collect();
