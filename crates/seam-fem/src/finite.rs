@@ -14,7 +14,7 @@
 
 use crate::constraints::{Constraints, NONE};
 use crate::hyperelastic::{
-    cauchy_stresses, internal_force, newton, tangent, FiniteError, Hyperelastic, Nonlinear,
+    cauchy_stresses, internal_force, newton, tangent, Constrained, FiniteError, Hyperelastic, Nonlinear,
 };
 use crate::multibody::{assemble_system, check_input, Body, Coupling, Interface, ProblemError, Timings};
 use crate::solution::{Report, Solution, SolveOptions};
@@ -207,7 +207,22 @@ pub(crate) fn solve_finite_from(
     let nonlinear =
         Bodies { meshes: bodies.iter().map(|b| b.mesh).collect(), laws, offsets: &system.offsets };
     let clock = Instant::now();
-    let solved = newton(&nonlinear, elimination.as_ref(), (&system.f, &system.dirichlet), u, &options.newton);
+    // The saddle point where the elimination would fill in (as for small strain).
+    let how = match &elimination {
+        None => Constrained::Free,
+        Some(p) => {
+            let k = nonlinear.tangent(u).map_err(|source| ProblemError::Newton { source })?;
+            match constraints.elimination_fills_in(&k) {
+                true => Constrained::Saddle(p, &constraints),
+                false => Constrained::Eliminated(p),
+            }
+        }
+    };
+    let method = match how {
+        Constrained::Saddle(..) => "Newton with line search, saddle-point LDLᵀ",
+        _ => "Newton with line search, sparse Cholesky (sparse LU where the tangent is indefinite)",
+    };
+    let solved = newton(&nonlinear, how, (&system.f, &system.dirichlet), u, &options.newton);
     let (next, newton_report) = solved.map_err(|source| ProblemError::Newton { source })?;
     *u = next;
     seconds.solve = clock.elapsed().as_secs_f64();
@@ -235,7 +250,7 @@ pub(crate) fn solve_finite_from(
     let report = Report {
         dofs: bodies.iter().map(|b| 3 * used(b)).sum(),
         constraints: constraints.rows.len(),
-        method: "Newton with line search, sparse Cholesky (sparse LU where the tangent is indefinite)",
+        method,
         iterations: newton_report.residuals.len(),
         residual: newton_report.residuals.last().copied().unwrap_or(0.0),
         contact: None,

@@ -439,19 +439,50 @@ impl Nonlinear for OneBody<'_> {
     }
 }
 
-/// Pᵀ K P Δy = r with the Dirichlet values `increments` (r reduced
-/// already), Δu = P Δy, for the tangent `k` and `elimination` P (the
-/// identity if `None`; in the numbering of all dofs, eliminated ones with
-/// empty rows and columns): sparse Cholesky, its ordering and symbolic
-/// factorisation kept in `analysis` over the iterations (the pattern and
-/// the held dofs do not change), or sparse LU where the matrix is not
-/// positive definite (far from equilibrium).
+/// How Newton's linear steps meet linear constraints C u = 0 on u (glue).
+#[derive(Clone, Copy)]
+pub(crate) enum Constrained<'a> {
+    /// No constraints.
+    Free,
+    /// Eliminated, u = P y (P in the numbering of all dofs, eliminated ones
+    /// with empty rows and columns): each step on Pᵀ K P.
+    Eliminated(&'a CsrMatrix),
+    /// Each step the saddle point [K Cᵀ; C 0] by sparse LDLᵀ, where Pᵀ K P
+    /// would fill in (a slave coarser than its master); P still reduces the
+    /// residual.
+    Saddle(&'a CsrMatrix, &'a crate::constraints::Constraints),
+}
+
+impl Constrained<'_> {
+    /// P, if any.
+    fn prolongation(&self) -> Option<&CsrMatrix> {
+        match *self {
+            Constrained::Free => None,
+            Constrained::Eliminated(p) | Constrained::Saddle(p, _) => Some(p),
+        }
+    }
+}
+
+/// The step Δu of K Δu = r under the constraints `how` and the Dirichlet
+/// values `increments` (r = load − f_int, `reduced` = Pᵀ r): by sparse
+/// Cholesky of Pᵀ K P, its ordering and symbolic factorisation kept in
+/// `analysis` over the iterations (the pattern and the held dofs do not
+/// change), sparse LU where that matrix is not positive definite (far from
+/// equilibrium), or by the saddle point (falling back to the elimination if
+/// its LDLᵀ fails).
 fn newton_step(
     k: CsrMatrix,
-    r: &[f64],
+    (r, reduced): (&[f64], &[f64]),
     increments: &Dirichlet,
-    (elimination, analysis): (Option<&CsrMatrix>, &mut Option<CholeskyAnalysis>),
+    (how, analysis): (Constrained, &mut Option<CholeskyAnalysis>),
 ) -> Result<Vec<f64>, FiniteError> {
+    if let Constrained::Saddle(_, constraints) = how {
+        let mut seconds = crate::multibody::Timings::default();
+        if let Ok((du, ..)) = crate::constraints::saddle_point(&k, r, increments, constraints, &mut seconds) {
+            return Ok(du);
+        }
+    }
+    let elimination = how.prolongation();
     let k = match elimination {
         Some(p) => crate::constraints::triple_product(p, &k),
         None => k,
@@ -459,10 +490,10 @@ fn newton_step(
     if analysis.is_none() {
         *analysis = Some(CholeskyAnalysis::new(&k, increments, &DirectOptions::default())?);
     }
-    let solved = analysis.as_ref().expect("analysed").solve(&k, r, increments);
+    let solved = analysis.as_ref().expect("analysed").solve(&k, reduced, increments);
     let dy = match solved {
         Ok((dy, _)) => dy,
-        Err(SolveError::Singular) => crate::backend::sparse_lu(&k, r, increments)?,
+        Err(SolveError::Singular) => crate::backend::sparse_lu(&k, reduced, increments)?,
         Err(e) => return Err(e.into()),
     };
     Ok(match elimination {
@@ -498,17 +529,16 @@ pub fn solve_newton(
     start: &[f64],
     options: &NewtonOptions,
 ) -> Result<(Vec<f64>, NewtonReport), FiniteError> {
-    newton(&OneBody(mesh, law), None, (load, dirichlet), start, options)
+    newton(&OneBody(mesh, law), Constrained::Free, (load, dirichlet), start, options)
 }
 
 /// [`solve_newton`] for any [`Nonlinear`] system, with the linear
-/// constraints u = P y of `elimination` (glue: P = [I; −C_S⁻¹C_R] in the
-/// numbering of all dofs, `start` satisfying them, no prescribed dof
-/// eliminated): the residual is Pᵀ (load − f_int(u)) and each step
-/// Δu = P Δy.
+/// constraints `how` (glue: u = P y, P = [I; −C_S⁻¹C_R] in the numbering
+/// of all dofs, `start` satisfying them, no prescribed dof eliminated): the
+/// residual is Pᵀ (load − f_int(u)), and each step meets C Δu = 0.
 pub(crate) fn newton(
     system: &impl Nonlinear,
-    elimination: Option<&CsrMatrix>,
+    how: Constrained,
     (load, dirichlet): (&[f64], &Dirichlet),
     start: &[f64],
     options: &NewtonOptions,
@@ -522,16 +552,17 @@ pub(crate) fn newton(
         held[dof] = true;
         zero.fix_dof(dof, 0.0);
     }
-    // The residual on the free (retained) dofs and its norm.
-    let free_residual = |f: &[f64]| -> (Vec<f64>, f64) {
+    // The residual load − f_int, reduced to the free (retained) dofs, and
+    // the reduced one's norm.
+    let free_residual = |f: &[f64]| -> (Vec<f64>, Vec<f64>, f64) {
         let r: Vec<f64> = (0..n).map(|i| load[i] - f[i]).collect();
-        let mut reduced = match elimination {
+        let mut reduced = match how.prolongation() {
             Some(p) => p.transpose_mul_vec(&r, 1),
-            None => r,
+            None => r.clone(),
         };
         (0..n).filter(|&i| held[i]).for_each(|i| reduced[i] = 0.0);
         let norm = reduced.iter().map(|v| v * v).sum::<f64>().sqrt();
-        (reduced, norm)
+        (r, reduced, norm)
     };
     let norm2 = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     let mut analysis = None;
@@ -542,8 +573,8 @@ pub(crate) fn newton(
         for (dof, v) in dirichlet.iter() {
             remaining.fix_dof(dof, v - u[dof]);
         }
-        let du =
-            newton_step(system.tangent(&u)?, &free_residual(&f).0, &remaining, (elimination, &mut analysis))?;
+        let (r, reduced, _) = free_residual(&f);
+        let du = newton_step(system.tangent(&u)?, (&r, &reduced), &remaining, (how, &mut analysis))?;
         let mut step = 1.0;
         loop {
             let trial: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + step * d).collect();
@@ -566,19 +597,19 @@ pub(crate) fn newton(
     }
     // 2. Newton.
     let scale = norm2(load).max(norm2(&f));
-    let (mut r, mut norm) = free_residual(&f);
+    let (mut r, mut reduced, mut norm) = free_residual(&f);
     let mut report = NewtonReport::default();
     if norm <= options.rtol * scale {
         return Ok((u, report));
     }
     for iteration in 1..=options.max_iterations {
-        let du = newton_step(system.tangent(&u)?, &r, &zero, (elimination, &mut analysis))?;
+        let du = newton_step(system.tangent(&u)?, (&r, &reduced), &zero, (how, &mut analysis))?;
         let mut step = 1.0;
         loop {
             let trial: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + step * d).collect();
             match system.force(&trial).map(|f| free_residual(&f)) {
-                Ok((r_trial, n_trial)) if n_trial <= (1.0 - 1e-4 * step) * norm => {
-                    (u, r, norm) = (trial, r_trial, n_trial);
+                Ok((r_trial, reduced_trial, n_trial)) if n_trial <= (1.0 - 1e-4 * step) * norm => {
+                    (u, r, reduced, norm) = (trial, r_trial, reduced_trial, n_trial);
                     break;
                 }
                 Ok(_) | Err(FiniteError::Inverted { .. }) if step > MIN_STEP => step *= 0.5,

@@ -441,7 +441,8 @@ fn slab(
 
 /// Uniaxial stress to the stretch 1.5 along z over four load steps, in one
 /// body and across a non-matching glued interface (dual multipliers: Hex8
-/// under Tet4, Hex27 under Tet10 with its Tri6 slave faces raised), rollers
+/// under a coarser and a finer Tet4, the glue as a saddle point and
+/// eliminated; Hex27 under Tet10 with its Tri6 slave faces raised), rollers
 /// on x = 0, y = 0 and the bottom, the top pulled up: the homogeneous state
 /// diag(s, s, 1.5), s from σ_xx = 0, reproduced to 1e-10 in displacement,
 /// Cauchy stress and interface traction (σ_zz per reference area, s² σ_zz),
@@ -474,10 +475,11 @@ fn uniaxial_stress_over_load_steps_in_one_body_and_across_glue() {
             steps: LoadSteps::equal(4).unwrap(),
             ..Problem::default()
         };
-        let glued = |lower: (BlockKind, Option<bool>), upper: (BlockKind, Option<bool>)| Problem {
+        let glued = |lower: (BlockKind, Option<bool>, usize),
+                     upper: (BlockKind, Option<bool>, usize, usize)| Problem {
             bodies: vec![
-                slab("lower", (3, 2), 0.0, lower.0, lower.1, law),
-                slab("upper", (2, 2), 1.0, upper.0, upper.1, law),
+                slab("lower", (lower.2, 2), 0.0, lower.0, lower.1, law),
+                slab("upper", (upper.2, upper.3), 1.0, upper.0, upper.1, law),
             ],
             interfaces: vec![ProblemInterface {
                 master: id(0, 3),
@@ -497,12 +499,24 @@ fn uniaxial_stress_over_load_steps_in_one_body_and_across_glue() {
             steps: LoadSteps::equal(4).unwrap(),
             ..Problem::default()
         };
+        // The glue eliminated (a finer slave) or as a saddle point (a coarser
+        // slave, where the elimination fills in).
+        let (eliminated, saddle) = ("sparse Cholesky", "saddle-point LDLᵀ");
         let cases = [
-            ("one Tet10 body", one),
-            ("Hex8 | Tet4", glued((BlockKind::Hex, None), (BlockKind::Tet, None))),
-            ("Hex27 | Tet10", glued((BlockKind::Hex, Some(true)), (BlockKind::Tet, Some(false)))),
+            ("one Tet10 body", one, eliminated),
+            ("Hex8 | Tet4", glued((BlockKind::Hex, None, 3), (BlockKind::Tet, None, 2, 2)), saddle),
+            (
+                "Hex8 | finer Hex8",
+                glued((BlockKind::Hex, None, 2), (BlockKind::Hex, None, 4, 10)),
+                eliminated,
+            ),
+            (
+                "Hex27 | Tet10",
+                glued((BlockKind::Hex, Some(true), 3), (BlockKind::Tet, Some(false), 2, 2)),
+                saddle,
+            ),
         ];
-        for (label, problem) in cases {
+        for (label, problem, method) in cases {
             let steps: Vec<_> = solve_steps(&problem, &SolveOptions::default())
                 .collect::<Result<_, _>>()
                 .unwrap_or_else(|e| panic!("{law_name}, {label}: {e}"));
@@ -516,6 +530,7 @@ fn uniaxial_stress_over_load_steps_in_one_body_and_across_glue() {
                 );
             }
             let solution = &steps[3].1;
+            assert!(solution.report.method.contains(method), "{label}: {}", solution.report.method);
             // `solve` follows the same load path (finite deformation depends on it).
             let at_once = seam_fem::solve(&problem, &SolveOptions::default()).unwrap();
             assert_eq!(at_once.displacement, solution.displacement, "{law_name}, {label}");
