@@ -285,7 +285,12 @@ fn tet10_pole_follows_the_master_resolution() {
     assert!(fine.p0_error().abs() < 0.03, "master 4 cells: p0 error {:+.3e}", fine.p0_error());
 }
 
-/// The study behind the module doc's table of slave and master cells.
+/// The study behind the module doc's table of slave and master cells. It
+/// asserts what the table shows: with the slave fixed (3 and 5 cells),
+/// Tet10's |p₀ error| falls at every refinement of the master alone; a flat
+/// Tri6 slave under a 2× coarser master reads more than 5 % low; Hex27 is
+/// within 1 % on every row. (Ignored for its cost, about 9 minutes in
+/// release, not for a failure.)
 #[test]
 #[ignore = "a study: cargo test --release -p seam-fem --test main contact_hertz_second_order::tet10_mesh_ratio -- --ignored --nocapture"]
 fn tet10_mesh_ratio_study() {
@@ -302,6 +307,7 @@ fn tet10_mesh_ratio_study() {
         (false, 4, 4),
         (false, 4, 2),
     ];
+    let mut tet = Vec::new();
     for (curved_slave, slave, master) in rows {
         // The block has `fine_cells`, the indenter that times `master_ratio`.
         let (block, indenter) = if curved_slave { (master, slave) } else { (slave, master) };
@@ -315,8 +321,20 @@ fn tet10_mesh_ratio_study() {
                 format!("{cells:?}, curved slave {curved_slave}, slave {slave} cells, master {master} cells");
             let m = solve(&label, &p);
             println!("{label}: {} unknowns, p0 error {:+.2} %", m.dofs, 100.0 * m.p0_error());
+            match cells {
+                BlockKind::Tet => tet.push(m.p0_error()),
+                _ => assert!(m.p0_error().abs() < 0.01, "{label}: p0 error {:+.3e}", m.p0_error()),
+            }
         }
     }
+    // Rows 0–2: slave 3, master 2, 3, 4; rows 3–5: slave 5, master 4, 6, 8.
+    for fixed in [&tet[0..3], &tet[3..6]] {
+        assert!(
+            fixed.windows(2).all(|w| w[1].abs() < w[0].abs()),
+            "|p0 error| falls with the master: {fixed:?}"
+        );
+    }
+    assert!(tet[10] < -0.05, "a flat slave under a 2x coarser master: {:+.3e}", tet[10]);
 }
 
 /// The study behind the table of the module doc.
