@@ -340,6 +340,17 @@ pub enum FiniteError {
     },
 }
 
+impl FiniteError {
+    /// Whether this is an inverted cell (of some body).
+    pub fn is_inversion(&self) -> bool {
+        match self {
+            FiniteError::Inverted { .. } => true,
+            FiniteError::Body { source, .. } => source.is_inversion(),
+            _ => false,
+        }
+    }
+}
+
 /// A failed cell evaluation: [`FiniteError::Inverted`] if the cell is sound
 /// in the reference configuration, else the assembly error.
 fn failure(mesh: &VolumeMesh, e: AssemblyError) -> FiniteError {
@@ -583,7 +594,7 @@ pub(crate) fn newton(
                     (u, f) = (trial, next);
                     break;
                 }
-                Err(FiniteError::Inverted { .. }) if step > MIN_STEP => step *= 0.5,
+                Err(e) if e.is_inversion() && step > MIN_STEP => step *= 0.5,
                 Err(e) => return Err(e),
             }
         }
@@ -612,8 +623,10 @@ pub(crate) fn newton(
                     (u, r, reduced, norm) = (trial, r_trial, reduced_trial, n_trial);
                     break;
                 }
-                Ok(_) | Err(FiniteError::Inverted { .. }) if step > MIN_STEP => step *= 0.5,
-                Ok(_) | Err(FiniteError::Inverted { .. }) => {
+                Ok(_) if step > MIN_STEP => step *= 0.5,
+                Err(e) if e.is_inversion() && step > MIN_STEP => step *= 0.5,
+                Ok(_) => return Err(FiniteError::LineSearch { iteration, residual: norm / scale }),
+                Err(e) if e.is_inversion() => {
                     return Err(FiniteError::LineSearch { iteration, residual: norm / scale });
                 }
                 Err(e) => return Err(e),

@@ -386,9 +386,8 @@ pub struct Steps<'a> {
     next: usize,
     /// What friction carries from one step to the next.
     state: crate::contact::friction::FrictionState,
-    /// Finite deformation: the last step's displacements (all bodies' dofs
-    /// in turn; empty before the first step).
-    finite: Vec<f64>,
+    /// Finite deformation: the last step's displacements and pressures.
+    finite: crate::finite::FiniteState,
 }
 
 impl<'a> Steps<'a> {
@@ -399,7 +398,7 @@ impl<'a> Steps<'a> {
             options,
             next: 0,
             state: Default::default(),
-            finite: Vec::new(),
+            finite: Default::default(),
         }
     }
 

@@ -11,6 +11,7 @@ mod contact_hertz_second_order;
 mod contact_second_order;
 mod convergence;
 mod element;
+mod finite_contact;
 mod friction;
 mod glue;
 mod glue_convergence;

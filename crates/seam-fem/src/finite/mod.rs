@@ -12,15 +12,27 @@
 //! displacements. The multipliers are read off the slave rows,
 //! λ = C_S⁻ᵀ (f − f_int(u))_S: the interface traction per reference area.
 
+mod contact;
+
 use crate::constraints::{Constraints, NONE};
 use crate::hyperelastic::{
     cauchy_stresses, internal_force, newton, tangent, Constrained, FiniteError, Hyperelastic, Nonlinear,
 };
 use crate::multibody::{assemble_system, check_input, Body, Coupling, Interface, ProblemError, Timings};
-use crate::solution::{Report, Solution, SolveOptions};
+use crate::solution::{ContactReport, Report, Solution, SolveOptions};
 use crate::Solver;
 use seam::{CsrMatrix, VolumeMesh};
 use std::time::Instant;
+
+/// What finite deformation carries from one load step to the next.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FiniteState {
+    /// The displacements (all bodies' dofs in turn; empty before the first
+    /// step).
+    pub(crate) u: Vec<f64>,
+    /// The contact pressures ([`contact::Pressures`]).
+    pressures: contact::Pressures,
+}
 
 /// The bodies side by side, each of its law, dofs at `offsets`.
 struct Bodies<'a> {
@@ -154,12 +166,13 @@ fn multipliers(constraints: &Constraints, f: &[f64], f_int: &[f64]) -> Vec<f64> 
     lambda
 }
 
-/// Solves the glued hyperelastic `bodies` (`laws[b]` the law of body b)
-/// from the displacements `u` (all bodies' dofs in turn; empty: at rest),
-/// which it replaces by the solution's (module doc).
+/// Solves the hyperelastic `bodies` (`laws[b]` the law of body b), glued
+/// and in frictionless contact, from the last step's `state` (displacements
+/// and pressures; empty: at rest), which it replaces by the solution's
+/// (module doc; contact: [`contact`]).
 ///
 /// # Errors
-/// [`ProblemError::Finite`] for what this path does not solve (contact,
+/// [`ProblemError::Finite`] for what this path does not solve (friction,
 /// standard multipliers on a glued interface, other solvers than the
 /// direct one) and for Newton's failures; the assembly's errors.
 pub(crate) fn solve_finite_from(
@@ -167,12 +180,13 @@ pub(crate) fn solve_finite_from(
     laws: &[Hyperelastic],
     interfaces: &[Interface],
     options: &SolveOptions,
-    u: &mut Vec<f64>,
+    state: &mut FiniteState,
 ) -> Result<Solution, ProblemError> {
     check_input(bodies, interfaces)?;
-    if let Some(i) = interfaces.iter().position(|f| f.kind == Coupling::Contact) {
+    crate::contact::check_couplings(interfaces)?;
+    if let Some(i) = interfaces.iter().position(|f| f.kind == Coupling::Contact && f.friction > 0.0) {
         let what = format!(
-            "interface {i}: contact in finite deformation (hyperelastic bodies) is not supported yet"
+            "interface {i}: Coulomb friction in finite deformation (hyperelastic bodies) is not supported yet"
         );
         return Err(ProblemError::Finite { what });
     }
@@ -199,45 +213,78 @@ pub(crate) fn solve_finite_from(
             }
         },
     };
-    seconds.setup += clock.elapsed().as_secs_f64();
     let n = *system.offsets.last().expect("the leading zero");
+    let u = &mut state.u;
     if u.len() != n {
         *u = vec![0.0; n];
     }
     let nonlinear =
         Bodies { meshes: bodies.iter().map(|b| b.mesh).collect(), laws, offsets: &system.offsets };
+    let contact_interfaces: Vec<(usize, &Interface)> =
+        interfaces.iter().enumerate().filter(|(_, f)| f.kind == Coupling::Contact).collect();
+    let points: Vec<&[seam::Point3]> = bodies.iter().map(|b| b.mesh.points()).collect();
+    let young = bodies.iter().map(|b| b.material.young()).fold(0.0, f64::max);
+    let contact = contact::Contact::new(&contact_interfaces, &system.offsets, &points, young);
+    if state.pressures.len() != contact_interfaces.len() {
+        state.pressures = contact_interfaces.iter().map(|(_, f)| vec![0.0; points[f.slave].len()]).collect();
+    }
+    seconds.setup += clock.elapsed().as_secs_f64();
     let clock = Instant::now();
-    // The saddle point where the elimination would fill in (as for small strain).
-    let how = match &elimination {
-        None => Constrained::Free,
-        Some(p) => {
-            let k = nonlinear.tangent(u).map_err(|source| ProblemError::Newton { source })?;
-            match constraints.elimination_fills_in(&k) {
-                true => Constrained::Saddle(p, &constraints),
-                false => Constrained::Eliminated(p),
-            }
+    let (method, newton_report, f_int, solved) = match contact.is_empty() {
+        true => {
+            // The saddle point where the elimination would fill in (as for small strain).
+            let how = match &elimination {
+                None => Constrained::Free,
+                Some(p) => {
+                    let k = nonlinear.tangent(u).map_err(|source| ProblemError::Newton { source })?;
+                    match constraints.elimination_fills_in(&k) {
+                        true => Constrained::Saddle(p, &constraints),
+                        false => Constrained::Eliminated(p),
+                    }
+                }
+            };
+            let method = match how {
+                Constrained::Saddle(..) => "Newton with line search, saddle-point LDLᵀ",
+                _ => "Newton with line search, sparse Cholesky (sparse LU where the tangent is indefinite)",
+            };
+            let solved = newton(&nonlinear, how, (&system.f, &system.dirichlet), u, &options.newton);
+            let (next, report) = solved.map_err(|source| ProblemError::Newton { source })?;
+            *u = next;
+            let f_int = nonlinear.force(u).map_err(|source| ProblemError::Newton { source })?;
+            (method, report, f_int, None)
+        }
+        false => {
+            let held = {
+                let mut held = vec![false; n];
+                system.dirichlet.iter().for_each(|(d, _)| held[d] = true);
+                held
+            };
+            let newton =
+                contact::Newton { bodies: &nonlinear, load: &system.f, p: elimination.as_ref(), held };
+            let solved =
+                contact.solve(&newton, &system.dirichlet, (u, &mut state.pressures), &options.newton)?;
+            let method = "semi-smooth Newton on the current configuration, sparse LU";
+            (method, solved.report.clone(), solved.internal.clone(), Some(solved))
         }
     };
-    let method = match how {
-        Constrained::Saddle(..) => "Newton with line search, saddle-point LDLᵀ",
-        _ => "Newton with line search, sparse Cholesky (sparse LU where the tangent is indefinite)",
-    };
-    let solved = newton(&nonlinear, how, (&system.f, &system.dirichlet), u, &options.newton);
-    let (next, newton_report) = solved.map_err(|source| ProblemError::Newton { source })?;
-    *u = next;
     seconds.solve = clock.elapsed().as_secs_f64();
 
     // λ from the slave rows: C_Sᵀ λ = (f − f_int(u))_S, by back
     // substitution (the rows' order: a row's other eliminated dofs are
     // eliminated by later rows, or it is a tie).
-    let f_int = nonlinear.force(u).map_err(|source| ProblemError::Newton { source })?;
     let lambda = multipliers(&constraints, &system.f, &f_int);
     let offsets = &system.offsets;
     let displacement: Vec<Vec<f64>> =
         (0..bodies.len()).map(|b| u[offsets[b]..offsets[b + 1]].to_vec()).collect();
     let clock = Instant::now();
+    let mut fields = Ok(());
     let out =
-        crate::coupled::interface_solutions(system.mortars, interfaces, (&constraints, &lambda), |_| {});
+        crate::coupled::interface_solutions(system.mortars, interfaces, (&constraints, &lambda), |out| {
+            if let Some(solved) = &solved {
+                fields = contact.fields(solved, &state.pressures, out);
+            }
+        });
+    fields?;
     let stresses = (0..bodies.len())
         .map(|b| {
             cauchy_stresses(bodies[b].mesh, &laws[b], &displacement[b]).map_err(|e| ProblemError::Newton {
@@ -247,13 +294,22 @@ pub(crate) fn solve_finite_from(
         .collect::<Result<Vec<_>, _>>()?;
     seconds.stresses = clock.elapsed().as_secs_f64();
     let used = |b: &Body| b.mesh.used_points().into_iter().filter(|&u| u).count();
+    let contact_report = solved.as_ref().map(|s| {
+        let points = out.iter().filter_map(|o| o.contact.as_ref());
+        ContactReport {
+            contact_points: points.clone().map(|c| c.contact.iter().filter(|&&c| c).count()).sum(),
+            active: points.map(|c| c.active.iter().filter(|&&a| a).count()).sum(),
+            steps: Vec::new(),
+            kkt: s.kkt,
+        }
+    });
     let report = Report {
         dofs: bodies.iter().map(|b| 3 * used(b)).sum(),
         constraints: constraints.rows.len(),
         method,
         iterations: newton_report.residuals.len(),
         residual: newton_report.residuals.last().copied().unwrap_or(0.0),
-        contact: None,
+        contact: contact_report,
         petsc: None,
         newton: Some(newton_report),
         seconds,
