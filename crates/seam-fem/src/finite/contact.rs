@@ -477,6 +477,28 @@ impl<'a> Contact<'a> {
         Ok(State { currents, force, residual, active, norm: (r2 + phi2).sqrt(), scale })
     }
 
+    /// Newton's matrix at `state` in all dofs, K(u) − Σ_p λ_p ∂ĝ_p/∂u, and
+    /// ∇g̃_p (per pair and local slave point) at the points `wanted`.
+    #[allow(clippy::type_complexity)]
+    fn jacobian(
+        &self,
+        system: &Newton,
+        (u, lambda): (&[f64], &Pressures),
+        state: &State,
+        wanted: &[Vec<bool>],
+    ) -> Result<(CsrMatrix, Vec<Vec<Vec<(usize, f64)>>>), ProblemError> {
+        let mut triplets = Vec::new();
+        let mut gradients = Vec::with_capacity(self.pairs.len());
+        for ((pair, current), (lambda, wanted)) in self.pairs.iter().zip(&state.currents).zip(lambda.iter().zip(wanted))
+        {
+            let local: Vec<f64> = pair.slave.points.iter().map(|&q| lambda[q]).collect();
+            let (xs, xm) = pair.positions(u);
+            gradients.push(pair.linearise((&xs, &xm), current, (&local, wanted), &mut triplets)?);
+        }
+        let k = system.bodies.tangent(u).map_err(|source| ProblemError::Newton { source })?;
+        Ok((added(&k, triplets), gradients))
+    }
+
     /// One semi-smooth Newton step at `state`: (Δu, Δλ per pair and local
     /// slave point), the prescribed dofs moved by `remaining`.
     fn step(
@@ -486,20 +508,8 @@ impl<'a> Contact<'a> {
         state: &State,
         remaining: &[(usize, f64)],
     ) -> Result<(Vec<f64>, Vec<Vec<f64>>), ProblemError> {
-        let newton_error = |source: FiniteError| ProblemError::Newton { source };
         let n = u.len();
-        // K(u) − Σ λ_p ∂ĝ_p/∂u and ∇g̃_p on A.
-        let mut triplets = Vec::new();
-        let mut gradients = Vec::with_capacity(self.pairs.len());
-        for ((pair, current), (lambda, active)) in
-            self.pairs.iter().zip(&state.currents).zip(lambda.iter().zip(&state.active))
-        {
-            let local: Vec<f64> = pair.slave.points.iter().map(|&q| lambda[q]).collect();
-            let (xs, xm) = pair.positions(u);
-            gradients.push(pair.linearise((&xs, &xm), current, (&local, active), &mut triplets)?);
-        }
-        let k = system.bodies.tangent(u).map_err(newton_error)?;
-        let k = added(&k, triplets);
+        let (k, gradients) = self.jacobian(system, (u, lambda), state, &state.active)?;
         let a = match system.p {
             Some(p) => triple_product(p, &k),
             None => k,
@@ -572,7 +582,7 @@ impl<'a> Contact<'a> {
             matrix.nrows += 1;
         }
         let x = crate::backend::sparse_lu(&matrix, &rhs, &Dirichlet::new())
-            .map_err(|e| newton_error(FiniteError::Solve(e)))?;
+            .map_err(|e| ProblemError::Newton { source: FiniteError::Solve(e) })?;
         let mut dy = shift;
         for (k, &i) in free.iter().enumerate() {
             dy[i] = x[k];
@@ -786,4 +796,118 @@ fn added(k: &CsrMatrix, mut triplets: Vec<(usize, usize, f64)>) -> CsrMatrix {
         out.nrows += 1;
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generate::{block, raise_order, BlockKind, Grid, Side as GridSide};
+    use crate::hyperelastic::Hyperelastic;
+    use crate::material::Material;
+    use crate::multibody::Coupling;
+    use seam::VolumeMesh;
+
+    /// A small deterministic generator in [0, 1).
+    fn random(seed: &mut u64) -> f64 {
+        *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Newton's matrix against central differences of the residual, on two
+    /// warped, partly overlapping bodies in sliding contact with pressures on
+    /// every covered point: the contact part −Σ λ_p ∂ĝ_p/∂u column by column
+    /// and ∇g̃_p entry by entry to 1e-6 of their largest entries, first order
+    /// (Hex8 | Tet4) and second order (Hex20 | Tet10, transformed Tri6 slave
+    /// basis), dual and lumped multipliers.
+    #[test]
+    fn newton_matrix_is_the_derivative_of_the_residual() {
+        let material = Material::new(1000.0, 0.3).unwrap();
+        let law = Hyperelastic::neo_hookean(&material);
+        let cases = [
+            ("Hex8 | Tet4, dual", None, seam::Multiplier::Dual),
+            ("Hex20 | Tet10, dual", Some(false), seam::Multiplier::Dual),
+            ("Hex8 | Tet4, lumped", None, seam::Multiplier::Lumped),
+        ];
+        for (label, raise, multiplier) in cases {
+            let raised = |m: VolumeMesh| match raise {
+                Some(complete) => raise_order(&m, complete).unwrap(),
+                None => m,
+            };
+            let lower = raised(block(3, 3, 1, |x, y, z| [x, y, z * (1.0 + 0.1 * x * (1.0 - y))], BlockKind::Hex));
+            let upper = raised(block(
+                2,
+                2,
+                1,
+                |x, y, z| [0.35 + 0.9 * x, 0.2 + 0.8 * y, 0.97 + 0.1 * x * (1.0 - y) + 0.5 * z],
+                BlockKind::Tet,
+            ));
+            let top = Grid::new(3, 3, 1).side_faces(&lower, GridSide::ZMax).unwrap();
+            let bottom = Grid::new(2, 2, 1).side_faces(&upper, GridSide::ZMin).unwrap();
+            let interface = Interface {
+                master: 0,
+                master_surface: &top,
+                slave: 1,
+                slave_surface: &bottom,
+                options: MortarOptions { multiplier, ..Default::default() },
+                kind: Coupling::Contact,
+                friction: 0.0,
+            };
+            let offsets = [0, 3 * lower.points().len(), 3 * (lower.points().len() + upper.points().len())];
+            let n = offsets[2];
+            let laws = [law, law];
+            let nonlinear = Bodies { meshes: vec![&lower, &upper], laws: &laws, offsets: &offsets };
+            let points = [lower.points(), upper.points()];
+            let contact = Contact::new(&[(0, &interface)], &offsets, &points, material.young());
+            let load = vec![0.0; n];
+            let system = Newton { bodies: &nonlinear, load: &load, p: None, held: vec![false; n] };
+            let mut seed = 7;
+            let u: Vec<f64> = (0..n).map(|_| 0.02 * (random(&mut seed) - 0.5)).collect();
+            let zero: Pressures = vec![vec![0.0; upper.points().len()]];
+            let state = contact.state(&system, &u, &zero).unwrap();
+            let (pair, current) = (&contact.pairs[0], &state.currents[0]);
+            let covered: Vec<bool> = (0..pair.slave.points.len()).map(|p| current.covered(p)).collect();
+            assert!(covered.iter().filter(|&&c| c).count() >= 4, "{label}");
+            let mut lambda = zero.clone();
+            for (_, &q) in pair.slave.points.iter().enumerate().filter(|(p, _)| covered[*p]) {
+                lambda[0][q] = 50.0 * (0.5 + random(&mut seed));
+            }
+            let state = contact.state(&system, &u, &lambda).unwrap();
+            let (k, gradients) = contact.jacobian(&system, (&u, &lambda), &state, &[covered.clone()]).unwrap();
+            let k_bodies = nonlinear.tangent(&u).unwrap();
+            // The dofs of both surfaces' points.
+            let dofs: Vec<usize> = (0..pair.slave.points.len())
+                .flat_map(|l| (0..3).map(move |c| (true, l, c)))
+                .chain((0..pair.master.points.len()).flat_map(|l| (0..3).map(move |c| (false, l, c))))
+                .map(|(slave, l, c)| if slave { pair.slave.dof(l, c) } else { pair.master.dof(l, c) })
+                .collect();
+            let h = 1e-5 * mean_diameter(&pair.slave.faces, &pair.slave.at(points[1]));
+            let (mut largest, mut worst, mut g_largest, mut g_worst) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+            for &j in &dofs {
+                let at = |s: f64| {
+                    let mut v = u.clone();
+                    v[j] += s;
+                    let state = contact.state(&system, &v, &lambda).unwrap();
+                    // R − (f_int − f): the contact terms −Σ λ_p ĝ_p.
+                    let terms: Vec<f64> = state.residual.iter().zip(&state.force).map(|(r, f)| r - f).collect();
+                    (terms, state.currents[0].gaps.clone())
+                };
+                let ((tp, gp), (tm, gm)) = (at(h), at(-h));
+                for i in 0..n {
+                    let exact = k.get(i, j) - k_bodies.get(i, j);
+                    let fd = (tp[i] - tm[i]) / (2.0 * h);
+                    largest = largest.max(exact.abs());
+                    worst = worst.max((exact - fd).abs());
+                }
+                for p in (0..covered.len()).filter(|&p| covered[p]) {
+                    let exact = gradients[0][p].iter().filter(|e| e.0 == j).map(|e| e.1).sum::<f64>();
+                    let fd = (gp[p] - gm[p]) / (2.0 * h);
+                    g_largest = g_largest.max(exact.abs());
+                    g_worst = g_worst.max((exact - fd).abs());
+                }
+            }
+            println!("{label}: contact stiffness {worst:.2e} of {largest:.2e}, gap gradients {g_worst:.2e} of {g_largest:.2e}");
+            assert!(largest > 0.0 && worst <= 1e-6 * largest, "{label}: {worst:e} of {largest:e}");
+            assert!(g_largest > 0.0 && g_worst <= 1e-6 * g_largest, "{label}: {g_worst:e} of {g_largest:e}");
+        }
+    }
 }
