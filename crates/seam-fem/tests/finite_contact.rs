@@ -112,3 +112,86 @@ fn contact_patch_test_under_20_percent_compression() {
         }
     }
 }
+
+/// Large sliding: a Tet4 block (1 × 1 × 0.5, 4 × 4 × 2 cells) pressed by
+/// 0.05 onto a rigid Hex8 base (4 × 1.5 × 0.5, 16 × 6 × 2 cells, every point
+/// held, so that its surface stays flat) over the first 10 % of
+/// the pseudo-time, then dragged along it by twice its length (its top
+/// held); the pairs change at every one of 21 load steps. Frictionless, the
+/// contact force is normal, F_x = F_y = 0 to 1e-8 of F_z at every step, the
+/// block carries its press, and at convergence no point is between active
+/// and inactive: active points have zero gap and positive pressure, the
+/// others zero pressure and an open gap.
+#[test]
+fn a_block_dragged_twice_its_length_slides_without_tangential_force() {
+    use seam::MortarOptions;
+    use seam_fem::generate::{block, Grid, Side};
+    use seam_fem::{Amplitude, ProblemBody};
+    let surfaces = |mesh: &seam::VolumeMesh, grid: Grid| {
+        [Side::ZMin, Side::ZMax]
+            .map(|side| (format!("{side:?}"), grid.side_faces(mesh, side).unwrap()))
+            .to_vec()
+    };
+    let base = block(16, 6, 2, |x, y, z| [4.0 * x - 0.5, 1.5 * y - 0.25, 0.5 * z], BlockKind::Hex);
+    let slider = block(4, 4, 2, |x, y, z| [x, y, 0.5 + 0.5 * z], BlockKind::Tet);
+    let law = Law::NeoHookean;
+    let bodies = vec![
+        ProblemBody {
+            law,
+            ..ProblemBody::new("base", base.clone(), material(), surfaces(&base, Grid::new(16, 6, 2)))
+        },
+        ProblemBody {
+            law,
+            ..ProblemBody::new("slider", slider.clone(), material(), surfaces(&slider, Grid::new(4, 4, 2)))
+        },
+    ];
+    let press = Amplitude::new(vec![[0.0, 0.0], [0.1, 1.0], [1.0, 1.0]]).unwrap();
+    let drag = Amplitude::new(vec![[0.0, 0.0], [0.1, 0.0], [1.0, 1.0]]).unwrap();
+    let top = |values, amplitude| Support { amplitude, ..Support::new(id(1, 1), values) };
+    let problem = Problem {
+        bodies,
+        interfaces: vec![ProblemInterface {
+            master: id(0, 1),
+            slave: id(1, 0),
+            options: MortarOptions { multiplier: seam::Multiplier::Dual, ..Default::default() },
+            kind: Coupling::Contact,
+            friction: 0.0,
+        }],
+        supports: vec![
+            Support::new(id(0, 0), [Some(0.0); 3]),
+            Support::new(id(0, 1), [Some(0.0); 3]),
+            top([None, None, Some(-0.05)], press),
+            top([Some(2.0), Some(0.0), None], drag),
+        ],
+        steps: LoadSteps::equal(21).unwrap(),
+        ..Problem::default()
+    };
+    let steps = solve_all(&problem);
+    let mut iterations = 0;
+    for (t, step) in &steps {
+        let i = &step.interfaces[0];
+        let c = i.contact.as_ref().unwrap();
+        let f = i.force;
+        let newton = step.report.newton.as_ref().unwrap();
+        iterations += newton.residuals.len();
+        println!(
+            "t = {t:.3}: F = {f:?}, {} active, residuals {:?}",
+            step.report.contact.as_ref().unwrap().active,
+            newton.residuals
+        );
+        assert!(f[2] > 0.0, "t = {t}: the master pushes the slave up: {f:?}");
+        assert!(f[0].abs() <= 1e-8 * f[2].abs() && f[1].abs() <= 1e-8 * f[2].abs(), "t = {t}: {f:?}");
+        let largest = c.pressure.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
+        for p in (0..c.contact.len()).filter(|&p| c.contact[p]) {
+            match c.active[p] {
+                true => assert!(c.pressure[p] > 0.0 && c.gap[p].abs() <= 1e-9, "t = {t}, point {p}"),
+                false => assert!(c.pressure[p] == 0.0 && c.gap[p] >= -1e-9, "t = {t}, point {p}"),
+            }
+        }
+        assert!(largest > 0.0);
+    }
+    // The block reached x + 2.
+    let u = &steps.last().unwrap().1.displacement[1];
+    assert!((u[0] - 2.0).abs() < 0.05, "{}", u[0]);
+    println!("{iterations} Newton iterations over {} steps", steps.len());
+}

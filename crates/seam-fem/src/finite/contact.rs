@@ -489,7 +489,8 @@ impl<'a> Contact<'a> {
     ) -> Result<(CsrMatrix, Vec<Vec<Vec<(usize, f64)>>>), ProblemError> {
         let mut triplets = Vec::new();
         let mut gradients = Vec::with_capacity(self.pairs.len());
-        for ((pair, current), (lambda, wanted)) in self.pairs.iter().zip(&state.currents).zip(lambda.iter().zip(wanted))
+        for ((pair, current), (lambda, wanted)) in
+            self.pairs.iter().zip(&state.currents).zip(lambda.iter().zip(wanted))
         {
             let local: Vec<f64> = pair.slave.points.iter().map(|&q| lambda[q]).collect();
             let (xs, xm) = pair.positions(u);
@@ -833,7 +834,8 @@ mod tests {
                 Some(complete) => raise_order(&m, complete).unwrap(),
                 None => m,
             };
-            let lower = raised(block(3, 3, 1, |x, y, z| [x, y, z * (1.0 + 0.1 * x * (1.0 - y))], BlockKind::Hex));
+            let lower =
+                raised(block(3, 3, 1, |x, y, z| [x, y, z * (1.0 + 0.1 * x * (1.0 - y))], BlockKind::Hex));
             let upper = raised(block(
                 2,
                 2,
@@ -872,7 +874,8 @@ mod tests {
                 lambda[0][q] = 50.0 * (0.5 + random(&mut seed));
             }
             let state = contact.state(&system, &u, &lambda).unwrap();
-            let (k, gradients) = contact.jacobian(&system, (&u, &lambda), &state, &[covered.clone()]).unwrap();
+            let (k, gradients) =
+                contact.jacobian(&system, (&u, &lambda), &state, &[covered.clone()]).unwrap();
             let k_bodies = nonlinear.tangent(&u).unwrap();
             // The dofs of both surfaces' points.
             let dofs: Vec<usize> = (0..pair.slave.points.len())
@@ -888,7 +891,8 @@ mod tests {
                     v[j] += s;
                     let state = contact.state(&system, &v, &lambda).unwrap();
                     // R − (f_int − f): the contact terms −Σ λ_p ĝ_p.
-                    let terms: Vec<f64> = state.residual.iter().zip(&state.force).map(|(r, f)| r - f).collect();
+                    let terms: Vec<f64> =
+                        state.residual.iter().zip(&state.force).map(|(r, f)| r - f).collect();
                     (terms, state.currents[0].gaps.clone())
                 };
                 let ((tp, gp), (tm, gm)) = (at(h), at(-h));
