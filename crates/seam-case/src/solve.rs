@@ -268,12 +268,13 @@ impl LoadStepSummary {
         let r = &solution.report;
         let petsc = r.petsc.as_ref().map_or(0, |p| p.solves.iter().map(|s| s.iterations).sum());
         let (residuals, active, linear_iterations) = match &r.contact {
+            // Finite deformation: Newton's iterations, with or without contact.
+            c if let Some(n) = &r.newton => (n.residuals.clone(), c.as_ref().map_or(0, |c| c.active), 0),
             Some(c) => (
                 c.steps.iter().map(|s| s.residual).collect(),
                 c.active,
                 c.steps.iter().map(|s| s.linear_iterations).sum::<usize>(),
             ),
-            None if let Some(n) = &r.newton => (n.residuals.clone(), 0, 0),
             None => {
                 let linear = match solver {
                     LinearSolver::Direct => 0,

@@ -29,6 +29,17 @@ fn stack(
     press: f64,
     steps: usize,
 ) -> Problem {
+    stacked(Coupling::Contact, law, (lower, upper), press, steps)
+}
+
+/// [`stack`] with the blocks coupled by `kind`.
+fn stacked(
+    kind: Coupling,
+    law: Law,
+    (lower, upper): ((BlockKind, usize), (BlockKind, usize)),
+    press: f64,
+    steps: usize,
+) -> Problem {
     Problem {
         bodies: vec![
             slab("lower", (lower.1, 2), 0.0, lower.0, None, law),
@@ -38,7 +49,7 @@ fn stack(
             master: id(0, 3),
             slave: id(1, 2),
             options: seam::MortarOptions { multiplier: seam::Multiplier::Dual, ..Default::default() },
-            kind: Coupling::Contact,
+            kind,
             friction: 0.0,
         }],
         supports: vec![
@@ -194,4 +205,40 @@ fn a_block_dragged_twice_its_length_slides_without_tangential_force() {
     let u = &steps.last().unwrap().1.displacement[1];
     assert!((u[0] - 2.0).abs() < 0.05, "{}", u[0]);
     println!("{iterations} Newton iterations over {} steps", steps.len());
+}
+
+/// The order of convergence from the last three residuals r₁, r₂, r₃
+/// above round-off (10⁻¹⁴), log(r₃/r₂) / log(r₂/r₁); `None` with fewer.
+fn order(residuals: &[f64]) -> Option<f64> {
+    let above: Vec<f64> = residuals.iter().copied().filter(|&r| r > 1e-14).collect();
+    let [r1, r2, r3] = above.get(above.len().checked_sub(3)?..)? else { unreachable!() };
+    Some((r3 / r2).ln() / (r2 / r1).ln())
+}
+
+/// Newton's last iterations converge at order ≥ 1.8 (measured from the
+/// residuals of every step that takes three or more) in glue and in
+/// frictionless contact with its active set settled (the steps after the
+/// first, where the whole interface is already in contact): the
+/// linearisation is consistent.
+#[test]
+fn newton_converges_quadratically_in_glue_and_contact() {
+    // Glue in one step of 40 % (Newton's predictor leaves smaller steps two
+    // iterations above round-off), contact in four of 5 %, the first of
+    // which settles the active set.
+    let cases = [("glue", Coupling::Glue, 0.8, 1, 0), ("contact", Coupling::Contact, 0.4, 4, 1)];
+    for (label, kind, press, n, skip) in cases {
+        let problem = stacked(kind, Law::NeoHookean, ((BlockKind::Hex, 3), (BlockKind::Tet, 2)), press, n);
+        let steps = solve_all(&problem);
+        let mut measured = 0;
+        for (t, step) in steps.iter().skip(skip) {
+            let residuals = &step.report.newton.as_ref().unwrap().residuals;
+            println!("{label}, t = {t}: {residuals:?}");
+            if let Some(q) = order(residuals) {
+                println!("{label}, t = {t}: order {q:.2}");
+                assert!(q >= 1.8, "{label}, t = {t}: order {q} from {residuals:?}");
+                measured += 1;
+            }
+        }
+        assert_eq!(measured, n - skip, "{label}: a step took fewer than three iterations above round-off");
+    }
 }
