@@ -242,3 +242,64 @@ fn newton_converges_quadratically_in_glue_and_contact() {
         assert_eq!(measured, n - skip, "{label}: a step took fewer than three iterations above round-off");
     }
 }
+
+/// Small loads: a Tet4 punch (0.6 × 0.6 × 0.5, its top clamped and pressed
+/// by 10⁻⁶) on a deformable Hex8 base, a non-homogeneous contact, gives the
+/// small-strain contact's displacements (`Law::Linear`, the reference
+/// configuration's gaps and normals) to 1e-5 of the largest, for both
+/// laws: the finite-deformation contact linearises to today's.
+#[test]
+fn a_small_load_gives_the_small_strain_contact() {
+    use seam_fem::generate::{block, Grid, Side};
+    use seam_fem::ProblemBody;
+    let surfaces = |mesh: &seam::VolumeMesh, grid: Grid| {
+        [Side::ZMin, Side::ZMax]
+            .map(|side| (format!("{side:?}"), grid.side_faces(mesh, side).unwrap()))
+            .to_vec()
+    };
+    let base = block(4, 4, 2, |x, y, z| [x, y, 0.5 * z], BlockKind::Hex);
+    let punch = block(3, 3, 2, |x, y, z| [0.2 + 0.6 * x, 0.2 + 0.6 * y, 0.5 + 0.5 * z], BlockKind::Tet);
+    let problem = |law| Problem {
+        bodies: vec![
+            ProblemBody {
+                law,
+                ..ProblemBody::new("base", base.clone(), material(), surfaces(&base, Grid::new(4, 4, 2)))
+            },
+            ProblemBody {
+                law,
+                ..ProblemBody::new("punch", punch.clone(), material(), surfaces(&punch, Grid::new(3, 3, 2)))
+            },
+        ],
+        interfaces: vec![ProblemInterface {
+            master: id(0, 1),
+            slave: id(1, 0),
+            options: seam::MortarOptions { multiplier: seam::Multiplier::Dual, ..Default::default() },
+            kind: Coupling::Contact,
+            friction: 0.0,
+        }],
+        supports: vec![
+            Support::new(id(0, 0), [Some(0.0); 3]),
+            Support::new(id(1, 1), [Some(0.0), Some(0.0), Some(-1e-6)]),
+        ],
+        ..Problem::default()
+    };
+    let linear = seam_fem::solve(&problem(Law::Linear), &SolveOptions::default()).unwrap();
+    for law in [Law::NeoHookean, Law::SaintVenantKirchhoff] {
+        let finite = seam_fem::solve(&problem(law), &SolveOptions::default()).unwrap();
+        let largest = linear.displacement.iter().flatten().fold(0.0f64, |a, &b| a.max(b.abs()));
+        let worst = linear
+            .displacement
+            .iter()
+            .flatten()
+            .zip(finite.displacement.iter().flatten())
+            .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+        println!("{law:?}: {worst:.2e} of {largest:.2e}");
+        assert!(worst <= 1e-5 * largest, "{law:?}: {worst:e} of {largest:e}");
+        let (l, f) = (
+            &linear.interfaces[0].contact.as_ref().unwrap(),
+            &finite.interfaces[0].contact.as_ref().unwrap(),
+        );
+        let active = |c: &seam_fem::ContactFields| c.active.clone();
+        assert_eq!(active(l), active(f), "{law:?}: the same active set");
+    }
+}

@@ -150,6 +150,23 @@ impl Current {
         self.mortar.as_ref().map_or(0.0, |m| m.d.get(p, p))
     }
 
+    /// Σ_k |B_pk| |x_m,k| + Σ_r |N_pr| |x_s,r| at the current positions of
+    /// all bodies' dofs `u` (the size of the terms of g̃_p).
+    fn magnitude(&self, p: usize, pair: &Pair, u: &[f64]) -> f64 {
+        let size = |side: &Side, x0: &[Point3], l: usize| {
+            let q = side.points[l];
+            let at = side.offset + 3 * q;
+            norm(std::array::from_fn(|c| x0[q][c] + u[at + c]))
+        };
+        let (cols, vals) = self.nodal_d.row(p);
+        let slave: f64 =
+            cols.iter().zip(vals).map(|(&r, &v)| v.abs() * size(&pair.slave, pair.reference.0, r)).sum();
+        let (cols, vals) = self.b().row(p);
+        let master: f64 =
+            cols.iter().zip(vals).map(|(&k, &v)| v.abs() * size(&pair.master, pair.reference.1, k)).sum();
+        slave + master
+    }
+
     /// ĝ_p as (global dof, value).
     fn gap_gradient(&self, pair: &Pair, p: usize) -> Vec<(usize, f64)> {
         let n = self.normals[p];
@@ -390,6 +407,11 @@ struct State {
     /// ‖((Pᵀ R)_free, φ)‖ and the force scale.
     norm: f64,
     scale: f64,
+    /// The rounding error of φ: g̃_p is a difference of positions, so
+    /// c g̃_p is known to about 8 ε c Σ (|B_pk| |x_m,k| + |N_pr| |x_s,r|),
+    /// which small displacements far from the origin can make larger than
+    /// rtol · scale.
+    floor: f64,
 }
 
 /// A solved load step of contact in finite deformation.
@@ -452,7 +474,7 @@ impl<'a> Contact<'a> {
             })
             .collect::<Result<Vec<_>, _>>()?;
         let mut residual: Vec<f64> = force.iter().zip(system.load).map(|(a, b)| a - b).collect();
-        let (mut phi2, mut active) = (0.0, Vec::new());
+        let (mut phi2, mut floor2, mut active) = (0.0, 0.0, Vec::new());
         for ((pair, current), lambda) in self.pairs.iter().zip(&currents).zip(lambda) {
             let ns = pair.slave.points.len();
             let mut on = vec![false; ns];
@@ -462,6 +484,8 @@ impl<'a> Contact<'a> {
                 on[p] = mu - self.c * current.gaps[p] >= 0.0;
                 let phi = if on[p] { self.c * current.gaps[p] } else { mu };
                 phi2 += phi * phi;
+                let size = current.magnitude(p, pair, u);
+                floor2 += (8.0 * f64::EPSILON * self.c * size).powi(2);
                 if l != 0.0 {
                     for (dof, v) in current.gap_gradient(pair, p) {
                         residual[dof] -= l * v;
@@ -474,7 +498,7 @@ impl<'a> Contact<'a> {
         let r2: f64 = (0..u.len()).filter(|&i| !system.held[i]).map(|i| reduced[i] * reduced[i]).sum();
         let norm2 = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         let scale = norm2(system.load).max(norm2(&force));
-        Ok(State { currents, force, residual, active, norm: (r2 + phi2).sqrt(), scale })
+        Ok(State { currents, force, residual, active, norm: (r2 + phi2).sqrt(), scale, floor: floor2.sqrt() })
     }
 
     /// Newton's matrix at `state` in all dofs, K(u) − Σ_p λ_p ∂ĝ_p/∂u, and
@@ -629,7 +653,7 @@ impl Contact<'_> {
         let mut report = NewtonReport::default();
         for iteration in 1..=options.max_iterations + 1 {
             let left = remaining(u);
-            if left.is_empty() && state.norm <= options.rtol * state.scale {
+            if left.is_empty() && state.norm <= (options.rtol * state.scale).max(state.floor) {
                 let kkt = self.kkt(system, (u, lambda), &state);
                 let internal = state.residual.iter().zip(system.load).map(|(r, f)| r + f).collect();
                 return Ok(Solved { report, kkt, internal, currents: state.currents, active: state.active });
