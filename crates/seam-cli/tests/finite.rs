@@ -136,7 +136,7 @@ fn neo_hookean_blocks_in_contact_from_a_case_file() {
     let interface = out.join("upper_bottom_interface.vtu");
     let (_, pressure) = vtu_field(&interface, "contact_pressure", false);
     let (_, active) = vtu_field(&interface, "active", false);
-    assert!(active.iter().any(|&a| a == 1.0));
+    assert!(active.contains(&1.0));
     for (p, a) in pressure.iter().zip(&active) {
         assert!(if *a == 1.0 { *p > 0.0 } else { *p == 0.0 }, "pressure {p}, active {a}");
     }

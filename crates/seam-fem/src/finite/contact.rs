@@ -899,7 +899,7 @@ mod tests {
             }
             let state = contact.state(&system, &u, &lambda).unwrap();
             let (k, gradients) =
-                contact.jacobian(&system, (&u, &lambda), &state, &[covered.clone()]).unwrap();
+                contact.jacobian(&system, (&u, &lambda), &state, std::slice::from_ref(&covered)).unwrap();
             let k_bodies = nonlinear.tangent(&u).unwrap();
             // The dofs of both surfaces' points.
             let dofs: Vec<usize> = (0..pair.slave.points.len())
