@@ -126,15 +126,11 @@ fn contact_patch_test_under_20_percent_compression() {
 
 /// Large sliding: a Tet4 block (1 × 1 × 0.5, 4 × 4 × 2 cells) pressed by
 /// 0.05 onto a rigid Hex8 base (4 × 1.5 × 0.5, 16 × 6 × 2 cells, every point
-/// held, so that its surface stays flat) over the first 10 % of
-/// the pseudo-time, then dragged along it by twice its length (its top
-/// held); the pairs change at every one of 21 load steps. Frictionless, the
-/// contact force is normal, F_x = F_y = 0 to 1e-8 of F_z at every step, the
-/// block carries its press, and at convergence no point is between active
-/// and inactive: active points have zero gap and positive pressure, the
-/// others zero pressure and an open gap.
-#[test]
-fn a_block_dragged_twice_its_length_slides_without_tangential_force() {
+/// held, so that its surface stays flat) over the first 10 % of the
+/// pseudo-time, then dragged along it by twice its length (its top held),
+/// with Coulomb's `friction`; the pairs change at every one of 21 load
+/// steps. Returns the solution of each step.
+fn dragged_block(friction: f64) -> Vec<(f64, Solution)> {
     use seam::MortarOptions;
     use seam_fem::generate::{block, Grid, Side};
     use seam_fem::{Amplitude, ProblemBody};
@@ -166,7 +162,7 @@ fn a_block_dragged_twice_its_length_slides_without_tangential_force() {
             slave: id(1, 0),
             options: MortarOptions { multiplier: seam::Multiplier::Dual, ..Default::default() },
             kind: Coupling::Contact,
-            friction: 0.0,
+            friction,
         }],
         supports: vec![
             Support::new(id(0, 0), [Some(0.0); 3]),
@@ -182,29 +178,71 @@ fn a_block_dragged_twice_its_length_slides_without_tangential_force() {
     for (t, step) in &steps {
         let i = &step.interfaces[0];
         let c = i.contact.as_ref().unwrap();
-        let f = i.force;
         let newton = step.report.newton.as_ref().unwrap();
         iterations += newton.residuals.len();
+        let count = |s: &[bool]| s.iter().filter(|&&b| b).count();
         println!(
-            "t = {t:.3}: F = {f:?}, {} active, residuals {:?}",
-            step.report.contact.as_ref().unwrap().active,
+            "μ = {friction}, t = {t:.3}: F = {:?}, {} active, {} stick, residuals {:?}",
+            i.force,
+            count(&c.active),
+            count(&c.stick),
             newton.residuals
         );
-        assert!(f[2] > 0.0, "t = {t}: the master pushes the slave up: {f:?}");
-        assert!(f[0].abs() <= 1e-8 * f[2].abs() && f[1].abs() <= 1e-8 * f[2].abs(), "t = {t}: {f:?}");
-        let largest = c.pressure.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
+        assert!(i.force[2] > 0.0, "t = {t}: the master pushes the slave up: {:?}", i.force);
+        // At convergence no point is between active and inactive: active
+        // points have zero gap and positive pressure, the others zero
+        // pressure and an open gap.
         for p in (0..c.contact.len()).filter(|&p| c.contact[p]) {
             match c.active[p] {
                 true => assert!(c.pressure[p] > 0.0 && c.gap[p].abs() <= 1e-9, "t = {t}, point {p}"),
                 false => assert!(c.pressure[p] == 0.0 && c.gap[p] >= -1e-9, "t = {t}, point {p}"),
             }
         }
-        assert!(largest > 0.0);
     }
-    // The block reached x + 2.
+    // The block's bottom reached x + 2, less its shear under friction.
     let u = &steps.last().unwrap().1.displacement[1];
-    assert!((u[0] - 2.0).abs() < 0.05, "{}", u[0]);
-    println!("{iterations} Newton iterations over {} steps", steps.len());
+    assert!((u[0] - 2.0).abs() < 0.1, "{}", u[0]);
+    println!("μ = {friction}: {iterations} Newton iterations over {} steps", steps.len());
+    steps
+}
+
+/// The dragged block ([`dragged_block`]) without friction: the contact
+/// force is normal, F_x = F_y = 0 to 1e-8 of F_z at every step.
+#[test]
+fn a_block_dragged_twice_its_length_slides_without_tangential_force() {
+    for (t, step) in dragged_block(0.0) {
+        let f = step.interfaces[0].force;
+        assert!(f[0].abs() <= 1e-8 * f[2] && f[1].abs() <= 1e-8 * f[2], "t = {t}: {f:?}");
+    }
+}
+
+/// The dragged block ([`dragged_block`]) with μ = 0.3: while it slides (from
+/// the fourth step, every point slipping) the master resists with
+/// F_x = −μ F_z to 0.5 % (F_y, left by the sticking of the press phase,
+/// relaxes below 1 % of F_z), and each slave point's slip increment is along
+/// +x; the accumulated slip at the end is the drag less the block's elastic
+/// shear, within 5 % of 2.
+#[test]
+fn a_block_dragged_with_friction_carries_mu_times_its_press() {
+    let mu = 0.3;
+    let steps = dragged_block(mu);
+    for (t, step) in steps.iter().skip(3) {
+        let i = &step.interfaces[0];
+        let (f, c) = (i.force, i.contact.as_ref().unwrap());
+        assert!((f[0] + mu * f[2]).abs() <= 0.005 * mu * f[2], "t = {t}: F_x / F_z = {}", f[0] / f[2]);
+        assert!(f[1].abs() <= 0.01 * f[2], "t = {t}: {f:?}");
+        for p in (0..c.active.len()).filter(|&p| c.active[p]) {
+            assert!(
+                !c.stick[p] && c.slip_increment[p][0] > 0.0,
+                "t = {t}, point {p}: {:?}",
+                c.slip_increment[p]
+            );
+        }
+    }
+    let c = steps.last().unwrap().1.interfaces[0].contact.clone().unwrap();
+    let slip =
+        (0..c.active.len()).filter(|&p| c.active[p]).map(|p| c.slip[p][0]).fold(f64::INFINITY, f64::min);
+    assert!((slip - 2.0).abs() < 0.1, "accumulated slip {slip}");
 }
 
 /// The order of convergence from the last three residuals r₁, r₂, r₃

@@ -317,7 +317,7 @@ pub(crate) fn merged(row: &mut [(usize, f64)]) -> Vec<(usize, f64)> {
 /// The nodal frame (n, t₁, t₂): n the normal with its prescribed components
 /// removed, t₁, t₂ an orthonormal basis of n⊥ containing the prescribed axes.
 /// None when the normal is (nearly) prescribed: the point cannot move along it.
-pub(super) fn frame(normal: Point3, fixed: [bool; 3]) -> Option<[Point3; 3]> {
+pub(crate) fn frame(normal: Point3, fixed: [bool; 3]) -> Option<[Point3; 3]> {
     let mut n = normal;
     for c in (0..3).filter(|&c| fixed[c]) {
         n[c] = 0.0;

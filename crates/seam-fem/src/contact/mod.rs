@@ -110,7 +110,7 @@
 //! exact steps (Hertz at 96k unknowns with GAMG: 1 349 → 476).
 
 mod frames;
-pub(crate) use frames::merged;
+pub(crate) use frames::{frame, merged};
 pub(crate) mod friction;
 
 use crate::backend::Solver;

@@ -122,18 +122,22 @@ struct Pair<'a> {
     options: MortarOptions,
     /// The reference points of the slave and the master body.
     reference: (&'a [Point3], &'a [Point3]),
+    /// Coulomb's μ.
+    friction: f64,
 }
 
-/// A contact interface evaluated on a configuration (local slave points).
-struct Current {
+/// A contact interface evaluated at positions (local numbering).
+#[derive(Clone, Debug)]
+pub(crate) struct Current {
     /// D and B; `None` where the surfaces do not overlap.
     mortar: Option<Mortar>,
     /// The unit nodal normals of the slave.
     normals: Vec<Point3>,
     /// N = D, or D Q⁻ᵀ.
     nodal_d: CsrMatrix,
-    /// g̃_p (0 where not covered).
-    gaps: Vec<f64>,
+    /// The positions of the slave and the master points.
+    xs: Vec<Point3>,
+    xm: Vec<Point3>,
 }
 
 impl Current {
@@ -150,43 +154,132 @@ impl Current {
         self.mortar.as_ref().map_or(0.0, |m| m.d.get(p, p))
     }
 
-    /// Σ_k |B_pk| |x_m,k| + Σ_r |N_pr| |x_s,r| at the current positions of
-    /// all bodies' dofs `u` (the size of the terms of g̃_p).
-    fn magnitude(&self, p: usize, pair: &Pair, u: &[f64]) -> f64 {
-        let size = |side: &Side, x0: &[Point3], l: usize| {
-            let q = side.points[l];
-            let at = side.offset + 3 * q;
-            norm(std::array::from_fn(|c| x0[q][c] + u[at + c]))
-        };
-        let (cols, vals) = self.nodal_d.row(p);
-        let slave: f64 =
-            cols.iter().zip(vals).map(|(&r, &v)| v.abs() * size(&pair.slave, pair.reference.0, r)).sum();
-        let (cols, vals) = self.b().row(p);
-        let master: f64 =
-            cols.iter().zip(vals).map(|(&k, &v)| v.abs() * size(&pair.master, pair.reference.1, k)).sum();
-        slave + master
+    /// Σ_k B_pk x_m,k − Σ_r N_pr x_s,r with these matrices at the positions
+    /// of `at` (the weighted position of the master relative to the slave).
+    fn relative(&self, p: usize, at: &Current) -> Point3 {
+        sub(row_times(self.b(), p, &at.xm), row_times(&self.nodal_d, p, &at.xs))
     }
 
-    /// ĝ_p as (global dof, value).
-    fn gap_gradient(&self, pair: &Pair, p: usize) -> Vec<(usize, f64)> {
-        let n = self.normals[p];
-        let mut row = Vec::new();
-        let (cols, vals) = self.nodal_d.row(p);
-        for (&r, &v) in cols.iter().zip(vals) {
-            row.extend((0..3).map(|c| (pair.slave.dof(r, c), -v * n[c])));
-        }
-        let (cols, vals) = self.b().row(p);
-        for (&k, &v) in cols.iter().zip(vals) {
-            row.extend((0..3).map(|c| (pair.master.dof(k, c), v * n[c])));
-        }
-        row
+    /// Σ_k |B_pk| |x_m,k| + Σ_r |N_pr| |x_s,r|: the size of the terms of
+    /// [`Current::relative`].
+    fn magnitude(&self, p: usize) -> f64 {
+        let size = |a: &CsrMatrix, x: &[Point3]| {
+            let (cols, vals) = a.row(p);
+            cols.iter().zip(vals).map(|(&q, &v)| v.abs() * norm(x[q])).sum::<f64>()
+        };
+        size(&self.nodal_d, &self.xs) + size(self.b(), &self.xm)
     }
+}
+
+/// The nodal frame (n, τ₁, τ₂) at the normal `n`: [`crate::contact::frame`]
+/// where a component is prescribed; otherwise τ₁ is the axis most
+/// orthogonal to `guide` (the last step's normal) made orthogonal to n, a
+/// smooth function of n within a step (the axis most orthogonal to n itself
+/// jumps where two components of n tie, as on a flat surface).
+fn frame(n: Point3, fixed: [bool; 3], guide: Point3) -> Option<[Point3; 3]> {
+    if fixed.iter().any(|&f| f) {
+        return crate::contact::frame(n, fixed);
+    }
+    let length = norm(n);
+    if length < 0.5 || length.is_nan() {
+        return None;
+    }
+    let n = n.map(|v| v / length);
+    let c = (0..3).min_by(|&i, &j| guide[i].abs().total_cmp(&guide[j].abs())).expect("three axes");
+    let t = std::array::from_fn(|i| if i == c { 1.0 } else { 0.0 });
+    let t = sub(t, n.map(|v| v * n[c]));
+    let t1 = t.map(|v| v / norm(t));
+    Some([n, t1, seam::vec3::cross(n, t1)])
 }
 
 /// Σ_q a_pq x_q.
 fn row_times(a: &CsrMatrix, p: usize, x: &[Point3]) -> Point3 {
     let (cols, vals) = a.row(p);
     std::array::from_fn(|c| cols.iter().zip(vals).map(|(&q, &v)| v * x[q][c]).sum())
+}
+
+/// Where a contact point is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Status {
+    /// ξ < 0: λ = 0.
+    Inactive,
+    /// In contact, ‖v‖ ≤ μ ξ: no slip.
+    Stick,
+    /// In contact and slipping (or frictionless).
+    Slip,
+}
+
+/// A covered slave point's geometry on a configuration.
+struct Point {
+    /// (n, τ₁, τ₂) ([`frame`]).
+    frame: [Point3; 3],
+    d: f64,
+    /// g̃_p = n · (B x_m − N x_s).
+    gap: f64,
+    /// The weighted slip increment since the last load step,
+    /// w_α = τ_α · ((B − Bⁿ) x_m − (N − Nⁿ) x_s) (Gitterle et al. 2010:
+    /// frame-indifferent), if the point was covered then.
+    slip: Option<[f64; 2]>,
+    /// The rounding error of g̃_p and w (module doc).
+    rounding: f64,
+}
+
+/// The complementarity functions of one point with λ and c_n, c_t.
+struct Law {
+    mu: f64,
+    /// Tangents τ_α that carry friction (not held at the slave point).
+    axes: [bool; 2],
+    c_n: f64,
+    c_t: f64,
+}
+
+impl Law {
+    /// (ξ, v) with λ_n = n·λ, λ_τ = τ·λ: ξ = d λ_n − c_n g̃, v = d λ_τ + c_t w
+    /// (force units).
+    fn xi_v(&self, g: &Point, lambda: Point3) -> (f64, [f64; 2]) {
+        let xi = g.d * dot(g.frame[0], lambda) - self.c_n * g.gap;
+        let w = g.slip.unwrap_or([0.0; 2]);
+        (xi, std::array::from_fn(|a| g.d * dot(g.frame[1 + a], lambda) + self.c_t * w[a]))
+    }
+
+    /// Whether axis α carries friction at `g`.
+    fn frictional(&self, g: &Point, a: usize) -> bool {
+        self.mu > 0.0 && self.axes[a] && g.slip.is_some()
+    }
+
+    /// The status the iterate λ gives the point.
+    fn status(&self, g: &Point, lambda: Point3) -> Status {
+        let (xi, v) = self.xi_v(g, lambda);
+        let norm_v = (0..2).filter(|&a| self.frictional(g, a)).map(|a| v[a] * v[a]).sum::<f64>().sqrt();
+        match () {
+            _ if xi < 0.0 => Status::Inactive,
+            _ if (0..2).any(|a| self.frictional(g, a)) && norm_v <= self.mu * xi => Status::Stick,
+            _ => Status::Slip,
+        }
+    }
+
+    /// F_p (force units) for the status `s`: d λ when inactive; else c_n g̃
+    /// and per tangent d λ_τα where it carries no friction, c_t w_α in
+    /// stick, d λ_τα − μ ξ v_α / ‖v‖ in slip (Coulomb's
+    /// C_τ = max(μξ, ‖v‖) λ_τ − μ max(0, ξ) v over ‖v‖, friction module doc).
+    fn rows(&self, g: &Point, lambda: Point3, s: Status) -> [f64; 3] {
+        if s == Status::Inactive {
+            return lambda.map(|l| g.d * l);
+        }
+        let (xi, v) = self.xi_v(g, lambda);
+        let norm_v = (0..2).filter(|&a| self.frictional(g, a)).map(|a| v[a] * v[a]).sum::<f64>().sqrt();
+        let w = g.slip.unwrap_or([0.0; 2]);
+        let mut out = [self.c_n * g.gap, 0.0, 0.0];
+        for a in 0..2 {
+            let lt = g.d * dot(g.frame[1 + a], lambda);
+            out[1 + a] = match (self.frictional(g, a), s) {
+                (false, _) => lt,
+                (true, Status::Stick) => self.c_t * w[a],
+                (true, _) => lt - self.mu * xi * v[a] / norm_v,
+            };
+        }
+        out
+    }
 }
 
 impl Pair<'_> {
@@ -199,29 +292,45 @@ impl Pair<'_> {
         let master = SurfaceMesh::new(xm, self.master.faces.clone()).map_err(bad)?;
         let normals = seam::nodal_normals(&slave);
         let mortar = match seam::assemble(&master, &slave, &self.options) {
-            Ok(m) => m,
-            Err(MortarError::NoOverlap { .. }) => {
-                let gaps = vec![0.0; slave.n_points()];
-                return Ok(Current { mortar: None, normals, nodal_d: CsrMatrix::zeros(0, 0), gaps });
-            }
+            Ok(m) => Some(m),
+            Err(MortarError::NoOverlap { .. }) => None,
             Err(source) => return Err(ProblemError::Mortar { interface: self.index, source }),
         };
-        let nodal_d = mortar.nodal_d();
-        let gaps = (0..slave.n_points())
-            .map(|p| match mortar.covered[p] {
-                true => dot(
-                    normals[p],
-                    sub(row_times(&mortar.b, p, master.points()), row_times(&nodal_d, p, slave.points())),
-                ),
-                false => 0.0,
-            })
-            .collect();
-        Ok(Current { mortar: Some(mortar), normals, nodal_d, gaps })
+        let nodal_d = mortar.as_ref().map_or(CsrMatrix::zeros(0, 0), |m| m.nodal_d());
+        let (xs, xm) = (slave.into_parts().0, master.into_parts().0);
+        Ok(Current { mortar, normals, nodal_d, xs, xm })
     }
 
     /// The current local positions of both sides.
     fn positions(&self, u: &[f64]) -> (Vec<Point3>, Vec<Point3>) {
         (self.slave.positions(self.reference.0, u), self.master.positions(self.reference.1, u))
+    }
+
+    /// The interface on the reference configuration.
+    fn reference(&self) -> Result<Current, ProblemError> {
+        self.evaluate(self.slave.at(self.reference.0), self.master.at(self.reference.1))
+    }
+
+    /// Covered point p's geometry at `current`, `old` the last load step's
+    /// evaluation, `held` the prescribed dofs; `None` when its normal is
+    /// prescribed.
+    fn point(&self, current: &Current, old: &Current, p: usize, held: &[bool]) -> Option<Point> {
+        let fixed: [bool; 3] = std::array::from_fn(|c| held[self.slave.dof(p, c)]);
+        let guide = if old.covered(p) { old.normals[p] } else { current.normals[p] };
+        let frame = frame(current.normals[p], fixed, guide)?;
+        let relative = current.relative(p, current);
+        let slip = old.covered(p).then(|| {
+            let w = sub(relative, old.relative(p, current));
+            [dot(frame[1], w), dot(frame[2], w)]
+        });
+        let rounding = current.magnitude(p) + if old.covered(p) { old.magnitude(p) } else { 0.0 };
+        Some(Point {
+            frame,
+            d: current.d(p),
+            gap: dot(frame[0], relative),
+            slip,
+            rounding: 8.0 * f64::EPSILON * rounding,
+        })
     }
 
     /// Per point of the two sides (slave points first, then master points),
@@ -250,52 +359,285 @@ impl Pair<'_> {
         }
         rows
     }
+}
 
-    /// The contact terms' part of Newton's matrix at `base` (local positions
-    /// `xs`, `xm`): −Σ_p λ_p ∂ĝ_p/∂u as triplets into `stiffness`, and ∇g̃_p
-    /// for the points `wanted` (module doc: central differences by colour).
+/// One contact interface at an iterate: its evaluation and, per local slave
+/// point, its multiplier, geometry and status (covered points with a free
+/// normal only).
+struct Iterate {
+    current: Current,
+    points: Vec<Option<(Point, Status)>>,
+}
+
+/// The contact interfaces of a finite-deformation problem.
+pub(super) struct Contact<'a> {
+    pairs: Vec<Pair<'a>>,
+    /// c_n of the complementarity functions, E_max / h; c_t = [`C_T`] c_n.
+    c: f64,
+}
+
+/// c_t / c_n, as in small strain ([`crate::contact::friction`]).
+const C_T: f64 = 0.1;
+
+/// What contact carries from one load step to the next, per contact
+/// interface (in the problem's order of contact interfaces).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct History {
+    /// λ_p (Cartesian: the master exerts −λ_p per current area on the
+    /// slave) per slave body point.
+    lambda: Vec<Vec<Point3>>,
+    /// The evaluation at the end of the last step (the reference
+    /// configuration before the first).
+    previous: Vec<Current>,
+    /// The accumulated slip of the slave against the master per slave body
+    /// point, and that of the last step.
+    slip: Vec<Vec<(Point3, Point3)>>,
+}
+
+/// The problem's state at one iterate.
+struct State {
+    iterates: Vec<Iterate>,
+    /// f_int(u).
+    force: Vec<f64>,
+    /// R(u, λ) over all dofs.
+    residual: Vec<f64>,
+    /// ‖((Pᵀ R)_free, F)‖ and the force scale.
+    norm: f64,
+    scale: f64,
+    /// The rounding error of F: g̃_p and w are differences of positions,
+    /// known to about 8 ε Σ (|B_pk| |x_m,k| + |N_pr| |x_s,r|) each, which
+    /// small displacements far from the origin can make larger than
+    /// rtol · scale.
+    floor: f64,
+}
+
+/// A solved load step of contact in finite deformation.
+pub(super) struct Solved {
+    /// Newton's residuals and step factors.
+    pub(super) report: NewtonReport,
+    /// The KKT residuals of the solution.
+    pub(super) kkt: Kkt,
+    /// f_int(u) + the contact forces on the bodies' dofs (the forces the
+    /// cells and the contact interfaces exert), over all dofs.
+    pub(super) internal: Vec<f64>,
+    /// Per contact interface at the solution.
+    iterates: Vec<Iterate>,
+}
+
+impl<'a> Contact<'a> {
+    /// The contact `interfaces` (in problem order) of bodies at `offsets`
+    /// with reference points `points[b]`; c from the largest Young's modulus
+    /// `young`.
+    pub(super) fn new(
+        interfaces: &[(usize, &Interface)],
+        offsets: &[usize],
+        points: &[&'a [Point3]],
+        young: f64,
+    ) -> Contact<'a> {
+        let pairs: Vec<Pair> = interfaces
+            .iter()
+            .map(|&(index, f)| Pair {
+                index,
+                slave: Side::new(f.slave_surface, offsets[f.slave]),
+                master: Side::new(f.master_surface, offsets[f.master]),
+                options: MortarOptions { transformation: BasisTransformation::All, ..f.options },
+                reference: (points[f.slave], points[f.master]),
+                friction: f.friction,
+            })
+            .collect();
+        let h = pairs
+            .iter()
+            .map(|p| mean_diameter(&p.slave.faces, &p.slave.at(p.reference.0)))
+            .fold(0.0, f64::max);
+        Contact { pairs, c: young / h }
+    }
+
+    /// Whether there is any contact interface.
+    pub(super) fn is_empty(&self) -> bool {
+        self.pairs.is_empty()
+    }
+
+    /// A history at rest: no multipliers, no slip, the interfaces on the
+    /// reference configuration; `history` itself if it fits.
+    pub(super) fn history(&self, history: History) -> Result<History, ProblemError> {
+        if history.previous.len() == self.pairs.len() {
+            return Ok(history);
+        }
+        let sizes = |p: &Pair| p.reference.0.len();
+        Ok(History {
+            lambda: self.pairs.iter().map(|p| vec![[0.0; 3]; sizes(p)]).collect(),
+            previous: self.pairs.iter().map(Pair::reference).collect::<Result<_, _>>()?,
+            slip: self.pairs.iter().map(|p| vec![([0.0; 3], [0.0; 3]); sizes(p)]).collect(),
+        })
+    }
+
+    fn law(&self, pair: &Pair, p: usize, held: &[bool], g: &Point) -> Law {
+        let axes = std::array::from_fn(|a| {
+            // A tangent along a prescribed axis carries no friction (its reaction does).
+            let t = g.frame[1 + a];
+            !(0..3).any(|c| held[pair.slave.dof(p, c)] && t[c].abs() == 1.0)
+        });
+        Law { mu: pair.friction, axes, c_n: self.c, c_t: C_T * self.c }
+    }
+
+    /// The state at (u, λ): the interfaces on the current configuration, each
+    /// point's status (from the iterate, or `statuses` when given), f_int, R
+    /// and the residual norm (module doc).
+    fn state(
+        &self,
+        system: &Newton,
+        (u, history): (&[f64], &History),
+        statuses: Option<&[Vec<Option<Status>>]>,
+    ) -> Result<State, ProblemError> {
+        let force = system.bodies.force(u).map_err(|source| ProblemError::Newton { source })?;
+        let currents = self
+            .pairs
+            .par_iter()
+            .map(|pair| {
+                let (xs, xm) = pair.positions(u);
+                pair.evaluate(xs, xm)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut residual: Vec<f64> = force.iter().zip(system.load).map(|(a, b)| a - b).collect();
+        let (mut f2, mut floor2, mut iterates) = (0.0, 0.0, Vec::new());
+        for (q, (pair, current)) in self.pairs.iter().zip(currents).enumerate() {
+            let ns = pair.slave.points.len();
+            let mut points = Vec::with_capacity(ns);
+            for p in 0..ns {
+                let point = current
+                    .covered(p)
+                    .then(|| pair.point(&current, &history.previous[q], p, &system.held))
+                    .flatten();
+                let Some(g) = point else {
+                    points.push(None);
+                    continue;
+                };
+                let lambda = history.lambda[q][pair.slave.points[p]];
+                let law = self.law(pair, p, &system.held, &g);
+                let status = match statuses {
+                    Some(s) => s[q][p].expect("the same points"),
+                    None => law.status(&g, lambda),
+                };
+                let rows = law.rows(&g, lambda, status);
+                f2 += rows.iter().map(|v| v * v).sum::<f64>();
+                floor2 += ((law.c_n + 2.0 * law.c_t) * g.rounding).powi(2);
+                // The master exerts −λ_p on the slave: +N λ on the slave's dofs, −B λ on the master's.
+                let (cols, vals) = current.nodal_d.row(p);
+                for (&r, &v) in cols.iter().zip(vals) {
+                    (0..3).for_each(|c| residual[pair.slave.dof(r, c)] += v * lambda[c]);
+                }
+                let (cols, vals) = current.b().row(p);
+                for (&k, &v) in cols.iter().zip(vals) {
+                    (0..3).for_each(|c| residual[pair.master.dof(k, c)] -= v * lambda[c]);
+                }
+                points.push(Some((g, status)));
+            }
+            iterates.push(Iterate { current, points });
+        }
+        let reduced = system.reduce(&residual);
+        let r2: f64 = (0..u.len()).filter(|&i| !system.held[i]).map(|i| reduced[i] * reduced[i]).sum();
+        let norm2 = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let scale = norm2(system.load).max(norm2(&force));
+        Ok(State { iterates, force, residual, norm: (r2 + f2).sqrt(), scale, floor: floor2.sqrt() })
+    }
+
+    /// Newton's matrix at `state` over all dofs and the points' multipliers:
+    /// ∂R/∂u (K(u) + ∂(N λ, −B λ)/∂u) as a matrix, and per pair and covered
+    /// point ∂F_p/∂u (three sparse rows) and ∂F_p/∂λ_p (module doc: central
+    /// differences, by colour in u).
+    #[allow(clippy::type_complexity)]
+    fn jacobian(
+        &self,
+        system: &Newton,
+        (u, history): (&[f64], &History),
+        state: &State,
+    ) -> Result<(CsrMatrix, Vec<Vec<PointRows>>), ProblemError> {
+        let mut triplets = Vec::new();
+        let mut rows = Vec::with_capacity(self.pairs.len());
+        for (q, (pair, iterate)) in self.pairs.iter().zip(&state.iterates).enumerate() {
+            rows.push(self.linearise(pair, (q, iterate), (history, &system.held), &mut triplets)?);
+        }
+        let k = system.bodies.tangent(u).map_err(|source| ProblemError::Newton { source })?;
+        Ok((added(&k, triplets), rows))
+    }
+
+    /// [`Contact::jacobian`] of one pair: the force terms' derivatives as
+    /// triplets into `stiffness`, the points' rows returned.
     fn linearise(
         &self,
-        (xs, xm): (&[Point3], &[Point3]),
-        base: &Current,
-        (lambda, wanted): (&[f64], &[bool]),
+        pair: &Pair,
+        (q, base): (usize, &Iterate),
+        (history, held): (&History, &[bool]),
         stiffness: &mut Vec<(usize, usize, f64)>,
-    ) -> Result<Vec<Vec<(usize, f64)>>, ProblemError> {
+    ) -> Result<Vec<PointRows>, ProblemError> {
+        let (xs, xm) = (&base.current.xs, &base.current.xm);
         let ns = xs.len();
-        let influence = self.influence(base);
-        let h = DIFFERENCE_STEP * mean_diameter(&self.slave.faces, xs);
-        let mut gradients = vec![Vec::new(); ns];
+        let lambda = |p: usize| history.lambda[q][pair.slave.points[p]];
+        let old = &history.previous[q];
+        let mut out: Vec<PointRows> = (0..ns).map(|_| PointRows::default()).collect();
+        // ∂F_p/∂λ_p, by differences of F in λ (no evaluation of the interface).
+        for (p, point) in base.points.iter().enumerate() {
+            let Some((g, status)) = point else { continue };
+            let law = self.law(pair, p, held, g);
+            let l = lambda(p);
+            let step = 1e-6 * (norm(l) + 1e-6 * self.c * mean_diameter(&pair.slave.faces, xs));
+            for c in 0..3 {
+                let at = |s: f64| {
+                    let mut m = l;
+                    m[c] += s;
+                    law.rows(g, m, *status)
+                };
+                let (plus, minus) = (at(step), at(-step));
+                for k in 0..3 {
+                    out[p].lambda[k][c] = (plus[k] - minus[k]) / (2.0 * step);
+                }
+            }
+        }
+        // ∂/∂u by colour.
+        let influence = pair.influence(&base.current);
+        let h = DIFFERENCE_STEP * mean_diameter(&pair.slave.faces, xs);
         let mut owner = vec![NONE; ns];
         for group in colours(&influence, ns) {
             for &node in &group {
                 influence[node].iter().for_each(|&p| owner[p] = node);
             }
             let shifted = |c: usize, s: f64| {
-                let (mut a, mut b) = (xs.to_vec(), xm.to_vec());
+                let (mut a, mut b) = (xs.clone(), xm.clone());
                 for &node in &group {
                     match node < ns {
                         true => a[node][c] += s,
                         false => b[node - ns][c] += s,
                     }
                 }
-                self.evaluate(a, b)
+                pair.evaluate(a, b)
             };
             let evaluations: Vec<_> =
                 (0..3).into_par_iter().map(|c| rayon::join(|| shifted(c, h), || shifted(c, -h))).collect();
             for (c, (plus, minus)) in evaluations.into_iter().enumerate() {
                 let (plus, minus) = (plus?, minus?);
                 for p in (0..ns).filter(|&p| owner[p] != NONE) {
+                    let Some((g, status)) = &base.points[p] else { continue };
                     let node = owner[p];
                     let column = match node < ns {
-                        true => self.slave.dof(node, c),
-                        false => self.master.dof(node - ns, c),
+                        true => pair.slave.dof(node, c),
+                        false => pair.master.dof(node - ns, c),
                     };
-                    let rows = Difference { base, plus: &plus, minus: &minus, width: 2.0 * h };
-                    if wanted[p] {
-                        gradients[p].push((column, (plus.gaps[p] - minus.gaps[p]) / rows.width));
+                    let l = lambda(p);
+                    let law = self.law(pair, p, held, g);
+                    let rows = |e: &Current| match e.covered(p) {
+                        true => pair.point(e, old, p, held).map(|g| law.rows(&g, l, *status)),
+                        false => None,
+                    };
+                    if let (Some(a), Some(b)) = (rows(&plus), rows(&minus)) {
+                        for k in 0..3 {
+                            out[p].u[k].push((column, (a[k] - b[k]) / (2.0 * h)));
+                        }
                     }
-                    if lambda[p] != 0.0 {
-                        rows.add_stiffness(self, p, (column, lambda[p]), stiffness);
+                    if l != [0.0; 3] {
+                        let weight = 1.0 / (2.0 * h);
+                        for (e, sign) in [(&plus, weight), (&minus, -weight)] {
+                            add_force_terms(pair, e, p, (column, l.map(|v| sign * v)), stiffness);
+                        }
                     }
                 }
             }
@@ -303,50 +645,37 @@ impl Pair<'_> {
                 influence[node].iter().for_each(|&p| owner[p] = NONE);
             }
         }
-        Ok(gradients)
+        Ok(out)
     }
 }
 
-/// Two evaluations of an interface a step apart and the one between.
-struct Difference<'a> {
-    base: &'a Current,
-    plus: &'a Current,
-    minus: &'a Current,
-    /// The distance between them.
-    width: f64,
+/// The derivatives of one point's F_p: per row, the sparse ∂/∂u (global
+/// dofs, summed where they repeat) and ∂/∂λ_p.
+#[derive(Default)]
+struct PointRows {
+    u: [Vec<(usize, f64)>; 3],
+    lambda: [[f64; 3]; 3],
 }
 
-impl Difference<'_> {
-    /// Column `column` of −λ_p ∂ĝ_p/∂u: λ_p (∂N_pr n_p + N_pr ∂n_p) at slave
-    /// point r, −λ_p (∂B_pk n_p + B_pk ∂n_p) at master point k.
-    fn add_stiffness(
-        &self,
-        pair: &Pair,
-        p: usize,
-        (column, lambda): (usize, f64),
-        stiffness: &mut Vec<(usize, usize, f64)>,
-    ) {
-        let n = self.base.normals[p];
-        let dn: Point3 =
-            std::array::from_fn(|c| (self.plus.normals[p][c] - self.minus.normals[p][c]) / self.width);
-        let weight = lambda / self.width;
-        let mut add = |side: &Side, a: &CsrMatrix, sign: f64, (scale, direction): (f64, Point3)| {
-            let (cols, vals) = a.row(p);
-            for (&r, &v) in cols.iter().zip(vals) {
-                stiffness.extend((0..3).map(|c| (side.dof(r, c), column, sign * scale * v * direction[c])));
-            }
-        };
-        for (a, scale) in [(&self.plus.nodal_d, weight), (&self.minus.nodal_d, -weight)] {
-            add(&pair.slave, a, 1.0, (scale, n));
-        }
-        add(&pair.slave, &self.base.nodal_d, 1.0, (lambda, dn));
-        // A side that no longer overlaps has no row.
-        for (c, scale) in [(self.plus, weight), (self.minus, -weight)] {
-            if c.mortar.is_some() {
-                add(&pair.master, c.b(), -1.0, (scale, n));
-            }
-        }
-        add(&pair.master, self.base.b(), -1.0, (lambda, dn));
+/// Column `column` of the force terms (N_pr λ at slave point r, −B_pk λ at
+/// master point k) of point p at the evaluation `e`, times the weighted λ.
+fn add_force_terms(
+    pair: &Pair,
+    e: &Current,
+    p: usize,
+    (column, lambda): (usize, Point3),
+    stiffness: &mut Vec<(usize, usize, f64)>,
+) {
+    if !e.covered(p) {
+        return;
+    }
+    let (cols, vals) = e.nodal_d.row(p);
+    for (&r, &v) in cols.iter().zip(vals) {
+        stiffness.extend((0..3).map(|c| (pair.slave.dof(r, c), column, v * lambda[c])));
+    }
+    let (cols, vals) = e.b().row(p);
+    for (&k, &v) in cols.iter().zip(vals) {
+        stiffness.extend((0..3).map(|c| (pair.master.dof(k, c), column, -v * lambda[c])));
     }
 }
 
@@ -384,162 +713,24 @@ fn colours(influence: &[Vec<usize>], n_rows: usize) -> Vec<Vec<usize>> {
     groups
 }
 
-/// The contact interfaces of a finite-deformation problem.
-pub(super) struct Contact<'a> {
-    pairs: Vec<Pair<'a>>,
-    /// c of the complementarity function.
-    c: f64,
-}
-
-/// Per contact interface (in the order of the problem's contact
-/// interfaces), the pressure λ_p of each slave body point.
-pub(crate) type Pressures = Vec<Vec<f64>>;
-
-/// The problem's state at one iterate.
-struct State {
-    currents: Vec<Current>,
-    /// f_int(u).
-    force: Vec<f64>,
-    /// R(u, λ) over all dofs.
-    residual: Vec<f64>,
-    /// Per pair and local slave point: in A.
-    active: Vec<Vec<bool>>,
-    /// ‖((Pᵀ R)_free, φ)‖ and the force scale.
-    norm: f64,
-    scale: f64,
-    /// The rounding error of φ: g̃_p is a difference of positions, so
-    /// c g̃_p is known to about 8 ε c Σ (|B_pk| |x_m,k| + |N_pr| |x_s,r|),
-    /// which small displacements far from the origin can make larger than
-    /// rtol · scale.
-    floor: f64,
-}
-
-/// A solved load step of contact in finite deformation.
-pub(super) struct Solved {
-    /// Newton's residuals and step factors.
-    pub(super) report: NewtonReport,
-    /// The KKT residuals of the solution.
-    pub(super) kkt: Kkt,
-    /// f_int(u) − Σ_p λ_p ĝ_p: the forces the bodies' cells and the contact
-    /// interfaces exert, over all dofs.
-    pub(super) internal: Vec<f64>,
-    /// Per contact interface: its evaluation on the final configuration
-    /// and its active points (in the local numbering: [`Contact::fields`]).
-    currents: Vec<Current>,
-    active: Vec<Vec<bool>>,
-}
-
-impl<'a> Contact<'a> {
-    /// The contact `interfaces` (in problem order) of bodies at `offsets`
-    /// with reference points `points[b]`; c from the largest Young's modulus
-    /// `young`.
-    pub(super) fn new(
-        interfaces: &[(usize, &Interface)],
-        offsets: &[usize],
-        points: &[&'a [Point3]],
-        young: f64,
-    ) -> Contact<'a> {
-        let pairs: Vec<Pair> = interfaces
-            .iter()
-            .map(|&(index, f)| Pair {
-                index,
-                slave: Side::new(f.slave_surface, offsets[f.slave]),
-                master: Side::new(f.master_surface, offsets[f.master]),
-                options: MortarOptions { transformation: BasisTransformation::All, ..f.options },
-                reference: (points[f.slave], points[f.master]),
-            })
-            .collect();
-        let h = pairs
-            .iter()
-            .map(|p| mean_diameter(&p.slave.faces, &p.slave.at(p.reference.0)))
-            .fold(0.0, f64::max);
-        Contact { pairs, c: young / h }
-    }
-
-    /// Whether there is any contact interface.
-    pub(super) fn is_empty(&self) -> bool {
-        self.pairs.is_empty()
-    }
-
-    /// The state at (u, λ): the interfaces on the current configuration,
-    /// f_int, R, the active sets and the residual norm (module doc).
-    fn state(&self, system: &Newton, u: &[f64], lambda: &Pressures) -> Result<State, ProblemError> {
-        let force = system.bodies.force(u).map_err(|source| ProblemError::Newton { source })?;
-        let currents = self
-            .pairs
-            .par_iter()
-            .map(|pair| {
-                let (xs, xm) = pair.positions(u);
-                pair.evaluate(xs, xm)
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        let mut residual: Vec<f64> = force.iter().zip(system.load).map(|(a, b)| a - b).collect();
-        let (mut phi2, mut floor2, mut active) = (0.0, 0.0, Vec::new());
-        for ((pair, current), lambda) in self.pairs.iter().zip(&currents).zip(lambda) {
-            let ns = pair.slave.points.len();
-            let mut on = vec![false; ns];
-            for p in (0..ns).filter(|&p| current.covered(p)) {
-                let l = lambda[pair.slave.points[p]];
-                let mu = current.d(p) * l;
-                on[p] = mu - self.c * current.gaps[p] >= 0.0;
-                let phi = if on[p] { self.c * current.gaps[p] } else { mu };
-                phi2 += phi * phi;
-                let size = current.magnitude(p, pair, u);
-                floor2 += (8.0 * f64::EPSILON * self.c * size).powi(2);
-                if l != 0.0 {
-                    for (dof, v) in current.gap_gradient(pair, p) {
-                        residual[dof] -= l * v;
-                    }
-                }
-            }
-            active.push(on);
-        }
-        let reduced = system.reduce(&residual);
-        let r2: f64 = (0..u.len()).filter(|&i| !system.held[i]).map(|i| reduced[i] * reduced[i]).sum();
-        let norm2 = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let scale = norm2(system.load).max(norm2(&force));
-        Ok(State { currents, force, residual, active, norm: (r2 + phi2).sqrt(), scale, floor: floor2.sqrt() })
-    }
-
-    /// Newton's matrix at `state` in all dofs, K(u) − Σ_p λ_p ∂ĝ_p/∂u, and
-    /// ∇g̃_p (per pair and local slave point) at the points `wanted`.
+impl Contact<'_> {
+    /// One semi-smooth Newton step at `state`: Δu and Δλ (per pair and
+    /// local slave point), the prescribed dofs moved by `remaining`.
     #[allow(clippy::type_complexity)]
-    fn jacobian(
-        &self,
-        system: &Newton,
-        (u, lambda): (&[f64], &Pressures),
-        state: &State,
-        wanted: &[Vec<bool>],
-    ) -> Result<(CsrMatrix, Vec<Vec<Vec<(usize, f64)>>>), ProblemError> {
-        let mut triplets = Vec::new();
-        let mut gradients = Vec::with_capacity(self.pairs.len());
-        for ((pair, current), (lambda, wanted)) in
-            self.pairs.iter().zip(&state.currents).zip(lambda.iter().zip(wanted))
-        {
-            let local: Vec<f64> = pair.slave.points.iter().map(|&q| lambda[q]).collect();
-            let (xs, xm) = pair.positions(u);
-            gradients.push(pair.linearise((&xs, &xm), current, (&local, wanted), &mut triplets)?);
-        }
-        let k = system.bodies.tangent(u).map_err(|source| ProblemError::Newton { source })?;
-        Ok((added(&k, triplets), gradients))
-    }
-
-    /// One semi-smooth Newton step at `state`: (Δu, Δλ per pair and local
-    /// slave point), the prescribed dofs moved by `remaining`.
     fn step(
         &self,
         system: &Newton,
-        (u, lambda): (&[f64], &Pressures),
+        (u, history): (&[f64], &History),
         state: &State,
         remaining: &[(usize, f64)],
-    ) -> Result<(Vec<f64>, Vec<Vec<f64>>), ProblemError> {
+    ) -> Result<(Vec<f64>, Vec<Vec<Point3>>), ProblemError> {
         let n = u.len();
-        let (k, gradients) = self.jacobian(system, (u, lambda), state, &state.active)?;
+        let (k, rows) = self.jacobian(system, (u, history), state)?;
         let a = match system.p {
             Some(p) => triple_product(p, &k),
             None => k,
         };
-        // The compact unknowns: free dofs, then the active points.
+        // The compact unknowns: free dofs, then three per point.
         let mut index = vec![NONE; n];
         let mut free = Vec::new();
         for i in (0..n).filter(|&i| !system.held[i] && a.row(i).0.contains(&i)) {
@@ -552,7 +743,7 @@ impl<'a> Contact<'a> {
         }
         let reduced = system.reduce(&state.residual);
         let mut rhs: Vec<f64> = free.iter().map(|&i| -reduced[i]).collect();
-        let mut rows: Vec<Vec<(usize, f64)>> = free
+        let mut matrix_rows: Vec<Vec<(usize, f64)>> = free
             .iter()
             .enumerate()
             .map(|(r, &i)| {
@@ -568,39 +759,47 @@ impl<'a> Contact<'a> {
             })
             .collect();
         let mut points = Vec::new();
-        for (q, ((pair, current), (lambda, active))) in
-            self.pairs.iter().zip(&state.currents).zip(lambda.iter().zip(&state.active)).enumerate()
-        {
-            for p in (0..pair.slave.points.len()).filter(|&p| current.covered(p)) {
-                let l = lambda[pair.slave.points[p]];
-                let column = system.through(&current.gap_gradient(pair, p));
-                if !active[p] {
-                    // Δλ_p = −λ_p: its column −ĝ_p moves to the right-hand side.
-                    for (j, v) in column.into_iter().filter(|e| index[e.0] != NONE) {
-                        rhs[index[j]] -= v * l;
-                    }
-                    continue;
-                }
-                let c = free.len() + points.len();
-                for (j, v) in column.into_iter().filter(|e| index[e.0] != NONE) {
-                    rows[index[j]].push((c, -v));
-                }
-                let mut row = Vec::new();
-                let mut value = -current.gaps[p];
-                for (j, v) in system.through(&gradients[q][p]) {
-                    match index[j] {
-                        NONE => value -= v * shift[j],
-                        c => row.push((c, v)),
+        for (q, ((pair, iterate), rows)) in self.pairs.iter().zip(&state.iterates).zip(&rows).enumerate() {
+            for (p, point) in iterate.points.iter().enumerate() {
+                let Some((g, status)) = point else { continue };
+                let first = free.len() + 3 * points.len();
+                // λ_p's columns in the force rows: N_pr on slave point r, −B_pk on master point k.
+                let current = &iterate.current;
+                let (cols, vals) = current.nodal_d.row(p);
+                let slave = cols.iter().zip(vals).map(|(&r, &v)| (r, v, &pair.slave));
+                let (cols, vals) = current.b().row(p);
+                let master = cols.iter().zip(vals).map(|(&k, &v)| (k, -v, &pair.master));
+                for (point, v, side) in slave.chain(master) {
+                    for c in 0..3 {
+                        for (j, w) in system.through(&[(side.dof(point, c), v)]) {
+                            if index[j] != NONE {
+                                matrix_rows[index[j]].push((first + c, w));
+                            }
+                        }
                     }
                 }
-                rows.push(row);
-                rhs.push(value);
+                // F_p's rows.
+                let law = self.law(pair, p, &system.held, g);
+                let value = law.rows(g, history.lambda[q][pair.slave.points[p]], *status);
+                for k in 0..3 {
+                    let mut row: Vec<(usize, f64)> =
+                        (0..3).map(|c| (first + c, rows[p].lambda[k][c])).collect();
+                    let mut b = -value[k];
+                    for (j, v) in system.through(&rows[p].u[k]) {
+                        match index[j] {
+                            NONE => b -= v * shift[j],
+                            c => row.push((c, v)),
+                        }
+                    }
+                    matrix_rows.push(row);
+                    rhs.push(b);
+                }
                 points.push((q, p));
             }
         }
-        let mut matrix = CsrMatrix::zeros(0, rows.len());
-        for mut row in rows {
-            row.sort_unstable_by_key(|e| e.0);
+        let mut matrix = CsrMatrix::zeros(0, matrix_rows.len());
+        for row in matrix_rows {
+            let row = crate::contact::merged(&mut row.clone());
             matrix.indices.extend(row.iter().map(|e| e.0));
             matrix.values.extend(row.iter().map(|e| e.1));
             matrix.indptr.push(matrix.indices.len());
@@ -616,23 +815,23 @@ impl<'a> Contact<'a> {
             Some(p) => p.mul_vec(&dy, 1),
             None => dy,
         };
-        // Δλ: −λ everywhere but on A.
-        let mut dlambda: Vec<Vec<f64>> = self
+        // Δλ: −λ off the covered points.
+        let mut dlambda: Vec<Vec<Point3>> = self
             .pairs
             .iter()
-            .zip(lambda)
-            .map(|(pair, lambda)| pair.slave.points.iter().map(|&q| -lambda[q]).collect())
+            .zip(&history.lambda)
+            .map(|(pair, lambda)| pair.slave.points.iter().map(|&r| lambda[r].map(|v| -v)).collect())
             .collect();
         for (k, &(q, p)) in points.iter().enumerate() {
-            dlambda[q][p] = x[free.len() + k];
+            let first = free.len() + 3 * k;
+            dlambda[q][p] = [x[first], x[first + 1], x[first + 2]];
         }
         Ok((du, dlambda))
     }
-}
 
-impl Contact<'_> {
-    /// Newton's method for one load step from (u, λ), which it replaces by
-    /// the solution's, with the prescribed values `dirichlet` (module doc).
+    /// Newton's method for one load step from (u, history), which it
+    /// replaces by the solution's (module doc): the multipliers, and at the
+    /// end the accumulated slip and this step's evaluation.
     ///
     /// # Errors
     /// [`ProblemError::Newton`] for an inverted cell no step avoids, a
@@ -642,26 +841,27 @@ impl Contact<'_> {
         &self,
         system: &Newton,
         dirichlet: &Dirichlet,
-        (u, lambda): (&mut Vec<f64>, &mut Pressures),
+        (u, history): (&mut Vec<f64>, &mut History),
         options: &NewtonOptions,
     ) -> Result<Solved, ProblemError> {
         let remaining = |u: &[f64]| -> Vec<(usize, f64)> {
             dirichlet.iter().filter(|&(d, v)| u[d] != v).map(|(d, v)| (d, v - u[d])).collect()
         };
         let relative = |s: &State| if s.scale > 0.0 { s.norm / s.scale } else { s.norm };
-        let mut state = self.state(system, u, lambda)?;
+        let mut state = self.state(system, (u, history), None)?;
         let mut report = NewtonReport::default();
         for iteration in 1..=options.max_iterations + 1 {
             let left = remaining(u);
             if left.is_empty() && state.norm <= (options.rtol * state.scale).max(state.floor) {
-                let kkt = self.kkt(system, (u, lambda), &state);
+                let kkt = self.kkt(system, (u, history), &state);
+                self.end_step(history, &state);
                 let internal = state.residual.iter().zip(system.load).map(|(r, f)| r + f).collect();
-                return Ok(Solved { report, kkt, internal, currents: state.currents, active: state.active });
+                return Ok(Solved { report, kkt, internal, iterates: state.iterates });
             }
             if iteration > options.max_iterations {
                 break;
             }
-            let (du, dlambda) = self.step(system, (u, lambda), &state, &left)?;
+            let (du, dlambda) = self.step(system, (u, history), &state, &left)?;
             let mut step = 1.0;
             loop {
                 let mut trial_u: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + step * d).collect();
@@ -671,15 +871,21 @@ impl Contact<'_> {
                         trial_u[d] = u[d] + v;
                     }
                 }
-                let mut trial_lambda = lambda.clone();
-                for ((pair, l), dl) in self.pairs.iter().zip(&mut trial_lambda).zip(&dlambda) {
-                    for (p, &q) in pair.slave.points.iter().enumerate() {
-                        l[q] = if step == 1.0 && dl[p] == -l[q] { 0.0 } else { l[q] + step * dl[p] };
+                let mut trial = history.clone();
+                for ((pair, l), dl) in self.pairs.iter().zip(&mut trial.lambda).zip(&dlambda) {
+                    for (p, &r) in pair.slave.points.iter().enumerate() {
+                        l[r] = std::array::from_fn(|c| {
+                            if step == 1.0 && dl[p][c] == -l[r][c] {
+                                0.0
+                            } else {
+                                l[r][c] + step * dl[p][c]
+                            }
+                        });
                     }
                 }
-                match self.state(system, &trial_u, &trial_lambda) {
+                match self.state(system, (&trial_u, &trial), None) {
                     Ok(next) => {
-                        (*u, *lambda, state) = (trial_u, trial_lambda, next);
+                        (*u, *history, state) = (trial_u, trial, next);
                         break;
                     }
                     Err(ProblemError::Newton { source }) if source.is_inversion() && step > MIN_STEP => {
@@ -700,18 +906,42 @@ impl Contact<'_> {
         })
     }
 
+    /// The end of a load step: the slip of each point in contact, s = Σ_α
+    /// τ_α w_α / d_p, added to its accumulated slip; the evaluation kept for
+    /// the next step's slip increments.
+    fn end_step(&self, history: &mut History, state: &State) {
+        for (q, (pair, iterate)) in self.pairs.iter().zip(&state.iterates).enumerate() {
+            for (p, &r) in pair.slave.points.iter().enumerate() {
+                let increment = match &iterate.points[p] {
+                    Some((g, status)) if *status != Status::Inactive => {
+                        let w = g.slip.unwrap_or([0.0; 2]);
+                        std::array::from_fn(|c| (w[0] * g.frame[1][c] + w[1] * g.frame[2][c]) / g.d)
+                    }
+                    _ => [0.0; 3],
+                };
+                let (total, last) = &mut history.slip[q][r];
+                *last = increment;
+                (0..3).for_each(|c| total[c] += increment[c]);
+            }
+            history.previous[q] = iterate.current.clone();
+        }
+    }
+
     /// How far the solution is from the discrete KKT conditions (each as
-    /// [`Kkt`] defines it, with R for f − Ku − Cᵀλ and the gaps g̃_p / d_p).
-    fn kkt(&self, system: &Newton, (u, lambda): (&[f64], &Pressures), state: &State) -> Kkt {
+    /// [`Kkt`] defines it, with R for f − Ku − Cᵀλ, the pressures n·λ_p and
+    /// the gaps g̃_p / d_p).
+    fn kkt(&self, system: &Newton, (u, history): (&[f64], &History), state: &State) -> Kkt {
         let reduced = system.reduce(&state.residual);
         let max = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0, f64::max);
         let equilibrium = max(&mut (0..u.len()).filter(|&i| !system.held[i]).map(|i| reduced[i].abs()));
         let size = max(&mut system.load.iter().chain(&state.force).map(|v| v.abs()));
         let (mut pressures, mut gaps) = (Vec::new(), Vec::new());
-        for ((pair, current), lambda) in self.pairs.iter().zip(&state.currents).zip(lambda) {
-            for p in (0..pair.slave.points.len()).filter(|&p| current.covered(p)) {
-                pressures.push(lambda[pair.slave.points[p]]);
-                gaps.push(current.gaps[p] / current.d(p));
+        for (q, (pair, iterate)) in self.pairs.iter().zip(&state.iterates).enumerate() {
+            for (p, point) in iterate.points.iter().enumerate() {
+                if let Some((g, _)) = point {
+                    pressures.push(dot(g.frame[0], history.lambda[q][pair.slave.points[p]]));
+                    gaps.push(g.gap / g.d);
+                }
             }
         }
         let largest = max(&mut pressures.iter().map(|l| l.abs()));
@@ -727,37 +957,46 @@ impl Contact<'_> {
             ),
         }
     }
-
+}
+impl Contact<'_> {
     /// The contact fields of the solved step into `out` (per interface of
-    /// the problem): pressure, normal, gap g̃_p / d_p (the initial one on the
-    /// reference configuration), active set, traction −λ_p n_p and the
-    /// resultant −Σ d_p λ_p n_p, on the final configuration.
+    /// the problem), on the final configuration: pressure n·λ_p, normal, gap
+    /// g̃_p / d_p (the initial one on the reference configuration), status,
+    /// slip, the friction bound μ n·λ_p, traction −λ_p and the resultant
+    /// −Σ d_p λ_p.
     pub(super) fn fields(
         &self,
         solved: &Solved,
-        lambda: &Pressures,
+        history: &History,
         out: &mut [InterfaceSolution],
     ) -> Result<(), ProblemError> {
-        for (((pair, current), active), lambda) in
-            self.pairs.iter().zip(&solved.currents).zip(&solved.active).zip(lambda)
-        {
-            let initial = pair.evaluate(pair.slave.at(pair.reference.0), pair.master.at(pair.reference.1))?;
+        for (q, (pair, iterate)) in self.pairs.iter().zip(&solved.iterates).enumerate() {
+            let initial = pair.reference()?;
             let s = &mut out[pair.index];
             let n_points = s.traction.len();
             let fields = s.contact.get_or_insert_with(|| ContactFields::new(n_points));
-            for p in (0..pair.slave.points.len()).filter(|&p| current.covered(p)) {
+            fields.friction = pair.friction;
+            for (p, point) in iterate.points.iter().enumerate() {
+                let Some((g, status)) = point else { continue };
                 let r = pair.slave.points[p];
-                let (n, d, pressure) = (current.normals[p], current.d(p), lambda[r]);
+                let (lambda, n) = (history.lambda[q][r], g.frame[0]);
+                let pressure = dot(n, lambda);
                 fields.contact[r] = true;
-                fields.initial_gap[r] = if initial.covered(p) { initial.gaps[p] / initial.d(p) } else { 0.0 };
-                fields.gap[r] = current.gaps[p] / d;
+                if initial.covered(p) {
+                    fields.initial_gap[r] =
+                        dot(initial.normals[p], initial.relative(p, &initial)) / initial.d(p);
+                }
+                fields.gap[r] = g.gap / g.d;
                 fields.pressure[r] = pressure;
-                fields.active[r] = active[p];
+                fields.active[r] = *status != Status::Inactive;
+                fields.stick[r] = *status == Status::Stick;
+                (fields.slip[r], fields.slip_increment[r]) = history.slip[q][r];
+                fields.friction_bound[r] = pair.friction * pressure;
                 s.constrained[r] = true;
                 s.normal[r] = n;
-                s.traction[r] = n.map(|v| -pressure * v);
+                s.traction[r] = lambda.map(|v| -v);
                 for c in 0..3 {
-                    s.force[c] -= d * pressure * n[c];
+                    s.force[c] -= g.d * lambda[c];
                 }
             }
         }
@@ -839,21 +1078,25 @@ mod tests {
     }
 
     /// Newton's matrix against central differences of the residual, on two
-    /// warped, partly overlapping bodies in sliding contact with pressures on
-    /// every covered point: the contact part −Σ λ_p ∂ĝ_p/∂u column by column
-    /// and ∇g̃_p entry by entry to 1e-6 of their largest entries, first order
+    /// warped, partly overlapping bodies in sliding contact with multipliers
+    /// on every covered point (normal and tangential) and a slip history
+    /// (the last step at another configuration), the points' statuses held:
+    /// the force terms ∂(N λ, −B λ)/∂u column by column and each point's
+    /// ∂F_p/∂u entry by entry to 1e-6 of their largest entries; first order
     /// (Hex8 | Tet4) and second order (Hex20 | Tet10, transformed Tri6 slave
-    /// basis), dual and lumped multipliers.
+    /// basis), dual and lumped multipliers, frictionless and μ = 0.3 (with
+    /// points in stick and in slip).
     #[test]
     fn newton_matrix_is_the_derivative_of_the_residual() {
         let material = Material::new(1000.0, 0.3).unwrap();
         let law = Hyperelastic::neo_hookean(&material);
         let cases = [
-            ("Hex8 | Tet4, dual", None, seam::Multiplier::Dual),
-            ("Hex20 | Tet10, dual", Some(false), seam::Multiplier::Dual),
-            ("Hex8 | Tet4, lumped", None, seam::Multiplier::Lumped),
+            ("Hex8 | Tet4, dual", None, seam::Multiplier::Dual, 0.0),
+            ("Hex8 | Tet4, dual, μ = 0.3", None, seam::Multiplier::Dual, 0.3),
+            ("Hex20 | Tet10, dual, μ = 0.3", Some(false), seam::Multiplier::Dual, 0.3),
+            ("Hex8 | Tet4, lumped, μ = 0.3", None, seam::Multiplier::Lumped, 0.3),
         ];
-        for (label, raise, multiplier) in cases {
+        for (label, raise, multiplier, friction) in cases {
             let raised = |m: VolumeMesh| match raise {
                 Some(complete) => raise_order(&m, complete).unwrap(),
                 None => m,
@@ -876,7 +1119,7 @@ mod tests {
                 slave_surface: &bottom,
                 options: MortarOptions { multiplier, ..Default::default() },
                 kind: Coupling::Contact,
-                friction: 0.0,
+                friction,
             };
             let offsets = [0, 3 * lower.points().len(), 3 * (lower.points().len() + upper.points().len())];
             let n = offsets[2];
@@ -887,55 +1130,94 @@ mod tests {
             let load = vec![0.0; n];
             let system = Newton { bodies: &nonlinear, load: &load, p: None, held: vec![false; n] };
             let mut seed = 7;
+            let mut history = contact.history(History::default()).unwrap();
+            // The last step: the slave 0.02 to the side.
+            let old: Vec<f64> =
+                (0..n).map(|i| if i >= offsets[1] && i % 3 == 0 { -0.02 } else { 0.0 }).collect();
+            let (xs, xm) = contact.pairs[0].positions(&old);
+            history.previous[0] = contact.pairs[0].evaluate(xs, xm).unwrap();
             let u: Vec<f64> = (0..n).map(|_| 0.02 * (random(&mut seed) - 0.5)).collect();
-            let zero: Pressures = vec![vec![0.0; upper.points().len()]];
-            let state = contact.state(&system, &u, &zero).unwrap();
-            let (pair, current) = (&contact.pairs[0], &state.currents[0]);
-            let covered: Vec<bool> = (0..pair.slave.points.len()).map(|p| current.covered(p)).collect();
-            assert!(covered.iter().filter(|&&c| c).count() >= 4, "{label}");
-            let mut lambda = zero.clone();
-            for (_, &q) in pair.slave.points.iter().enumerate().filter(|(p, _)| covered[*p]) {
-                lambda[0][q] = 50.0 * (0.5 + random(&mut seed));
+            let state = contact.state(&system, (&u, &history), None).unwrap();
+            let pair = &contact.pairs[0];
+            let covered: Vec<usize> =
+                (0..pair.slave.points.len()).filter(|&p| state.iterates[0].points[p].is_some()).collect();
+            assert!(covered.len() >= 4, "{label}");
+            for &p in &covered {
+                // n·λ about 50, tangential parts up to ±75: some points stick, some slip.
+                let g = &state.iterates[0].points[p].as_ref().unwrap().0;
+                let (a, b, c) = (
+                    50.0 * (0.5 + random(&mut seed)),
+                    150.0 * (random(&mut seed) - 0.5),
+                    150.0 * (random(&mut seed) - 0.5),
+                );
+                history.lambda[0][pair.slave.points[p]] =
+                    std::array::from_fn(|k| a * g.frame[0][k] + b * g.frame[1][k] + c * g.frame[2][k]);
             }
-            let state = contact.state(&system, &u, &lambda).unwrap();
-            let (k, gradients) =
-                contact.jacobian(&system, (&u, &lambda), &state, std::slice::from_ref(&covered)).unwrap();
+            let state = contact.state(&system, (&u, &history), None).unwrap();
+            let statuses: Vec<Vec<Option<Status>>> =
+                vec![state.iterates[0].points.iter().map(|p| p.as_ref().map(|e| e.1)).collect()];
+            let count = |s: Status| statuses[0].iter().filter(|&&e| e == Some(s)).count();
+            println!(
+                "{label}: {} stick, {} slip, {} inactive",
+                count(Status::Stick),
+                count(Status::Slip),
+                count(Status::Inactive)
+            );
+            if friction > 0.0 {
+                assert!(count(Status::Stick) > 0 && count(Status::Slip) > 0, "{label}");
+            }
+            let (k, rows) = contact.jacobian(&system, (&u, &history), &state).unwrap();
             let k_bodies = nonlinear.tangent(&u).unwrap();
-            // The dofs of both surfaces' points.
+            let values = |state: &State| -> Vec<Option<[f64; 3]>> {
+                state.iterates[0]
+                    .points
+                    .iter()
+                    .enumerate()
+                    .map(|(p, e)| {
+                        e.as_ref().map(|(g, s)| {
+                            let lambda = history.lambda[0][pair.slave.points[p]];
+                            contact.law(pair, p, &system.held, g).rows(g, lambda, *s)
+                        })
+                    })
+                    .collect()
+            };
             let dofs: Vec<usize> = (0..pair.slave.points.len())
                 .flat_map(|l| (0..3).map(move |c| (true, l, c)))
                 .chain((0..pair.master.points.len()).flat_map(|l| (0..3).map(move |c| (false, l, c))))
                 .map(|(slave, l, c)| if slave { pair.slave.dof(l, c) } else { pair.master.dof(l, c) })
                 .collect();
             let h = 1e-5 * mean_diameter(&pair.slave.faces, &pair.slave.at(points[1]));
-            let (mut largest, mut worst, mut g_largest, mut g_worst) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+            let (mut largest, mut worst, mut f_largest, mut f_worst) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
             for &j in &dofs {
                 let at = |s: f64| {
                     let mut v = u.clone();
                     v[j] += s;
-                    let state = contact.state(&system, &v, &lambda).unwrap();
-                    // R − (f_int − f): the contact terms −Σ λ_p ĝ_p.
+                    let state = contact.state(&system, (&v, &history), Some(&statuses)).unwrap();
+                    // R − (f_int − f): the force terms.
                     let terms: Vec<f64> =
                         state.residual.iter().zip(&state.force).map(|(r, f)| r - f).collect();
-                    (terms, state.currents[0].gaps.clone())
+                    (terms, values(&state))
                 };
-                let ((tp, gp), (tm, gm)) = (at(h), at(-h));
+                let ((tp, fp), (tm, fm)) = (at(h), at(-h));
                 for i in 0..n {
                     let exact = k.get(i, j) - k_bodies.get(i, j);
                     let fd = (tp[i] - tm[i]) / (2.0 * h);
                     largest = largest.max(exact.abs());
                     worst = worst.max((exact - fd).abs());
                 }
-                for p in (0..covered.len()).filter(|&p| covered[p]) {
-                    let exact = gradients[0][p].iter().filter(|e| e.0 == j).map(|e| e.1).sum::<f64>();
-                    let fd = (gp[p] - gm[p]) / (2.0 * h);
-                    g_largest = g_largest.max(exact.abs());
-                    g_worst = g_worst.max((exact - fd).abs());
+                for &p in &covered {
+                    let (Some(a), Some(b)) = (fp[p], fm[p]) else { panic!("{label}: point {p} uncovered") };
+                    for r in 0..3 {
+                        let exact = rows[0][p].u[r].iter().filter(|e| e.0 == j).map(|e| e.1).sum::<f64>();
+                        let fd = (a[r] - b[r]) / (2.0 * h);
+                        f_largest = f_largest.max(exact.abs());
+                        f_worst = f_worst.max((exact - fd).abs());
+                    }
                 }
             }
-            println!("{label}: contact stiffness {worst:.2e} of {largest:.2e}, gap gradients {g_worst:.2e} of {g_largest:.2e}");
+            println!("{label}: force terms {worst:.2e} of {largest:.2e}, point rows {f_worst:.2e} of {f_largest:.2e}");
             assert!(largest > 0.0 && worst <= 1e-6 * largest, "{label}: {worst:e} of {largest:e}");
-            assert!(g_largest > 0.0 && g_worst <= 1e-6 * g_largest, "{label}: {g_worst:e} of {g_largest:e}");
+            assert!(f_largest > 0.0 && f_worst <= 1e-6 * f_largest, "{label}: {f_worst:e} of {f_largest:e}");
         }
     }
 }

@@ -30,8 +30,8 @@ pub(crate) struct FiniteState {
     /// The displacements (all bodies' dofs in turn; empty before the first
     /// step).
     pub(crate) u: Vec<f64>,
-    /// The contact pressures ([`contact::Pressures`]).
-    pressures: contact::Pressures,
+    /// The contact multipliers, slips and last evaluations.
+    contact: contact::History,
 }
 
 /// The bodies side by side, each of its law, dofs at `offsets`.
@@ -184,12 +184,6 @@ pub(crate) fn solve_finite_from(
 ) -> Result<Solution, ProblemError> {
     check_input(bodies, interfaces)?;
     crate::contact::check_couplings(interfaces)?;
-    if let Some(i) = interfaces.iter().position(|f| f.kind == Coupling::Contact && f.friction > 0.0) {
-        let what = format!(
-            "interface {i}: Coulomb friction in finite deformation (hyperelastic bodies) is not supported yet"
-        );
-        return Err(ProblemError::Finite { what });
-    }
     if !matches!(options.solver, Solver::Direct) {
         let what = "hyperelastic bodies are solved with the direct solver only, for now".into();
         return Err(ProblemError::Finite { what });
@@ -225,9 +219,7 @@ pub(crate) fn solve_finite_from(
     let points: Vec<&[seam::Point3]> = bodies.iter().map(|b| b.mesh.points()).collect();
     let young = bodies.iter().map(|b| b.material.young()).fold(0.0, f64::max);
     let contact = contact::Contact::new(&contact_interfaces, &system.offsets, &points, young);
-    if state.pressures.len() != contact_interfaces.len() {
-        state.pressures = contact_interfaces.iter().map(|(_, f)| vec![0.0; points[f.slave].len()]).collect();
-    }
+    state.contact = contact.history(std::mem::take(&mut state.contact))?;
     seconds.setup += clock.elapsed().as_secs_f64();
     let clock = Instant::now();
     let (method, newton_report, f_int, solved) = match contact.is_empty() {
@@ -262,7 +254,7 @@ pub(crate) fn solve_finite_from(
             let newton =
                 contact::Newton { bodies: &nonlinear, load: &system.f, p: elimination.as_ref(), held };
             let solved =
-                contact.solve(&newton, &system.dirichlet, (u, &mut state.pressures), &options.newton)?;
+                contact.solve(&newton, &system.dirichlet, (u, &mut state.contact), &options.newton)?;
             let method = "semi-smooth Newton on the current configuration, sparse LU";
             (method, solved.report.clone(), solved.internal.clone(), Some(solved))
         }
@@ -281,7 +273,7 @@ pub(crate) fn solve_finite_from(
     let out =
         crate::coupled::interface_solutions(system.mortars, interfaces, (&constraints, &lambda), |out| {
             if let Some(solved) = &solved {
-                fields = contact.fields(solved, &state.pressures, out);
+                fields = contact.fields(solved, &state.contact, out);
             }
         });
     fields?;
