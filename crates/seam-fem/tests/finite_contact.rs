@@ -221,11 +221,16 @@ fn a_block_dragged_twice_its_length_slides_without_tangential_force() {
 /// F_x = −μ F_z to 0.5 % (F_y, left by the sticking of the press phase,
 /// relaxes below 1 % of F_z), and each slave point's slip increment is along
 /// +x; the accumulated slip at the end is the drag less the block's elastic
-/// shear, within 5 % of 2.
+/// shear, within 5 % of 2. Newton's order in slip is at least 1.7 (1.77).
 #[test]
 fn a_block_dragged_with_friction_carries_mu_times_its_press() {
     let mu = 0.3;
     let steps = dragged_block(mu);
+    // Every point slips: Newton's order with the statuses settled, the slope
+    // of log r_{k+1} against log r_k over all steps' iterations with
+    // 10⁻¹³ < r_{k+1} and r_k ≤ 10⁻³ (one step's last three residuals give
+    // 1.44 to 1.95: too few in the asymptotic range).
+    let mut pairs = Vec::new();
     for (t, step) in steps.iter().skip(3) {
         let i = &step.interfaces[0];
         let (f, c) = (i.force, i.contact.as_ref().unwrap());
@@ -238,19 +243,32 @@ fn a_block_dragged_with_friction_carries_mu_times_its_press() {
                 c.slip_increment[p]
             );
         }
+        let r = &step.report.newton.as_ref().unwrap().residuals;
+        pairs.extend(r.windows(2).filter(|w| w[0] <= 1e-3 && w[1] > 1e-13).map(|w| (w[0].ln(), w[1].ln())));
     }
+    let n = pairs.len() as f64;
+    let (mx, my) = (pairs.iter().map(|p| p.0).sum::<f64>() / n, pairs.iter().map(|p| p.1).sum::<f64>() / n);
+    let slope = pairs.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>()
+        / pairs.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
+    println!("order {slope:.2} from {} iterations", pairs.len());
+    // 1.77 measured: below the 1.8 (met in stick, frictionless
+    // contact and glue, `newton_converges_quadratically_in_glue_and_contact`);
+    // the last iterations show a linear term of about 10⁻⁴ r_k whose source
+    // is not found (docs/defects.md).
+    assert!(pairs.len() >= 10 && slope >= 1.7, "order {slope} from {} iterations", pairs.len());
     let c = steps.last().unwrap().1.interfaces[0].contact.clone().unwrap();
     let slip =
         (0..c.active.len()).filter(|&p| c.active[p]).map(|p| c.slip[p][0]).fold(f64::INFINITY, f64::min);
     assert!((slip - 2.0).abs() < 0.1, "accumulated slip {slip}");
 }
 
-/// The order of convergence from the last three residuals r₁, r₂, r₃
-/// above round-off (10⁻¹⁴), log(r₃/r₂) / log(r₂/r₁); `None` with fewer.
+/// The order of convergence log(r₃/r₂) / log(r₂/r₁) from the last three
+/// residuals above round-off (10⁻¹³) of which the first is at most 0.02
+/// (the asymptotic range); `None` without three such.
 fn order(residuals: &[f64]) -> Option<f64> {
-    let above: Vec<f64> = residuals.iter().copied().filter(|&r| r > 1e-14).collect();
-    let [r1, r2, r3] = above.get(above.len().checked_sub(3)?..)? else { unreachable!() };
-    Some((r3 / r2).ln() / (r2 / r1).ln())
+    let above: Vec<f64> = residuals.iter().copied().filter(|&r| r > 1e-13).collect();
+    let &[r1, r2, r3] = above.get(above.len().checked_sub(3)?..)? else { unreachable!() };
+    (r1 <= 0.02).then(|| (r3 / r2).ln() / (r2 / r1).ln())
 }
 
 /// Newton's last iterations converge at order ≥ 1.8 (measured from the
@@ -262,10 +280,17 @@ fn order(residuals: &[f64]) -> Option<f64> {
 fn newton_converges_quadratically_in_glue_and_contact() {
     // Glue in one step of 40 % (Newton's predictor leaves smaller steps two
     // iterations above round-off), contact in four of 5 %, the first of
-    // which settles the active set.
-    let cases = [("glue", Coupling::Glue, 0.8, 1, 0), ("contact", Coupling::Contact, 0.4, 4, 1)];
-    for (label, kind, press, n, skip) in cases {
-        let problem = stacked(kind, Law::NeoHookean, ((BlockKind::Hex, 3), (BlockKind::Tet, 2)), press, n);
+    // which settles the active set (with friction: every point sticks, the
+    // blocks of one material expanding alike).
+    let cases = [
+        ("glue", Coupling::Glue, 0.0, 0.8, 1, 0),
+        ("contact", Coupling::Contact, 0.0, 0.4, 4, 1),
+        ("contact, μ = 0.3", Coupling::Contact, 0.3, 0.4, 4, 1),
+    ];
+    for (label, kind, friction, press, n, skip) in cases {
+        let mut problem =
+            stacked(kind, Law::NeoHookean, ((BlockKind::Hex, 3), (BlockKind::Tet, 2)), press, n);
+        problem.interfaces[0].friction = friction;
         let steps = solve_all(&problem);
         let mut measured = 0;
         for (t, step) in steps.iter().skip(skip) {
@@ -277,7 +302,7 @@ fn newton_converges_quadratically_in_glue_and_contact() {
                 measured += 1;
             }
         }
-        assert_eq!(measured, n - skip, "{label}: a step took fewer than three iterations above round-off");
+        assert_eq!(measured, n - skip, "{label}: a step took too few iterations in the asymptotic range");
     }
 }
 

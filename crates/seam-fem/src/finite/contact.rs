@@ -1,56 +1,70 @@
-//! Frictionless contact in finite deformation: the mortar terms on the
-//! current configuration x = X + u, solved with the displacements by a
-//! semi-smooth Newton method on the dual (or lumped) multipliers.
+//! Contact in finite deformation, frictionless and with Coulomb friction:
+//! the mortar terms on the current configuration x = X + u, solved with the
+//! displacements by a semi-smooth Newton method on the dual (or lumped)
+//! multipliers.
 //!
 //! # The discrete problem
 //! At every Newton iteration each contact interface's D and B are assembled
 //! on the current slave and master surfaces ((A1)–(D5), [`seam::assemble`]),
-//! so that the pairs change as the bodies slide. With n_p the current unit
-//! nodal normal of slave point p ([`seam::nodal_normals`]) and
-//! N = [`seam::Mortar::nodal_d`] (N_pr = ∫ψ_p λ_r: D, or D Q⁻ᵀ on the
-//! transformed second-order slave faces of [`crate::contact`]), the weighted
-//! gap of a covered slave point is
+//! so that the pairs change as the bodies slide. With N =
+//! [`seam::Mortar::nodal_d`] (N_pr = ∫ψ_p λ_r: D, or D Q⁻ᵀ on the transformed
+//! second-order slave faces of [`crate::contact`]), a covered slave point p
+//! has the weighted relative position r_p = Σ_k B_pk x_m,k − Σ_r N_pr x_s,r,
+//! the frame (n, τ₁, τ₂) of its current nodal normal ([`seam::nodal_normals`];
+//! τ₁ from the last step's normal, [`frame`]), the weighted gap g̃_p = n·r_p
+//! (> 0 open) and the weighted slip increment since the last load step,
+//! frame-indifferent (Gitterle, Popp, Gee & Wall 2010):
 //!
 //! ```text
-//! g̃_p(x) = n_p · (Σ_k B_pk x_m,k − Σ_r N_pr x_s,r)      (> 0 open)
+//! w_α = τ_α · ((B − Bⁿ) x_m − (N − Nⁿ) x_s)_p ,
 //! ```
 //!
-//! With the pressures λ_p (the coefficients of the multiplier
-//! λ_h = Σ_p λ_p ψ_p, per current area) and ĝ_p = ∂g̃_p/∂x at fixed n, N and
-//! B (−N_pr n_p on slave point r, B_pk n_p on master point k), the residual
-//! and the complementarity function in force units (Popp, Gitterle, Gee &
-//! Wall 2010; Hüeber & Wohlmuth 2005) are
+//! Bⁿ, Nⁿ the last step's matrices (the reference configuration's before the
+//! first step; a point not covered then carries no friction in this step).
+//! The multiplier λ_p is a Cartesian vector (the master exerts −λ_p per
+//! current area on the slave), so the residual is
 //!
 //! ```text
-//! R(u, λ) = f_int(u) − f − Σ_p λ_p ĝ_p ,
-//! φ_p = d_p λ_p − max(0, d_p λ_p − c g̃_p) ,   c = E_max / h ,
+//! R(u, λ) = f_int(u) − f + Σ_p (N_p· ⊗ λ_p on the slave, −B_p· ⊗ λ_p on the master)
 //! ```
 //!
-//! d_p = D_pp and h the mean slave face diameter. A semi-smooth Newton step
-//! solves, on A = {p : d_p λ_p − c g̃_p ≥ 0},
+//! and Coulomb's law is the complementarity functions of
+//! [`crate::contact::friction`] in force units, with λ_n = n·λ_p,
+//! λ_τ = τ·λ_p, ξ = d_p λ_n − c_n g̃_p, v = d_p λ_τ + c_t w, c_n = E_max / h
+//! (h the mean slave face diameter), c_t = c_n / 10: F_p = d_p λ_p where
+//! ξ < 0 (inactive), else c_n g̃_p and per tangent c_t w_α in stick
+//! (‖v‖ ≤ μ ξ) or d_p λ_τα − μ ξ v_α / ‖v‖ in slip; a tangent with μ = 0, along
+//! a prescribed axis or without a slip history carries no friction,
+//! d_p λ_τα = 0. Each semi-smooth Newton step takes the statuses from the
+//! iterate and solves
 //!
 //! ```text
-//! [K(u) − Σ_p λ_p ∂ĝ_p/∂u   −ĝ_A] [Δu ]     [R]
-//! [∇g̃_A                     0  ] [Δλ_A] = − [g̃_A] ,   Δλ_p = −λ_p off A,
+//! [∂R/∂u   ∂R/∂λ ] [Δu]     [R]
+//! [∂F/∂u   ∂F/∂λ ] [Δλ] = − [F]
 //! ```
 //!
-//! on the free dofs of u = P y (glue eliminated as in [`super`]), by sparse
-//! LU: the matrix is not symmetric. Points that are not covered have no row
-//! and λ_p = 0 (they slid off the master). Newton stops when
-//! ‖(Pᵀ R)_free, φ‖ ≤ rtol · max(‖f‖, ‖f_int‖) with the prescribed values
-//! reached; a step that would invert a cell is halved.
+//! on the free dofs of u = P y (glue eliminated as in [`super`]) and three
+//! unknowns per covered point, by sparse LU: the matrix is not symmetric.
+//! Points that are not covered have no unknowns and λ_p = 0 (they slid off
+//! the master). Newton stops when ‖((Pᵀ R)_free, F)‖ ≤ rtol · max(‖f‖,
+//! ‖f_int‖) with the prescribed values reached, or at the rounding error of
+//! F (below); a step that would invert a cell is halved.
 //!
 //! # The linearisation
-//! n, N and B depend on the positions through the whole geometry kernel
+//! n, τ, N and B depend on the positions through the whole geometry kernel
 //! (the frames, projection, clipping, inverse maps and quadrature), which
 //! stays the one of [`seam::assemble`]. Their derivatives are central
 //! differences of that kernel, taken for many points at once by colouring
 //! (Curtis, Powell & Reid 1974): a slave point moves the rows of the slave
 //! points of its faces, a master point those rows of B that meet its faces;
 //! points that move no common row share a colour, and each colour costs six
-//! evaluations of the interface (± a step of 10⁻⁶ h per direction). The
-//! derivatives are exact to the differences' error (about 10⁻⁹ relative), so
-//! Newton converges quadratically down to there.
+//! evaluations of the interface (± a step of 10⁻⁶ h per direction). ∂F/∂λ is
+//! a central difference of F alone. The derivatives are exact to the
+//! differences' error (about 10⁻⁹ relative), so Newton converges
+//! quadratically down to there. r_p is summed about x_s,p, so that its
+//! rounding error, and that of g̃_p and w, is that of lengths between nearby
+//! points: 8 ε Σ (|B_pk| |x_m,k − x_s,p| + |N_pr| |x_s,r − x_s,p|) + …
+//! ([`Current::magnitude`]), the floor of the residual.
 
 use super::Bodies;
 use crate::constraints::{triple_product, NONE};
@@ -155,19 +169,35 @@ impl Current {
     }
 
     /// Σ_k B_pk x_m,k − Σ_r N_pr x_s,r with these matrices at the positions
-    /// of `at` (the weighted position of the master relative to the slave).
+    /// of `at` (the weighted position of the master relative to the slave),
+    /// summed about o = x_s,p: Σ_k B_pk (x_m,k − o) − Σ_r N_pr (x_s,r − o) +
+    /// (Σ_k B_pk − Σ_r N_pr) o, whose last term vanishes where p is covered,
+    /// so that the rounding is that of the lengths between nearby points, not
+    /// of the coordinates.
     fn relative(&self, p: usize, at: &Current) -> Point3 {
-        sub(row_times(self.b(), p, &at.xm), row_times(&self.nodal_d, p, &at.xs))
+        let o = at.xs[p];
+        let about = |a: &CsrMatrix, x: &[Point3]| -> (Point3, f64) {
+            let (cols, vals) = a.row(p);
+            let sum =
+                std::array::from_fn(|c| cols.iter().zip(vals).map(|(&q, &v)| v * (x[q][c] - o[c])).sum());
+            (sum, vals.iter().sum())
+        };
+        let ((m, bm), (s, ns)) = (about(self.b(), &at.xm), about(&self.nodal_d, &at.xs));
+        std::array::from_fn(|c| m[c] - s[c] + (bm - ns) * o[c])
     }
 
-    /// Σ_k |B_pk| |x_m,k| + Σ_r |N_pr| |x_s,r|: the size of the terms of
-    /// [`Current::relative`].
-    fn magnitude(&self, p: usize) -> f64 {
+    /// The size of the terms of [`Current::relative`] (at its own
+    /// positions): Σ_k |B_pk| |x_m,k − o| + Σ_r |N_pr| |x_s,r − o| +
+    /// |Σ_k B_pk − Σ_r N_pr| |o|.
+    fn magnitude(&self, p: usize, at: &Current) -> f64 {
+        let o = at.xs[p];
         let size = |a: &CsrMatrix, x: &[Point3]| {
             let (cols, vals) = a.row(p);
-            cols.iter().zip(vals).map(|(&q, &v)| v.abs() * norm(x[q])).sum::<f64>()
+            let terms = cols.iter().zip(vals).map(|(&q, &v)| v.abs() * norm(sub(x[q], o))).sum::<f64>();
+            (terms, vals.iter().sum::<f64>())
         };
-        size(&self.nodal_d, &self.xs) + size(self.b(), &self.xm)
+        let ((m, bm), (s, ns)) = (size(self.b(), &at.xm), size(&self.nodal_d, &at.xs));
+        m + s + (bm - ns).abs() * norm(o)
     }
 }
 
@@ -190,12 +220,6 @@ fn frame(n: Point3, fixed: [bool; 3], guide: Point3) -> Option<[Point3; 3]> {
     let t = sub(t, n.map(|v| v * n[c]));
     let t1 = t.map(|v| v / norm(t));
     Some([n, t1, seam::vec3::cross(n, t1)])
-}
-
-/// Σ_q a_pq x_q.
-fn row_times(a: &CsrMatrix, p: usize, x: &[Point3]) -> Point3 {
-    let (cols, vals) = a.row(p);
-    std::array::from_fn(|c| cols.iter().zip(vals).map(|(&q, &v)| v * x[q][c]).sum())
 }
 
 /// Where a contact point is.
@@ -323,7 +347,8 @@ impl Pair<'_> {
             let w = sub(relative, old.relative(p, current));
             [dot(frame[1], w), dot(frame[2], w)]
         });
-        let rounding = current.magnitude(p) + if old.covered(p) { old.magnitude(p) } else { 0.0 };
+        let rounding =
+            current.magnitude(p, current) + if old.covered(p) { old.magnitude(p, current) } else { 0.0 };
         Some(Point {
             frame,
             d: current.d(p),
@@ -1082,7 +1107,8 @@ mod tests {
     /// on every covered point (normal and tangential) and a slip history
     /// (the last step at another configuration), the points' statuses held:
     /// the force terms ∂(N λ, −B λ)/∂u column by column and each point's
-    /// ∂F_p/∂u entry by entry to 1e-6 of their largest entries; first order
+    /// ∂F_p/∂u entry by entry (and its tangential rows alone) to 1e-6 of
+    /// their largest entries; first order
     /// (Hex8 | Tet4) and second order (Hex20 | Tet10, transformed Tri6 slave
     /// basis), dual and lumped multipliers, frictionless and μ = 0.3 (with
     /// points in stick and in slip).
@@ -1188,6 +1214,7 @@ mod tests {
                 .collect();
             let h = 1e-5 * mean_diameter(&pair.slave.faces, &pair.slave.at(points[1]));
             let (mut largest, mut worst, mut f_largest, mut f_worst) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+            let (mut t_largest, mut t_worst) = (0.0f64, 0.0f64);
             for &j in &dofs {
                 let at = |s: f64| {
                     let mut v = u.clone();
@@ -1212,12 +1239,17 @@ mod tests {
                         let fd = (a[r] - b[r]) / (2.0 * h);
                         f_largest = f_largest.max(exact.abs());
                         f_worst = f_worst.max((exact - fd).abs());
+                        if r > 0 {
+                            t_largest = t_largest.max(exact.abs());
+                            t_worst = t_worst.max((exact - fd).abs());
+                        }
                     }
                 }
             }
-            println!("{label}: force terms {worst:.2e} of {largest:.2e}, point rows {f_worst:.2e} of {f_largest:.2e}");
+            println!("{label}: force terms {worst:.2e} of {largest:.2e}, point rows {f_worst:.2e} of {f_largest:.2e}, tangential {t_worst:.2e} of {t_largest:.2e}");
             assert!(largest > 0.0 && worst <= 1e-6 * largest, "{label}: {worst:e} of {largest:e}");
             assert!(f_largest > 0.0 && f_worst <= 1e-6 * f_largest, "{label}: {f_worst:e} of {f_largest:e}");
+            assert!(t_largest > 0.0 && t_worst <= 1e-6 * t_largest, "{label}: {t_worst:e} of {t_largest:e}");
         }
     }
 }
