@@ -104,19 +104,26 @@ fn mixed_and_bad_materials_are_refused() {
     );
 }
 
-/// Neo-Hookean blocks in frictionless contact from a case file: the upper
-/// top pressed down by a tenth of its height over three steps; every step
-/// converged by Newton with its active points in `summary.json`, the
+/// Neo-Hookean blocks in contact from a case file, frictionless and with
+/// μ = 0.3: the upper top pressed down by a tenth of its height over three
+/// steps; every step converged by Newton with its active points (and with
+/// friction its sticking and slipping points) in `summary.json`, the
 /// contact pressure in the interface's VTU positive where the points are
 /// active and zero elsewhere.
 #[test]
 fn neo_hookean_blocks_in_contact_from_a_case_file() {
+    for friction in [0.0, 0.3] {
+        blocks_in_contact(friction);
+    }
+}
+
+fn blocks_in_contact(friction: f64) {
     let tmp = tempfile::tempdir().unwrap();
     write_stacked_blocks(tmp.path());
     let text = stacked_case(
         (E, NU),
         (E, NU),
-        "kind = \"contact\"\nmultiplier = \"dual\"",
+        &format!("kind = \"contact\"\nmultiplier = \"dual\"\nfriction = {friction:?}"),
         "[[dirichlet]]\nboundary = \"upper:top\"\nux = 0.0\nuy = 0.0\nuz = -0.05\n\n[load]\nsteps = 3\n",
     )
     .replace("poisson = 0.3\n", "poisson = 0.3\nmaterial = \"neo-hookean\"\n");
@@ -132,6 +139,10 @@ fn neo_hookean_blocks_in_contact_from_a_case_file() {
         assert!(!residuals.is_empty(), "{step}");
         assert!(residuals.last().unwrap().as_f64().unwrap() <= 1e-10, "{step}");
         assert!(step["active"].as_u64().unwrap() > 0, "{step}");
+        if friction > 0.0 {
+            let (stick, slip) = (step["stick"].as_u64().unwrap(), step["slip"].as_u64().unwrap());
+            assert_eq!(stick + slip, step["active"].as_u64().unwrap(), "{step}");
+        }
     }
     let interface = out.join("upper_bottom_interface.vtu");
     let (_, pressure) = vtu_field(&interface, "contact_pressure", false);
