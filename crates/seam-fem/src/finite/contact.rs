@@ -309,11 +309,20 @@ impl Law {
 impl Pair<'_> {
     /// The interface at the local positions `xs`, `xm`.
     fn evaluate(&self, xs: Vec<Point3>, xm: Vec<Point3>) -> Result<Current, ProblemError> {
+        self.evaluate_on(xs, (xm, &self.master.faces))
+    }
+
+    /// [`Pair::evaluate`] against the master faces `faces` only.
+    fn evaluate_on(
+        &self,
+        xs: Vec<Point3>,
+        (xm, faces): (Vec<Point3>, &[Face]),
+    ) -> Result<Current, ProblemError> {
         let bad = |e: seam::MeshError| ProblemError::Finite {
             what: format!("interface {}: the deformed surfaces: {e}", self.index),
         };
         let slave = SurfaceMesh::new(xs, self.slave.faces.clone()).map_err(bad)?;
-        let master = SurfaceMesh::new(xm, self.master.faces.clone()).map_err(bad)?;
+        let master = SurfaceMesh::new(xm, faces.to_vec()).map_err(bad)?;
         let normals = seam::nodal_normals(&slave);
         let mortar = match seam::assemble(&master, &slave, &self.options) {
             Ok(m) => Some(m),
@@ -618,8 +627,16 @@ impl<'a> Contact<'a> {
                 }
             }
         }
-        // ∂/∂u by colour.
+        // ∂/∂u by colour, against the master faces that meet the slave (a
+        // step of 10⁻⁶ h makes no new pair but where a corner crosses an edge).
         let influence = pair.influence(&base.current);
+        let near: Vec<Face> = pair
+            .master
+            .faces
+            .iter()
+            .filter(|f| f.nodes().iter().any(|&k| !influence[ns + k].is_empty()))
+            .copied()
+            .collect();
         let h = DIFFERENCE_STEP * mean_diameter(&pair.slave.faces, xs);
         let mut owner = vec![NONE; ns];
         for group in colours(&influence, ns) {
@@ -634,7 +651,7 @@ impl<'a> Contact<'a> {
                         false => b[node - ns][c] += s,
                     }
                 }
-                pair.evaluate(a, b)
+                pair.evaluate_on(a, (b, &near))
             };
             let evaluations: Vec<_> =
                 (0..3).into_par_iter().map(|c| rayon::join(|| shifted(c, h), || shifted(c, -h))).collect();
