@@ -194,6 +194,10 @@ pub struct LoadStepSummary {
     /// iteration.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub line_search: Option<Vec<f64>>,
+    /// Finite deformation: the parts the step was solved in (1, or more
+    /// where Newton failed and the step was cut in halves).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub substeps: Option<usize>,
     /// Contact points active at the end of the step (0 without contact).
     pub active: usize,
     /// With friction: the active points that stick.
@@ -208,6 +212,9 @@ pub struct LoadStepSummary {
     /// With friction: how well the step's solution meets Coulomb's law.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub friction: Option<FrictionResiduals>,
+    /// Per interface, in case order: the resultant force the master exerts
+    /// on the slave at the end of the step (as the interface's `force`).
+    pub forces: Vec<[f64; 3]>,
 }
 
 /// The residuals of Coulomb's law at the active points of the frictional
@@ -298,11 +305,13 @@ impl LoadStepSummary {
             iterations: r.iterations,
             residuals,
             line_search: r.newton.as_ref().map(|n| n.line_search.clone()),
+            substeps: r.newton.as_ref().map(|n| n.substeps),
             active,
             stick,
             slip,
             linear_iterations,
             friction: FrictionResiduals::of(solution),
+            forces: solution.interfaces.iter().map(|f| f.force).collect(),
         }
     }
 }

@@ -414,12 +414,22 @@ impl Default for NewtonOptions {
 }
 
 /// How Newton's method went.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct NewtonReport {
     /// The relative residual after each iteration.
     pub residuals: Vec<f64>,
     /// The line search's step factor of each iteration (1 for a full step).
     pub line_search: Vec<f64>,
+    /// The parts the load step was solved in: 1, or more where Newton
+    /// failed and the step was cut in halves ([`crate::MAX_CUTS`]).
+    pub substeps: usize,
+}
+
+impl Default for NewtonReport {
+    /// No iterations, one part.
+    fn default() -> Self {
+        NewtonReport { residuals: Vec::new(), line_search: Vec::new(), substeps: 1 }
+    }
 }
 
 /// The smallest step factor of the line search (halving from 1).

@@ -83,7 +83,7 @@ pub use hyperelastic::Law;
 pub use material::{Material, MaterialError};
 pub use multibody::{Body, Coupling, Interface, OperatorAssembler, Operators, ProblemError, Timings};
 pub use problem::{
-    solve, solve_steps, Load, Problem, ProblemBody, ProblemInterface, Steps, Support, SurfaceId,
+    solve, solve_steps, Load, Problem, ProblemBody, ProblemInterface, Steps, Support, SurfaceId, MAX_CUTS,
 };
 pub use solution::{
     ActiveSetStep, ContactFields, ContactReport, InterfaceSolution, Kkt, Report, Solution, SolveOptions,

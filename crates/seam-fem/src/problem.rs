@@ -9,6 +9,7 @@
 use crate::assembly::{body_force, traction};
 use crate::coupled::solve_coupled_from;
 use crate::history::{Amplitude, LoadSteps, Value};
+use crate::hyperelastic::FiniteError;
 use crate::material::Material;
 use crate::multibody::{Body, Coupling, Interface, ProblemError};
 use crate::solution::{Solution, SolveOptions};
@@ -377,6 +378,10 @@ pub fn solve_steps<'a>(problem: &'a Problem, options: &SolveOptions) -> Steps<'a
     Steps::new(problem, *options)
 }
 
+/// The most halvings of a load step whose Newton iteration fails in finite
+/// deformation ([`Steps`]).
+pub const MAX_CUTS: usize = 5;
+
 /// The iterator of [`solve_steps`]: (t, solution at t).
 pub struct Steps<'a> {
     problem: &'a Problem,
@@ -399,6 +404,34 @@ impl<'a> Steps<'a> {
             next: 0,
             state: Default::default(),
             finite: Default::default(),
+        }
+    }
+
+    /// The solution at pseudo-time `t`, from the state at `before`: in finite
+    /// deformation, where Newton fails, the state is restored and the
+    /// interval is cut in halves, solved one after the other, down to
+    /// 2⁻[`MAX_CUTS`] of it; the report's Newton iterations are those of all
+    /// its parts ([`crate::hyperelastic::NewtonReport::substeps`]).
+    fn solve_through(&mut self, before: f64, t: f64, cuts: usize) -> Result<Solution, ProblemError> {
+        let saved =
+            (self.problem.hyperelastic_laws()?.is_some() && cuts < MAX_CUTS).then(|| self.finite.clone());
+        match (self.solve_at(t), saved) {
+            (Err(ProblemError::Newton { source }), Some(saved))
+                if !matches!(source, FiniteError::Assembly(_)) =>
+            {
+                self.finite = saved;
+                let middle = 0.5 * (before + t);
+                let first = self.solve_through(before, middle, cuts + 1)?;
+                let mut second = self.solve_through(middle, t, cuts + 1)?;
+                if let (Some(a), Some(b)) = (&first.report.newton, &mut second.report.newton) {
+                    b.residuals.splice(0..0, a.residuals.iter().copied());
+                    b.line_search.splice(0..0, a.line_search.iter().copied());
+                    b.substeps += a.substeps;
+                    second.report.iterations = b.residuals.len();
+                }
+                Ok(second)
+            }
+            (solved, _) => solved,
         }
     }
 
@@ -443,9 +476,11 @@ impl Iterator for Steps<'_> {
     type Item = Result<(f64, Solution), ProblemError>;
 
     fn next(&mut self) -> Option<Self::Item> {
-        let t = *self.problem.steps.times().get(self.next)?;
+        let times = self.problem.steps.times();
+        let t = *times.get(self.next)?;
+        let before = if self.next == 0 { 0.0 } else { times[self.next - 1] };
         self.next += 1;
-        Some(self.solve_at(t).map(|s| (t, s)))
+        Some(self.solve_through(before, t, 0).map(|s| (t, s)))
     }
 
     fn size_hint(&self) -> (usize, Option<usize>) {

@@ -366,3 +366,90 @@ fn a_small_load_gives_the_small_strain_contact() {
         assert_eq!(active(l), active(f), "{law:?}: the same active set");
     }
 }
+
+/// The ironing scene ([`seam_fem::scene::ironing`], coarse: 10 steps) with
+/// μ = 0.3: pressed and slid three times its width. Coulomb's law holds point
+/// by point at every step: the tangential traction equals μ p at slipping
+/// points and is at most μ p at sticking ones (to 1e-8 of the largest p),
+/// inactive points carry nothing; once the indenter slides, the contact force
+/// opposes the slide (F_x < 0).
+#[test]
+fn ironing_presses_and_slides_a_hyperelastic_indenter() {
+    use seam_fem::scene::{ironing, Ironing};
+    for mu in [0.3] {
+        let params = Ironing { cells: 2, indenter_cells: 4, friction: mu, steps: 10, ..Ironing::default() };
+        let problem = ironing(&params).unwrap();
+        let steps = solve_all(&problem);
+        for (t, step) in &steps {
+            let i = &step.interfaces[0];
+            let c = i.contact.as_ref().unwrap();
+            let active = c.active.iter().filter(|&&a| a).count();
+            let newton = step.report.newton.as_ref().unwrap();
+            println!(
+                "μ = {mu}, t = {t:.2}: F = {:?}, {active} active, {} iterations in {} parts",
+                i.force,
+                newton.residuals.len(),
+                newton.substeps
+            );
+            assert!(active > 0 && i.force[2] > 0.0, "t = {t}");
+            let largest = c.pressure.iter().fold(0.0f64, |a, &b| a.max(b));
+            for p in (0..c.active.len()).filter(|&p| c.contact[p]) {
+                let tangential = seam::vec3::norm(i.tangential_traction[p]);
+                let bound = mu * c.pressure[p];
+                let tol = 1e-8 * largest;
+                match (c.active[p], c.stick[p]) {
+                    (false, _) => assert!(
+                        tangential <= tol && c.pressure[p].abs() <= tol,
+                        "t = {t}, point {p}: {tangential}, {}, gap {}",
+                        c.pressure[p],
+                        c.gap[p]
+                    ),
+                    (true, true) => {
+                        assert!(tangential <= bound + tol, "t = {t}, point {p}: {tangential} > {bound}")
+                    }
+                    (true, false) => assert!(
+                        (tangential - bound).abs() <= tol,
+                        "t = {t}, point {p}: {tangential} against {bound}"
+                    ),
+                }
+            }
+            if mu > 0.0 && *t > 0.25 {
+                assert!(i.force[0] < 0.0, "t = {t}: {:?}", i.force);
+            }
+        }
+    }
+}
+
+/// A load step too large for Newton's iteration cap (a Tet10 block
+/// stretched to 1.5 in one step, at most 2 iterations) is cut in halves
+/// until each part converges: the report counts the parts and lists the
+/// iterations of all of them, and the state is the homogeneous stretch to
+/// 1e-10; with no cut left (`MAX_CUTS`) the failure is Newton's.
+#[test]
+fn a_load_step_newton_cannot_take_is_cut_in_halves() {
+    use crate::hyperelastic::slab;
+    let roller = |s, k: usize, v: f64| Support::new(id(0, s), std::array::from_fn(|c| (c == k).then_some(v)));
+    let problem = Problem {
+        bodies: vec![slab("one", (2, 2), 0.0, BlockKind::Tet, Some(false), Law::NeoHookean)],
+        supports: vec![roller(0, 0, 0.0), roller(1, 1, 0.0), roller(2, 2, 0.0), roller(3, 2, 0.5)],
+        ..Problem::default()
+    };
+    let mut options = SolveOptions::default();
+    options.newton.max_iterations = 2;
+    let solution = seam_fem::solve(&problem, &options).unwrap();
+    let newton = solution.report.newton.as_ref().unwrap();
+    println!("{} parts, residuals {:?}", newton.substeps, newton.residuals);
+    assert!(newton.substeps >= 2 && newton.residuals.len() > 2, "{newton:?}");
+    assert_eq!(solution.report.iterations, newton.residuals.len());
+    let hyper = Law::NeoHookean.hyperelastic(&material()).unwrap();
+    let s = lateral_stretch(&hyper, 1.5);
+    for (p, x) in problem.bodies[0].mesh.points().iter().enumerate() {
+        let exact = [(s - 1.0) * x[0], (s - 1.0) * x[1], 0.5 * x[2]];
+        for a in 0..3 {
+            assert!((solution.displacement[0][3 * p + a] - exact[a]).abs() <= 1e-10, "point {p}");
+        }
+    }
+    options.newton.max_iterations = 1;
+    let error = seam_fem::solve(&problem, &options).unwrap_err().to_string();
+    assert!(error.contains("Newton did not converge"), "{error}");
+}

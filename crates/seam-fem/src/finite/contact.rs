@@ -80,6 +80,10 @@ use seam::{BasisTransformation, CsrMatrix, Face, Mortar, MortarError, MortarOpti
 /// diameter.
 const DIFFERENCE_STEP: f64 = 1e-6;
 
+/// Newton gives up once its residual exceeds this many times the smallest
+/// it has reached (after four iterations).
+const DIVERGED: f64 = 1e3;
+
 /// The smallest step factor when a step would invert a cell.
 const MIN_STEP: f64 = 1.0 / 1024.0;
 
@@ -938,10 +942,16 @@ impl Contact<'_> {
             }
             report.residuals.push(relative(&state));
             report.line_search.push(step);
+            // Diverging (the statuses cycling far from the solution): give up
+            // early, so that the load step can be cut ([`crate::MAX_CUTS`]).
+            let best = report.residuals.iter().copied().fold(f64::INFINITY, f64::min);
+            if report.residuals.len() >= 4 && relative(&state) > DIVERGED * best {
+                break;
+            }
         }
         Err(ProblemError::Newton {
             source: FiniteError::NotConverged {
-                iterations: options.max_iterations,
+                iterations: report.residuals.len(),
                 residual: relative(&state),
                 rtol: options.rtol,
             },

@@ -17,15 +17,21 @@
 //! pressed on an elastic block, against Hertz's contact radius and pressure;
 //! [`cattaneo_mindlin`] presses the same indenter (a half model) and pushes it
 //! sideways with friction, against Cattaneo and Mindlin's partial slip.
+//!
+//! [`ironing`] is finite deformation with large sliding: a hyperelastic
+//! indenter pressed into a softer slab and slid along it (Puso & Laursen
+//! 2004), frictionless or with Coulomb friction.
 
 mod bulging;
 mod cattaneo_mindlin;
 mod hertz;
+mod ironing;
 mod warped_glue;
 
 pub use bulging::{bulging_contact, Bulge, BulgingContact};
 pub use cattaneo_mindlin::{cattaneo_mindlin, AxisPoint, CattaneoMindlin, PartialSlip};
 pub use hertz::{hertz, Hertz};
+pub use ironing::{ironing, Ironing};
 pub use warped_glue::{warped_glue, WarpedGlue};
 
 use crate::generate::{Grid, Side};
