@@ -216,6 +216,14 @@ pub enum ExampleName {
     /// load steps: compares the stick radius and the tangential traction with
     /// Cattaneo and Mindlin's solution (cattaneo-mindlin.md, .csv, .png).
     CattaneoMindlin,
+    /// Finite deformation with large sliding (after Puso & Laursen 2004): a
+    /// neo-Hookean indenter with a cylindrical face pressed into a softer
+    /// neo-Hookean slab and slid three times its width along it, frictionless
+    /// and with μ = 0.3: both cases and their results (frictionless/,
+    /// friction/), the contact forces over the load steps (ironing.md,
+    /// ironing.csv) and a picture of them and of the deformed bodies
+    /// (ironing.png).
+    Ironing,
 }
 
 #[derive(Args, Debug)]
@@ -238,7 +246,8 @@ pub struct ExampleArgs {
     pub ratio: Option<usize>,
     /// warped-glue, bulging-contact: slave cells across x and y; hertz:
     /// slave cells across the uniform zone [0, 1.5a], cattaneo-mindlin
-    /// across [0, 1.1a] (for tests and quick runs).
+    /// across [0, 1.1a]; ironing: indenter cells across (for tests and quick
+    /// runs).
     #[arg(long, hide = true, value_name = "N")]
     pub slave_cells: Option<usize>,
     /// warped-glue: element order, 1 (Hex8) or 2 (Hex27 bodies with curved

@@ -13,6 +13,7 @@ pub fn run(args: &ExampleArgs) -> Result<(), Failure> {
         ExampleName::BulgingContact => Example::BulgingContact,
         ExampleName::Hertz => Example::Hertz,
         ExampleName::CattaneoMindlin => Example::CattaneoMindlin,
+        ExampleName::Ironing => Example::Ironing,
     };
     let options = Options {
         output: args.output.clone(),

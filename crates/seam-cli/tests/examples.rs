@@ -176,3 +176,40 @@ fn cattaneo_mindlin_writes_every_load_step_and_compares_the_partial_slip() {
     // Coulomb's cone, μ = 0.3.
     assert!(rows.iter().all(|r| r[2].abs() <= 0.3 * r[1] * (1.0 + 1e-9) + 1e-12), "{csv}");
 }
+
+/// `seam example ironing` (coarse): both runs written as cases with their
+/// results, every load step converged by Newton, the forces over the steps
+/// in the CSV and the picture; while the indenter slides, F_x / F_z is about
+/// −μ with friction (within 0.05, the slab's ploughing) and about 0 without.
+#[test]
+fn ironing_writes_both_runs_and_the_forces_over_the_load_steps() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = seam(&["example", "ironing", "-o", "iron", "--slave-cells", "2"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let iron = tmp.path().join("iron");
+    for run in ["frictionless", "friction"] {
+        let files = ["out/steps/indenter_0020.vtu", "out/indenter.pvd", "out/indenter_bottom_interface.pvd"];
+        assert_files(&iron.join(run), &["slab", "indenter"], &files);
+        let summary = json(&iron.join(run).join("out/summary.json"));
+        for step in summary["steps"].as_array().unwrap() {
+            assert!(
+                step["residuals"].as_array().unwrap().last().unwrap().as_f64().unwrap() <= 1e-10,
+                "{step}"
+            );
+            assert!(step["active"].as_u64().unwrap() > 0, "{step}");
+        }
+    }
+    for file in ["ironing.md", "ironing.csv"] {
+        assert!(iron.join(file).is_file(), "{file}");
+    }
+    assert_eq!(png_size(&iron.join("ironing.png")), (1680, 564));
+    let csv = std::fs::read_to_string(iron.join("ironing.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("friction,t,force_x,force_y,force_z"));
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    assert_eq!(rows.len(), 40);
+    for r in rows.iter().filter(|r| r[1] > 0.3) {
+        let expected = -r[0];
+        assert!(r[4] > 0.0 && (r[2] / r[4] - expected).abs() < 0.05, "{r:?}");
+    }
+}

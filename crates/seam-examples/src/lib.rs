@@ -10,6 +10,7 @@
 //! | `bulging-contact` | [`bulging_contact`] | two blocks with bulging facing sides in contact (Fig. 3), with a picture |
 //! | `hertz` | [`hertz`] | an indenter on a block against Hertz's solution: table, CSV and chart |
 //! | `cattaneo-mindlin` | [`cattaneo_mindlin`] | the indenter pressed, then pushed sideways with friction, against Cattaneo–Mindlin's partial slip: table, CSV and chart |
+//! | `ironing` | [`ironing`] | a hyperelastic indenter pressed into a slab and slid along it, frictionless and with friction: forces over the load steps, table, CSV and picture |
 //!
 //! The elasticity examples build their [`seam_fem::Problem`] in memory
 //! (a scene of `seam_fem::scene`), write it as a case (one mesh per body and
@@ -30,6 +31,7 @@ pub mod bulging_contact;
 mod case;
 pub mod cattaneo_mindlin;
 pub mod hertz;
+pub mod ironing;
 pub mod operator;
 pub mod picture;
 pub mod transfer_bench;
@@ -48,7 +50,8 @@ pub struct Options {
     /// warped-glue: h_s/h_m (default [`warped_glue::RATIO`]).
     pub ratio: Option<usize>,
     /// warped-glue, bulging-contact: slave cells across x and y; hertz,
-    /// cattaneo-mindlin: slave cells across the uniform zone [0, 1.5a]
+    /// cattaneo-mindlin: slave cells across the uniform zone [0, 1.5a];
+    /// ironing: indenter cells across
     /// (defaults: each module's `SLAVE_CELLS` or `FINE_CELLS`).
     pub slave_cells: Option<usize>,
     /// warped-glue: the element order, 1 (Hex8, the default) or 2 (Hex27 at
@@ -69,6 +72,8 @@ pub enum Example {
     Hertz,
     /// [`cattaneo_mindlin`].
     CattaneoMindlin,
+    /// [`ironing`].
+    Ironing,
 }
 
 /// Runs `example` on the current rayon pool; returns its report, one line
@@ -84,5 +89,6 @@ pub fn run(example: Example, options: &Options) -> Result<Vec<String>, Failure> 
         Example::BulgingContact => bulging_contact::run(options),
         Example::Hertz => hertz::run(options),
         Example::CattaneoMindlin => cattaneo_mindlin::run(options),
+        Example::Ironing => ironing::run(options),
     }
 }
