@@ -151,6 +151,9 @@ pub fn case_toml(problem: &Problem, about: &[String]) -> Result<String, CaseErro
         writeln!(t, "{}", commented("[[body]]", role(b)))?;
         writeln!(t, "name = \"{}\"\nmesh = \"{}.msh\"", body.name, body.name)?;
         writeln!(t, "young = {:?}\npoisson = {:?}", body.material.young(), body.material.poisson())?;
+        if body.law != seam_fem::Law::Linear {
+            writeln!(t, "material = \"{}\"", body.law.name())?;
+        }
         if body.body_force != [0.0; 3] {
             writeln!(t, "body_force = {}", array(body.body_force))?;
         }
@@ -273,7 +276,9 @@ fn multiplier(options: &MortarOptions, contact: bool) -> Result<&'static str, Ca
 #[cfg(test)]
 mod tests {
     use super::*;
-    use seam_fem::scene::{bulging_contact, hertz, warped_glue, BulgingContact, Hertz, WarpedGlue};
+    use seam_fem::scene::{
+        bulging_contact, hertz, ironing, warped_glue, BulgingContact, Hertz, Ironing, WarpedGlue,
+    };
 
     #[test]
     fn the_glue_scene_gives_the_case_of_the_warped_glue_example() {
@@ -308,6 +313,14 @@ mod tests {
         let case: toml::Table = text.parse().unwrap();
         let t = case["traction"][0]["t"].as_array().unwrap()[2].as_float().unwrap();
         assert_eq!(-t, h.force() / (4.0 * 0.5 * 0.5), "the traction round-trips");
+        // Hyperelastic bodies keep their law, friction its μ.
+        let p = ironing(&Ironing { cells: 2, indenter_cells: 2, friction: 0.3, ..Ironing::default() }).unwrap();
+        let text = case_toml(&p, &[]).unwrap();
+        let case: toml::Table = text.parse().unwrap();
+        for body in case["body"].as_array().unwrap() {
+            assert_eq!(body["material"].as_str(), Some("neo-hookean"), "{text}");
+        }
+        assert_eq!(case["interface"][0]["friction"].as_float(), Some(0.3), "{text}");
     }
 
     #[test]

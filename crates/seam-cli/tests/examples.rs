@@ -190,6 +190,8 @@ fn ironing_writes_both_runs_and_the_forces_over_the_load_steps() {
     for run in ["frictionless", "friction"] {
         let files = ["out/steps/indenter_0020.vtu", "out/indenter.pvd", "out/indenter_bottom_interface.pvd"];
         assert_files(&iron.join(run), &["slab", "indenter"], &files);
+        let case = std::fs::read_to_string(iron.join(run).join("case.toml")).unwrap();
+        assert_eq!(case.matches("material = \"neo-hookean\"").count(), 2, "{case}");
         let summary = json(&iron.join(run).join("out/summary.json"));
         for step in summary["steps"].as_array().unwrap() {
             assert!(
