@@ -314,7 +314,8 @@ mod tests {
         let t = case["traction"][0]["t"].as_array().unwrap()[2].as_float().unwrap();
         assert_eq!(-t, h.force() / (4.0 * 0.5 * 0.5), "the traction round-trips");
         // Hyperelastic bodies keep their law, friction its μ.
-        let p = ironing(&Ironing { cells: 2, indenter_cells: 2, friction: 0.3, ..Ironing::default() }).unwrap();
+        let p =
+            ironing(&Ironing { cells: 2, indenter_cells: 2, friction: 0.3, ..Ironing::default() }).unwrap();
         let text = case_toml(&p, &[]).unwrap();
         let case: toml::Table = text.parse().unwrap();
         for body in case["body"].as_array().unwrap() {

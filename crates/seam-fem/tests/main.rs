@@ -12,6 +12,7 @@ mod contact_second_order;
 mod convergence;
 mod element;
 mod finite_contact;
+mod finite_convergence;
 mod friction;
 mod glue;
 mod glue_convergence;

@@ -166,6 +166,22 @@ fn multipliers(constraints: &Constraints, f: &[f64], f_int: &[f64]) -> Vec<f64> 
     lambda
 }
 
+/// Solves hyperelastic `bodies` (`laws[b]` the law of body b), glued and in
+/// contact by `interfaces`, in one load step from rest: the solver's view,
+/// as [`crate::solve_coupled`] is for linear bodies (a [`crate::Problem`]
+/// with load steps: [`crate::solve_steps`]).
+///
+/// # Errors
+/// As [`crate::solve_steps`] for hyperelastic bodies.
+pub fn solve_finite(
+    bodies: &[Body],
+    laws: &[Hyperelastic],
+    interfaces: &[Interface],
+    options: &SolveOptions,
+) -> Result<Solution, ProblemError> {
+    solve_finite_from(bodies, laws, interfaces, options, &mut FiniteState::default())
+}
+
 /// Solves the hyperelastic `bodies` (`laws[b]` the law of body b), glued
 /// and in frictionless contact, from the last step's `state` (displacements
 /// and pressures; empty: at rest), which it replaces by the solution's
