@@ -764,8 +764,11 @@ fn run_problem(
     let mut states: Vec<StepState> = Vec::with_capacity(problem.steps.len());
     let mut load_steps = Vec::with_capacity(problem.steps.len());
     let mut last = None;
-    for step in seam_fem::solve_steps(&problem, &fem_options) {
-        let (time, solution) = step.map_err(|e| problem_failure(e, &case, case_path))?;
+    let times = problem.steps.times().to_vec();
+    for (k, step) in seam_fem::solve_steps(&problem, &fem_options).enumerate() {
+        let at =
+            (times.len() > 1).then(|| format!("load step {} of {} (t = {}): ", k + 1, times.len(), times[k]));
+        let (time, solution) = step.map_err(|e| problem_failure(e, &case, case_path, at.as_deref()))?;
         seconds.solver += solution.report.seconds;
         load_steps.push(LoadStepSummary::new(time, &solution, options.solver));
         let clock = Instant::now();
@@ -1213,8 +1216,27 @@ fn effective_multiplier(f: &crate::case::Interface, slave: &SurfaceMesh) -> Mult
 
 /// A solver error in the case's terms: bodies and interfaces by name. An
 /// interface whose surfaces do not overlap is "nothing to couple" (exit 1).
-fn problem_failure(e: ProblemError, case: &Case, path: &Path) -> Failure {
+/// Cell `cell` of body `body` as the user knows it: "element TAG (TYPE) of
+/// FILE", its Gmsh tag read again from the body's mesh (only on failure), or
+/// "cell N" if that fails.
+fn element_name(case: &Case, body: usize, cell: usize) -> String {
+    let b = &case.bodies[body];
+    let path = case.resolve(&b.mesh);
+    let element = seam_io::read_msh_file(&path).ok().and_then(|msh| {
+        let elements = msh.volume_elements(b.volume.as_deref()).ok()?;
+        elements.get(cell).map(|e| format!("element {} ({})", e.tag, e.type_name()))
+    });
+    match element {
+        Some(e) => format!("{e} of {}", path.display()),
+        None => format!("cell {cell}"),
+    }
+}
+
+/// The one line of `e` for `case` at `path`; a failure of finite deformation
+/// names the load step (`at`, when there are several).
+fn problem_failure(e: ProblemError, case: &Case, path: &Path, at: Option<&str>) -> Failure {
     let file = path.display();
+    let at = at.unwrap_or("");
     match e {
         ProblemError::Mortar { interface, source } => {
             let what = case.interfaces[interface].describe(interface);
@@ -1287,16 +1309,24 @@ fn problem_failure(e: ProblemError, case: &Case, path: &Path) -> Failure {
         ProblemError::Newton { source } => {
             use seam_fem::hyperelastic::FiniteError;
             let text = match &source {
-                FiniteError::Body { body, source } => {
-                    format!("body \"{}\": {source}", case.bodies[*body].name)
-                }
+                FiniteError::Body { body, source } => match **source {
+                    FiniteError::Inverted { cell } => format!(
+                        "body \"{}\": {} is inverted by the displacements (J ≤ 0)",
+                        case.bodies[*body].name,
+                        element_name(case, *body, cell)
+                    ),
+                    _ => format!("body \"{}\": {source}", case.bodies[*body].name),
+                },
                 e => e.to_string(),
             };
             match source {
                 FiniteError::NotConverged { .. } | FiniteError::LineSearch { .. } => {
-                    Failure::Convergence(format!("{file}: finite deformation: {text}"))
+                    Failure::Convergence(format!(
+                        "{file}: finite deformation: {at}{text} (after cutting the step in halves {} times)",
+                        seam_fem::MAX_CUTS
+                    ))
                 }
-                _ => Failure::Error(format!("{file}: finite deformation: {text}")),
+                _ => Failure::Error(format!("{file}: finite deformation: {at}{text}")),
             }
         }
         e @ (ProblemError::BadInterface { .. }

@@ -152,3 +152,58 @@ fn blocks_in_contact(friction: f64) {
         assert!(if *a == 1.0 { *p > 0.0 } else { *p == 0.0 }, "pressure {p}, active {a}");
     }
 }
+
+/// A prescribed displacement that turns a cell inside out (the upper block
+/// on the lower, both 0.5 thick, pressed down by 1.2 over two steps): one
+/// line naming the body,
+/// the cell by its Gmsh element tag and type in the mesh file, and the load
+/// step; exit 2, nothing written.
+#[test]
+fn an_inverted_element_is_named_by_its_gmsh_tag_and_the_load_step() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_stacked_blocks(tmp.path());
+    let text = stacked_case(
+        (E, NU),
+        (E, NU),
+        "kind = \"glue\"\nmultiplier = \"dual\"",
+        "[[dirichlet]]\nboundary = \"upper:top\"\nuz = -1.2\n\n[load]\nsteps = 2\n",
+    )
+    .replace("poisson = 0.3\n", "poisson = 0.3\nmaterial = \"neo-hookean\"\n");
+    std::fs::write(tmp.path().join("case.toml"), text).unwrap();
+    let o = seam(&["solve", "case.toml"], tmp.path());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let line = stderr(&o);
+    assert_eq!(line.trim_end().lines().count(), 1, "{line}");
+    for part in [
+        "case.toml: finite deformation: load step 2 of 2 (t = 1): body \"",
+        "\": element ",
+        " (an 8-node hexahedron) of ",
+        ".msh is inverted by the displacements (J ≤ 0)",
+    ] {
+        assert!(line.contains(part), "'{part}' in {line}");
+    }
+    assert!(!tmp.path().join("out").exists());
+}
+
+/// Newton not converging within `[newton] max_iterations` (one iteration,
+/// even after the step is cut in halves): one line with the load step, the
+/// iterations and the residual; exit 2, nothing written.
+#[test]
+fn newton_not_converging_names_the_step_the_iterations_and_the_residual() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_stacked_blocks(tmp.path());
+    let text = case(-200.0, "[load]\nsteps = 2\n\n[newton]\nmax_iterations = 1\n");
+    std::fs::write(tmp.path().join("case.toml"), text).unwrap();
+    let o = seam(&["solve", "case.toml"], tmp.path());
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let line = stderr(&o);
+    assert_eq!(line.trim_end().lines().count(), 1, "{line}");
+    for part in [
+        "case.toml: finite deformation: load step 1 of 2 (t = 0.5): ",
+        "Newton did not converge in 1 iterations (relative residual ",
+        "asked 1e-10) (after cutting the step in halves 5 times)",
+    ] {
+        assert!(line.contains(part), "'{part}' in {line}");
+    }
+    assert!(!tmp.path().join("out").exists());
+}
