@@ -255,3 +255,29 @@ def test_hyperelastic_bodies_in_a_case_dict(tmp_path, monkeypatch):
     mixed = {**finite, "body": [finite["body"][0], case["body"][1]]}
     with pytest.raises(seam.CaseError, match='is linear and body ".*" hyperelastic'):
         seam.solve(mixed)
+
+
+def test_hyperelastic_contact_with_friction_in_a_case_dict(tmp_path, monkeypatch):
+    """The ironing example's case with friction (coarse) as a dict: every
+    load step converged by Newton in one part, the contact force of each
+    step in the summary (`forces`), and in each step's interface Coulomb's
+    law at the slipping points (|t_τ| = μ p) and the accumulated slip."""
+    done = run_cli("example", "ironing", "-o", "ex", "--slave-cells", "2", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    monkeypatch.chdir(tmp_path / "ex" / "friction")
+    case = tomllib.loads(Path("case.toml").read_text())
+    assert all(b["material"] == "neo-hookean" for b in case["body"])
+    solution = seam.solve(case)
+    assert len(solution.steps) == 20
+    for k, step in enumerate(solution.summary["steps"]):
+        assert step["residuals"][-1] <= 1e-10 and step["substeps"] >= 1
+        f = step["forces"][0]
+        assert f[2] > 0, f
+        interface = solution.steps[k].interfaces[0]
+        active, stick = interface.active > 0, interface.stick > 0
+        slip = active & ~stick
+        pressure = interface.contact_pressure[slip]
+        tangential = np.linalg.norm(interface.tangential_traction[slip], axis=1)
+        np.testing.assert_allclose(tangential, 0.3 * pressure, rtol=1e-8, atol=1e-10 * pressure.max(initial=1.0))
+    last = solution.steps[-1].interfaces[0]
+    assert np.all(last.slip[last.active > 0][:, 0] > 2.0)
