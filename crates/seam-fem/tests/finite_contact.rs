@@ -453,3 +453,108 @@ fn a_load_step_newton_cannot_take_is_cut_in_halves() {
     let error = seam_fem::solve(&problem, &options).unwrap_err().to_string();
     assert!(error.contains("Newton did not converge"), "{error}");
 }
+
+/// Glue and contact in one finite-deformation problem: three neo-Hookean
+/// blocks stacked ([0, 1]² × [0, 3]), the lowest (Hex8, 3 across) glued to
+/// the middle one (Tet4, 2 across; dual multipliers, eliminated), which
+/// touches the top one (Hex8, 4 across) in frictionless contact; rollers on
+/// x = 0, y = 0 and the bottom, the top pressed down by 0.6 (20 %) over four
+/// steps. Every block is in the uniaxial state of stretch 0.8: displacements
+/// to 1e-10, the contact pressure −σ_zz at every contact point to 1e-8.
+#[test]
+fn glue_and_contact_in_one_finite_deformation_problem() {
+    let law = Law::NeoHookean;
+    let hyper = law.hyperelastic(&material()).unwrap();
+    let s = lateral_stretch(&hyper, 0.8);
+    let pressure = -analytic_cauchy(&hyper, &[[0.8, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]])[0][0];
+    let interface = |master: usize, kind| ProblemInterface {
+        master: id(master, 3),
+        slave: id(master + 1, 2),
+        options: seam::MortarOptions { multiplier: seam::Multiplier::Dual, ..Default::default() },
+        kind,
+        friction: 0.0,
+    };
+    let mut supports = vec![roller(0, 2, 2, 0.0), roller(2, 3, 2, -0.6)];
+    for b in 0..3 {
+        supports.extend([roller(b, 0, 0, 0.0), roller(b, 1, 1, 0.0)]);
+    }
+    let problem = Problem {
+        bodies: vec![
+            slab("bottom", (3, 2), 0.0, BlockKind::Hex, None, law),
+            slab("middle", (2, 2), 1.0, BlockKind::Tet, None, law),
+            slab("top", (4, 2), 2.0, BlockKind::Hex, None, law),
+        ],
+        interfaces: vec![interface(0, Coupling::Glue), interface(1, Coupling::Contact)],
+        supports,
+        steps: LoadSteps::equal(4).unwrap(),
+        ..Problem::default()
+    };
+    let steps = solve_all(&problem);
+    let solution = &steps.last().unwrap().1;
+    let c = solution.interfaces[1].contact.as_ref().unwrap();
+    let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
+    assert!(!points.is_empty());
+    for &p in &points {
+        assert!(
+            c.active[p] && (c.pressure[p] - pressure).abs() <= 1e-8 * pressure,
+            "point {p}: {}",
+            c.pressure[p]
+        );
+    }
+    for (b, body) in problem.bodies.iter().enumerate() {
+        let u = &solution.displacement[b];
+        for (p, x) in body.mesh.points().iter().enumerate() {
+            let exact = [(s - 1.0) * x[0], (s - 1.0) * x[1], -0.2 * x[2]];
+            for a in 0..3 {
+                assert!(
+                    (u[3 * p + a] - exact[a]).abs() <= 1e-10,
+                    "body {b}, point {p}: {:?}",
+                    &u[3 * p..3 * p + 3]
+                );
+            }
+        }
+    }
+    // The glue's traction per reference area: s² σ_zz.
+    let glue = &solution.interfaces[0];
+    for (p, t) in glue.traction.iter().enumerate().filter(|(p, _)| glue.constrained[*p]) {
+        assert!((t[2] - s * s * pressure).abs() <= 1e-8 * pressure, "glue point {p}: {t:?}");
+    }
+}
+
+/// The contact patch test of second-order cells: Hex27 (2 across) under
+/// Tet10 (2 across; Tri6 slave faces, dual multipliers in Popp's
+/// transformed basis), neo-Hookean, 20 % over four steps: the pressure
+/// −σ_zz at every contact point to 1e-8, the displacements to 1e-10.
+#[test]
+fn second_order_contact_patch_test_under_20_percent_compression() {
+    let law = Law::NeoHookean;
+    let hyper = law.hyperelastic(&material()).unwrap();
+    let s = lateral_stretch(&hyper, 0.8);
+    let pressure = -analytic_cauchy(&hyper, &[[0.8, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]])[0][0];
+    let mut problem = stack(law, (BlockKind::Hex, 2), (BlockKind::Tet, 2), 0.4, 4);
+    problem.bodies = vec![
+        slab("lower", (2, 2), 0.0, BlockKind::Hex, Some(true), law),
+        slab("upper", (2, 2), 1.0, BlockKind::Tet, Some(false), law),
+    ];
+    let steps = solve_all(&problem);
+    let solution = &steps.last().unwrap().1;
+    let c = solution.interfaces[0].contact.as_ref().unwrap();
+    let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
+    assert!(points.len() >= 25, "{} contact points", points.len());
+    for &p in &points {
+        assert!(
+            c.active[p] && (c.pressure[p] - pressure).abs() <= 1e-8 * pressure,
+            "point {p}: {}",
+            c.pressure[p]
+        );
+    }
+    for (b, body) in problem.bodies.iter().enumerate() {
+        let u = &solution.displacement[b];
+        for (p, x) in body.mesh.points().iter().enumerate() {
+            let exact = [(s - 1.0) * x[0], (s - 1.0) * x[1], -0.2 * x[2]];
+            for a in 0..3 {
+                assert!((u[3 * p + a] - exact[a]).abs() <= 1e-10, "body {b}, point {p}");
+            }
+        }
+    }
+}
