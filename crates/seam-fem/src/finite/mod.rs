@@ -1,7 +1,7 @@
 //! The multi-body problem in finite deformation: hyperelastic bodies
 //! ([`crate::hyperelastic`]), total Lagrangian, glued in the reference
 //! configuration and in contact (with or without friction) on the current
-//! one ([`contact`]).
+//! one (the private `contact` module).
 //!
 //! Glue ties the meshes as 4C and MOOSE do in finite deformation: D and B
 //! are assembled once on the undeformed interfaces and the constraint
@@ -12,7 +12,7 @@
 //! Pᵀ (f − f_int(P y)) = 0 with the tangent Pᵀ K(u) P, from the last step's
 //! displacements. The multipliers are read off the slave rows,
 //! λ = C_S⁻ᵀ (f − f_int(u))_S: the interface traction per reference area.
-//! With contact interfaces each Newton step is [`contact`]'s semi-smooth
+//! With contact interfaces each Newton step is that module's semi-smooth
 //! step on y and the contact multipliers instead.
 
 mod contact;
