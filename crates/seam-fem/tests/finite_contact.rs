@@ -221,14 +221,15 @@ fn a_block_dragged_twice_its_length_slides_without_tangential_force() {
 /// F_x = −μ F_z to 0.5 % (F_y, left by the sticking of the press phase,
 /// relaxes below 1 % of F_z), and each slave point's slip increment is along
 /// +x; the accumulated slip at the end is the drag less the block's elastic
-/// shear, within 5 % of 2. Newton's order in slip is at least 1.7 (1.77).
+/// shear, within 5 % of 2. Newton's order in slip is at least 1.7 (1.76).
 #[test]
 fn a_block_dragged_with_friction_carries_mu_times_its_press() {
     let mu = 0.3;
     let steps = dragged_block(mu);
     // Every point slips: Newton's order with the statuses settled, the slope
     // of log r_{k+1} against log r_k over all steps' iterations with
-    // 10⁻¹³ < r_{k+1} and r_k ≤ 10⁻³ (one step's last three residuals give
+    // 10⁻¹³ < r_{k+1} < r_k ≤ 10⁻³ (a step cut in halves lists both parts'
+    // iterations; one step's last three residuals give
     // 1.44 to 1.95: too few in the asymptotic range).
     let mut pairs = Vec::new();
     for (t, step) in steps.iter().skip(3) {
@@ -244,14 +245,18 @@ fn a_block_dragged_with_friction_carries_mu_times_its_press() {
             );
         }
         let r = &step.report.newton.as_ref().unwrap().residuals;
-        pairs.extend(r.windows(2).filter(|w| w[0] <= 1e-3 && w[1] > 1e-13).map(|w| (w[0].ln(), w[1].ln())));
+        pairs.extend(
+            r.windows(2)
+                .filter(|w| w[0] <= 1e-3 && w[1] > 1e-13 && w[1] < w[0])
+                .map(|w| (w[0].ln(), w[1].ln())),
+        );
     }
     let n = pairs.len() as f64;
     let (mx, my) = (pairs.iter().map(|p| p.0).sum::<f64>() / n, pairs.iter().map(|p| p.1).sum::<f64>() / n);
     let slope = pairs.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>()
         / pairs.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
     println!("order {slope:.2} from {} iterations", pairs.len());
-    // 1.77 measured: below the 1.8 (met in stick, frictionless
+    // 1.76 measured: below the 1.8 (met in stick, frictionless
     // contact and glue, `newton_converges_quadratically_in_glue_and_contact`);
     // the last iterations show a linear term of about 10⁻⁴ r_k whose source
     // is not found (docs/defects.md).

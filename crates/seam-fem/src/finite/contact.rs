@@ -310,6 +310,44 @@ impl Law {
     }
 }
 
+impl Law {
+    /// ∂F/∂λ of [`Law::rows`] (rows of F, columns of the Cartesian λ): d I
+    /// when inactive; else 0 for the normal row and per tangent d τ_αᵀ where
+    /// it carries no friction, 0 in stick, and in slip
+    /// d τ_αᵀ − μ (v̂_α d nᵀ + ξ Σ_β (δ_αβ − v̂_α v̂_β) d τ_βᵀ / ‖v‖), v̂ = v / ‖v‖
+    /// over the axes that carry friction.
+    fn jacobian(&self, g: &Point, lambda: Point3, s: Status) -> [[f64; 3]; 3] {
+        let mut out = [[0.0; 3]; 3];
+        if s == Status::Inactive {
+            (0..3).for_each(|k| out[k][k] = g.d);
+            return out;
+        }
+        let (xi, v) = self.xi_v(g, lambda);
+        let axes: Vec<usize> = (0..2).filter(|&a| self.frictional(g, a)).collect();
+        let norm_v = axes.iter().map(|&a| v[a] * v[a]).sum::<f64>().sqrt();
+        for a in 0..2 {
+            let row = &mut out[1 + a];
+            match (self.frictional(g, a), s) {
+                (false, _) => *row = g.frame[1 + a].map(|t| g.d * t),
+                (true, Status::Stick) => {}
+                (true, _) => {
+                    let hat = |b: usize| v[b] / norm_v;
+                    for c in 0..3 {
+                        let mut sum = g.d * g.frame[1 + a][c] - self.mu * hat(a) * g.d * g.frame[0][c];
+                        for &b in &axes {
+                            let delta = if a == b { 1.0 } else { 0.0 };
+                            sum -=
+                                self.mu * xi * (delta - hat(a) * hat(b)) * g.d * g.frame[1 + b][c] / norm_v;
+                        }
+                        row[c] = sum;
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
 impl Pair<'_> {
     /// The interface at the local positions `xs`, `xm`.
     fn evaluate(&self, xs: Vec<Point3>, xm: Vec<Point3>) -> Result<Current, ProblemError> {
@@ -618,23 +656,10 @@ impl<'a> Contact<'a> {
         let lambda = |p: usize| history.lambda[q][pair.slave.points[p]];
         let old = &history.previous[q];
         let mut out: Vec<PointRows> = (0..ns).map(|_| PointRows::default()).collect();
-        // ∂F_p/∂λ_p, by differences of F in λ (no evaluation of the interface).
+        // ∂F_p/∂λ_p in closed form ([`Law::jacobian`]).
         for (p, point) in base.points.iter().enumerate() {
             let Some((g, status)) = point else { continue };
-            let law = self.law(pair, p, held, g);
-            let l = lambda(p);
-            let step = 1e-6 * (norm(l) + 1e-6 * self.c * mean_diameter(&pair.slave.faces, xs));
-            for c in 0..3 {
-                let at = |s: f64| {
-                    let mut m = l;
-                    m[c] += s;
-                    law.rows(g, m, *status)
-                };
-                let (plus, minus) = (at(step), at(-step));
-                for k in 0..3 {
-                    out[p].lambda[k][c] = (plus[k] - minus[k]) / (2.0 * step);
-                }
-            }
+            out[p].lambda = self.law(pair, p, held, g).jacobian(g, lambda(p), *status);
         }
         // ∂/∂u by colour, against the master faces that meet the slave (a
         // step of 10⁻⁶ h makes no new pair but where a corner crosses an edge).
@@ -1140,7 +1165,7 @@ mod tests {
     /// (the last step at another configuration), the points' statuses held:
     /// the force terms ∂(N λ, −B λ)/∂u column by column and each point's
     /// ∂F_p/∂u entry by entry (and its tangential rows alone) to 1e-6 of
-    /// their largest entries; first order
+    /// their largest entries, ∂F_p/∂λ_p to 1e-7; first order
     /// (Hex8 | Tet4) and second order (Hex20 | Tet10, transformed Tri6 slave
     /// basis), dual and lumped multipliers, frictionless and μ = 0.3 (with
     /// points in stick and in slip).
@@ -1228,6 +1253,31 @@ mod tests {
                 sticking += count(Status::Stick);
             }
             let (k, rows) = contact.jacobian(&system, (&u, &history), &state).unwrap();
+            // ∂F/∂λ (closed form) against central differences in λ.
+            let (mut l_largest, mut l_worst) = (0.0f64, 0.0f64);
+            for &p in &covered {
+                let (g, status) = state.iterates[0].points[p].as_ref().unwrap();
+                let law = contact.law(pair, p, &system.held, g);
+                let l = history.lambda[0][pair.slave.points[p]];
+                let step = 1e-6 * norm(l);
+                for c in 0..3 {
+                    let at = |s: f64| {
+                        let mut m = l;
+                        m[c] += s;
+                        law.rows(g, m, *status)
+                    };
+                    let (plus, minus) = (at(step), at(-step));
+                    for r in 0..3 {
+                        let fd = (plus[r] - minus[r]) / (2.0 * step);
+                        l_largest = l_largest.max(rows[0][p].lambda[r][c].abs());
+                        l_worst = l_worst.max((rows[0][p].lambda[r][c] - fd).abs());
+                    }
+                }
+            }
+            assert!(
+                l_largest > 0.0 && l_worst <= 1e-7 * l_largest,
+                "{label}: ∂F/∂λ {l_worst:e} of {l_largest:e}"
+            );
             let k_bodies = nonlinear.tangent(&u).unwrap();
             let values = |state: &State| -> Vec<Option<[f64; 3]>> {
                 state.iterates[0]
