@@ -59,7 +59,7 @@
 //! points of its faces, a master point those rows of B that meet its faces;
 //! points that move no common row share a colour, and each colour costs six
 //! evaluations of the interface (± a step of 10⁻⁶ h per direction). ∂F/∂λ is
-//! a central difference of F alone. The derivatives are exact to the
+//! in closed form ([`Law::jacobian`]). The derivatives are exact to the
 //! differences' error (about 10⁻⁹ relative), so Newton converges
 //! quadratically down to there. r_p is summed about x_s,p, so that its
 //! rounding error, and that of g̃_p and w, is that of lengths between nearby
