@@ -758,6 +758,7 @@ fn run_problem(
         newton: seam_fem::hyperelastic::NewtonOptions {
             rtol: case.newton.rtol,
             max_iterations: case.newton.max_iterations,
+            ..Default::default()
         },
     };
     // Each load step in turn; the last one is the final state.

@@ -404,12 +404,16 @@ pub struct NewtonOptions {
     pub rtol: f64,
     /// The most iterations.
     pub max_iterations: usize,
+    /// Contact: start each load step from the extrapolation of the last
+    /// one, u + (t − tⁿ) Δu/Δt (where no cell is inverted there), rather
+    /// than from u.
+    pub extrapolate: bool,
 }
 
 impl Default for NewtonOptions {
-    /// rtol 1e-10, 25 iterations.
+    /// rtol 1e-10, 25 iterations, extrapolated starts.
     fn default() -> Self {
-        NewtonOptions { rtol: 1e-10, max_iterations: 25 }
+        NewtonOptions { rtol: 1e-10, max_iterations: 25, extrapolate: true }
     }
 }
 

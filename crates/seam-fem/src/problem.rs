@@ -442,7 +442,7 @@ impl<'a> Steps<'a> {
         let laws = problem.hyperelastic_laws()?;
         let (options, state, finite) = (&self.options, &mut self.state, &mut self.finite);
         let mut solve = |bodies: &[Body], interfaces: &[Interface]| match &laws {
-            Some(laws) => crate::finite::solve_finite_from(bodies, laws, interfaces, options, finite),
+            Some(laws) => crate::finite::solve_finite_from(bodies, laws, interfaces, options, (t, finite)),
             None => solve_coupled_from(bodies, interfaces, options, state),
         };
         let Some((raised, ties)) = &self.raised else {

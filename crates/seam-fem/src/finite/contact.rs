@@ -907,7 +907,9 @@ impl Contact<'_> {
 
     /// Newton's method for one load step from (u, history), which it
     /// replaces by the solution's (module doc): the multipliers, and at the
-    /// end the accumulated slip and this step's evaluation.
+    /// end the accumulated slip and this step's evaluation. With a `guess`
+    /// (the last steps extrapolated) the iteration starts there, unless a
+    /// cell is inverted at it.
     ///
     /// # Errors
     /// [`ProblemError::Newton`] for an inverted cell no step avoids, a
@@ -918,13 +920,18 @@ impl Contact<'_> {
         system: &Newton,
         dirichlet: &Dirichlet,
         (u, history): (&mut Vec<f64>, &mut History),
-        options: &NewtonOptions,
+        (options, guess): (&NewtonOptions, Option<Vec<f64>>),
     ) -> Result<Solved, ProblemError> {
         let remaining = |u: &[f64]| -> Vec<(usize, f64)> {
             dirichlet.iter().filter(|&(d, v)| u[d] != v).map(|(d, v)| (d, v - u[d])).collect()
         };
         let relative = |s: &State| if s.scale > 0.0 { s.norm / s.scale } else { s.norm };
         let mut state = self.state(system, (u, history), None)?;
+        // The extrapolated start, unless it turns a cell inside out.
+        if let Some(Ok(start)) = guess.as_ref().map(|g| self.state(system, (g, history), None)) {
+            *u = guess.expect("evaluated");
+            state = start;
+        }
         let mut report = NewtonReport::default();
         for iteration in 1..=options.max_iterations + 1 {
             let left = remaining(u);

@@ -35,6 +35,11 @@ pub(crate) struct FiniteState {
     pub(crate) u: Vec<f64>,
     /// The contact multipliers, slips and last evaluations.
     contact: contact::History,
+    /// The pseudo-time of `u` (0 at rest) and the rate Δu/Δt of the last
+    /// load step (empty before it): contact's Newton iteration starts from
+    /// the extrapolation u + (t − time) rate.
+    time: f64,
+    rate: Vec<f64>,
 }
 
 /// The bodies side by side, each of its law, dofs at `offsets`.
@@ -182,13 +187,13 @@ pub fn solve_finite(
     interfaces: &[Interface],
     options: &SolveOptions,
 ) -> Result<Solution, ProblemError> {
-    solve_finite_from(bodies, laws, interfaces, options, &mut FiniteState::default())
+    solve_finite_from(bodies, laws, interfaces, options, (1.0, &mut FiniteState::default()))
 }
 
 /// Solves the hyperelastic `bodies` (`laws[b]` the law of body b), glued
-/// and in frictionless contact, from the last step's `state` (displacements
-/// and pressures; empty: at rest), which it replaces by the solution's
-/// (module doc; contact: [`contact`]).
+/// and in contact, at pseudo-time `t` from the last step's `state`
+/// (displacements, contact history; empty: at rest), which it replaces by
+/// the solution's (module doc).
 ///
 /// # Errors
 /// [`ProblemError::Finite`] for what this path does not solve (friction,
@@ -199,7 +204,7 @@ pub(crate) fn solve_finite_from(
     laws: &[Hyperelastic],
     interfaces: &[Interface],
     options: &SolveOptions,
-    state: &mut FiniteState,
+    (t, state): (f64, &mut FiniteState),
 ) -> Result<Solution, ProblemError> {
     check_input(bodies, interfaces)?;
     crate::contact::check_couplings(interfaces)?;
@@ -227,10 +232,13 @@ pub(crate) fn solve_finite_from(
         },
     };
     let n = *system.offsets.last().expect("the leading zero");
-    let u = &mut state.u;
-    if u.len() != n {
-        *u = vec![0.0; n];
+    if state.u.len() != n {
+        state.u = vec![0.0; n];
     }
+    let before = state.u.clone();
+    let guess = (options.newton.extrapolate && state.rate.len() == n && t > state.time)
+        .then(|| before.iter().zip(&state.rate).map(|(u, r)| u + (t - state.time) * r).collect::<Vec<f64>>());
+    let u = &mut state.u;
     let nonlinear =
         Bodies { meshes: bodies.iter().map(|b| b.mesh).collect(), laws, offsets: &system.offsets };
     let contact_interfaces: Vec<(usize, &Interface)> =
@@ -272,13 +280,22 @@ pub(crate) fn solve_finite_from(
             };
             let newton =
                 contact::Newton { bodies: &nonlinear, load: &system.f, p: elimination.as_ref(), held };
-            let solved =
-                contact.solve(&newton, &system.dirichlet, (u, &mut state.contact), &options.newton)?;
+            let solved = contact.solve(
+                &newton,
+                &system.dirichlet,
+                (u, &mut state.contact),
+                (&options.newton, guess),
+            )?;
             let method = "semi-smooth Newton on the current configuration, sparse LU";
             (method, solved.report.clone(), solved.internal.clone(), Some(solved))
         }
     };
     seconds.solve = clock.elapsed().as_secs_f64();
+    if t > state.time {
+        state.rate = state.u.iter().zip(&before).map(|(a, b)| (a - b) / (t - state.time)).collect();
+        state.time = t;
+    }
+    let u = &state.u;
 
     // λ from the slave rows: C_Sᵀ λ = (f − f_int(u))_S, by back
     // substitution (the rows' order: a row's other eliminated dofs are
