@@ -308,9 +308,7 @@ impl Law {
         }
         out
     }
-}
 
-impl Law {
     /// ∂F/∂λ of [`Law::rows`] (rows of F, columns of the Cartesian λ): d I
     /// when inactive; else 0 for the normal row and per tangent d τ_αᵀ where
     /// it carries no friction, 0 in stick, and in slip
