@@ -660,8 +660,16 @@ impl<'a> Contact<'a> {
             out[p].lambda = self.law(pair, p, held, g).jacobian(g, lambda(p), *status);
         }
         // ∂/∂u by colour, against the master faces that meet the slave (a
-        // step of 10⁻⁶ h makes no new pair but where a corner crosses an edge).
-        let influence = pair.influence(&base.current, old);
+        // step of 10⁻⁶ h makes no new pair but where a corner crosses an edge),
+        // for the rows that have one: an inactive point with λ_p = 0 has
+        // F_p = d_p λ_p and no force terms, both constant in u there.
+        let mut influence = pair.influence(&base.current, old);
+        let moving: Vec<bool> = (0..ns)
+            .map(|p| {
+                base.points[p].as_ref().is_some_and(|(_, s)| *s != Status::Inactive || lambda(p) != [0.0; 3])
+            })
+            .collect();
+        influence.iter_mut().for_each(|rows| rows.retain(|&p| moving[p]));
         let near: Vec<Face> = pair
             .master
             .faces
