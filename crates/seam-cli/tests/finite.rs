@@ -24,6 +24,30 @@ fn case(t: f64, rest: &str) -> String {
     text.replace("poisson = 0.3\n", "poisson = 0.3\nmaterial = \"neo-hookean\"\n")
 }
 
+/// `seam solve` on `text` as case.toml in `dir`: the output directory and
+/// the `n` load steps of its summary.
+fn solved_steps(dir: &std::path::Path, text: &str, n: usize) -> (std::path::PathBuf, Vec<serde_json::Value>) {
+    std::fs::write(dir.join("case.toml"), text).unwrap();
+    let o = seam(&["solve", "case.toml"], dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = dir.join("out");
+    let steps = json(&out.join("summary.json"))["steps"].as_array().unwrap().clone();
+    assert_eq!(steps.len(), n);
+    (out, steps)
+}
+
+/// `seam solve` on `text` as case.toml in `dir`, refused: exit 2, one line
+/// on stderr (returned), no output directory.
+fn refused_line(dir: &std::path::Path, text: &str) -> String {
+    std::fs::write(dir.join("case.toml"), text).unwrap();
+    let o = seam(&["solve", "case.toml"], dir);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let line = stderr(&o);
+    assert_eq!(line.trim_end().lines().count(), 1, "{line}");
+    assert!(!dir.join("out").exists());
+    line
+}
+
 /// Compressed by a fifth of E over three load steps: a homogeneous state
 /// F = diag(s, s, λ) in both bodies (their displacements affine), whose
 /// Cauchy stress in the VTU is the law's at that F (σ_xx = σ_yy = 0) and
@@ -35,13 +59,7 @@ fn glued_neo_hookean_blocks_under_a_dead_load_over_load_steps() {
     write_stacked_blocks(tmp.path());
     let t = -200.0;
     let text = case(t, "[load]\nsteps = 3\n\n[newton]\nrtol = 1e-11\n");
-    std::fs::write(tmp.path().join("case.toml"), text).unwrap();
-    let o = seam(&["solve", "case.toml"], tmp.path());
-    assert!(o.status.success(), "{}", stderr(&o));
-    let out = tmp.path().join("out");
-    let s = json(&out.join("summary.json"));
-    let steps = s["steps"].as_array().unwrap();
-    assert_eq!(steps.len(), 3);
+    let (out, steps) = solved_steps(tmp.path(), &text, 3);
     for step in steps {
         let residuals = step["residuals"].as_array().unwrap();
         let line_search = step["line_search"].as_array().unwrap();
@@ -127,13 +145,7 @@ fn blocks_in_contact(friction: f64) {
         "[[dirichlet]]\nboundary = \"upper:top\"\nux = 0.0\nuy = 0.0\nuz = -0.05\n\n[load]\nsteps = 3\n",
     )
     .replace("poisson = 0.3\n", "poisson = 0.3\nmaterial = \"neo-hookean\"\n");
-    std::fs::write(tmp.path().join("case.toml"), text).unwrap();
-    let o = seam(&["solve", "case.toml"], tmp.path());
-    assert!(o.status.success(), "{}", stderr(&o));
-    let out = tmp.path().join("out");
-    let s = json(&out.join("summary.json"));
-    let steps = s["steps"].as_array().unwrap();
-    assert_eq!(steps.len(), 3);
+    let (out, steps) = solved_steps(tmp.path(), &text, 3);
     for step in steps {
         let residuals = step["residuals"].as_array().unwrap();
         assert!(!residuals.is_empty(), "{step}");
@@ -169,11 +181,7 @@ fn an_inverted_element_is_named_by_its_gmsh_tag_and_the_load_step() {
         "[[dirichlet]]\nboundary = \"upper:top\"\nuz = -1.2\n\n[load]\nsteps = 2\n",
     )
     .replace("poisson = 0.3\n", "poisson = 0.3\nmaterial = \"neo-hookean\"\n");
-    std::fs::write(tmp.path().join("case.toml"), text).unwrap();
-    let o = seam(&["solve", "case.toml"], tmp.path());
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    let line = stderr(&o);
-    assert_eq!(line.trim_end().lines().count(), 1, "{line}");
+    let line = refused_line(tmp.path(), &text);
     for part in [
         "case.toml: finite deformation: load step 2 of 2 (t = 1): body \"",
         "\": element ",
@@ -182,7 +190,6 @@ fn an_inverted_element_is_named_by_its_gmsh_tag_and_the_load_step() {
     ] {
         assert!(line.contains(part), "'{part}' in {line}");
     }
-    assert!(!tmp.path().join("out").exists());
 }
 
 /// Newton not converging within `[newton] max_iterations` (one iteration,
@@ -193,11 +200,7 @@ fn newton_not_converging_names_the_step_the_iterations_and_the_residual() {
     let tmp = tempfile::tempdir().unwrap();
     write_stacked_blocks(tmp.path());
     let text = case(-200.0, "[load]\nsteps = 2\n\n[newton]\nmax_iterations = 1\n");
-    std::fs::write(tmp.path().join("case.toml"), text).unwrap();
-    let o = seam(&["solve", "case.toml"], tmp.path());
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    let line = stderr(&o);
-    assert_eq!(line.trim_end().lines().count(), 1, "{line}");
+    let line = refused_line(tmp.path(), &text);
     for part in [
         "case.toml: finite deformation: load step 1 of 2 (t = 0.5): ",
         "Newton did not converge in 1 iterations (relative residual ",
@@ -205,5 +208,4 @@ fn newton_not_converging_names_the_step_the_iterations_and_the_residual() {
     ] {
         assert!(line.contains(part), "'{part}' in {line}");
     }
-    assert!(!tmp.path().join("out").exists());
 }

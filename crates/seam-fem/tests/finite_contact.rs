@@ -92,10 +92,6 @@ fn contact_patch_test_under_20_percent_compression() {
     for (law_name, law) in
         [("neo-Hookean", Law::NeoHookean), ("Saint Venant-Kirchhoff", Law::SaintVenantKirchhoff)]
     {
-        let hyper = law.hyperelastic(&material()).unwrap();
-        let s = lateral_stretch(&hyper, 0.8);
-        let pressure = -analytic_cauchy(&hyper, &[[0.8, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]])[0][0];
-        assert!(pressure > 0.0);
         for (label, lower, upper) in [
             ("Hex8 | Hex8", (BlockKind::Hex, 3), (BlockKind::Hex, 4)),
             ("Hex8 | Tet4", (BlockKind::Hex, 3), (BlockKind::Tet, 2)),
@@ -107,31 +103,54 @@ fn contact_patch_test_under_20_percent_compression() {
                 println!("{law_name}, {label}, t = {t}: residuals {:?}", newton.residuals);
             }
             let solution = &steps.last().unwrap().1;
-            let i = &solution.interfaces[0];
-            let c = i.contact.as_ref().unwrap();
-            let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
-            assert!(!points.is_empty());
-            for &p in &points {
-                assert!(c.active[p], "{label}: point {p} inactive");
+            assert_compressed(&format!("{law_name}, {label}"), &problem, solution, (0, 1), law);
+        }
+    }
+}
+
+/// The stretch s across and the contact pressure −σ_zz of uniaxial stress
+/// at the stretch 0.8 along z for `law`.
+fn compressed(law: Law) -> (f64, f64) {
+    let hyper = law.hyperelastic(&material()).unwrap();
+    let s = lateral_stretch(&hyper, 0.8);
+    let pressure = -analytic_cauchy(&hyper, &[[0.8, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]])[0][0];
+    assert!(pressure > 0.0);
+    (s, pressure)
+}
+
+/// Every body of `problem` in the uniaxial state `compressed(law)` (z = 0
+/// held): displacements ((s − 1) x, (s − 1) y, −0.2 z) to 1e-10; at least
+/// `points` contact points on contact interface `i`, each active with the
+/// pressure to 1e-8.
+fn assert_compressed(
+    label: &str,
+    problem: &Problem,
+    solution: &Solution,
+    (i, points): (usize, usize),
+    law: Law,
+) {
+    let (s, pressure) = compressed(law);
+    let c = solution.interfaces[i].contact.as_ref().unwrap();
+    let contact: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
+    assert!(contact.len() >= points, "{label}: {} contact points", contact.len());
+    for &p in &contact {
+        assert!(
+            c.active[p] && (c.pressure[p] - pressure).abs() <= 1e-8 * pressure,
+            "{label}: pressure {} at {p} (active {}), expected {pressure}",
+            c.pressure[p],
+            c.active[p]
+        );
+    }
+    for (b, body) in problem.bodies.iter().enumerate() {
+        let u = &solution.displacement[b];
+        for (p, x) in body.mesh.points().iter().enumerate() {
+            let exact = [(s - 1.0) * x[0], (s - 1.0) * x[1], -0.2 * x[2]];
+            for a in 0..3 {
                 assert!(
-                    (c.pressure[p] - pressure).abs() <= 1e-8 * pressure,
-                    "{law_name}, {label}: pressure {} at {p}, expected {pressure}",
-                    c.pressure[p]
+                    (u[3 * p + a] - exact[a]).abs() <= 1e-10,
+                    "{label}: body {b}, point {p}: {:?} against {exact:?}",
+                    &u[3 * p..3 * p + 3]
                 );
-            }
-            for (b, body) in problem.bodies.iter().enumerate() {
-                let u = &solution.displacement[b];
-                for (p, x) in body.mesh.points().iter().enumerate() {
-                    let z0 = b as f64;
-                    let exact = [(s - 1.0) * x[0], (s - 1.0) * x[1], -0.2 * (x[2] - z0) - 0.2 * z0];
-                    for a in 0..3 {
-                        assert!(
-                            (u[3 * p + a] - exact[a]).abs() <= 1e-10,
-                            "{law_name}, {label}: body {b}, point {p}: {:?} against {exact:?}",
-                            &u[3 * p..3 * p + 3]
-                        );
-                    }
-                }
             }
         }
     }
@@ -480,9 +499,7 @@ fn a_load_step_newton_cannot_take_is_cut_in_halves() {
 #[test]
 fn glue_and_contact_in_one_finite_deformation_problem() {
     let law = Law::NeoHookean;
-    let hyper = law.hyperelastic(&material()).unwrap();
-    let s = lateral_stretch(&hyper, 0.8);
-    let pressure = -analytic_cauchy(&hyper, &[[0.8, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]])[0][0];
+    let (s, pressure) = compressed(law);
     let interface = |master: usize, kind| ProblemInterface {
         master: id(master, 3),
         slave: id(master + 1, 2),
@@ -507,29 +524,7 @@ fn glue_and_contact_in_one_finite_deformation_problem() {
     };
     let steps = solve_all(&problem);
     let solution = &steps.last().unwrap().1;
-    let c = solution.interfaces[1].contact.as_ref().unwrap();
-    let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
-    assert!(!points.is_empty());
-    for &p in &points {
-        assert!(
-            c.active[p] && (c.pressure[p] - pressure).abs() <= 1e-8 * pressure,
-            "point {p}: {}",
-            c.pressure[p]
-        );
-    }
-    for (b, body) in problem.bodies.iter().enumerate() {
-        let u = &solution.displacement[b];
-        for (p, x) in body.mesh.points().iter().enumerate() {
-            let exact = [(s - 1.0) * x[0], (s - 1.0) * x[1], -0.2 * x[2]];
-            for a in 0..3 {
-                assert!(
-                    (u[3 * p + a] - exact[a]).abs() <= 1e-10,
-                    "body {b}, point {p}: {:?}",
-                    &u[3 * p..3 * p + 3]
-                );
-            }
-        }
-    }
+    assert_compressed("glue and contact", &problem, solution, (1, 1), law);
     // The glue's traction per reference area: s² σ_zz.
     let glue = &solution.interfaces[0];
     for (p, t) in glue.traction.iter().enumerate().filter(|(p, _)| glue.constrained[*p]) {
@@ -544,33 +539,11 @@ fn glue_and_contact_in_one_finite_deformation_problem() {
 #[test]
 fn second_order_contact_patch_test_under_20_percent_compression() {
     let law = Law::NeoHookean;
-    let hyper = law.hyperelastic(&material()).unwrap();
-    let s = lateral_stretch(&hyper, 0.8);
-    let pressure = -analytic_cauchy(&hyper, &[[0.8, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]])[0][0];
     let mut problem = stack(law, (BlockKind::Hex, 2), (BlockKind::Tet, 2), 0.4, 4);
     problem.bodies = vec![
         slab("lower", (2, 2), 0.0, BlockKind::Hex, Some(true), law),
         slab("upper", (2, 2), 1.0, BlockKind::Tet, Some(false), law),
     ];
     let steps = solve_all(&problem);
-    let solution = &steps.last().unwrap().1;
-    let c = solution.interfaces[0].contact.as_ref().unwrap();
-    let points: Vec<usize> = (0..c.contact.len()).filter(|&p| c.contact[p]).collect();
-    assert!(points.len() >= 25, "{} contact points", points.len());
-    for &p in &points {
-        assert!(
-            c.active[p] && (c.pressure[p] - pressure).abs() <= 1e-8 * pressure,
-            "point {p}: {}",
-            c.pressure[p]
-        );
-    }
-    for (b, body) in problem.bodies.iter().enumerate() {
-        let u = &solution.displacement[b];
-        for (p, x) in body.mesh.points().iter().enumerate() {
-            let exact = [(s - 1.0) * x[0], (s - 1.0) * x[1], -0.2 * x[2]];
-            for a in 0..3 {
-                assert!((u[3 * p + a] - exact[a]).abs() <= 1e-10, "body {b}, point {p}");
-            }
-        }
-    }
+    assert_compressed("Hex27 | Tet10", &problem, &steps.last().unwrap().1, (0, 25), law);
 }
