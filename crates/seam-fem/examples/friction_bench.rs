@@ -21,18 +21,13 @@
 
 mod common;
 
-use common::{flag_sizes, flag_value, fresh_row, peak_mb, petsc};
+use common::{flag_sizes, flag_value, fresh_row, named_solver, peak_mb};
 use seam_fem::scene::{cattaneo_mindlin, CattaneoMindlin, Hertz};
 use seam_fem::{solve_steps, SolveOptions, Support};
 use std::time::Instant;
 
 fn row(n: usize, solver: &str, shear_steps: usize, master_ratio: f64) {
-    let solver = match solver {
-        "direct" => seam_fem::Solver::Direct,
-        "petsc" => petsc(1e-10),
-        other => panic!("unknown solver {other}"),
-    };
-    let options = SolveOptions { solver, ..SolveOptions::default() };
+    let options = SolveOptions { solver: named_solver(solver), ..SolveOptions::default() };
     let defaults = CattaneoMindlin::default();
     let hertz = Hertz { fine_cells: n, master_ratio, ..defaults.hertz };
     let p = CattaneoMindlin { hertz, shear_steps, ..defaults };

@@ -29,8 +29,10 @@
 
 use crate::assembly::{cell_matrix, cell_vector, geometry, geometry_at_rule, AssemblyError};
 use crate::material::Material;
+use crate::petsc::PetscSummary;
 use crate::solve::{CholeskyAnalysis, DirectOptions, Dirichlet, SolveError};
 use crate::stress::Stresses;
+use crate::Solver;
 use rayon::prelude::*;
 use seam::{CellKind, CsrMatrix, Point3, VolumeMesh, Xi3, MAX_CELL_NODES};
 
@@ -488,20 +490,43 @@ impl Constrained<'_> {
     }
 }
 
+/// How Newton's linear steps are solved: the solver (direct or PETSc), the
+/// rigid-body modes of the points in the unknowns' numbering (PETSc's
+/// GAMG), and PETSc's record of its solves.
+pub(crate) struct Linear<'a> {
+    /// The solver.
+    pub solver: Solver,
+    /// The six rigid-body modes (empty for the direct solver).
+    pub modes: Vec<Vec<f64>>,
+    /// PETSc's solves.
+    pub summary: &'a mut PetscSummary,
+}
+
+impl Linear<'_> {
+    /// The rigid-body modes zero at the dofs without a diagonal entry in
+    /// `a` (eliminated by glue), the first `n` entries of each.
+    pub(crate) fn modes_of(&self, a: &CsrMatrix, n: usize) -> Vec<Vec<f64>> {
+        let kept: Vec<bool> = (0..n).map(|i| a.row(i).0.contains(&i)).collect();
+        let keep = |m: &Vec<f64>| m.iter().zip(&kept).map(|(&v, &k)| if k { v } else { 0.0 }).collect();
+        self.modes.iter().map(keep).collect()
+    }
+}
+
 /// The step Δu of K Δu = r under the constraints `how` and the Dirichlet
 /// values `increments` (r = load − f_int, `reduced` = Pᵀ r): by sparse
 /// Cholesky of Pᵀ K P, its ordering and symbolic factorisation kept in
 /// `analysis` over the iterations (the pattern and the held dofs do not
 /// change), sparse LU where that matrix is not positive definite (far from
 /// equilibrium), or by the saddle point (falling back to the elimination if
-/// its LDLᵀ fails).
+/// its LDLᵀ fails); with PETSc by FGMRES and GAMG on Pᵀ K P.
 fn newton_step(
     k: CsrMatrix,
     (r, reduced): (&[f64], &[f64]),
     increments: &Dirichlet,
     (how, analysis): (Constrained, &mut Option<CholeskyAnalysis>),
+    linear: &mut Linear,
 ) -> Result<Vec<f64>, FiniteError> {
-    if let Constrained::Saddle(_, constraints) = how {
+    if let (Constrained::Saddle(_, constraints), Solver::Direct) = (how, linear.solver) {
         let mut seconds = crate::multibody::Timings::default();
         if let Ok((du, ..)) = crate::constraints::saddle_point(&k, r, increments, constraints, &mut seconds) {
             return Ok(du);
@@ -512,14 +537,21 @@ fn newton_step(
         Some(p) => crate::constraints::triple_product(p, &k),
         None => k,
     };
-    if analysis.is_none() {
-        *analysis = Some(CholeskyAnalysis::new(&k, increments, &DirectOptions::default())?);
-    }
-    let solved = analysis.as_ref().expect("analysed").solve(&k, reduced, increments);
-    let dy = match solved {
-        Ok((dy, _)) => dy,
-        Err(SolveError::Singular) => crate::backend::sparse_lu(&k, reduced, increments)?,
-        Err(e) => return Err(e.into()),
+    let dy = match linear.solver {
+        Solver::Petsc(o) => {
+            let modes = linear.modes_of(&k, k.nrows);
+            crate::petsc::solve_petsc_tangent(k, reduced, increments, &modes, &o, linear.summary)?
+        }
+        Solver::Direct | Solver::Pcg(_) => {
+            if analysis.is_none() {
+                *analysis = Some(CholeskyAnalysis::new(&k, increments, &DirectOptions::default())?);
+            }
+            match analysis.as_ref().expect("analysed").solve(&k, reduced, increments) {
+                Ok((dy, _)) => dy,
+                Err(SolveError::Singular) => crate::backend::sparse_lu(&k, reduced, increments)?,
+                Err(e) => return Err(e.into()),
+            }
+        }
     };
     Ok(match elimination {
         Some(p) => p.mul_vec(&dy, 1),
@@ -554,19 +586,22 @@ pub fn solve_newton(
     start: &[f64],
     options: &NewtonOptions,
 ) -> Result<(Vec<f64>, NewtonReport), FiniteError> {
-    newton(&OneBody(mesh, law), Constrained::Free, (load, dirichlet), start, options)
+    let mut summary = PetscSummary::default();
+    let mut linear = Linear { solver: Solver::Direct, modes: Vec::new(), summary: &mut summary };
+    newton(&OneBody(mesh, law), Constrained::Free, (load, dirichlet), start, (options, &mut linear))
 }
 
 /// [`solve_newton`] for any [`Nonlinear`] system, with the linear
 /// constraints `how` (glue: u = P y, P = [I; −C_S⁻¹C_R] in the numbering
 /// of all dofs, `start` satisfying them, no prescribed dof eliminated): the
-/// residual is Pᵀ (load − f_int(u)), and each step meets C Δu = 0.
+/// residual is Pᵀ (load − f_int(u)), and each step meets C Δu = 0; the
+/// steps solved by `linear`.
 pub(crate) fn newton(
     system: &impl Nonlinear,
     how: Constrained,
     (load, dirichlet): (&[f64], &Dirichlet),
     start: &[f64],
-    options: &NewtonOptions,
+    (options, linear): (&NewtonOptions, &mut Linear),
 ) -> Result<(Vec<f64>, NewtonReport), FiniteError> {
     let n = system.len();
     assert!(load.len() == n && start.len() == n, "3 entries per point");
@@ -599,7 +634,7 @@ pub(crate) fn newton(
             remaining.fix_dof(dof, v - u[dof]);
         }
         let (r, reduced, _) = free_residual(&f);
-        let du = newton_step(system.tangent(&u)?, (&r, &reduced), &remaining, (how, &mut analysis))?;
+        let du = newton_step(system.tangent(&u)?, (&r, &reduced), &remaining, (how, &mut analysis), linear)?;
         let mut step = 1.0;
         loop {
             let trial: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + step * d).collect();
@@ -628,7 +663,7 @@ pub(crate) fn newton(
         return Ok((u, report));
     }
     for iteration in 1..=options.max_iterations {
-        let du = newton_step(system.tangent(&u)?, (&r, &reduced), &zero, (how, &mut analysis))?;
+        let du = newton_step(system.tangent(&u)?, (&r, &reduced), &zero, (how, &mut analysis), linear)?;
         let mut step = 1.0;
         loop {
             let trial: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + step * d).collect();

@@ -245,6 +245,43 @@ pub(crate) fn solve_petsc_general(
     solve_free_rows(Cow::Borrowed(a), b, fixed, (Split::General, modes), options, start, summary)
 }
 
+/// The Newton step K Δu = r of hyperelastic bodies with the values of
+/// `dirichlet` by a PETSc KSP: FGMRES with GAMG (the tangent may be
+/// indefinite far from equilibrium), `modes` its near-nullspace; the solve
+/// is appended to `summary`.
+///
+/// # Errors
+/// As [`solve_petsc_from`].
+pub(crate) fn solve_petsc_tangent(
+    k: CsrMatrix,
+    r: &[f64],
+    dirichlet: &Dirichlet,
+    modes: &[Vec<f64>],
+    options: &PetscOptions,
+    summary: &mut PetscSummary,
+) -> Result<Vec<f64>, SolveError> {
+    solve_free_rows(Cow::Owned(k), r, dirichlet, (Split::NearlySymmetric, modes), options, None, summary)
+}
+
+/// A x = b for a matrix bordered by multipliers, [K G; F H] with K on the
+/// `first` unknowns (points of 3, `modes` their near-nullspace), by a
+/// PETSc KSP: FGMRES with the Schur-complement field split of
+/// [`seam_petsc::Structure::Saddle`] (GAMG on K); the solve is appended to
+/// `summary`.
+///
+/// # Errors
+/// As [`solve_petsc_from`].
+pub(crate) fn solve_petsc_bordered(
+    a: &CsrMatrix,
+    b: &[f64],
+    (first, modes): (usize, &[Vec<f64>]),
+    options: &PetscOptions,
+    summary: &mut PetscSummary,
+) -> Result<Vec<f64>, SolveError> {
+    let none = Dirichlet::new();
+    solve_free_rows(Cow::Borrowed(a), b, &none, (Split::Saddle(first), modes), options, None, summary)
+}
+
 /// K u = f with the values of `dirichlet` by PETSc (`split`: symmetric
 /// points or a general matrix): A = K on the free rows and columns and the
 /// identity elsewhere, b = f − K ū on the free rows and 0 elsewhere, from

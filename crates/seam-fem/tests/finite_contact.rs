@@ -22,7 +22,7 @@ fn roller(body: usize, surface: usize, k: usize, v: f64) -> Support {
 /// [0, 1]² × [1, 2] (slave, `upper`) in frictionless contact, rollers on
 /// x = 0, y = 0 and the bottom, the top moved down by `press` over `steps`
 /// load steps.
-fn stack(
+pub(crate) fn stack(
     law: Law,
     lower: (BlockKind, usize),
     upper: (BlockKind, usize),
@@ -69,7 +69,7 @@ fn solve_all(problem: &Problem) -> Vec<(f64, Solution)> {
     solve_with(problem, &SolveOptions::default())
 }
 
-fn solve_with(problem: &Problem, options: &SolveOptions) -> Vec<(f64, Solution)> {
+pub(crate) fn solve_with(problem: &Problem, options: &SolveOptions) -> Vec<(f64, Solution)> {
     solve_steps(problem, options).collect::<Result<_, _>>().unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -122,7 +122,7 @@ fn compressed(law: Law) -> (f64, f64) {
 /// held): displacements ((s − 1) x, (s − 1) y, −0.2 z) to 1e-10; at least
 /// `points` contact points on contact interface `i`, each active with the
 /// pressure to 1e-8.
-fn assert_compressed(
+pub(crate) fn assert_compressed(
     label: &str,
     problem: &Problem,
     solution: &Solution,
@@ -498,6 +498,12 @@ fn a_load_step_newton_cannot_take_is_cut_in_halves() {
 /// to 1e-10, the contact pressure −σ_zz at every contact point to 1e-8.
 #[test]
 fn glue_and_contact_in_one_finite_deformation_problem() {
+    glue_and_contact_with(&SolveOptions::default());
+}
+
+/// [`glue_and_contact_in_one_finite_deformation_problem`] by the solver of
+/// `options`; returns the Newton iterations of each step.
+pub(crate) fn glue_and_contact_with(options: &SolveOptions) -> Vec<usize> {
     let law = Law::NeoHookean;
     let (s, pressure) = compressed(law);
     let interface = |master: usize, kind| ProblemInterface {
@@ -522,7 +528,7 @@ fn glue_and_contact_in_one_finite_deformation_problem() {
         steps: LoadSteps::equal(4).unwrap(),
         ..Problem::default()
     };
-    let steps = solve_all(&problem);
+    let steps = solve_with(&problem, options);
     let solution = &steps.last().unwrap().1;
     assert_compressed("glue and contact", &problem, solution, (1, 1), law);
     // The glue's traction per reference area: s² σ_zz.
@@ -530,6 +536,7 @@ fn glue_and_contact_in_one_finite_deformation_problem() {
     for (p, t) in glue.traction.iter().enumerate().filter(|(p, _)| glue.constrained[*p]) {
         assert!((t[2] - s * s * pressure).abs() <= 1e-8 * pressure, "glue point {p}: {t:?}");
     }
+    steps.iter().map(|(_, s)| s.report.newton.as_ref().unwrap().residuals.len()).collect()
 }
 
 /// The contact patch test of second-order cells: Hex27 (2 across) under

@@ -449,9 +449,14 @@ pub(crate) fn slab(
 /// for both laws; Newton reports each step.
 #[test]
 fn uniaxial_stress_over_load_steps_in_one_body_and_across_glue() {
-    use seam_fem::{
-        solve_steps, Coupling, LoadSteps, Problem, ProblemInterface, SolveOptions, Support, SurfaceId,
-    };
+    uniaxial_stress_with(&seam_fem::SolveOptions::default());
+}
+
+/// [`uniaxial_stress_over_load_steps_in_one_body_and_across_glue`] by the
+/// solver of `options` (PETSc: every case by FGMRES with GAMG on the glue
+/// eliminated).
+pub(crate) fn uniaxial_stress_with(options: &seam_fem::SolveOptions) {
+    use seam_fem::{solve_steps, Coupling, LoadSteps, Problem, ProblemInterface, Support, SurfaceId};
     let id = |body, surface| SurfaceId { body, surface };
     let roller =
         |b, s, k: usize, v: f64| Support::new(id(b, s), std::array::from_fn(|c| (c == k).then_some(v)));
@@ -501,7 +506,10 @@ fn uniaxial_stress_over_load_steps_in_one_body_and_across_glue() {
         };
         // The glue eliminated (a finer slave) or as a saddle point (a coarser
         // slave, where the elimination fills in).
-        let (eliminated, saddle) = ("sparse Cholesky", "saddle-point LDLᵀ");
+        let (eliminated, saddle) = match options.solver {
+            seam_fem::Solver::Petsc(_) => ("PETSc", "PETSc"),
+            _ => ("sparse Cholesky", "saddle-point LDLᵀ"),
+        };
         let cases = [
             ("one Tet10 body", one, eliminated),
             ("Hex8 | Tet4", glued((BlockKind::Hex, None, 3), (BlockKind::Tet, None, 2, 2)), saddle),
@@ -517,7 +525,7 @@ fn uniaxial_stress_over_load_steps_in_one_body_and_across_glue() {
             ),
         ];
         for (label, problem, method) in cases {
-            let steps: Vec<_> = solve_steps(&problem, &SolveOptions::default())
+            let steps: Vec<_> = solve_steps(&problem, options)
                 .collect::<Result<_, _>>()
                 .unwrap_or_else(|e| panic!("{law_name}, {label}: {e}"));
             assert_eq!(steps.len(), 4);
@@ -532,7 +540,7 @@ fn uniaxial_stress_over_load_steps_in_one_body_and_across_glue() {
             let solution = &steps[3].1;
             assert!(solution.report.method.contains(method), "{label}: {}", solution.report.method);
             // `solve` follows the same load path (finite deformation depends on it).
-            let at_once = seam_fem::solve(&problem, &SolveOptions::default()).unwrap();
+            let at_once = seam_fem::solve(&problem, options).unwrap();
             assert_eq!(at_once.displacement, solution.displacement, "{law_name}, {label}");
             let voigt = VOIGT.map(|(a, b)| if a == b && a == 2 { sigma_zz } else { 0.0 });
             for (b, body) in problem.bodies.iter().enumerate() {

@@ -271,3 +271,31 @@ fn frictional_patch_test_with_a_glued_cap() {
     let e = problem.solve(&options).expect_err("refused").to_string();
     assert!(e.contains("eliminated node by node") && !e.contains('\n'), "{e}");
 }
+
+/// Finite deformation by PETSc (`Solver::Petsc` for hyperelastic bodies):
+/// uniaxial stress in one body and across glue (`hyperelastic.rs`), glue
+/// and contact in one problem (three blocks, 20 % compression) and
+/// the contact patch test (Hex8 | Tet4, both laws) pass to the direct
+/// solver's tolerances (displacements 1e-10, pressures 1e-8) in as many
+/// Newton iterations per step (±1), the contact steps by FGMRES with the
+/// field split, the glued tangent by FGMRES with GAMG.
+#[test]
+fn finite_deformation_glue_and_contact() {
+    use crate::finite_contact::{assert_compressed, glue_and_contact_with, solve_with, stack};
+    use seam_fem::Law;
+    let options = SolveOptions { solver: petsc(1e-13), ..SolveOptions::default() };
+    crate::hyperelastic::uniaxial_stress_with(&options);
+    let direct = glue_and_contact_with(&SolveOptions::default());
+    let by_petsc = glue_and_contact_with(&options);
+    println!("glue and contact: Newton iterations {direct:?} (direct), {by_petsc:?} (PETSc)");
+    assert!(direct.iter().zip(&by_petsc).all(|(a, b)| a.abs_diff(*b) <= 1), "{direct:?} {by_petsc:?}");
+    for law in [Law::NeoHookean, Law::SaintVenantKirchhoff] {
+        let problem = stack(law, (BlockKind::Hex, 3), (BlockKind::Tet, 2), 0.4, 4);
+        let steps = solve_with(&problem, &options);
+        let solution = &steps.last().unwrap().1;
+        assert!(solution.report.method.contains("PETSc"), "{}", solution.report.method);
+        let petsc = solution.report.petsc.as_ref().expect("PETSc's record");
+        println!("{law:?}: {} KSP solves, {:?}", petsc.solves.len(), petsc.solves.last());
+        assert_compressed(&format!("{law:?}, PETSc"), &problem, solution, (0, 1), law);
+    }
+}

@@ -52,6 +52,16 @@ pub fn petsc(rtol: f64) -> seam_fem::Solver {
     seam_fem::Solver::Petsc(seam_fem::petsc::PetscOptions { rtol, ..Default::default() })
 }
 
+/// The solver called `name`: "direct", or "petsc" ([`petsc`] at rtol 1e-10).
+#[allow(dead_code)]
+pub fn named_solver(name: &str) -> seam_fem::Solver {
+    match name {
+        "direct" => seam_fem::Solver::Direct,
+        "petsc" => petsc(1e-10),
+        other => panic!("unknown solver {other}"),
+    }
+}
+
 /// The PETSc columns of a row: KSP + PC, iterations (summed over the
 /// solves), PETSc's setup and solve seconds; dashes without PETSc.
 #[allow(dead_code)]

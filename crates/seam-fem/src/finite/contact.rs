@@ -68,10 +68,12 @@
 
 use super::Bodies;
 use crate::constraints::{triple_product, NONE};
-use crate::hyperelastic::{FiniteError, NewtonOptions, NewtonReport, Nonlinear};
+use crate::hyperelastic::{FiniteError, Linear, NewtonOptions, NewtonReport, Nonlinear};
 use crate::multibody::{Interface, ProblemError};
 use crate::solution::{ContactFields, InterfaceSolution, Kkt};
 use crate::solve::Dirichlet;
+use crate::solve::SolveError;
+use crate::Solver;
 use rayon::prelude::*;
 use seam::vec3::{dot, norm, sub};
 use seam::{BasisTransformation, CsrMatrix, Face, Mortar, MortarError, MortarOptions, Point3, SurfaceMesh};
@@ -805,6 +807,7 @@ impl Contact<'_> {
         (u, history): (&[f64], &History),
         state: &State,
         remaining: &[(usize, f64)],
+        linear: &mut Linear,
     ) -> Result<(Vec<f64>, Vec<Vec<Point3>>), ProblemError> {
         let n = u.len();
         let (k, rows) = self.jacobian(system, (u, history), state)?;
@@ -841,6 +844,7 @@ impl Contact<'_> {
             })
             .collect();
         let mut points = Vec::new();
+        let mut frames = Vec::new();
         for (q, ((pair, iterate), rows)) in self.pairs.iter().zip(&state.iterates).zip(&rows).enumerate() {
             for (p, point) in iterate.points.iter().enumerate() {
                 let Some((g, status)) = point else { continue };
@@ -877,6 +881,7 @@ impl Contact<'_> {
                     rhs.push(b);
                 }
                 points.push((q, p));
+                frames.push((g.frame, *status == Status::Inactive));
             }
         }
         let mut matrix = CsrMatrix::zeros(0, matrix_rows.len());
@@ -887,8 +892,11 @@ impl Contact<'_> {
             matrix.indptr.push(matrix.indices.len());
             matrix.nrows += 1;
         }
-        let x = crate::backend::sparse_lu(&matrix, &rhs, &Dirichlet::new())
-            .map_err(|e| ProblemError::Newton { source: FiniteError::Solve(e) })?;
+        let x = match linear.solver {
+            Solver::Petsc(o) => bordered(&matrix, &rhs, (&free, n, &frames), &a, (&o, linear)),
+            _ => crate::backend::sparse_lu(&matrix, &rhs, &Dirichlet::new()),
+        }
+        .map_err(|e| ProblemError::Newton { source: FiniteError::Solve(e) })?;
         let mut dy = shift;
         for (k, &i) in free.iter().enumerate() {
             dy[i] = x[k];
@@ -927,6 +935,7 @@ impl Contact<'_> {
         dirichlet: &Dirichlet,
         (u, history): (&mut Vec<f64>, &mut History),
         (options, guess): (&NewtonOptions, Option<Vec<f64>>),
+        linear: &mut Linear,
     ) -> Result<Solved, ProblemError> {
         let remaining = |u: &[f64]| -> Vec<(usize, f64)> {
             dirichlet.iter().filter(|&(d, v)| u[d] != v).map(|(d, v)| (d, v - u[d])).collect()
@@ -950,7 +959,7 @@ impl Contact<'_> {
             if iteration > options.max_iterations {
                 break;
             }
-            let (du, dlambda) = self.step(system, (u, history), &state, &left)?;
+            let (du, dlambda) = self.step(system, (u, history), &state, &left, linear)?;
             let mut step = 1.0;
             loop {
                 let mut trial_u: Vec<f64> = u.iter().zip(&du).map(|(a, d)| a + step * d).collect();
@@ -1131,6 +1140,101 @@ impl Newton<'_> {
         };
         crate::contact::merged(&mut out)
     }
+}
+
+/// A covered point's frame (n, τ₁, τ₂) and whether it is inactive.
+type PointFrame = ([Point3; 3], bool);
+
+/// x of the compact Newton system `matrix` x = `rhs` (the `free` dofs of
+/// the n, then three per covered point) by PETSc, with the field split and
+/// GAMG on the displacements. The system is padded to all n dofs (identity
+/// rows elsewhere), so that the displacements are points of 3, and each
+/// point's multiplier is taken into its frame, λ_p = R_pᵀ μ_p (`frames`:
+/// R_p = (n, τ₁, τ₂), and whether the point is inactive, whose rows
+/// d λ_p = … become R_p's: d μ_p = …), so that the Schur complement's
+/// diagonal that Jacobi takes is not the zero of a Cartesian axis across
+/// the normal. `a` is the reduced tangent, whose empty rows mark the
+/// eliminated dofs of the rigid-body modes.
+fn bordered(
+    matrix: &CsrMatrix,
+    rhs: &[f64],
+    (free, n, frames): (&[usize], usize, &[PointFrame]),
+    a: &CsrMatrix,
+    (options, linear): (&crate::petsc::PetscOptions, &mut Linear),
+) -> Result<Vec<f64>, SolveError> {
+    let m = free.len();
+    let to_padded = |c: usize| if c < m { free[c] } else { n + c - m };
+    let mut compact_row = vec![NONE; n];
+    free.iter().enumerate().for_each(|(k, &i)| compact_row[i] = k);
+    // A compact row with its multipliers' columns in the frames (μ).
+    let in_frames = |r: usize| -> Vec<(usize, f64)> {
+        let (cols, vals) = matrix.row(r);
+        let mut out: Vec<(usize, f64)> = Vec::with_capacity(cols.len());
+        let mut blocks: Vec<(usize, Point3)> = Vec::new();
+        for (&c, &v) in cols.iter().zip(vals) {
+            match c < m {
+                true => out.push((to_padded(c), v)),
+                false => match blocks.iter_mut().find(|b| b.0 == (c - m) / 3) {
+                    Some(b) => b.1[(c - m) % 3] += v,
+                    None => blocks
+                        .push(((c - m) / 3, std::array::from_fn(|j| if j == (c - m) % 3 { v } else { 0.0 }))),
+                },
+            }
+        }
+        for (k, l) in blocks {
+            out.extend((0..3).map(|c| (n + 3 * k + c, dot(l, frames[k].0[c]))));
+        }
+        out
+    };
+    let size = n + matrix.nrows - m;
+    let mut padded = CsrMatrix::zeros(0, size);
+    let mut b = vec![0.0; size];
+    for i in 0..size {
+        let mut row: Vec<(usize, f64)> = match i < n {
+            true => match compact_row[i] {
+                NONE => vec![(i, 1.0)],
+                r => {
+                    b[i] = rhs[r];
+                    in_frames(r)
+                }
+            },
+            false => {
+                let (k, c) = ((i - n) / 3, (i - n) % 3);
+                let (frame, inactive) = &frames[k];
+                let first = m + 3 * k;
+                match inactive {
+                    false => {
+                        b[i] = rhs[first + c];
+                        in_frames(first + c)
+                    }
+                    // Row c of R_p times the point's three rows.
+                    true => {
+                        b[i] = (0..3).map(|j| frame[c][j] * rhs[first + j]).sum();
+                        let mut sum: Vec<(usize, f64)> = (0..3)
+                            .flat_map(|j| {
+                                in_frames(first + j).into_iter().map(move |(col, v)| (col, frame[c][j] * v))
+                            })
+                            .collect();
+                        crate::contact::merged(&mut sum)
+                    }
+                }
+            }
+        };
+        let row = crate::contact::merged(&mut row);
+        padded.indices.extend(row.iter().map(|e| e.0));
+        padded.values.extend(row.iter().map(|e| e.1));
+        padded.indptr.push(padded.indices.len());
+        padded.nrows += 1;
+    }
+    let modes = linear.modes_of(a, n);
+    let x = crate::petsc::solve_petsc_bordered(&padded, &b, (n, &modes), options, linear.summary)?;
+    // Back to the compact unknowns, λ_p = R_pᵀ μ_p.
+    let mut out: Vec<f64> = free.iter().map(|&i| x[i]).collect();
+    for (k, (frame, _)) in frames.iter().enumerate() {
+        let mu = &x[n + 3 * k..n + 3 * k + 3];
+        out.extend((0..3).map(|j| (0..3).map(|c| frame[c][j] * mu[c]).sum::<f64>()));
+    }
+    Ok(out)
 }
 
 /// k plus the `triplets` (summed where they repeat).

@@ -19,9 +19,11 @@ mod contact;
 
 use crate::constraints::{Constraints, NONE};
 use crate::hyperelastic::{
-    cauchy_stresses, internal_force, newton, tangent, Constrained, FiniteError, Hyperelastic, Nonlinear,
+    cauchy_stresses, internal_force, newton, tangent, Constrained, FiniteError, Hyperelastic, Linear,
+    Nonlinear,
 };
 use crate::multibody::{assemble_system, check_input, Body, Coupling, Interface, ProblemError, Timings};
+use crate::petsc::PetscSummary;
 use crate::solution::{ContactReport, Report, Solution, SolveOptions};
 use crate::Solver;
 use seam::{CsrMatrix, VolumeMesh};
@@ -208,8 +210,10 @@ pub(crate) fn solve_finite_from(
 ) -> Result<Solution, ProblemError> {
     check_input(bodies, interfaces)?;
     crate::contact::check_couplings(interfaces)?;
-    if !matches!(options.solver, Solver::Direct) {
-        let what = "hyperelastic bodies are solved with the direct solver only, for now".into();
+    if matches!(options.solver, Solver::Pcg(_)) {
+        let what = "hyperelastic bodies are solved with the direct solver or PETSc, not PCG (the contact \
+                    steps are not symmetric, the tangent may be indefinite)"
+            .into();
         return Err(ProblemError::Finite { what });
     }
     let mut seconds = Timings::default();
@@ -239,6 +243,15 @@ pub(crate) fn solve_finite_from(
     let guess = (options.newton.extrapolate && state.rate.len() == n && t > state.time)
         .then(|| before.iter().zip(&state.rate).map(|(u, r)| u + (t - state.time) * r).collect::<Vec<f64>>());
     let u = &mut state.u;
+    let mut summary = PetscSummary::default();
+    let mut linear = Linear {
+        solver: options.solver,
+        modes: match options.solver {
+            Solver::Petsc(_) => crate::rigid_body_modes(&system.points).to_vec(),
+            _ => Vec::new(),
+        },
+        summary: &mut summary,
+    };
     let nonlinear =
         Bodies { meshes: bodies.iter().map(|b| b.mesh).collect(), laws, offsets: &system.offsets };
     let contact_interfaces: Vec<(usize, &Interface)> =
@@ -263,10 +276,12 @@ pub(crate) fn solve_finite_from(
                 }
             };
             let method = match how {
+                _ if matches!(options.solver, Solver::Petsc(_)) => "Newton with line search, PETSc",
                 Constrained::Saddle(..) => "Newton with line search, saddle-point LDLᵀ",
                 _ => "Newton with line search, sparse Cholesky (sparse LU where the tangent is indefinite)",
             };
-            let solved = newton(&nonlinear, how, (&system.f, &system.dirichlet), u, &options.newton);
+            let solved =
+                newton(&nonlinear, how, (&system.f, &system.dirichlet), u, (&options.newton, &mut linear));
             let (next, report) = solved.map_err(|source| ProblemError::Newton { source })?;
             *u = next;
             let f_int = nonlinear.force(u).map_err(|source| ProblemError::Newton { source })?;
@@ -285,8 +300,12 @@ pub(crate) fn solve_finite_from(
                 &system.dirichlet,
                 (u, &mut state.contact),
                 (&options.newton, guess),
+                &mut linear,
             )?;
-            let method = "semi-smooth Newton on the current configuration, sparse LU";
+            let method = match options.solver {
+                Solver::Petsc(_) => "semi-smooth Newton on the current configuration, PETSc",
+                _ => "semi-smooth Newton on the current configuration, sparse LU",
+            };
             (method, solved.report.clone(), solved.internal.clone(), Some(solved))
         }
     };
@@ -338,7 +357,7 @@ pub(crate) fn solve_finite_from(
         iterations: newton_report.residuals.len(),
         residual: newton_report.residuals.last().copied().unwrap_or(0.0),
         contact: contact_report,
-        petsc: None,
+        petsc: matches!(options.solver, Solver::Petsc(_)).then_some(summary),
         newton: Some(newton_report),
         seconds,
     };
