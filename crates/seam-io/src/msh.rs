@@ -61,6 +61,22 @@ pub struct Msh {
     /// One entry per `$NodeData` name; for a name given for several time steps,
     /// the last one in the file.
     pub node_data: Vec<NodeData>,
+    /// Physical groups the file names but that cannot be selected, with why
+    /// (always empty for MSH files; an Abaqus set that contains a shell
+    /// element, a `*SURFACE, TYPE=NODE`, …, see [`crate::abaqus`]). Selecting
+    /// one is [`MshErrorKind::UnusableGroup`].
+    pub unusable_groups: Vec<UnusableGroup>,
+}
+
+/// A physical group that cannot be selected ([`Msh::unusable_groups`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnusableGroup {
+    /// The dimension of the group.
+    pub dim: u8,
+    /// The physical tag.
+    pub tag: i32,
+    /// Why, in words, with the file and line that define it.
+    pub reason: String,
 }
 
 /// The version and encoding of an MSH file.
@@ -79,6 +95,10 @@ pub enum MshVersion {
     V2_2,
     /// MSH 4.1.
     V4_1,
+    /// Not an MSH file: an Abaqus or CalculiX input file, read by
+    /// [`crate::read_inp`] (`binary` is false). Its group names match
+    /// case-insensitively, as Abaqus's do.
+    AbaqusInp,
 }
 
 /// One element of an MSH file.
@@ -138,6 +158,19 @@ impl NodeData {
 }
 
 impl Msh {
+    /// A mesh of this format without nodes, elements or groups.
+    pub(crate) fn empty(format: MshFormat) -> Msh {
+        Msh {
+            format,
+            nodes: Vec::new(),
+            node_tags: Vec::new(),
+            elements: Vec::new(),
+            physical_names: Vec::new(),
+            node_data: Vec::new(),
+            unusable_groups: Vec::new(),
+        }
+    }
+
     /// The `$NodeData` field called `name`, if any.
     pub fn node_data(&self, name: &str) -> Option<&NodeData> {
         self.node_data.iter().find(|d| d.name == name)

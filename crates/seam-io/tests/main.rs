@@ -1,6 +1,7 @@
 //! The integration tests of `seam-io`, one module per subject, in one test
 //! binary (one link per crate).
 
+mod abaqus;
 mod coupling;
 mod fuzz_regressions;
 mod large_blocks;

@@ -92,14 +92,7 @@ impl TagIndex {
 impl MshBuilder {
     /// An empty mesh of the given format.
     pub fn new(format: MshFormat) -> Self {
-        let msh = Msh {
-            format,
-            nodes: Vec::new(),
-            node_tags: Vec::new(),
-            elements: Vec::new(),
-            physical_names: Vec::new(),
-            node_data: Vec::new(),
-        };
+        let msh = Msh::empty(format);
         MshBuilder { msh, index_of_tag: TagIndex::Table(Vec::new()) }
     }
 

@@ -205,7 +205,7 @@ pub enum MshErrorKind {
         available: Vec<GroupId>,
     },
     /// A selected element has a type seam cannot use there.
-    #[error("element {element_tag} is {} (type {gmsh_type}); only {supported} are supported", describe_type(*.gmsh_type))]
+    #[error("{} is {} (type {gmsh_type}); only {supported} are supported", element_label(*.element_tag), describe_type(*.gmsh_type))]
     UnsupportedElement {
         /// The Gmsh element tag.
         element_tag: u64,
@@ -216,7 +216,7 @@ pub enum MshErrorKind {
     },
     /// An element lists a number of nodes that does not fit its type (only
     /// possible for an [`Msh`](super::Msh) built by hand).
-    #[error("element {element_tag} is {} (type {gmsh_type}) but lists {found} nodes", describe_type(*.gmsh_type))]
+    #[error("{} is {} (type {gmsh_type}) but lists {found} nodes", element_label(*.element_tag), describe_type(*.gmsh_type))]
     WrongNodeCount {
         /// The Gmsh element tag.
         element_tag: u64,
@@ -253,7 +253,8 @@ pub enum MshErrorKind {
     /// quadrilaterals cut along the other diagonal than the cells' faces, or
     /// a face inside the body.
     #[error(
-        "element {element_tag} of {surface} is {} of {volume}: a body's surface must be made of its cells' faces",
+        "{} of {surface} is {} of {volume}: a body's surface must be made of its cells' faces",
+        element_label(*.element_tag),
         if *interior { "a face between two cells" } else { "not a face of any cell" }
     )]
     NotACellFace {
@@ -267,7 +268,7 @@ pub enum MshErrorKind {
         interior: bool,
     },
     /// A face of a surface has a node that no cell of the selected volume has.
-    #[error("element {element_tag} of {surface} is not on {volume}: its node {node_tag} is in no cell of that volume")]
+    #[error("{} of {surface} is not on {volume}: its node {node_tag} is in no cell of that volume", element_label(*.element_tag))]
     NotOnVolume {
         /// The surface's group, for example `physical group "top" (2)`.
         surface: String,
@@ -284,6 +285,23 @@ pub enum MshErrorKind {
         /// What was selected.
         selection: String,
     },
+    /// The group is one of [`Msh::unusable_groups`](super::Msh::unusable_groups).
+    #[error("{group} cannot be used: {reason}")]
+    UnusableGroup {
+        /// The group, for example `physical group "SLAVE" (4)`.
+        group: String,
+        /// Why, with the file and line that define it.
+        reason: String,
+    },
+}
+
+/// "element 17", or for the tag of an element face read from an Abaqus
+/// `*SURFACE` ([`crate::abaqus::face_tag`]) "element 17 face S3".
+fn element_label(tag: u64) -> String {
+    match crate::abaqus::split_face_tag(tag) {
+        Some((element, face)) => format!("element {element} face S{face}"),
+        None => format!("element {tag}"),
+    }
 }
 
 fn lowercase_first(text: &str) -> String {
@@ -304,7 +322,7 @@ fn list_groups(dim: u8, groups: &[GroupId]) -> String {
 
 fn element_or_face(element_tag: Option<u64>) -> String {
     match element_tag {
-        Some(tag) => format!("element {tag}"),
+        Some(tag) => element_label(tag),
         None => "a boundary face".to_string(),
     }
 }

@@ -81,7 +81,7 @@ fn parse_format_line(line: &[u8]) -> Result<(MshVersion, bool, usize), MshErrorK
         (MshVersion::V4_1, "4") => 4,
         (_, "8") => 8,
         (MshVersion::V4_1, d) => return Err(parse_kind("data size 4 or 8", d)),
-        (MshVersion::V2_2, d) => return Err(parse_kind("data size 8", d)),
+        (_, d) => return Err(parse_kind("data size 8", d)),
     };
     Ok((version, binary, size_bytes))
 }

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use seam::{Cell, CellKind, Face, FaceKind, FaceOwner, MeshError, SurfaceMesh, VolumeMesh};
 
-use super::{Degeneracy, GroupId, Msh, MshElement, MshError, MshErrorKind};
+use super::{Degeneracy, GroupId, Msh, MshElement, MshError, MshErrorKind, MshVersion};
 
 const FACE_TYPES: &str = "triangles (3 or 6 nodes) and quadrangles (4, 8 or 9 nodes)";
 const CELL_TYPES: &str =
@@ -152,20 +152,32 @@ impl Msh {
     }
 
     /// The tag of the dimension-`dim` physical group named `group`, or else
-    /// numbered `group`.
+    /// numbered `group`. Names read from an Abaqus file
+    /// ([`MshVersion::AbaqusInp`]) match without regard to ASCII case.
     ///
     /// # Errors
-    /// [`MshErrorKind::UnknownGroup`], listing the groups of that dimension.
+    /// [`MshErrorKind::UnknownGroup`], listing the groups of that dimension;
+    /// [`MshErrorKind::UnusableGroup`] for a group of
+    /// [`Msh::unusable_groups`].
     pub fn group_tag(&self, dim: u8, group: &str) -> Result<i32, MshError> {
         let groups = self.physical_groups(dim);
-        let by_name = groups.iter().find(|g| g.name.as_deref() == Some(group));
+        let any_case = self.format.version == MshVersion::AbaqusInp;
+        let same = |name: &str| name == group || (any_case && name.eq_ignore_ascii_case(group));
+        let by_name = groups.iter().find(|g| g.name.as_deref().is_some_and(same));
         let number = group.trim().parse::<i32>().ok();
         let by_number = || groups.iter().find(|g| Some(g.tag) == number);
-        match by_name.or_else(by_number) {
-            Some(found) => Ok(found.tag),
-            None => {
-                Err(MshErrorKind::UnknownGroup { dim, group: group.to_string(), available: groups }.into())
+        let Some(found) = by_name.or_else(by_number) else {
+            return Err(
+                MshErrorKind::UnknownGroup { dim, group: group.to_string(), available: groups }.into()
+            );
+        };
+        match self.unusable_groups.iter().find(|u| u.dim == dim && u.tag == found.tag) {
+            Some(unusable) => Err(MshErrorKind::UnusableGroup {
+                group: self.describe_group(dim, found.tag),
+                reason: unusable.reason.clone(),
             }
+            .into()),
+            None => Ok(found.tag),
         }
     }
 
