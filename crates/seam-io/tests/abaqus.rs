@@ -491,6 +491,9 @@ fn parts_and_instances_are_placed_and_named() {
     let n = area_vector(&top.corners(0)[..3]);
     assert!(close(n, [0.5, 0.5, 0.5], 1e-15) && top.corners(0)[0][0] >= 10.0, "{n:?}");
     assert_eq!(msh.surface_face_tags(Some("Top")).unwrap(), Some(vec![seam_io::abaqus::face_tag(11, 3)]));
+    // Messages name a face by its element and label.
+    let e = msh.surface_of_volume("Top", Some("Block-1.Set-1")).unwrap_err().to_string();
+    assert!(e.starts_with("element 11 face S3 of physical group \"Top\""), "{e}");
 }
 
 /// `*INCLUDE` relative to the including file, nested.
@@ -542,6 +545,10 @@ fn bad_input_is_refused_on_one_line() {
             "line 7: GENERATE from 1 to 1000000000 by 1 names 1000000000 elements, more than the input's",
         ),
         (format!("{nodes}*ELSET, ELSET=A, GENERATE\n5, 1\n"), "line 7: GENERATE from 5 down to 1"),
+        (
+            format!("{nodes}*ELSET, ELSET=A, GENERATE\n1, 5, 0\n"),
+            "line 7: a GENERATE step must be at least 1",
+        ),
         (
             "*PART, NAME=P\n*END PART\n*INSTANCE, NAME=I, PART=P\n0, 0, 0\n0, 0, 0, 1, 0, 0, 90\n"
                 .to_string(),

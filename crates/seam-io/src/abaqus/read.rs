@@ -523,6 +523,9 @@ fn parse_range(fields: &[&str], sources: &Sources, at: Loc) -> Result<Item, InpE
         Some(step) => parse_id(step, "a step", sources, at)?,
         None => 1,
     };
+    if step == 0 {
+        return Err(sources.error(at, "a GENERATE step must be at least 1"));
+    }
     if last < first {
         return Err(
             sources.error(at, format!("GENERATE from {first} down to {last}: the last number is smaller"))
