@@ -5,8 +5,10 @@
 //! ```toml
 //! [[body]]              # one per body
 //! name = "lower"        # also the name of its output file, lower.vtu
-//! mesh = "lower.msh"    # Gmsh volume mesh; its physical surfaces name the boundaries
-//! volume = "steel"      # optional: the cells of this physical volume (default: all cells)
+//! mesh = "lower.msh"    # Gmsh volume mesh (or Abaqus/CalculiX "lower.inp"); its physical
+//!                       # surfaces (*SURFACE of an .inp) name the boundaries
+//! # format = "abaqus"   # optional: "gmsh" or "abaqus" (default: by extension, .inp is abaqus)
+//! volume = "steel"      # optional: the cells of this physical volume (*ELSET; default: all cells)
 //! young = 1.0e3
 //! poisson = 0.3
 //! material = "linear"   # or "neo-hookean", "saint-venant-kirchhoff" (finite deformation)
@@ -157,9 +159,14 @@ pub struct Case {
 pub struct Body {
     /// Its name: unique, and the name of its output file.
     pub name: String,
-    /// Its Gmsh volume mesh, relative to the case file's directory.
+    /// Its volume mesh, relative to the case file's directory: a Gmsh MSH
+    /// file, or an Abaqus / CalculiX input file (`.inp`, or `format`).
     pub mesh: PathBuf,
-    /// The physical volume (name or number) whose cells make the body.
+    /// The mesh's format, one of [`seam_io::ModelFormat::NAMES`] (default:
+    /// by the extension, [`seam_io::ModelFormat::of_path`]).
+    pub format: Option<String>,
+    /// The physical volume (name or number; an `.inp` file's element set)
+    /// whose cells make the body.
     pub volume: Option<String>,
     /// Young's modulus E.
     pub young: f64,
@@ -174,6 +181,17 @@ pub struct Body {
     pub body_force: [f64; 3],
     /// The body force's factor over pseudo-time (default: the ramp).
     pub body_force_amplitude: Option<Vec<[f64; 2]>>,
+}
+
+impl Body {
+    /// The format its mesh is read as: `format`, else by the extension
+    /// (`.inp`: Abaqus; [`seam_io::read_model_file`]).
+    pub fn model_format(&self) -> seam_io::ModelFormat {
+        self.format
+            .as_deref()
+            .and_then(seam_io::ModelFormat::from_name)
+            .unwrap_or_else(|| seam_io::ModelFormat::of_path(&self.mesh))
+    }
 }
 
 /// A body's `material`: its constitutive law.
@@ -570,6 +588,14 @@ impl Case {
             if let Err(e) = seam_fem::Material::new(b.young, b.poisson) {
                 return fail(format!("body \"{}\": {e}", b.name));
             }
+            if let Some(format) = b.format.as_deref().filter(|f| seam_io::ModelFormat::from_name(f).is_none())
+            {
+                return fail(format!(
+                    "body \"{}\": unknown format \"{format}\" (formats: \"{}\")",
+                    b.name,
+                    seam_io::ModelFormat::NAMES.join("\", \"")
+                ));
+            }
             if b.body_force.iter().any(|v| !v.is_finite()) {
                 return fail(format!("body \"{}\": body_force must be finite", b.name));
             }
@@ -923,6 +949,22 @@ dir = "out"
         assert_eq!(c.mesh_paths(), [tmp.path().join("a.msh"), tmp.path().join("b.msh")]);
     }
 
+    /// `.inp` in any case is Abaqus, `format` overrides the extension.
+    #[test]
+    fn mesh_formats_by_extension_or_format() {
+        let tmp = tempfile::tempdir().unwrap();
+        let c = case(tmp.path(), &GOOD.replace("mesh = \"b.msh\"", "mesh = \"b.msh\"\nformat = \"abaqus\""))
+            .unwrap();
+        assert_eq!(c.bodies[0].model_format(), seam_io::ModelFormat::Gmsh);
+        assert_eq!(c.bodies[1].model_format(), seam_io::ModelFormat::Abaqus);
+        std::fs::write(tmp.path().join("b.INP"), "").unwrap();
+        let c = case(tmp.path(), &GOOD.replace("mesh = \"b.msh\"", "mesh = \"b.INP\"")).unwrap();
+        assert_eq!(c.bodies[1].model_format(), seam_io::ModelFormat::Abaqus);
+        let c = case(tmp.path(), &GOOD.replace("mesh = \"b.msh\"", "mesh = \"b.INP\"\nformat = \"gmsh\""))
+            .unwrap();
+        assert_eq!(c.bodies[1].model_format(), seam_io::ModelFormat::Gmsh);
+    }
+
     #[test]
     fn input_errors_are_named_before_any_work() {
         let tmp = tempfile::tempdir().unwrap();
@@ -939,6 +981,10 @@ dir = "out"
             (GOOD.replace("[[interface]]\nmaster = \"lower:top\"\nslave = \"upper:bottom\"\nkind = \"glue\"\nmultiplier = \"dual\"\n", ""), "body \"upper\" can move freely along x"),
             (GOOD.replace("uz = 0.0", ""), "can move freely along z"),
             (GOOD.replace("kind = \"glue\"", "kind = \"weld\""), "unknown variant `weld`"),
+            (
+                GOOD.replace("mesh = \"b.msh\"", "mesh = \"b.msh\"\nformat = \"vtu\""),
+                "body \"upper\": unknown format \"vtu\" (formats: \"gmsh\", \"abaqus\")",
+            ),
             (GOOD.replace("young = 1.0e3", "youngs = 1.0e3"), "unknown field `youngs`"),
             (GOOD.replace("name = \"upper\"", "name = \"lower\""), "body \"lower\" is defined twice"),
             (

@@ -1,5 +1,6 @@
-//! Reading a surface with its point fields from a Gmsh MSH file ($NodeData) or
-//! a VTU file (point data), and the nodal values to transfer: a field of the
+//! Reading a surface with its point fields from a Gmsh MSH file ($NodeData),
+//! an Abaqus / CalculiX input file (`.inp`, no fields) or a VTU file (point
+//! data), and the nodal values to transfer: a field of the
 //! file or an expression evaluated at its nodes, every value checked finite.
 //! [`Pair`]: the two surfaces of `seam assemble` and `seam check`.
 
@@ -18,17 +19,20 @@ pub struct Surface {
     pub mesh: SurfaceMesh,
     /// The point fields of the file.
     pub fields: Vec<Field>,
-    /// Gmsh node tags (MSH files); `None` for VTU files, whose points are
-    /// named by their 0-based index, as in ParaView.
+    /// Node ids: Gmsh tags (MSH files) or Abaqus ids (`.inp`); `None` for
+    /// VTU files, whose points are named by their 0-based index, as in
+    /// ParaView.
     node_tags: Option<Vec<u64>>,
-    /// Gmsh element tags of the faces ([`seam_io::Msh::surface_face_tags`]);
-    /// `None` for VTU files and for the boundary of an MSH file's cells.
+    /// Element tags of the faces ([`seam_io::Msh::surface_face_tags`]; for an
+    /// `.inp` file [`seam_io::abaqus::face_tag`]); `None` for VTU files and
+    /// for the boundary of a file's cells.
     face_tags: Option<Vec<u64>>,
 }
 
 impl Surface {
-    /// Reads `path`: `.vtu` as VTU (point data), anything else as Gmsh MSH
-    /// ($NodeData; `group` selects a physical surface).
+    /// Reads `path`: `.vtu` as VTU (point data), `.inp` as Abaqus input
+    /// (`group` selects a `*SURFACE`), anything else as Gmsh MSH ($NodeData;
+    /// `group` selects a physical surface).
     ///
     /// # Errors
     /// An unreadable file, or a group in a VTU file or missing from the MSH file.
@@ -36,7 +40,7 @@ impl Surface {
         if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("vtu")) {
             if let Some(g) = group {
                 bail!(
-                    "{}: physical groups exist in MSH files only, but --*-group {g} was given",
+                    "{}: physical groups exist in MSH and .inp files only, but --*-group {g} was given",
                     path.display()
                 );
             }
@@ -49,7 +53,7 @@ impl Surface {
                 face_tags: None,
             });
         }
-        let msh = seam_io::read_msh_file(path)?;
+        let msh = seam_io::read_model_file(path, None)?;
         let mesh = msh.surface(group).map_err(|e| e.with_path(path))?;
         let face_tags = msh.surface_face_tags(group).map_err(|e| e.with_path(path))?;
         let fields = msh
@@ -60,14 +64,14 @@ impl Surface {
         Ok(Surface { path: path.into(), mesh, fields, node_tags: Some(msh.node_tags), face_tags })
     }
 
-    /// The Gmsh element tag of each face, when the faces are elements of an
-    /// MSH file.
+    /// The element tag of each face, when the faces are elements of an MSH
+    /// or `.inp` file.
     pub fn face_tags(&self) -> Option<&[u64]> {
         self.face_tags.as_deref()
     }
 
     /// Node `p` (0-based, file order) as the file names it: "node 17" (its Gmsh
-    /// tag) or "point 16" (VTU, 0-based).
+    /// tag or Abaqus id) or "point 16" (VTU, 0-based).
     pub fn node(&self, p: usize) -> String {
         match self.node_tags.as_ref().and_then(|t| t.get(p)) {
             Some(tag) => format!("node {tag}"),

@@ -698,7 +698,9 @@ fn prepare(
 /// # Errors
 /// A [`Failure`] naming the case file, the body and the mesh file.
 pub fn read_problem(case: &Case, case_path: &Path) -> Result<Problem, Failure> {
-    build_problem(case).map_err(|e| Failure::Case(format!("{}: {e:#}", case_path.display())))
+    build_problem(case)
+        .map(|(problem, _)| problem)
+        .map_err(|e| Failure::Case(format!("{}: {e:#}", case_path.display())))
 }
 
 /// Solves `problem`, already in memory, which `case` (read from `case_path`)
@@ -716,7 +718,8 @@ pub fn solve_problem(
 ) -> Result<Solved, Failure> {
     let start = Instant::now();
     check_rtol(options)?;
-    run_problem(problem, case, case_path, options, (Seconds::default(), start))
+    let ids = problem.bodies.iter().map(crate::write::written_ids).collect();
+    run_problem((problem, ids), case, case_path, options, (Seconds::default(), start))
 }
 
 /// The pipeline after the case check (module doc); `start` is when the run began.
@@ -729,10 +732,10 @@ fn run(case: Case, case_path: &Path, options: &SolveOptions, start: Instant) -> 
     run_problem(problem, case, case_path, options, (seconds, start))
 }
 
-/// The pipeline once the problem is in memory; `clock`: the seconds so far
-/// and when the run began.
+/// The pipeline once the problem (with its bodies' ids) is in memory;
+/// `clock`: the seconds so far and when the run began.
 fn run_problem(
-    problem: Problem,
+    (problem, ids): (Problem, Vec<BodyIds>),
     case: Case,
     case_path: &Path,
     options: &SolveOptions,
@@ -773,7 +776,7 @@ fn run_problem(
         seconds.solver += solution.report.seconds;
         load_steps.push(LoadStepSummary::new(time, &solution, options.solver));
         let clock = Instant::now();
-        let state = step_state(&case, case_path, &problem, (time, &solution))?;
+        let state = step_state(&case, case_path, (&problem, &ids), (time, &solution))?;
         seconds.solver.stresses += clock.elapsed().as_secs_f64();
         states.push(state);
         last = Some(solution);
@@ -809,18 +812,19 @@ pub struct StepState {
     pub body_files: Vec<(Vec<Field>, Vec<Field>)>,
 }
 
-/// The results of the step at `time` with `solution` (every value checked finite).
+/// The results of the step at `time` with `solution` (every value checked
+/// finite), the points and cells named by the bodies' `ids`.
 fn step_state(
     case: &Case,
     case_path: &Path,
-    problem: &Problem,
+    (problem, ids): (&Problem, &[BodyIds]),
     (time, solution): (f64, &Solution),
 ) -> Result<StepState, Failure> {
     let interfaces: Vec<InterfaceResult> =
-        (0..case.interfaces.len()).map(|i| interface_result(problem, solution, i)).collect();
+        (0..case.interfaces.len()).map(|i| interface_result(problem, solution, i, ids)).collect();
     let mut body_files = Vec::with_capacity(problem.bodies.len());
     for (b, body) in problem.bodies.iter().enumerate() {
-        let (point, cell) = body_fields(&solution.displacement[b], &solution.stresses[b]);
+        let (point, cell) = body_fields(&solution.displacement[b], &solution.stresses[b], &ids[b]);
         let what = format!("{}: body \"{}\"", case_path.display(), body.name);
         check_results(&point, &what, "point")?;
         check_results(&cell, &what, "cell")?;
@@ -1117,15 +1121,25 @@ fn referenced_surfaces(case: &Case, name: &str) -> Vec<String> {
     surfaces
 }
 
-/// Reads one body's mesh and the surfaces the case names on it.
-fn read_body(case: &Case, b: &crate::Body) -> anyhow::Result<ProblemBody> {
+/// How a body's mesh file numbers its nodes and cells, for the outputs
+/// (`node_id`, `element_id`; module doc).
+pub(crate) struct BodyIds {
+    /// Per point of the body's mesh: its node's id (Gmsh tag or Abaqus id).
+    pub nodes: Vec<u64>,
+    /// Per cell: its element's id (Gmsh tag or Abaqus id).
+    pub elements: Vec<u64>,
+}
+
+/// Reads one body's mesh (as [`crate::Body::model_format`]) and the surfaces
+/// the case names on it, with the file's ids of its nodes and cells.
+fn read_body(case: &Case, b: &crate::Body) -> anyhow::Result<(ProblemBody, BodyIds)> {
     let what = || format!("body \"{}\"", b.name);
     let path = case.resolve(&b.mesh);
-    let msh = seam_io::read_msh_file(&path).with_context(what)?;
+    let msh = seam_io::read_model_file(&path, Some(b.model_format())).with_context(what)?;
     let mesh = msh.volume(b.volume.as_deref()).map_err(|e| e.with_path(&path)).with_context(what)?;
-    // Degenerate or tangled cells, named by their Gmsh tags, before any work.
+    let elements = msh.volume_elements(b.volume.as_deref()).map_err(|e| e.with_path(&path))?;
+    // Degenerate or tangled cells, named by their ids, before any work.
     if let Err(seam_fem::AssemblyError::DegenerateCell { cell }) = seam_fem::cell_volumes(&mesh) {
-        let elements = msh.volume_elements(b.volume.as_deref()).map_err(|e| e.with_path(&path))?;
         let element = &elements[cell];
         anyhow::bail!(
             "{}: {}: element {} ({}) is degenerate or tangled: its Jacobian determinant vanishes or changes sign",
@@ -1148,7 +1162,8 @@ fn read_body(case: &Case, b: &crate::Body) -> anyhow::Result<ProblemBody> {
     let material = Material::new(b.young, b.poisson).map_err(|e| anyhow!("{}: {e}", what()))?;
     let body_force_amplitude =
         crate::case::amplitude(b.body_force_amplitude.as_ref(), "body_force_amplitude")?;
-    Ok(ProblemBody {
+    let ids = BodyIds { nodes: msh.node_tags.clone(), elements: elements.iter().map(|e| e.tag).collect() };
+    let body = ProblemBody {
         name: b.name.clone(),
         mesh,
         material,
@@ -1156,14 +1171,18 @@ fn read_body(case: &Case, b: &crate::Body) -> anyhow::Result<ProblemBody> {
         body_force: b.body_force,
         body_force_amplitude,
         surfaces,
-    })
+    };
+    Ok((body, ids))
 }
 
-/// The in-memory problem of a checked case: meshes read, surfaces looked up.
-fn build_problem(case: &Case) -> anyhow::Result<Problem> {
-    let read: Vec<anyhow::Result<ProblemBody>> = case.bodies.par_iter().map(|b| read_body(case, b)).collect();
-    let mut problem =
-        Problem { bodies: read.into_iter().collect::<anyhow::Result<_>>()?, ..Problem::default() };
+/// The in-memory problem of a checked case (meshes read, surfaces looked
+/// up), with the ids of each body's nodes and cells.
+fn build_problem(case: &Case) -> anyhow::Result<(Problem, Vec<BodyIds>)> {
+    let read: Vec<anyhow::Result<(ProblemBody, BodyIds)>> =
+        case.bodies.par_iter().map(|b| read_body(case, b)).collect();
+    let (bodies, ids): (Vec<ProblemBody>, Vec<BodyIds>) =
+        read.into_iter().collect::<anyhow::Result<Vec<_>>>()?.into_iter().unzip();
+    let mut problem = Problem { bodies, ..Problem::default() };
     let id = |problem: &Problem, text: &str| -> anyhow::Result<SurfaceId> {
         let r = SurfaceRef::parse(text, "")?;
         problem.find_surface(&format!("{}:{}", r.body, r.surface)).ok_or_else(|| anyhow!("no surface {text}"))
@@ -1207,7 +1226,7 @@ fn build_problem(case: &Case) -> anyhow::Result<Problem> {
         problem.loads.push(Load { boundary, t: [value(x)?, value(y)?, value(z)?], amplitude });
     }
     problem.steps = case.load.steps()?;
-    Ok(problem)
+    Ok((problem, ids))
 }
 
 /// The interface's multiplier ([`crate::case::Interface::multiplier`]) on its slave surface.
@@ -1217,13 +1236,13 @@ fn effective_multiplier(f: &crate::case::Interface, slave: &SurfaceMesh) -> Mult
 
 /// A solver error in the case's terms: bodies and interfaces by name. An
 /// interface whose surfaces do not overlap is "nothing to couple" (exit 1).
-/// Cell `cell` of body `body` as the user knows it: "element TAG (TYPE) of
-/// FILE", its Gmsh tag read again from the body's mesh (only on failure), or
-/// "cell N" if that fails.
+/// Cell `cell` of body `body` as the user knows it: "element ID (TYPE) of
+/// FILE", its id (Gmsh tag or Abaqus element id) read again from the body's
+/// mesh (only on failure), or "cell N" if that fails.
 fn element_name(case: &Case, body: usize, cell: usize) -> String {
     let b = &case.bodies[body];
     let path = case.resolve(&b.mesh);
-    let element = seam_io::read_msh_file(&path).ok().and_then(|msh| {
+    let element = seam_io::read_model_file(&path, Some(b.model_format())).ok().and_then(|msh| {
         let elements = msh.volume_elements(b.volume.as_deref()).ok()?;
         elements.get(cell).map(|e| format!("element {} ({})", e.tag, e.type_name()))
     });
@@ -1360,8 +1379,9 @@ fn own_points(surface: &SurfaceMesh) -> (SurfaceMesh, Vec<usize>) {
 
 /// Interface `i`'s results on its slave surface's own points (for contact,
 /// the pressure is the first scalar field: the one ParaView shows first).
-fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> InterfaceResult {
+fn interface_result(problem: &Problem, solution: &Solution, i: usize, ids: &[BodyIds]) -> InterfaceResult {
     let f = &problem.interfaces[i];
+    let node_ids = &ids[f.slave.body].nodes;
     let (mesh, body_point) = own_points(problem.surface(f.slave));
     let s = &solution.interfaces[i];
     let u = &solution.displacement[f.slave.body];
@@ -1397,6 +1417,7 @@ fn interface_result(problem: &Problem, solution: &Solution, i: usize) -> Interfa
         Field::vectors("displacement", &displacement),
         Field::scalars("constrained", one(&s.constrained)),
         Field::scalars("body_point", body_point.iter().map(|&p| p as f64).collect()),
+        Field::scalars("node_id", body_point.iter().map(|&p| node_ids[p] as f64).collect()),
     ]);
     InterfaceResult { mesh, body_point, fields }
 }
@@ -1424,15 +1445,20 @@ fn check_results(fields: &[Field], what: &str, entity: &str) -> anyhow::Result<(
 }
 
 /// Point and cell fields of a body's VTU file.
-fn body_fields(u: &[f64], s: &Stresses) -> (Vec<Field>, Vec<Field>) {
+fn body_fields(u: &[f64], s: &Stresses, ids: &BodyIds) -> (Vec<Field>, Vec<Field>) {
     let six = |v: &[[f64; 6]]| v.iter().flatten().copied().collect::<Vec<f64>>();
+    let id = |name: &str, ids: &[u64]| Field::scalars(name, ids.iter().map(|&i| i as f64).collect());
     let point = vec![
         Field::new("displacement", 3, u.to_vec()),
         Field::new("stress", 6, six(&s.nodal)),
         Field::scalars("von_mises", s.nodal_von_mises.clone()),
+        id("node_id", &ids.nodes),
     ];
-    let cell =
-        vec![Field::new("stress", 6, six(&s.cell)), Field::scalars("von_mises", s.cell_von_mises.clone())];
+    let cell = vec![
+        Field::new("stress", 6, six(&s.cell)),
+        Field::scalars("von_mises", s.cell_von_mises.clone()),
+        id("element_id", &ids.elements),
+    ];
     (point, cell)
 }
 

@@ -98,6 +98,18 @@ pub fn write_problem_case(problem: &Problem, dir: &Path, about: &[String], force
     Ok(files.case)
 }
 
+/// The ids [`write_problem_case`] gives `body`'s nodes and cells in its
+/// `<body>.msh` ([`seam_io::write_volume_msh`]): node tag i+1 for point i;
+/// element tags from 1, the faces of the named surfaces first, then the cells.
+pub(crate) fn written_ids(body: &seam_fem::ProblemBody) -> crate::solve::BodyIds {
+    let faces: usize = body.surfaces.iter().map(|(_, s)| s.n_faces()).sum();
+    let tags = |from: usize, n: usize| (from as u64 + 1..=(from + n) as u64).collect();
+    crate::solve::BodyIds {
+        nodes: tags(0, body.mesh.points().len()),
+        elements: tags(faces, body.mesh.cells().len()),
+    }
+}
+
 /// Writes each (path, bytes) all-or-nothing; existing files are only
 /// replaced with `force`.
 ///

@@ -74,16 +74,17 @@ pub struct CouplingArgs {
 /// The two surfaces to couple.
 #[derive(Args, Debug, Clone)]
 pub struct PairArgs {
-    /// Master (mortar) surface: a Gmsh MSH file (2.2 or 4.1, ASCII or binary) or a
-    /// VTU file.
+    /// Master (mortar) surface: a Gmsh MSH file (2.2 or 4.1, ASCII or binary), an
+    /// Abaqus/CalculiX input file (.inp) or a VTU file.
     pub master: PathBuf,
-    /// Slave (non-mortar) surface, MSH or VTU; rows of B and D follow its nodes.
+    /// Slave (non-mortar) surface, MSH, .inp or VTU; rows of B and D follow its nodes.
     pub slave: PathBuf,
-    /// Physical surface of the master file (MSH), by name or number (default: all
-    /// surface elements, or the boundary of the volume mesh).
+    /// Physical surface of the master file (MSH), by name or number, or its
+    /// *SURFACE (.inp) (default: all surface elements, or the boundary of the
+    /// volume mesh).
     #[arg(long, value_name = "G")]
     pub master_group: Option<String>,
-    /// Physical surface of the slave file (MSH), by name or number.
+    /// Physical surface of the slave file (MSH) or its *SURFACE (.inp).
     #[arg(long, value_name = "G")]
     pub slave_group: Option<String>,
 }
@@ -110,9 +111,10 @@ pub struct AssembleArgs {
 #[command(group(clap::ArgGroup::new("values").required(true).args(["field", "expr"])))]
 pub struct TransferArgs {
     /// The surface that carries the field: a Gmsh MSH file (fields from its
-    /// $NodeData) or a VTU file (fields from its point data).
+    /// $NodeData), an Abaqus .inp file (--expr only) or a VTU file (fields
+    /// from its point data).
     pub source: PathBuf,
-    /// The surface that receives it: a Gmsh MSH or VTU file.
+    /// The surface that receives it: a Gmsh MSH, .inp or VTU file.
     pub target: PathBuf,
     /// Output: the target surface with the transferred field, `coverage` and
     /// `normal_gap`, as VTU; a summary is written beside it as OUT.json.
@@ -132,10 +134,10 @@ pub struct TransferArgs {
     /// Consistent (values) or conservative (loads) transfer.
     #[arg(long, value_enum, default_value_t)]
     pub mode: Mode,
-    /// Physical surface of SOURCE (MSH), by name or number.
+    /// Physical surface of SOURCE (MSH), by name or number, or its *SURFACE (.inp).
     #[arg(long, value_name = "G")]
     pub source_group: Option<String>,
-    /// Physical surface of TARGET (MSH), by name or number.
+    /// Physical surface of TARGET (MSH), by name or number, or its *SURFACE (.inp).
     #[arg(long, value_name = "G")]
     pub target_group: Option<String>,
     #[command(flatten)]

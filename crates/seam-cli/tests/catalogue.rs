@@ -264,7 +264,7 @@ const CATALOGUE: &[Expectation] = &[
     (
         "assemble ex/master.msh good.vtu -o out --slave-group top",
         2,
-        &["good.vtu", "physical groups exist in MSH files only"],
+        &["good.vtu", "physical groups exist in MSH and .inp files only"],
     ),
     // Options.
     (

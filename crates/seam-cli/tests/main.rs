@@ -9,6 +9,7 @@ mod examples;
 mod finite;
 mod friction;
 mod history;
+mod inputs;
 #[cfg(feature = "mpi")]
 mod mpi;
 mod output;

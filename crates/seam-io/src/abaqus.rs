@@ -193,6 +193,12 @@ pub fn read_inp_file(path: impl AsRef<Path>) -> Result<Msh, InpError> {
         error.io_kind = Some(e.kind());
         error
     })?;
+    read_inp_read_from(bytes, path)
+}
+
+/// Reads the bytes of the input file at `path`, already read (its
+/// `*INCLUDE`s relative to it): [`read_inp_file`] after the read.
+pub(crate) fn read_inp_read_from(bytes: Vec<u8>, path: &Path) -> Result<Msh, InpError> {
     read_sources(input::Sources::new(bytes, Some(path.to_path_buf())))
 }
 

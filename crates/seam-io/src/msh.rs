@@ -199,18 +199,20 @@ pub fn read_msh_file(path: impl AsRef<Path>) -> Result<Msh, MshError> {
     read_msh(&bytes).map_err(|e| e.with_path(path))
 }
 
-/// Reads the surface to couple from an MSH file: [`read_msh_file`] then
+/// Reads the surface to couple from an MSH file, or an Abaqus input file
+/// by its extension `.inp`: [`read_model_file`](crate::read_model_file) then
 /// [`Msh::surface`]. Every error names the path.
 ///
 /// # Errors
-/// As [`read_msh_file`] and [`Msh::surface`].
+/// As [`read_model_file`](crate::read_model_file) and [`Msh::surface`].
 pub fn read_surface_file(path: impl AsRef<Path>, group: Option<&str>) -> Result<SurfaceMesh, MshError> {
     let path = path.as_ref();
-    read_msh_file(path)?.surface(group).map_err(|e| e.with_path(path))
+    crate::read_model_file(path, None)?.surface(group).map_err(|e| e.with_path(path))
 }
 
-/// [`read_surface_file`], with the Gmsh element tag of each face
-/// ([`Msh::surface_face_tags`]: `None` for the boundary of the volume cells).
+/// [`read_surface_file`], with the element tag of each face
+/// ([`Msh::surface_face_tags`]: `None` for the boundary of the volume cells;
+/// for `.inp` files [`crate::abaqus::face_tag`]).
 ///
 /// # Errors
 /// As [`read_surface_file`].
@@ -219,17 +221,18 @@ pub fn read_tagged_surface_file(
     group: Option<&str>,
 ) -> Result<(SurfaceMesh, Option<Vec<u64>>), MshError> {
     let path = path.as_ref();
-    let msh = read_msh_file(path)?;
+    let msh = crate::read_model_file(path, None)?;
     let surface = msh.surface(group).map_err(|e| e.with_path(path))?;
     Ok((surface, msh.surface_face_tags(group).map_err(|e| e.with_path(path))?))
 }
 
-/// Reads the volume cells from an MSH file: [`read_msh_file`] then
+/// Reads the volume cells from an MSH file, or an Abaqus input file by its
+/// extension `.inp`: [`read_model_file`](crate::read_model_file) then
 /// [`Msh::volume`]. Every error names the path.
 ///
 /// # Errors
-/// As [`read_msh_file`] and [`Msh::volume`].
+/// As [`read_model_file`](crate::read_model_file) and [`Msh::volume`].
 pub fn read_volume_file(path: impl AsRef<Path>, group: Option<&str>) -> Result<VolumeMesh, MshError> {
     let path = path.as_ref();
-    read_msh_file(path)?.volume(group).map_err(|e| e.with_path(path))
+    crate::read_model_file(path, None)?.volume(group).map_err(|e| e.with_path(path))
 }

@@ -293,6 +293,11 @@ pub enum MshErrorKind {
         /// Why, with the file and line that define it.
         reason: String,
     },
+    /// An Abaqus or CalculiX input file could not be read
+    /// ([`crate::read_model_file`]): the reader's error, which names the file
+    /// (an included one for an error there) and the line.
+    #[error("{0}")]
+    Abaqus(crate::InpError),
 }
 
 /// "element 17", or for the tag of an element face read from an Abaqus
@@ -327,11 +332,15 @@ fn element_or_face(element_tag: Option<u64>) -> String {
     }
 }
 
-/// An error reading or interpreting a Gmsh MSH file: the file (when read from a
-/// path), the location in it (when known) and the [`MshErrorKind`].
+/// An error reading or interpreting a Gmsh MSH file, or selecting from an
+/// [`Msh`](super::Msh) of any file ([`crate::read_model_file`]: an Abaqus
+/// input file's reading errors are [`MshErrorKind::Abaqus`]): the file (when
+/// read from a path), the location in it (when known) and the
+/// [`MshErrorKind`].
 ///
 /// Displays on one line, for example
-/// `mesh.msh: line 17: expected 3 coordinates for node 4, found "1.0 abc"`.
+/// `mesh.msh: line 17: expected 3 coordinates for node 4, found "1.0 abc"`,
+/// or `part.inp:12: cause` for an `.inp` file's reading error.
 #[derive(Debug)]
 pub struct MshError {
     path: Option<PathBuf>,
@@ -376,7 +385,21 @@ impl MshError {
     pub fn io_kind(&self) -> Option<io::ErrorKind> {
         match &self.kind {
             MshErrorKind::Io(e) => Some(e.kind()),
+            MshErrorKind::Abaqus(e) => e.io_kind(),
             _ => None,
+        }
+    }
+}
+
+/// An `.inp` reader's error as an [`MshErrorKind::Abaqus`], with its file
+/// and line as [`MshError::path`] and [`MshError::location`]; it displays as
+/// the reader's error does (`part.inp:12: cause`).
+impl From<crate::InpError> for MshError {
+    fn from(e: crate::InpError) -> Self {
+        MshError {
+            path: e.path().map(Path::to_path_buf),
+            location: e.line().map(Location::Line),
+            kind: MshErrorKind::Abaqus(e),
         }
     }
 }
@@ -389,6 +412,10 @@ impl From<MshErrorKind> for MshError {
 
 impl fmt::Display for MshError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let MshErrorKind::Abaqus(e) = &self.kind {
+            // It names its file and line itself.
+            return write!(f, "{e}");
+        }
         if let Some(path) = &self.path {
             write!(f, "{}: ", path.display())?;
         }
