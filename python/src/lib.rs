@@ -3,7 +3,7 @@
 //! | Python | Rust |
 //! |---|---|
 //! | `seam.Mesh` | [`seam::SurfaceMesh`] ([`mesh::PyMesh`]) |
-//! | `seam.read_mesh` | [`seam_io::read_surface_file`] |
+//! | `seam.read_mesh` | [`seam_io::read_tagged_surface_file`] (MSH, or `.inp` by extension) |
 //! | `seam.assemble` | [`seam::assemble`] on a rayon pool, GIL released |
 //! | `seam.check` | [`seam_case::check()`], its report through `json.loads` |
 //! | `seam.Mortar` | [`seam::Mortar`] + its [`seam::Transfer`] ([`mortar::PyMortar`]) |

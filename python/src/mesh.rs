@@ -215,11 +215,13 @@ impl PyMesh {
 }
 
 /// Reads the surface to couple from a Gmsh MSH file (versions 4.1 and 2.2,
-/// ASCII or binary).
+/// ASCII or binary) or, by its extension `.inp`, an Abaqus / CalculiX input
+/// file.
 ///
 /// Points are all the nodes of the file, in file order (0-based), whether or not
 /// a selected face uses them. Faces are the elements of the physical group
-/// `group`; without a group, the 2-D elements of the file, or the boundary of
+/// `group` (of an `.inp` file: the faces of its `*SURFACE` of that name, in
+/// any case); without a group, the 2-D elements of the file, or the boundary of
 /// its volume cells if it has any. Faces may be 3-node triangles, 4-node quads
 /// and their second-order versions (6-node triangles, 8- and 9-node quads; see
 /// the `tri6`, `quad8` and `quad9` properties of Mesh), volume cells
@@ -228,16 +230,19 @@ impl PyMesh {
 ///
 /// Args:
 ///     path: The file (str or os.PathLike).
-///     group: A physical group of dimension 2, by name or number.
+///     group: A physical group of dimension 2, by name or number (`.inp`:
+///         a `*SURFACE` name).
 ///
 /// Returns:
 ///     The surface as a Mesh. Its faces keep their Gmsh element tags (unless
-///     they are the boundary of the volume cells), by which `check` names them.
+///     they are the boundary of the volume cells), by which `check` names them
+///     (`.inp`: face Sk of element E is 10**18 + 10*E + k).
 ///
 /// Raises:
 ///     FileNotFoundError: The file does not exist (other I/O failures raise
 ///         the matching OSError).
-///     MshError: The file is not a valid MSH file, the group does not exist
+///     MshError: The file is not a valid MSH (or `.inp`: the message is
+///         `FILE:LINE: cause`) file, the group does not exist
 ///         (the message lists those that do), it has unsupported elements
 ///         (for example third order; the message names the element tag and
 ///         type) or degenerate faces (a ValueError).

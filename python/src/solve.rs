@@ -46,7 +46,9 @@ impl PySolution {
     /// Per body name, in case order: an object with `points` (n×3),
     /// `displacement` (n×3; row i is the i-th node of the body's mesh file),
     /// `stress` (cells×6, Voigt xx yy zz yz xz xy, at the cell centres) and
-    /// `von_mises` (per cell), all float64; the final state.
+    /// `von_mises` (per cell), all float64, and `node_id` (n) and
+    /// `element_id` (per cell), int64: the mesh file's ids (Gmsh tags or
+    /// Abaqus ids); the final state.
     #[getter]
     fn bodies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         bodies(py, &self.inner, self.inner.last())
@@ -56,7 +58,8 @@ impl PySolution {
     /// ("body:surface"), `kind` ("glue" or "contact") and the point fields of
     /// its VTU file on the slave surface's own points, as float64 arrays:
     /// `points`, `traction`, `normal_traction`, `tangential_traction`,
-    /// `normal`, `displacement`, `constrained`, `body_point` (int64), and for
+    /// `normal`, `displacement`, `constrained`, `body_point` and `node_id`
+    /// (int64: the 0-based index in the body's mesh and the file's id), and for
     /// contact `contact_pressure`, `gap`, `initial_gap`, `active`; the final
     /// state.
     #[getter]
@@ -122,6 +125,15 @@ fn field<'py>(py: Python<'py>, fields: &[seam_io::Field], name: &str) -> PyResul
     }
 }
 
+/// The id field `name` of `fields` (whole numbers), as an int64 array.
+fn ids<'py>(py: Python<'py>, fields: &[seam_io::Field], name: &str) -> PyResult<Bound<'py, PyAny>> {
+    let f = fields
+        .iter()
+        .find(|f| f.name == name)
+        .ok_or_else(|| pyo3::exceptions::PyValueError::new_err(format!("no field {name}")))?;
+    Ok(PyArray1::from_vec(py, f.values.iter().map(|&v| v as i64).collect()).into_any())
+}
+
 /// [`PySolution::bodies`] of the load step `state`.
 fn bodies<'py>(py: Python<'py>, s: &Solved, state: &StepState) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
@@ -132,6 +144,8 @@ fn bodies<'py>(py: Python<'py>, s: &Solved, state: &StepState) -> PyResult<Bound
         items.set_item("displacement", field(py, point, "displacement")?)?;
         items.set_item("stress", field(py, cell, "stress")?)?;
         items.set_item("von_mises", field(py, cell, "von_mises")?)?;
+        items.set_item("node_id", ids(py, point, "node_id")?)?;
+        items.set_item("element_id", ids(py, cell, "element_id")?)?;
         out.set_item(&body.name, namespace(py, &items)?)?;
     }
     Ok(out)
@@ -152,6 +166,7 @@ fn interfaces<'py>(py: Python<'py>, s: &Solved, state: &StepState) -> PyResult<B
                     let body_point: Vec<i64> = r.body_point.iter().map(|&p| p as i64).collect();
                     items.set_item("body_point", PyArray1::from_vec(py, body_point))?
                 }
+                ("node_id", _) => items.set_item("node_id", ids(py, &r.fields, "node_id")?)?,
                 (name, 1) => items.set_item(name, PyArray1::from_slice(py, &field.values))?,
                 (name, k) => items.set_item(name, rows(py, field.values.clone(), k)?)?,
             }

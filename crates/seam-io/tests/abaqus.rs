@@ -647,3 +647,40 @@ fn abaqus_fuzz_inputs_are_read_or_refused() {
     }
     assert!(n >= 5, "{n} fuzz inputs");
 }
+
+/// `read_model_file` chooses the reader by extension (`.inp` in any case)
+/// or by `ModelFormat`; `.inp` errors keep their one line `FILE:LINE: cause`
+/// with the file and line as the `MshError`'s; the surface and volume
+/// readers take `.inp` files too.
+#[test]
+fn read_model_file_reads_inp_by_extension_or_format() {
+    use seam_io::{read_model_file, read_surface_file, read_volume_file, ModelFormat, MshErrorKind};
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read(data("box_hex.inp")).unwrap();
+    let upper = dir.path().join("BOX.INP");
+    std::fs::write(&upper, &text).unwrap();
+    let other = dir.path().join("box.model");
+    std::fs::write(&other, &text).unwrap();
+    let want = read_inp_file(&upper).unwrap();
+    assert_eq!(read_model_file(&upper, None).unwrap(), want);
+    assert_eq!(read_model_file(&other, Some(ModelFormat::Abaqus)).unwrap(), read_inp_file(&other).unwrap());
+    assert!(matches!(read_model_file(&other, None).unwrap_err().kind(), MshErrorKind::NotMsh { .. }));
+    assert_eq!(
+        read_model_file(data("box_hex.msh"), None).unwrap(),
+        read_msh_file(data("box_hex.msh")).unwrap()
+    );
+    let surface = read_surface_file(&upper, Some("INTERFACE")).unwrap();
+    assert_eq!(surface.n_faces(), want.surface(Some("interface")).unwrap().n_faces());
+    assert_eq!(read_volume_file(&upper, Some("lower")).unwrap().cells().len(), 8);
+
+    let bad = dir.path().join("bad.inp");
+    std::fs::write(&bad, "*NODE\n1, 0, 0, 0\n2, 1, x, 0\n").unwrap();
+    let e = read_model_file(&bad, None).unwrap_err();
+    assert!(matches!(e.kind(), MshErrorKind::Abaqus(_)));
+    assert_eq!((e.path(), e.location()), (Some(bad.as_path()), Some(seam_io::Location::Line(3))));
+    let message = e.to_string();
+    assert!(message.starts_with(&format!("{}:3: ", bad.display())) && !message.contains('\n'), "{message}");
+    let e = read_model_file(dir.path().join("none.inp"), None).unwrap_err();
+    assert_eq!(e.io_kind(), Some(std::io::ErrorKind::NotFound));
+    assert!(e.to_string().contains("none.inp: cannot read the file"), "{e}");
+}
