@@ -64,6 +64,9 @@ fn write_twins(dir: &Path, node_id: fn(u64) -> u64, element_id: fn(u64) -> u64) 
     }
 }
 
+/// A map of the unit cube onto a block.
+type Map = fn(f64, f64, f64) -> [f64; 3];
+
 fn same_ids(tag: u64) -> u64 {
     tag
 }
@@ -141,7 +144,7 @@ fn contact_blocks_from_inp_files_keep_their_ids() {
     let dir = tmp.path();
     // Both on rollers (xmin, ymin), the upper one graded along x.
     let sides = [("bottom", Side::ZMin), ("top", Side::ZMax), ("xmin", Side::XMin), ("ymin", Side::YMin)];
-    let blocks: [(&str, usize, fn(f64, f64, f64) -> [f64; 3]); 2] = [
+    let blocks: [(&str, usize, Map); 2] = [
         ("lower.msh", 3, |u, v, w| [u, v, 0.5 * w]),
         ("upper.msh", 2, |u, v, w| [0.8 * u + 0.2 * u * u, v, 0.5 + 0.5 * w]),
     ];
