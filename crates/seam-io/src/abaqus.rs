@@ -85,6 +85,10 @@ mod input;
 mod read;
 mod types;
 
+#[cfg(feature = "exodus")]
+pub(crate) use build::face_element;
+pub(crate) use types::face_with_corners;
+
 /// Where a line is: the file (index into the files read) and the 1-based line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Loc {

@@ -99,6 +99,9 @@ pub enum MshVersion {
     /// [`crate::read_inp`] (`binary` is false). Its group names match
     /// case-insensitively, as Abaqus's do.
     AbaqusInp,
+    /// Not an MSH file: an Exodus II file, read by [`crate::read_exodus`]
+    /// (`binary` is false).
+    ExodusII,
 }
 
 /// One element of an MSH file.

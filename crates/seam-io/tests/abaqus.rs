@@ -22,19 +22,19 @@ fn inp_error(text: &str) -> String {
     e
 }
 
-fn close(a: Point3, b: Point3, tol: f64) -> bool {
+pub(crate) fn close(a: Point3, b: Point3, tol: f64) -> bool {
     (0..3).all(|i| (a[i] - b[i]).abs() <= tol)
 }
 
-fn sub(a: Point3, b: Point3) -> Point3 {
+pub(crate) fn sub(a: Point3, b: Point3) -> Point3 {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-fn dot(a: Point3, b: Point3) -> f64 {
+pub(crate) fn dot(a: Point3, b: Point3) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-fn mean(points: &[Point3]) -> Point3 {
+pub(crate) fn mean(points: &[Point3]) -> Point3 {
     let n = points.len() as f64;
     let mut m = [0.0; 3];
     for p in points {
@@ -44,7 +44,7 @@ fn mean(points: &[Point3]) -> Point3 {
 }
 
 /// The volume of every cell, by a quadrature exact for the meshes here.
-fn volumes(mesh: &VolumeMesh) -> Vec<f64> {
+pub(crate) fn volumes(mesh: &VolumeMesh) -> Vec<f64> {
     mesh.cells()
         .iter()
         .map(|cell| {
@@ -73,7 +73,7 @@ fn volumes(mesh: &VolumeMesh) -> Vec<f64> {
 }
 
 /// The faces of a surface as (sorted node tags, area vector of the corners).
-fn faces_by_tags(msh: &Msh, surface: &SurfaceMesh) -> Vec<(Vec<u64>, Point3)> {
+pub(crate) fn faces_by_tags(msh: &Msh, surface: &SurfaceMesh) -> Vec<(Vec<u64>, Point3)> {
     let mut faces: Vec<(Vec<u64>, Point3)> = surface
         .faces()
         .iter()

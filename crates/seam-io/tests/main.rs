@@ -3,6 +3,8 @@
 
 mod abaqus;
 mod coupling;
+#[cfg(feature = "exodus")]
+mod exodus;
 mod fuzz_regressions;
 mod large_blocks;
 mod msh;

@@ -453,13 +453,19 @@ impl Builder<'_> {
         let kind = self.model.types[self.cell_types[cell]].solid.as_ref().map(|s| s.kind).expect("a solid");
         let local =
             local_face(kind, face).expect("every face S1…Sn of a cell kind is one of its local faces");
-        MshElement {
-            tag: face_tag(element.tag, face as u8),
-            gmsh_type: local.kind.info().gmsh_type.unwrap_or(0),
-            dim: 2,
-            entity: element.entity,
-            nodes: local.nodes().iter().map(|&l| element.nodes[l]).collect(),
-            physical_tags: Vec::new(),
-        }
+        face_element(element, local, face as u8)
+    }
+}
+
+/// The face element of local face `local`, numbered `face`, of cell
+/// `element`: tag [`face_tag`], the cell's entity, no groups yet.
+pub(crate) fn face_element(element: &MshElement, local: &seam::LocalFace, face: u8) -> MshElement {
+    MshElement {
+        tag: face_tag(element.tag, face),
+        gmsh_type: local.kind.info().gmsh_type.unwrap_or(0),
+        dim: 2,
+        entity: element.entity,
+        nodes: local.nodes().iter().map(|&l| element.nodes[l]).collect(),
+        physical_tags: Vec::new(),
     }
 }

@@ -109,7 +109,12 @@ pub(super) fn n_faces(kind: CellKind) -> usize {
 
 /// Face `S{face}` (1-based) of a cell kind as seam's local face.
 pub(super) fn local_face(kind: CellKind, face: usize) -> Option<&'static LocalFace> {
-    let corners = abaqus_faces(kind.reference_shape()).get(face.checked_sub(1)?)?;
+    face_with_corners(kind, abaqus_faces(kind.reference_shape()).get(face.checked_sub(1)?)?)
+}
+
+/// The local face of a cell kind whose corners (0-based) are `corners`, in
+/// any order.
+pub(crate) fn face_with_corners(kind: CellKind, corners: &[usize]) -> Option<&'static LocalFace> {
     let mut wanted = corners.to_vec();
     wanted.sort_unstable();
     kind.info().faces.iter().find(|local| {

@@ -298,6 +298,11 @@ pub enum MshErrorKind {
     /// (an included one for an error there) and the line.
     #[error("{0}")]
     Abaqus(crate::InpError),
+    /// An Exodus II file could not be read ([`crate::read_model_file`]): the
+    /// reader's error, which names the file, the block or side set and the
+    /// cause.
+    #[error("{0}")]
+    Exodus(crate::ExodusError),
 }
 
 /// "element 17", or for the tag of an element face read from an Abaqus
@@ -386,6 +391,7 @@ impl MshError {
         match &self.kind {
             MshErrorKind::Io(e) => Some(e.kind()),
             MshErrorKind::Abaqus(e) => e.io_kind(),
+            MshErrorKind::Exodus(e) => e.io_kind(),
             _ => None,
         }
     }
@@ -404,6 +410,14 @@ impl From<crate::InpError> for MshError {
     }
 }
 
+/// An Exodus reader's error as an [`MshErrorKind::Exodus`], with its file as
+/// [`MshError::path`]; it displays as the reader's error does.
+impl From<crate::ExodusError> for MshError {
+    fn from(e: crate::ExodusError) -> Self {
+        MshError { path: e.path().map(Path::to_path_buf), location: None, kind: MshErrorKind::Exodus(e) }
+    }
+}
+
 impl From<MshErrorKind> for MshError {
     fn from(kind: MshErrorKind) -> Self {
         MshError::new(kind)
@@ -412,9 +426,11 @@ impl From<MshErrorKind> for MshError {
 
 impl fmt::Display for MshError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if let MshErrorKind::Abaqus(e) = &self.kind {
-            // It names its file and line itself.
-            return write!(f, "{e}");
+        match &self.kind {
+            // They name their file (and line) themselves.
+            MshErrorKind::Abaqus(e) => return write!(f, "{e}"),
+            MshErrorKind::Exodus(e) => return write!(f, "{e}"),
+            _ => {}
         }
         if let Some(path) = &self.path {
             write!(f, "{}: ", path.display())?;

@@ -145,6 +145,9 @@ impl Msh {
                 groups.entry(tag).or_default();
             }
         }
+        for unusable in self.unusable_groups.iter().filter(|u| u.dim == dim) {
+            groups.entry(unusable.tag).or_default();
+        }
         for name in self.physical_names.iter().filter(|n| n.dim == dim) {
             groups.insert(name.tag, Some(name.name.clone()));
         }
