@@ -5,10 +5,12 @@
 //! ```toml
 //! [[body]]              # one per body
 //! name = "lower"        # also the name of its output file, lower.vtu
-//! mesh = "lower.msh"    # Gmsh volume mesh (or Abaqus/CalculiX "lower.inp"); its physical
-//!                       # surfaces (*SURFACE of an .inp) name the boundaries
-//! # format = "abaqus"   # optional: "gmsh" or "abaqus" (default: by extension, .inp is abaqus)
-//! volume = "steel"      # optional: the cells of this physical volume (*ELSET; default: all cells)
+//! mesh = "lower.msh"    # Gmsh volume mesh (or Abaqus/CalculiX "lower.inp", Exodus II "lower.exo");
+//!                       # its physical surfaces (*SURFACE of an .inp, side sets) name the boundaries
+//! # format = "abaqus"   # optional: "gmsh", "abaqus" or "exodus" (default: by extension, .inp is
+//!                       # abaqus, .e/.exo/.ex2/.g exodus)
+//! volume = "steel"      # optional: the cells of this physical volume (*ELSET, element block name
+//!                       # or id; default: all cells)
 //! young = 1.0e3
 //! poisson = 0.3
 //! material = "linear"   # or "neo-hookean", "saint-venant-kirchhoff" (finite deformation)
@@ -160,12 +162,14 @@ pub struct Body {
     /// Its name: unique, and the name of its output file.
     pub name: String,
     /// Its volume mesh, relative to the case file's directory: a Gmsh MSH
-    /// file, or an Abaqus / CalculiX input file (`.inp`, or `format`).
+    /// file, an Abaqus / CalculiX input file (`.inp`) or an Exodus II file
+    /// (`.e`, `.exo`, `.ex2`, `.g`; a build with the `exodus` feature), or
+    /// any name with `format`.
     pub mesh: PathBuf,
     /// The mesh's format, one of [`seam_io::ModelFormat::NAMES`] (default:
     /// by the extension, [`seam_io::ModelFormat::of_path`]).
     pub format: Option<String>,
-    /// The physical volume (name or number; an `.inp` file's element set)
+    /// The physical volume (name or number; an `.inp` file's element set, an Exodus block)
     /// whose cells make the body.
     pub volume: Option<String>,
     /// Young's modulus E.
@@ -185,7 +189,7 @@ pub struct Body {
 
 impl Body {
     /// The format its mesh is read as: `format`, else by the extension
-    /// (`.inp`: Abaqus; [`seam_io::read_model_file`]).
+    /// (`.inp`: Abaqus, `.e`/`.exo`/`.ex2`/`.g`: Exodus; [`seam_io::read_model_file`]).
     pub fn model_format(&self) -> seam_io::ModelFormat {
         self.format
             .as_deref()

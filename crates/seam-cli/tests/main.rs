@@ -6,6 +6,8 @@ mod cli;
 mod common;
 mod contact;
 mod examples;
+#[cfg(feature = "exodus")]
+mod exodus;
 mod finite;
 mod friction;
 mod history;
