@@ -160,8 +160,9 @@ fn num_map(file: &File, var: &str, n: usize, what: &str) -> Result<Vec<u64>, Exo
         .collect()
 }
 
-/// A file to read and where to send the result.
-type Job = (Vec<u8>, mpsc::Sender<Result<Msh, ExodusError>>);
+/// A file to read and where to send the result (or the panic, which the
+/// caller resumes).
+type Job = (Vec<u8>, mpsc::Sender<std::thread::Result<Result<Msh, ExodusError>>>);
 
 /// The one thread that calls the netCDF library. The library turns HDF5's
 /// error printing off on the thread that first opens a file only, and HDF5
@@ -175,9 +176,7 @@ fn reader() -> &'static mpsc::Sender<Job> {
             .name("seam-exodus".into())
             .spawn(move || {
                 for (bytes, reply) in jobs {
-                    let result = std::panic::catch_unwind(|| read_here(&bytes))
-                        .unwrap_or_else(|_| Err(error("the netCDF reader failed on this file")));
-                    let _ = reply.send(result);
+                    let _ = reply.send(std::panic::catch_unwind(|| read_here(&bytes)));
                 }
             })
             .expect("a thread for the netCDF library");
@@ -189,7 +188,10 @@ fn reader() -> &'static mpsc::Sender<Job> {
 pub(super) fn read(bytes: &[u8]) -> Result<Msh, ExodusError> {
     let (reply, result) = mpsc::channel();
     reader().send((bytes.to_vec(), reply)).map_err(|_| error("the netCDF reader thread has stopped"))?;
-    result.recv().map_err(|_| error("the netCDF reader thread has stopped"))?
+    match result.recv().map_err(|_| error("the netCDF reader thread has stopped"))? {
+        Ok(read) => read,
+        Err(panic) => std::panic::resume_unwind(panic),
+    }
 }
 
 fn read_here(bytes: &[u8]) -> Result<Msh, ExodusError> {
