@@ -4,14 +4,11 @@
 
 use libfuzzer_sys::fuzz_target;
 
+#[path = "select_all.rs"]
+mod select_all;
+
 fuzz_target!(|data: &[u8]| {
-    let Ok(msh) = seam_io::read_inp(data) else { return };
-    let _ = msh.volume(None);
-    let _ = msh.surface(None);
-    for group in msh.physical_groups(3) {
-        let _ = msh.volume(Some(&group.tag.to_string()));
-    }
-    for group in msh.physical_groups(2) {
-        let _ = msh.surface_of_volume(&group.tag.to_string(), None);
+    if let Ok(msh) = seam_io::read_inp(data) {
+        select_all::select_all(&msh);
     }
 });
