@@ -289,6 +289,14 @@ fn bad_files_are_refused_on_one_line() {
         assert!(e.starts_with(&prefix) && !e.contains('\n'), "{e}");
         eprintln!("{e}");
     }
+    // Dimensions of 2^40 nodes and elements in a 3 kB NetCDF-4 file.
+    let e = read_exodus_file(data("huge_counts.ex2")).unwrap_err().to_string();
+    assert!(
+        e.ends_with(
+            "huge_counts.ex2: dimension num_nodes = 1099511627776 is more than a file of this size can hold"
+        ),
+        "{e}"
+    );
     // An unknown type is named when its block is selected.
     let bytes = patched("cube_TETRA4.e", b"TETRA4", b"TETRAX");
     let msh = read_exodus(&bytes).unwrap();

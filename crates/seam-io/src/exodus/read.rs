@@ -38,6 +38,16 @@ impl File<'_> {
         self.nc.dimension_len(name)
     }
 
+    /// A count the file declares (0 without the dimension), no larger than
+    /// what a file of its size can hold.
+    fn count(&self, name: &str) -> Result<usize, ExodusError> {
+        let n = self.dim(name).unwrap_or(0);
+        if n > self.max_values {
+            return Err(error(format!("dimension {name} = {n} is more than a file of this size can hold")));
+        }
+        Ok(n)
+    }
+
     /// The variable, its declared length checked against the file size.
     fn var(&self, name: &str, what: &str) -> Result<Option<netcdf::Variable<'_>>, ExodusError> {
         let Some(var) = self.nc.variable(name) else { return Ok(None) };
@@ -211,10 +221,10 @@ fn read_here(bytes: &[u8]) -> Result<Msh, ExodusError> {
             "a {num_dim}-dimensional mesh (num_dim = {num_dim}): seam reads 3D models"
         )));
     }
-    let n_nodes = file.dim("num_nodes").unwrap_or(0);
+    let n_nodes = file.count("num_nodes")?;
     let nodes = coordinates(&file, n_nodes)?;
     let node_tags = num_map(&file, "node_num_map", n_nodes, "nodes")?;
-    let n_elem = file.dim("num_elem").unwrap_or(0);
+    let n_elem = file.count("num_elem")?;
     let elem_ids = num_map(&file, "elem_num_map", n_elem, "elements")?;
 
     let mut msh = Msh::empty(MshFormat { version: MshVersion::ExodusII, binary: false });
@@ -223,7 +233,7 @@ fn read_here(bytes: &[u8]) -> Result<Msh, ExodusError> {
 
     // Element blocks: cells, and where each element (global 0-based index)
     // went: its cell index, or the block it is in when it is no cell.
-    let n_blocks = file.dim("num_el_blk").unwrap_or(0);
+    let n_blocks = file.count("num_el_blk")?;
     let block_ids = entity_ids(&file, "eb_prop1", n_blocks, "element blocks")?;
     let block_names = file.names("eb_names", n_blocks)?;
     let mut element_cell: Vec<Result<usize, usize>> = Vec::with_capacity(n_elem);
@@ -231,7 +241,7 @@ fn read_here(bytes: &[u8]) -> Result<Msh, ExodusError> {
     for b in 0..n_blocks {
         let what = label("element block", block_ids[b], &block_names[b]);
         let k = b + 1;
-        let count = file.dim(&format!("num_el_in_blk{k}")).unwrap_or(0);
+        let count = file.count(&format!("num_el_in_blk{k}"))?;
         if element_cell.len() + count > n_elem {
             return Err(error(format!("{what}: the blocks hold more than num_elem = {n_elem} elements")));
         }
@@ -241,13 +251,13 @@ fn read_here(bytes: &[u8]) -> Result<Msh, ExodusError> {
         if count == 0 {
             continue;
         }
-        let per = file.dim(&format!("num_nod_per_el{k}")).unwrap_or(0);
+        let per = file.count(&format!("num_nod_per_el{k}"))?;
         let var = file.required(&format!("connect{k}"), &what)?;
         let ty = File::text_attribute(&var, "elem_type").unwrap_or_default();
         let problem = match exodus_type(&ty, per) {
             ExodusType::Solid(kind) => {
                 let connect = var.get_values::<i64, _>(..).map_err(|e| nc_error(&format!("{what}: connect{k}"), e))?;
-                if connect.len() != count * per {
+                if Some(connect.len()) != count.checked_mul(per) {
                     return Err(error(format!("{what}: connect{k} has {} values for {count} elements of {per} nodes", connect.len())));
                 }
                 let tag = block_ids[b];
@@ -337,7 +347,7 @@ fn side_sets(
     block_ids: &[i32],
     block_names: &[String],
 ) -> Result<(), ExodusError> {
-    let n_sets = file.dim("num_side_sets").unwrap_or(0);
+    let n_sets = file.count("num_side_sets")?;
     let ids = entity_ids(file, "ss_prop1", n_sets, "side sets")?;
     let names = file.names("ss_names", n_sets)?;
     let mut faces: HashMap<(usize, usize), usize> = HashMap::new();
@@ -349,7 +359,7 @@ fn side_sets(
         if !names[s].is_empty() {
             msh.physical_names.push(PhysicalName { dim: 2, tag, name: names[s].clone() });
         }
-        let count = file.dim(&format!("num_side_ss{k}")).unwrap_or(0);
+        let count = file.count(&format!("num_side_ss{k}"))?;
         if count == 0 {
             continue;
         }

@@ -31,6 +31,7 @@ gives them:
   and [0,1]²×[½,1] cut 4×4×2 (non-matching at z = ½), meshed by Gmsh with
   the surfaces "bottom", "top", "xmin", "ymin" (one block "body", id 1;
   side sets 1…4 in that order), for the CLI's glued case.
+- huge_counts.ex2: dimensions of 2^40 nodes and elements in a small NetCDF-4 file.
 - box_NAME.meshio.exo: the same .msh read and written by meshio's Exodus
   writer (NetCDF-4, blocks numbered from 0 without names, no side sets,
   the Gmsh surface triangles and quadrangles as TRI3 / QUAD blocks) for the
@@ -42,6 +43,7 @@ import tempfile
 
 import gmsh
 import meshio
+import netCDF4
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -246,3 +248,13 @@ for name, z0, n, (flavour, ext) in [("glue_lower", 0.0, 3, FLAVOURS[0]), ("glue_
     nodes, blocks, side_sets = exodus_of_gmsh([(1, "body")], [(i + 1, g) for i, g in enumerate(planes)])
     gmsh.finalize()
     write(os.path.join(HERE, f"{name}.{ext}"), flavour, nodes, blocks, side_sets)
+
+# 5. A NetCDF-4 file whose dimensions declare more elements than any file of
+# its size holds (netCDF4's writer: no variable needs the space).
+with netCDF4.Dataset(os.path.join(HERE, "huge_counts.ex2"), "w", format="NETCDF4") as nc:
+    nc.createDimension("num_dim", 3)
+    nc.createDimension("num_nodes", 2**40)
+    nc.createDimension("num_elem", 2**40)
+    nc.createDimension("num_el_blk", 1)
+    nc.createDimension("num_el_in_blk1", 2**40)
+    nc.createDimension("num_nod_per_el1", 8)
