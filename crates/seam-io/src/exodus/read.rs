@@ -211,7 +211,8 @@ fn read_here(bytes: &[u8]) -> Result<Msh, ExodusError> {
             "not an Exodus II file: neither a netCDF classic/64-bit-offset nor a NetCDF-4 (HDF5) file",
         ));
     }
-    let nc = netcdf::open_mem(None, bytes).map_err(|e| nc_error("not a readable netCDF file", e))?;
+    let nc = netcdf::open_mem(None, bytes)
+        .map_err(|e| nc_error("not a readable netCDF file (truncated or corrupt)", e))?;
     let max_values = if classic { bytes.len() } else { bytes.len().saturating_mul(MAX_COMPRESSION) };
     let file = File { nc, max_values };
 
