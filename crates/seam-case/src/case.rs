@@ -987,7 +987,7 @@ dir = "out"
             (GOOD.replace("kind = \"glue\"", "kind = \"weld\""), "unknown variant `weld`"),
             (
                 GOOD.replace("mesh = \"b.msh\"", "mesh = \"b.msh\"\nformat = \"vtu\""),
-                "body \"upper\": unknown format \"vtu\" (formats: \"gmsh\", \"abaqus\")",
+                "body \"upper\": unknown format \"vtu\" (formats: \"gmsh\", \"abaqus\", \"exodus\")",
             ),
             (GOOD.replace("young = 1.0e3", "youngs = 1.0e3"), "unknown field `youngs`"),
             (GOOD.replace("name = \"upper\"", "name = \"lower\""), "body \"lower\" is defined twice"),

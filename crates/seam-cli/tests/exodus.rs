@@ -1,7 +1,8 @@
 //! Models from Exodus II files (feature `exodus`) through `seam solve` and
 //! `seam assemble`: the same model as MSH and as Exodus (written by the
 //! SEACAS library from Gmsh's mesh, seam-io's fixtures) gives byte-identical
-//! operators and solutions; bad files are one line naming the body and file.
+//! operators and solutions, glued and in contact; bad files are one line
+//! naming the body and file.
 
 use crate::common;
 
@@ -55,15 +56,27 @@ fn write_msh_twin(exodus: &Path, msh: &Path, sides: &[&str]) {
     seam_io::write_volume_msh_file(msh, &volume, "body", &refs).unwrap();
 }
 
-/// The glued blocks (non-matching hexahedra meshed by Gmsh, written by the
+/// The blocks (non-matching hexahedra meshed by Gmsh, written by the
 /// SEACAS library: classic lower.e, NetCDF-4 upper.ex2; side sets bottom,
-/// top, xmin, ymin) and their MSH twins: the Exodus case writes
+/// top, xmin, ymin), glued and in contact (dual multipliers, the upper block
+/// on rollers and pressed), and their MSH twins: the Exodus case writes
 /// byte-identical files, ids included; so does one whose upper body is a
 /// `.mesh` file read with `format = "exodus"` and whose volumes are chosen
 /// by block name and id. Gmsh's own MSH of the blocks gives the same
 /// solution but for the last bits.
 #[test]
-fn glued_blocks_from_exodus_files_solve_as_their_msh_files() {
+fn glued_and_contact_blocks_from_exodus_files_solve_as_their_msh_files() {
+    let glue = ("kind = \"glue\"", "[[traction]]\nboundary = \"upper:top\"\nt = [0.1, 0.0, -1.0]\n");
+    let rollers = "[[dirichlet]]\nboundary = \"upper:xmin\"\nux = 0.0\n\n[[dirichlet]]\nboundary = \"upper:ymin\"\nuy = 0.0\n\n";
+    let pressed = format!("{rollers}[[traction]]\nboundary = \"upper:top\"\nt = [0.0, 0.0, -1.0]\n");
+    for (interface, rest) in [glue, ("kind = \"contact\"\nmultiplier = \"dual\"", pressed.as_str())] {
+        blocks_from_exodus_files(interface, rest);
+    }
+}
+
+/// [`glued_and_contact_blocks_from_exodus_files_solve_as_their_msh_files`]
+/// for the interface keys `interface` and the loads `rest`.
+fn blocks_from_exodus_files(interface: &str, rest: &str) {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     for (from, to) in [
@@ -79,8 +92,7 @@ fn glued_blocks_from_exodus_files_solve_as_their_msh_files() {
         let exodus = dir.join(if body == "lower" { "lower.e" } else { "upper.ex2" });
         write_msh_twin(&exodus, &dir.join(format!("{body}.msh")), &["bottom", "top", "xmin", "ymin"]);
     }
-    let rest = "[[traction]]\nboundary = \"upper:top\"\nt = [0.1, 0.0, -1.0]\n";
-    let case = stacked_case((1000.0, 0.25), (500.0, 0.3), "kind = \"glue\"", rest);
+    let case = stacked_case((1000.0, 0.25), (500.0, 0.3), interface, rest);
     let with = |lower: &str, upper: &str, out: &str| {
         case.replace("mesh = \"lower.msh\"", lower).replace("mesh = \"upper.msh\"", upper)
             + &format!("[output]\ndir = \"{out}\"\n")
@@ -105,14 +117,21 @@ fn glued_blocks_from_exodus_files_solve_as_their_msh_files() {
     for file in ["lower.vtu", "upper.vtu", "upper_bottom_interface.vtu"] {
         let msh = read(&dir.join("msh").join(file));
         for other in ["exo", "named"] {
-            assert!(msh == read(&dir.join(other).join(file)), "{other}/{file} differs");
+            assert!(msh == read(&dir.join(other).join(file)), "{interface}: {other}/{file} differs");
         }
     }
     let (_, u) = vtu_field(&dir.join("exo/upper.vtu"), "displacement", false);
     assert!(u.iter().any(|&v| v.abs() > 1e-4), "a load moved the body");
+    if interface.contains("contact") {
+        let summary = common::json(&dir.join("exo/summary.json"));
+        assert!(summary["contact"]["active_points"].as_u64().unwrap() > 0, "{summary}");
+    }
     let (_, g) = vtu_field(&dir.join("gmsh/upper.vtu"), "displacement", false);
     let scale = u.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    assert!(u.iter().zip(&g).all(|(a, b)| (a - b).abs() <= 1e-12 * scale), "Gmsh's MSH solves alike");
+    assert!(
+        u.iter().zip(&g).all(|(a, b)| (a - b).abs() <= 1e-12 * scale),
+        "{interface}: Gmsh's MSH solves alike"
+    );
 }
 
 /// `seam assemble` between the "top" side sets of Gmsh's boxes written by
