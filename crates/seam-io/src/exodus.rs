@@ -15,7 +15,7 @@
 //! - **Nodes** (`coord` or `coordx`/`coordy`/`coordz`, `num_dim` = 3) keep
 //!   the ids of `node_num_map` (1, 2, … without one) as [`Msh::node_tags`].
 //! - **Element blocks** of the types TETRA4, TETRA10, HEX8, HEX20, HEX27,
-//!   WEDGE6, WEDGE15, PYRAMID5, PYRAMID13 and PYRAMID14 (also spelled TETRA,
+//!   WEDGE6, WEDGE15, WEDGE18, PYRAMID5, PYRAMID13 and PYRAMID14 (also spelled TETRA,
 //!   TET4, HEX, HEXAHEDRON, WEDGE, PYRAMID, PYRA5…: the name without digits
 //!   and the block's nodes per element decide) are cells with the ids of
 //!   `elem_num_map` (1, 2, … without one) as element tags, nodes in Gmsh's
@@ -23,7 +23,7 @@
 //!   (dimension-3) physical group whose tag is the block id (`eb_prop1`;
 //!   meshio numbers blocks from 0) and whose name is its `eb_names` entry:
 //!   `volume = "block name or id"`. A block of any other type (SHELL4,
-//!   BEAM2, TRI3, WEDGE18, an unknown name) has no cells: selecting it, or a
+//!   BEAM2, TRI3, TETRA14, an unknown name) has no cells: selecting it, or a
 //!   side set on it, is refused with a message naming its type.
 //! - **Side sets** are surface (dimension-2) physical groups tagged by their
 //!   id (`ss_prop1`) and named by `ss_names`: side `k` of element `E` is one
@@ -34,9 +34,9 @@
 //!   not read.
 //!
 //! The node orders and side numbering come from the SEACAS Exodus library
-//! itself (`ex_get_side_set_node_list`, see `exodus/types.rs`); WEDGE18
-//! (whose face-centre nodes the library does not place), TETRA14/15,
-//! WEDGE21 and PYRAMID18/19 are refused by name.
+//! itself (`ex_get_side_set_node_list`, see `exodus/types.rs`), WEDGE18's
+//! face centres (which the library does not place) from SEACAS's IOSS;
+//! TETRA14/15, WEDGE21 and PYRAMID18/19 are refused by name.
 //!
 //! Every netCDF call is made on one thread of its own: the netCDF library
 //! silences HDF5's error printing on the thread that first uses it only.

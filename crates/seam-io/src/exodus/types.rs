@@ -9,12 +9,13 @@
 //! | HEX27 | 27 | Hex27 (12) |
 //! | WEDGE, WEDGE6 | 6 | Prism6 (6) |
 //! | WEDGE15 | 15 | Prism15 (18) |
+//! | WEDGE18 | 18 | Prism18 (13) |
 //! | PYRAMID, PYRAMID5, PYRA5 | 5 | Pyramid5 (7) |
 //! | PYRAMID13 | 13 | Pyramid13 (19) |
 //! | PYRAMID14 | 14 | Pyramid14 (14) |
 //!
-//! WEDGE18 (and TETRA14/15, WEDGE21, PYRAMID18/19) are refused by name: the
-//! SEACAS library does not say where their face-centre nodes are.
+//! TETRA14/15, WEDGE21 and PYRAMID18/19 are refused by name: the SEACAS
+//! library does not say where their face-centre nodes are.
 //!
 //! The corners are numbered as in Gmsh. Sides and the places of the other
 //! nodes come from one table, [`SEACAS_SIDES`]: the nodes of each side as
@@ -27,7 +28,9 @@
 //! So every mid-edge node is placed by the corners of its edge, every face
 //! centre by its side, and the one node left (HEX27's centre, PYRAMID14's
 //! base centre, which the library leaves out of side 5) is the one Gmsh
-//! node left. By corners (1-based), as in the Exodus II manual:
+//! node left. The library lists no face centre of WEDGE18: its nodes 16, 17
+//! and 18 are those of sides 1, 2 and 3, as [`FACE_CENTRES`] says after
+//! SEACAS's IOSS (`Ioss_Wedge18.C`) and libMesh's Prism18. By corners (1-based), as in the Exodus II manual:
 //!
 //! | side | tetrahedron | hexahedron | wedge | pyramid |
 //! |---|---|---|---|---|
@@ -48,7 +51,7 @@ use seam::{CellKind, LocalFace, Shape};
 pub(crate) enum ExodusType {
     /// A solid seam reads.
     Solid(CellKind),
-    /// A second-order solid whose node order is not known.
+    /// A higher-order solid whose node order is not known.
     Unverified,
     /// Anything else (shells, beams, 2D types, unknown names).
     Other,
@@ -70,10 +73,11 @@ pub(crate) fn exodus_type(name: &str, nodes: usize) -> ExodusType {
         ("HEX" | "HEXAHEDRON", 27) => CellKind::Hex27,
         ("WEDGE", 6) => CellKind::Prism6,
         ("WEDGE", 15) => CellKind::Prism15,
+        ("WEDGE", 18) => CellKind::Prism18,
         ("PYRAMID" | "PYRA", 5) => CellKind::Pyramid5,
         ("PYRAMID" | "PYRA", 13) => CellKind::Pyramid13,
         ("PYRAMID" | "PYRA", 14) => CellKind::Pyramid14,
-        ("TETRA" | "TET", 11 | 14 | 15) | ("WEDGE", 18 | 21) | ("PYRAMID" | "PYRA", 18 | 19) => {
+        ("TETRA" | "TET", 11 | 14 | 15) | ("WEDGE", 21) | ("PYRAMID" | "PYRA", 18 | 19) => {
             return ExodusType::Unverified
         }
         _ => return ExodusType::Other,
@@ -83,7 +87,7 @@ pub(crate) fn exodus_type(name: &str, nodes: usize) -> ExodusType {
 
 /// The kinds seam reads from Exodus files.
 #[cfg(test)]
-const READ: [CellKind; 10] = [
+const READ: [CellKind; 11] = [
     CellKind::Tet4,
     CellKind::Tet10,
     CellKind::Hex8,
@@ -91,6 +95,7 @@ const READ: [CellKind; 10] = [
     CellKind::Hex27,
     CellKind::Prism6,
     CellKind::Prism15,
+    CellKind::Prism18,
     CellKind::Pyramid5,
     CellKind::Pyramid13,
     CellKind::Pyramid14,
@@ -98,7 +103,7 @@ const READ: [CellKind; 10] = [
 
 /// The types seam reads, in words, for messages.
 pub(crate) const SUPPORTED: &str =
-    "TETRA4, TETRA10, HEX8, HEX20, HEX27, WEDGE6, WEDGE15, PYRAMID5, PYRAMID13, PYRAMID14";
+    "TETRA4, TETRA10, HEX8, HEX20, HEX27, WEDGE6, WEDGE15, WEDGE18, PYRAMID5, PYRAMID13, PYRAMID14";
 
 /// The nodes (1-based) of sides 1, 2, … of the largest type of each shape
 /// seam reads, as SEACAS's `ex_get_side_set_node_list` lists them
@@ -143,6 +148,12 @@ pub(crate) const SEACAS_SIDES: [(Shape, &[&[usize]]); 4] = [
     ),
 ];
 
+/// The face-centre nodes the library's side lists leave out, as (side,
+/// node), both 1-based: WEDGE18's, as SEACAS's IOSS places them
+/// (`Ioss_Wedge18.C`, `face_node_order`) and libMesh's Prism18 does.
+pub(crate) const FACE_CENTRES: [(CellKind, &[(usize, usize)]); 1] =
+    [(CellKind::Prism18, &[(1, 16), (2, 17), (3, 18)])];
+
 /// The sides of a shape, each as its node list (1-based).
 fn seacas_sides(shape: Shape) -> &'static [&'static [usize]] {
     SEACAS_SIDES.iter().find(|(s, _)| *s == shape).map_or(&[], |(_, sides)| sides)
@@ -174,6 +185,10 @@ pub(crate) fn gmsh_positions(kind: CellKind) -> Vec<usize> {
             };
             position[node] = gmsh;
         }
+    }
+    let centres = FACE_CENTRES.iter().filter(|(k, _)| *k == kind).flat_map(|(_, c)| c.iter());
+    for &(side, node) in centres {
+        position[node - 1] = local_face(kind, side).and_then(|f| f.nodes().get(8).copied());
     }
     let used: Vec<usize> = position.iter().flatten().copied().collect();
     let left: Vec<usize> = (0..n).filter(|g| !used.contains(g)).collect();
@@ -219,7 +234,8 @@ mod tests {
             ("PYRAMID", 5, ExodusType::Solid(CellKind::Pyramid5)),
             ("HEX20", 20, ExodusType::Solid(CellKind::Hex20)),
             ("TETRA10", 10, ExodusType::Solid(CellKind::Tet10)),
-            ("WEDGE18", 18, ExodusType::Unverified),
+            ("WEDGE18", 18, ExodusType::Solid(CellKind::Prism18)),
+            ("WEDGE21", 21, ExodusType::Unverified),
             ("HEX8", 20, ExodusType::Other),
             ("SHELL4", 4, ExodusType::Other),
             ("QUAD4", 4, ExodusType::Other),
@@ -239,6 +255,9 @@ mod tests {
         // HEX20: Exodus's 13–16 are the vertical edges, 17–20 the top ones.
         let hex20 = gmsh_positions(CellKind::Hex20);
         assert_eq!(&hex20[8..], &[8, 11, 13, 9, 10, 12, 14, 15, 16, 18, 19, 17]);
+        // WEDGE18's face centres on sides 1, 2, 3 (faces 0-1-4-3, 1-2-5-4,
+        // 0-3-5-2) are Gmsh's 15, 17, 16.
+        assert_eq!(&gmsh_positions(CellKind::Prism18)[15..], &[15, 17, 16]);
         // TETRA10 is VTK's order.
         assert_eq!(gmsh_positions(CellKind::Tet10), CellKind::Tet10.info().vtk_order);
     }

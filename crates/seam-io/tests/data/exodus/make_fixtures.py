@@ -9,14 +9,14 @@ Every file but the meshio ones is written by the SEACAS Exodus library
 prints the nodes of each side as the library's ex_get_side_set_node_list
 gives them:
 
-- sides.txt: for every element type seam reads (and WEDGE18, which it
-  refuses), the nodes (1-based) of each side, from a one-element file with
+- sides.txt: for every element type seam reads, the nodes (1-based) of each side, from a one-element file with
   one side set per side. libexodusII 6.02 counts one node too many for the
   triangular sides of WEDGE15/18 and PYRAMID13/14 (the extra value is
   garbage): the lines keep the 6 nodes of a quadratic triangle. These lists
   place every node of the higher-order types here (an edge node at the
   midpoint of the corners its side lists it between, a face centre at the
-  centre of its side; the one node no side lists, HEX27's 21 and PYRAMID14's
+  centre of its side (WEDGE18's three, which the library leaves out, as
+  FACE_CENTRES says); the one node no side lists, HEX27's 21 and PYRAMID14's
   14, at the cell's centre and at the base's centre).
 - cube_TYPE.e / .exo / .ex2 / .g: one element of each type (the unit cube
   for hexahedra; the corner tetrahedron, wedge and pyramid of it), node ids
@@ -31,6 +31,9 @@ gives them:
   and [0,1]²×[½,1] cut 4×4×2 (non-matching at z = ½), meshed by Gmsh with
   the surfaces "bottom", "top", "xmin", "ymin" (one block "body", id 1;
   side sets 1…4 in that order), for the CLI's glued case.
+- cube_TETRA14.e: one element of a type whose node order seam does not
+  know (TETRA14; its nodes on a line) and a side set "side1" on it, for
+  the refusal by name.
 - huge_counts.ex2: dimensions of 2^40 nodes and elements in a small NetCDF-4 file.
 - box_NAME.meshio.exo: the same .msh read and written by meshio's Exodus
   writer (NetCDF-4, blocks numbered from 0 without names, no side sets,
@@ -65,6 +68,10 @@ TYPES = {  # Exodus type -> (node count, side count, corner coordinates)
     "PYRAMID14": (14, 5, None),
 }
 LINEAR = {"TETRA": "TETRA4", "HEX": "HEX8", "WEDGE": "WEDGE6", "PYRAMID": "PYRAMID5"}
+# Face-centre nodes the library's side lists leave out, node (1-based) ->
+# side: WEDGE18's as SEACAS's IOSS places them (Ioss_Wedge18.C,
+# face_node_order) and libMesh's Prism18 does.
+FACE_CENTRES = {"WEDGE18": {16: 1, 17: 2, 18: 3}}
 
 
 def family(t):
@@ -77,7 +84,7 @@ def write(path, flavour, nodes, blocks, side_sets):
     lines = [str(len(nodes))] + [f"{i} {x!r} {y!r} {z!r}" for i, (x, y, z) in nodes]
     lines.append(str(len(blocks)))
     for bid, name, t, elems in blocks:
-        lines.append(f"{bid} {name} {t} {TYPES[t][0]} {len(elems)}")
+        lines.append(f"{bid} {name} {t} {len(elems[0][1])} {len(elems)}")
         lines += [" ".join(str(v) for v in [e] + conn) for e, conn in elems]
     lines.append(str(len(side_sets)))
     for sid, name, sides in side_sets:
@@ -115,6 +122,8 @@ def positions(t):
         c = [v - 1 for v in side[:nc]]
         for j, v in enumerate(side[nc:]):
             place[v - 1] = ("edge", c[j], c[(j + 1) % nc]) if j < nc else ("face", k)
+    for v, side in FACE_CENTRES.get(t, {}).items():
+        place[v - 1] = ("face", side - 1)
     return [place.get(i, ("left",)) for i in range(n)]
 
 
@@ -258,3 +267,7 @@ with netCDF4.Dataset(os.path.join(HERE, "huge_counts.ex2"), "w", format="NETCDF4
     nc.createDimension("num_el_blk", 1)
     nc.createDimension("num_el_in_blk1", 2**40)
     nc.createDimension("num_nod_per_el1", 8)
+
+# 6. A type seam refuses by name.
+write(os.path.join(HERE, "cube_TETRA14.e"), "classic", [(i + 1, (0.0, 0.0, float(i))) for i in range(14)],
+      [(5, "body", "TETRA14", [(42, list(range(1, 15)))])], [(1, "side1", [(1, 1)])])
