@@ -36,6 +36,11 @@ const GAP_BINS: usize = 10;
 /// element tags.
 pub const GMSH_ELEMENT_TAGS: &str = "gmsh element tags";
 
+/// [`CheckReport::face_ids`] when the slave faces are element faces of an
+/// Abaqus `.inp` or Exodus II file (`*SURFACE`, side set), named by the tag
+/// [`seam_io::abaqus::face_tag`] gives them.
+pub const ELEMENT_FACE_TAGS: &str = "element face tags (10^18 + 10 E + k: element E, face Sk)";
+
 /// [`CheckReport::face_ids`] when the slave faces are named by their 1-based
 /// index in the slave surface.
 pub const FACE_INDICES: &str = "1-based face indices";
@@ -104,8 +109,9 @@ pub struct CheckReport {
     /// Every slave node covered and every invariant within its tolerance.
     pub ok: bool,
     /// How [`Invariant::offending_faces`] names slave faces:
-    /// [`GMSH_ELEMENT_TAGS`] for a surface of elements of an MSH file, else
-    /// [`FACE_INDICES`].
+    /// [`GMSH_ELEMENT_TAGS`] for a surface of elements of an MSH file,
+    /// [`ELEMENT_FACE_TAGS`] for element faces of an `.inp` or Exodus file,
+    /// else [`FACE_INDICES`].
     pub face_ids: &'static str,
 }
 
@@ -246,7 +252,11 @@ fn report(
         master_quality: quality(master),
         ok: uncovered.is_empty() && invariants.iter().all(|i| i.ok),
         invariants,
-        face_ids: if tags.is_some() { GMSH_ELEMENT_TAGS } else { FACE_INDICES },
+        face_ids: match tags {
+            Some(t) if t.iter().any(|&t| seam_io::abaqus::split_face_tag(t).is_some()) => ELEMENT_FACE_TAGS,
+            Some(_) => GMSH_ELEMENT_TAGS,
+            None => FACE_INDICES,
+        },
     }
 }
 

@@ -5,7 +5,7 @@
 use crate::args::CheckArgs;
 use crate::assemble::{options, pair, thread_pool};
 use crate::Failure;
-use seam_case::check::{check_files, CheckFiles};
+use seam_case::check::{check_files, CheckFiles, ELEMENT_FACE_TAGS};
 use seam_case::{CheckReport, Invariant};
 
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
@@ -43,13 +43,20 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
 }
 
 /// Where a violated invariant fails, "slave faces (Gmsh element tags) 11,
-/// 12; slave nodes (1-based rows) 19, 20", or `None` when nothing is named.
+/// 12; slave nodes (1-based rows) 19, 20" (element faces of an `.inp` or
+/// Exodus file: "slave faces element 7 face S2, element 8 face S2"), or
+/// `None` when nothing is named.
 fn offending(r: &CheckReport, i: &Invariant) -> Option<String> {
     let list = |v: Vec<String>| v.join(", ");
     let mut parts = Vec::new();
     if !i.offending_faces.is_empty() {
-        let faces = list(i.offending_faces.iter().map(u64::to_string).collect());
-        parts.push(format!("slave faces ({}) {faces}", r.face_ids));
+        if r.face_ids == ELEMENT_FACE_TAGS {
+            let faces = list(i.offending_faces.iter().map(|&t| seam_io::abaqus::element_label(t)).collect());
+            parts.push(format!("slave faces {faces}"));
+        } else {
+            let faces = list(i.offending_faces.iter().map(u64::to_string).collect());
+            parts.push(format!("slave faces ({}) {faces}", r.face_ids));
+        }
     }
     if !i.offending_nodes.is_empty() {
         let nodes = list(i.offending_nodes.iter().map(usize::to_string).collect());

@@ -531,6 +531,58 @@ fn check_names_the_slave_elements_a_duplicated_master_element_covers_twice() {
     assert_eq!(String::from_utf8_lossy(&o.stdout).matches("VIOLATED").count(), 2);
 }
 
+/// The slave of the test above as the top faces (S2) of a layer of C3D8
+/// elements of an Abaqus `.inp` file, numbered as the quads: the report
+/// names the faces as "element E face S2".
+#[test]
+fn check_names_element_faces_of_an_inp_slave_by_element_and_face() {
+    let n = 4;
+    let node = |i: usize, j: usize, layer: usize| layer * (n + 1) * (n + 1) + j * (n + 1) + i + 1;
+    let mut inp = String::from("*NODE\n");
+    for (layer, z) in [(0, -0.25), (1, 0.0)] {
+        for j in 0..=n {
+            for i in 0..=n {
+                inp += &format!(
+                    "{}, {}, {}, {z}\n",
+                    node(i, j, layer),
+                    i as f64 / n as f64,
+                    j as f64 / n as f64
+                );
+            }
+        }
+    }
+    inp += "*ELEMENT, TYPE=C3D8, ELSET=SLAB\n";
+    for j in 0..n {
+        for i in 0..n {
+            let c = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
+            let nodes: Vec<String> =
+                [0, 1].iter().flat_map(|&l| c.map(|(a, b)| node(a, b, l).to_string())).collect();
+            inp += &format!("{}, {}\n", j * n + i + 1, nodes.join(", "));
+        }
+    }
+    inp += "*SURFACE, NAME=TOP, TYPE=ELEMENT\nSLAB, S2\n";
+    let tmp = tempfile::tempdir().unwrap();
+    let master = write(tmp.path(), "master.msh", &quads_msh(2, 1, Some(3)));
+    let slave = write(tmp.path(), "slave.inp", &inp);
+    let args = ["check", &master, &slave, "--slave-group", "top", "--json", "r.json", "--strict"];
+    let o = seam(&args, tmp.path());
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    let faces = "slave faces element 11 face S2, element 12 face S2, element 15 face S2, element 16 face S2";
+    assert!(err.contains(faces), "{err}");
+    assert!(String::from_utf8_lossy(&o.stdout).contains(&format!("at {faces}\n")));
+    let r = json(&tmp.path().join("r.json"));
+    assert_eq!(r["face_ids"], seam_case::check::ELEMENT_FACE_TAGS);
+    let face = |e: u64| seam_io::abaqus::face_tag(e, 2);
+    let violated: Vec<&serde_json::Value> =
+        r["invariants"].as_array().unwrap().iter().filter(|i| i["ok"] == false).collect();
+    assert_eq!(
+        violated[0]["offending_faces"],
+        serde_json::json!([face(11), face(12), face(15), face(16)]),
+        "{r}"
+    );
+}
+
 #[test]
 fn assemble_writes_the_mortar_segments() {
     let tmp = tempfile::tempdir().unwrap();

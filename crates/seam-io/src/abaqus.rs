@@ -114,6 +114,15 @@ pub fn split_face_tag(tag: u64) -> Option<(u64, u8)> {
     (1..=6).contains(&face).then_some((rest / 10, face))
 }
 
+/// How messages name an element: "element 17", or for a face tag made by
+/// [`face_tag`] "element 17 face S3".
+pub fn element_label(tag: u64) -> String {
+    match split_face_tag(tag) {
+        Some((element, face)) => format!("element {element} face S{face}"),
+        None => format!("element {tag}"),
+    }
+}
+
 /// An error reading an `.inp` file: the file and line, when known, and the
 /// cause. Displays on one line, `part.inp:12: cause` (`line 12: cause` for
 /// bytes in memory).
@@ -223,6 +232,8 @@ mod tests {
         assert_eq!(split_face_tag(17), None);
         assert_eq!(split_face_tag(FACE_TAG_BASE + 170), None);
         assert_eq!(split_face_tag(FACE_TAG_BASE + 177), None);
+        assert_eq!(element_label(face_tag(17, 3)), "element 17 face S3");
+        assert_eq!(element_label(17), "element 17");
     }
 
     #[test]

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use seam::MeshError;
 
 use super::element_types::describe_type;
+use crate::abaqus::element_label;
 
 /// Where in a file an error is: a line for ASCII files, a byte offset for binary
 /// ones (where lines mean nothing).
@@ -303,15 +304,6 @@ pub enum MshErrorKind {
     /// cause.
     #[error("{0}")]
     Exodus(crate::ExodusError),
-}
-
-/// "element 17", or for the tag of an element face read from an Abaqus
-/// `*SURFACE` ([`crate::abaqus::face_tag`]) "element 17 face S3".
-fn element_label(tag: u64) -> String {
-    match crate::abaqus::split_face_tag(tag) {
-        Some((element, face)) => format!("element {element} face S{face}"),
-        None => format!("element {tag}"),
-    }
 }
 
 fn lowercase_first(text: &str) -> String {
