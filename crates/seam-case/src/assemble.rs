@@ -121,6 +121,10 @@ pub struct RankReport {
     pub bytes_sent: u64,
     /// Seconds it spent assembling its part.
     pub seconds: f64,
+    /// Its peak resident memory in MB (10⁶ bytes; rank 0's when it writes
+    /// the summary, the others' when they hand their blocks over); absent
+    /// where unknown (not Linux).
+    pub peak_memory_mb: Option<f64>,
 }
 
 /// Where the operator is assembled: in this process ([`Here`]), or by parts
@@ -294,6 +298,10 @@ pub fn assemble_files_with(
 
     let mut summary =
         summary(args, &options, &mortar, t_matrix.map(|t| t.nnz()), rayon::current_num_threads(), seconds);
+    let mut per_rank = per_rank;
+    if let Some(rank0) = per_rank.as_mut().and_then(|r| r.first_mut()) {
+        rank0.peak_memory_mb = crate::process::peak_memory_mb();
+    }
     (summary.ranks, summary.per_rank) = (per_rank.as_ref().map(Vec::len), per_rank);
     let json = serde_json::to_string_pretty(&summary).context("summary")?;
     out.write(&file("summary.json"), |p| std::fs::write(p, json + "\n"))?;

@@ -35,6 +35,7 @@ pub mod expression;
 mod failure;
 pub mod input;
 pub mod output;
+pub mod process;
 #[cfg(feature = "mpi")]
 pub mod ranks;
 pub mod report;

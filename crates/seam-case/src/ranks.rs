@@ -115,14 +115,15 @@ impl Ranks {
         };
         let Ok(job) = job else {
             send(&root, &[]);
-            root.send(&0.0f64);
+            root.send(&[0.0f64, f64::NAN][..]);
             return Err(Abandoned);
         };
         let start = Instant::now();
         let blocks = job.assemble().to_bytes();
         let seconds = start.elapsed().as_secs_f64(); // not the wait for rank 0 to receive
+        let peak = crate::process::peak_memory_mb().unwrap_or(f64::NAN);
         send(&root, &blocks);
-        root.send(&seconds);
+        root.send(&[seconds, peak][..]);
         Ok(())
     }
 }
@@ -203,7 +204,10 @@ impl Assembler for OverRanks<'_> {
         for (r, report) in reports.iter_mut().enumerate().skip(1) {
             let process = self.world.process_at_rank(r as i32);
             let bytes = receive(&process);
-            (report.seconds, _) = process.receive::<f64>();
+            let mut figures = [0.0f64; 2];
+            process.receive_into(&mut figures[..]);
+            report.seconds = figures[0];
+            report.peak_memory_mb = Some(figures[1]).filter(|m| m.is_finite());
             report.bytes_sent = bytes.len() as u64;
             let part = PartBlocks::from_bytes(&bytes).map_err(|_| {
                 AssemblerError::Process(format!("MPI rank {r} could not assemble its part of the interface"))

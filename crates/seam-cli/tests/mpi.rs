@@ -95,6 +95,10 @@ fn same_files_on_ranks(name: &str, master: &SurfaceMesh, slave: &SurfaceMesh, fl
         assert_eq!(per_rank.len(), n);
         let faces: u64 = per_rank.iter().map(|r| r["slave_faces"].as_u64().unwrap()).sum();
         assert_eq!(faces as usize, slave.n_faces(), "{name}: every face on one rank");
+        for r in per_rank {
+            let mb = r["peak_memory_mb"].as_f64().unwrap();
+            assert!(mb > 1.0 && mb < 4000.0, "{name}: peak memory {mb} MB");
+        }
         for r in &per_rank[1..] {
             assert!(r["bytes_received"].as_u64().unwrap() > 0 && r["bytes_sent"].as_u64().unwrap() > 0);
             let ghosts = r["ghost_master_faces"].as_u64().unwrap() as usize;

@@ -7,7 +7,7 @@
 //! process (`seam bench-case`, [`measure`]) so that its peak memory is its own; the driver
 //! prints one Markdown table ([`HEADER`], [`Row::table_line`]).
 
-use anyhow::{bail, Context};
+use anyhow::Context;
 use seam::generate::{cylinder, flat, patch, quadratic_patch, Pattern};
 use seam::{assemble_with_tree, FaceKind, FaceTree, MaxGap, MortarOptions, SurfaceMesh};
 use serde::{Deserialize, Serialize};
@@ -176,13 +176,5 @@ pub fn measure(shape: Shape, faces: usize, threads: usize) -> anyhow::Result<Row
 
 /// A memory figure of this process from /proc/self/status (Linux), in bytes.
 fn rss_bytes(key: &str) -> anyhow::Result<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").context("cannot read /proc/self/status")?;
-    for line in status.lines() {
-        if let Some(rest) = line.strip_prefix(key).and_then(|r| r.strip_prefix(':')) {
-            let kb: u64 =
-                rest.trim().trim_end_matches("kB").trim().parse().context("bad /proc/self/status")?;
-            return Ok(kb * 1024);
-        }
-    }
-    bail!("no {key} in /proc/self/status")
+    seam_case::process::memory_bytes(key).with_context(|| format!("no {key} in /proc/self/status"))
 }
