@@ -1,8 +1,8 @@
 //! Exodus II files (from memory, any of the netCDF flavours; needs the
-//! `exodus` feature and the netCDF C library: `cargo fuzz run exodus
-//! --features exodus`): read, then build every volume and surface the file
-//! names, as `seam solve` does. Not in scripts/fuzz's default targets: the
-//! netCDF and HDF5 libraries are C, not instrumented, and not seam's.
+//! `exodus` feature: `cargo fuzz run exodus --features exodus`): read, then
+//! build every volume and surface the file names, as `seam solve` does. The
+//! netCDF side is the pure-Rust netcdf-reader and hdf5-reader, instrumented
+//! with seam. Not in scripts/fuzz's default targets (the feature).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

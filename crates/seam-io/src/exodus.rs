@@ -1,12 +1,17 @@
 //! Reading Exodus II model files (`.e`, `.exo`, `.ex2`, `.g`) into an
 //! [`Msh`] (cargo feature `exodus`).
 //!
-//! Exodus II is a convention over netCDF; seam reads it through the netCDF C
-//! library (the [`netcdf`](https://crates.io/crates/netcdf) crate), which
-//! reads all three flavours Cubit, MOOSE and SEACAS write: classic,
-//! 64-bit offset and NetCDF-4 (HDF5). A build without the feature refuses an
-//! Exodus file with one line: `FILE: Exodus II files need a build with
-//! --features exodus`.
+//! Exodus II is a convention over netCDF; seam reads it with the pure-Rust
+//! [`netcdf-reader`](https://crates.io/crates/netcdf-reader) crate (and its
+//! HDF5 reader, `hdf5-reader`), from the bytes in memory, in all three
+//! flavours Cubit, MOOSE and SEACAS write: classic, 64-bit offset and
+//! NetCDF-4 (HDF5). It replaced the netCDF C library (the `netcdf` crate
+//! over libnetcdf and libhdf5), in which a damaged NetCDF-4 file read after a
+//! valid one in the same process crashed HDF5 (found by the `exodus` fuzz
+//! target): a Rust reader returns an error instead, needs no system library,
+//! and is fuzzed with seam. A build without the feature refuses an Exodus
+//! file with one line: `FILE: Exodus II files need a build with --features
+//! exodus`.
 //!
 //! [`read_exodus_file`] (or [`read_exodus`] for bytes in memory) gives an
 //! [`Msh`] whose [`MshFormat::version`](crate::MshFormat) is
@@ -38,9 +43,6 @@
 //! face centres (which the library does not place) from SEACAS's IOSS;
 //! TETRA14/15, WEDGE21 and PYRAMID18/19 are refused by name.
 //!
-//! Every netCDF call is made on one thread of its own: the netCDF library
-//! silences HDF5's error printing on the thread that first uses it only.
-//!
 //! # Errors and limits
 //!
 //! An [`ExodusError`] is one line: the file, the block or side set, and the
@@ -48,7 +50,11 @@
 //! the file has 90 nodes`). Before an array is read its declared length is
 //! checked against the file's size (a classic file stores every value; a
 //! NetCDF-4 file compresses at most about 1000 to 1), so that a file
-//! declaring huge counts is refused before memory is allocated for them.
+//! declaring huge counts is refused before memory is allocated for them;
+//! the same bound, in bytes, limits what the HDF5 reader decodes for one
+//! array or one chunk. A file whose header (or HDF5 metadata) is damaged is
+//! refused when opened: `not a readable netCDF file (truncated or corrupt):`
+//! and netcdf-reader's cause.
 
 use std::fmt;
 use std::io;

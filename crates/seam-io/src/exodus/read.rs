@@ -2,8 +2,8 @@
 //! under the file-size bound, into an [`Msh`].
 
 use std::collections::{HashMap, HashSet};
-use std::sync::{mpsc, OnceLock};
 
+use netcdf_reader::{NcAttrValue, NcFile, NcGroup, NcOpenOptions, NcType, NcVariable};
 use seam::{CellKind, Point3};
 
 use super::types::{exodus_type, gmsh_positions, local_face, n_sides, ExodusType, SUPPORTED};
@@ -18,9 +18,16 @@ const MAX_COMPRESSION: usize = 1100;
 /// Ids of face elements must stay below 10¹⁸ / 10 … (see `face_tag`).
 const MAX_ID: i64 = 99_999_999_999_999_999;
 
-/// The open file and its size bound.
-struct File<'a> {
-    nc: netcdf::FileMem<'a>,
+/// The longest cause quoted from netcdf-reader (its messages may quote
+/// names and numbers from the file).
+const MAX_CAUSE: usize = 200;
+
+/// The open file, its metadata and its size bound.
+struct File {
+    nc: NcFile,
+    /// The dimensions, variables and attributes, all read when the file is
+    /// opened (a damaged header is refused then, whatever it hides).
+    root: NcGroup,
     /// The most values any one array may declare.
     max_values: usize,
 }
@@ -29,29 +36,67 @@ fn error(message: impl Into<String>) -> ExodusError {
     ExodusError::new(message)
 }
 
-fn nc_error(what: &str, e: netcdf::Error) -> ExodusError {
-    error(format!("{what}: {e}"))
+/// `what: cause`, the cause netcdf-reader's message on one line of at most
+/// [`MAX_CAUSE`] characters.
+fn nc_error(what: &str, e: netcdf_reader::Error) -> ExodusError {
+    let text = e.to_string();
+    let mut cause: String = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    if let Some((at, _)) = cause.char_indices().nth(MAX_CAUSE) {
+        cause.truncate(at);
+        cause.push('…');
+    }
+    error(format!("{what}: {cause}"))
 }
 
-impl File<'_> {
+/// A variable of the integer type `T`, each value as an `i64` (`None`: out
+/// of range); the error's cause.
+fn integers<T: netcdf_reader::NcReadable + Copy>(
+    nc: &NcFile,
+    name: &str,
+    convert: impl Fn(T) -> Option<i64>,
+) -> Result<Vec<i64>, Result<String, netcdf_reader::Error>> {
+    let array = nc.read_variable::<T>(name).map_err(Err)?;
+    array
+        .iter()
+        .map(|&v| convert(v).ok_or_else(|| Ok("a value is larger than 2^63 - 1".to_string())))
+        .collect()
+}
+
+/// A netCDF type that is no integer, as the netCDF manual names it.
+fn type_name(ty: &NcType) -> &'static str {
+    match ty {
+        NcType::Char => "char",
+        NcType::Float => "float",
+        NcType::Double => "double",
+        NcType::String => "string",
+        _ => "a user-defined type",
+    }
+}
+
+impl File {
     fn dim(&self, name: &str) -> Option<usize> {
-        self.nc.dimension_len(name)
+        let size = self.root.dimension(name)?.size;
+        Some(usize::try_from(size).unwrap_or(usize::MAX))
     }
 
     /// A count the file declares (0 without the dimension), no larger than
     /// what a file of its size can hold.
     fn count(&self, name: &str) -> Result<usize, ExodusError> {
-        let n = self.dim(name).unwrap_or(0);
-        if n > self.max_values {
+        let Some(n) = self.root.dimension(name).map(|d| d.size) else { return Ok(0) };
+        if !usize::try_from(n).is_ok_and(|n| n <= self.max_values) {
             return Err(error(format!("dimension {name} = {n} is more than a file of this size can hold")));
         }
-        Ok(n)
+        Ok(n as usize)
     }
 
     /// The variable, its declared length checked against the file size.
-    fn var(&self, name: &str, what: &str) -> Result<Option<netcdf::Variable<'_>>, ExodusError> {
-        let Some(var) = self.nc.variable(name) else { return Ok(None) };
-        let len = var.dimensions().iter().map(|d| d.len()).fold(1_usize, usize::saturating_mul);
+    fn var(&self, name: &str, what: &str) -> Result<Option<&NcVariable>, ExodusError> {
+        let Some(var) = self.root.variable(name) else { return Ok(None) };
+        let len = var
+            .dimensions()
+            .iter()
+            .map(|d| usize::try_from(d.size).unwrap_or(usize::MAX))
+            .fold(1_usize, usize::saturating_mul);
         if len > self.max_values {
             return Err(error(format!(
                 "{what}: {name} declares {len} values, more than a file of this size can hold"
@@ -60,25 +105,35 @@ impl File<'_> {
         Ok(Some(var))
     }
 
-    fn required(&self, name: &str, what: &str) -> Result<netcdf::Variable<'_>, ExodusError> {
-        self.var(name, what)?.ok_or_else(|| error(format!("{what}: the file has no variable {name}")))
-    }
-
     fn f64s(&self, name: &str, what: &str) -> Result<Option<Vec<f64>>, ExodusError> {
         match self.var(name, what)? {
             None => Ok(None),
-            Some(v) => {
-                v.get_values::<f64, _>(..).map(Some).map_err(|e| nc_error(&format!("{what}: {name}"), e))
-            }
+            Some(_) => match self.nc.read_variable_as_f64(name) {
+                Ok(array) => Ok(Some(array.iter().copied().collect())),
+                Err(e) => Err(nc_error(&format!("{what}: {name}"), e)),
+            },
         }
     }
 
+    /// An integer variable (of any of netCDF's integer types) as `i64`.
     fn i64s(&self, name: &str, what: &str) -> Result<Option<Vec<i64>>, ExodusError> {
-        match self.var(name, what)? {
-            None => Ok(None),
-            Some(v) => {
-                v.get_values::<i64, _>(..).map(Some).map_err(|e| nc_error(&format!("{what}: {name}"), e))
-            }
+        let Some(var) = self.var(name, what)? else { return Ok(None) };
+        let nc = &self.nc;
+        let values = match &var.dtype {
+            NcType::Byte => integers(nc, name, |v: i8| Some(v.into())),
+            NcType::UByte => integers(nc, name, |v: u8| Some(v.into())),
+            NcType::Short => integers(nc, name, |v: i16| Some(v.into())),
+            NcType::UShort => integers(nc, name, |v: u16| Some(v.into())),
+            NcType::Int => integers(nc, name, |v: i32| Some(v.into())),
+            NcType::UInt => integers(nc, name, |v: u32| Some(v.into())),
+            NcType::Int64 => integers(nc, name, |v: i64| Some(v)),
+            NcType::UInt64 => integers(nc, name, |v: u64| i64::try_from(v).ok()),
+            other => Err(Ok(format!("values of type {}, not integers", type_name(other)))),
+        };
+        match values {
+            Ok(values) => Ok(Some(values)),
+            Err(Ok(cause)) => Err(error(format!("{what}: {name}: {cause}"))),
+            Err(Err(e)) => Err(nc_error(&format!("{what}: {name}"), e)),
         }
     }
 
@@ -87,35 +142,31 @@ impl File<'_> {
     fn names(&self, name: &str, n: usize) -> Result<Vec<String>, ExodusError> {
         let Some(var) = self.var(name, name)? else { return Ok(vec![String::new(); n]) };
         let dims = var.dimensions();
-        let width = if dims.len() == 2 && dims[0].len() == n {
-            dims[1].len()
-        } else {
+        if !(dims.len() == 2 && dims[0].size == n as u64) {
             return Ok(vec![String::new(); n]);
-        };
-        let raw = var.get_raw_values(..).map_err(|e| nc_error(name, e))?;
+        }
+        let rows = self.nc.read_variable_as_strings(name).map_err(|e| nc_error(name, e))?;
         Ok((0..n)
             .map(|i| {
-                let row = raw.get(i * width..(i + 1) * width).unwrap_or(&[]);
-                let end = row.iter().position(|&b| b == 0).unwrap_or(row.len());
-                String::from_utf8_lossy(&row[..end]).trim().to_string()
+                let row = rows.get(i).map_or("", String::as_str);
+                row.split('\0').next().unwrap_or("").trim().to_string()
             })
             .collect())
     }
 
     /// A text attribute of a variable.
-    fn text_attribute(var: &netcdf::Variable<'_>, name: &str) -> Option<String> {
-        match var.attribute_value(name)?.ok()? {
-            netcdf::AttributeValue::Str(s) => Some(s.trim_end_matches('\0').trim().to_string()),
-            netcdf::AttributeValue::Strs(v) => v.first().map(|s| s.trim_end_matches('\0').trim().to_string()),
-            netcdf::AttributeValue::Uchars(v) => {
-                Some(String::from_utf8_lossy(&v).trim_end_matches('\0').trim().to_string())
+    fn text_attribute(var: &NcVariable, name: &str) -> Option<String> {
+        let attribute = var.attributes.iter().find(|a| a.name == name)?;
+        let text = match &attribute.value {
+            NcAttrValue::Chars(s) => s.clone(),
+            NcAttrValue::Strings(v) => v.first()?.clone(),
+            NcAttrValue::UBytes(v) => String::from_utf8_lossy(v).into_owned(),
+            NcAttrValue::Bytes(v) => {
+                String::from_utf8_lossy(&v.iter().map(|&c| c as u8).collect::<Vec<u8>>()).into_owned()
             }
-            netcdf::AttributeValue::Schars(v) => {
-                let bytes: Vec<u8> = v.iter().map(|&c| c as u8).collect();
-                Some(String::from_utf8_lossy(&bytes).trim_end_matches('\0').trim().to_string())
-            }
-            _ => None,
-        }
+            _ => return None,
+        };
+        Some(text.trim_end_matches('\0').trim().to_string())
     }
 }
 
@@ -170,51 +221,30 @@ fn num_map(file: &File, var: &str, n: usize, what: &str) -> Result<Vec<u64>, Exo
         .collect()
 }
 
-/// A file to read and where to send the result (or the panic, which the
-/// caller resumes).
-type Job = (Vec<u8>, mpsc::Sender<std::thread::Result<Result<Msh, ExodusError>>>);
-
-/// The one thread that calls the netCDF library. The library turns HDF5's
-/// error printing off on the thread that first opens a file only, and HDF5
-/// prints the stack of every failed look-up (netCDF looks for attributes a
-/// file need not have) on any other thread: every file is read here.
-fn reader() -> &'static mpsc::Sender<Job> {
-    static READER: OnceLock<mpsc::Sender<Job>> = OnceLock::new();
-    READER.get_or_init(|| {
-        let (sender, jobs) = mpsc::channel::<Job>();
-        std::thread::Builder::new()
-            .name("seam-exodus".into())
-            .spawn(move || {
-                for (bytes, reply) in jobs {
-                    let _ = reply.send(std::panic::catch_unwind(|| read_here(&bytes)));
-                }
-            })
-            .expect("a thread for the netCDF library");
-        sender
-    })
-}
-
-/// Reads the file (on the netCDF thread).
+/// Reads the file from its bytes.
 pub(super) fn read(bytes: &[u8]) -> Result<Msh, ExodusError> {
-    let (reply, result) = mpsc::channel();
-    reader().send((bytes.to_vec(), reply)).map_err(|_| error("the netCDF reader thread has stopped"))?;
-    match result.recv().map_err(|_| error("the netCDF reader thread has stopped"))? {
-        Ok(read) => read,
-        Err(panic) => std::panic::resume_unwind(panic),
-    }
-}
-
-fn read_here(bytes: &[u8]) -> Result<Msh, ExodusError> {
     let classic = bytes.starts_with(b"CDF");
     if !classic && !bytes.starts_with(b"\x89HDF\r\n\x1a\n") {
         return Err(error(
             "not an Exodus II file: neither a netCDF classic/64-bit-offset nor a NetCDF-4 (HDF5) file",
         ));
     }
-    let nc = netcdf::open_mem(None, bytes)
-        .map_err(|e| nc_error("not a readable netCDF file (truncated or corrupt)", e))?;
     let max_values = if classic { bytes.len() } else { bytes.len().saturating_mul(MAX_COMPRESSION) };
-    let file = File { nc, max_values };
+    // The bound holds for HDF5's own reads too: a dataset whose dataspace is
+    // larger than its netCDF dimensions say is refused before it is read.
+    let max_bytes = max_values.saturating_mul(8);
+    let options = NcOpenOptions {
+        max_read_bytes: max_bytes,
+        max_chunk_bytes: max_bytes.min(NcOpenOptions::default().max_chunk_bytes),
+        ..NcOpenOptions::default()
+    };
+    let nc = NcFile::from_bytes_with_options(bytes, options)
+        .map_err(|e| nc_error("not a readable netCDF file (truncated or corrupt)", e))?;
+    let root = nc
+        .root_group()
+        .map_err(|e| nc_error("not a readable netCDF file (truncated or corrupt)", e))?
+        .clone();
+    let file = File { nc, root, max_values };
 
     let num_dim = file.dim("num_dim").ok_or_else(|| error("not an Exodus II file: no dimension num_dim"))?;
     if num_dim != 3 {
@@ -253,11 +283,14 @@ fn read_here(bytes: &[u8]) -> Result<Msh, ExodusError> {
             continue;
         }
         let per = file.count(&format!("num_nod_per_el{k}"))?;
-        let var = file.required(&format!("connect{k}"), &what)?;
-        let ty = File::text_attribute(&var, "elem_type").unwrap_or_default();
+        let name = format!("connect{k}");
+        let var = file
+            .var(&name, &what)?
+            .ok_or_else(|| error(format!("{what}: the file has no variable {name}")))?;
+        let ty = File::text_attribute(var, "elem_type").unwrap_or_default();
         let problem = match exodus_type(&ty, per) {
             ExodusType::Solid(kind) => {
-                let connect = var.get_values::<i64, _>(..).map_err(|e| nc_error(&format!("{what}: connect{k}"), e))?;
+                let connect = file.i64s(&name, &what)?.unwrap_or_default();
                 if Some(connect.len()) != count.checked_mul(per) {
                     return Err(error(format!("{what}: connect{k} has {} values for {count} elements of {per} nodes", connect.len())));
                 }
