@@ -1,8 +1,7 @@
-//! Exodus II files (from memory, any of the netCDF flavours; needs the
-//! `exodus` feature: `cargo fuzz run exodus --features exodus`): read, then
+//! Exodus II files (from memory, any of the netCDF flavours): read, then
 //! build every volume and surface the file names, as `seam solve` does. The
 //! netCDF side is the pure-Rust netcdf-reader and hdf5-reader, instrumented
-//! with seam. Not in scripts/fuzz's default targets (the feature).
+//! with seam.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

@@ -1,9 +1,8 @@
-"""Exodus II files in seam.read_mesh (a module built with the `exodus` feature).
+"""Exodus II files in seam.read_mesh.
 
 The fixtures of crates/seam-io/tests/data/exodus were written by the SEACAS
 Exodus library from Gmsh's meshes (crates/seam-io/tests/data/abaqus/*.msh,
-the same nodes in the same order). A module built without the feature
-refuses them, naming the feature.
+the same nodes in the same order).
 """
 
 import numpy as np
@@ -17,13 +16,8 @@ ABAQUS = MSH_DATA / "abaqus"
 
 
 def read_exodus(path, group=None):
-    """seam.read_mesh, or a skip when the module cannot read Exodus II."""
-    try:
-        return seam.read_mesh(path, group)
-    except seam.MshError as e:
-        if "need a build with --features exodus" in str(e):
-            pytest.skip("the module was built without the exodus feature")
-        raise
+    """seam.read_mesh of an Exodus II file."""
+    return seam.read_mesh(path, group)
 
 
 @pytest.mark.parametrize(

@@ -163,7 +163,7 @@ pub struct Body {
     pub name: String,
     /// Its volume mesh, relative to the case file's directory: a Gmsh MSH
     /// file, an Abaqus / CalculiX input file (`.inp`) or an Exodus II file
-    /// (`.e`, `.exo`, `.ex2`, `.g`; a build with the `exodus` feature), or
+    /// (`.e`, `.exo`, `.ex2`, `.g`), or
     /// any name with `format`.
     pub mesh: PathBuf,
     /// The mesh's format, one of [`seam_io::ModelFormat::NAMES`] (default:

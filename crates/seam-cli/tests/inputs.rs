@@ -328,23 +328,3 @@ fn bad_inp_models_are_one_line_naming_file_and_line() {
         ],
     );
 }
-
-/// Without the `exodus` feature an Exodus II body is refused on one line
-/// that says how to build seam to read it.
-#[cfg(not(feature = "exodus"))]
-#[test]
-fn exodus_models_need_the_feature() {
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path();
-    write_stacked_blocks(dir);
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../seam-io/tests/data/exodus");
-    std::fs::copy(data.join("glue_upper.ex2"), dir.join("upper.ex2")).unwrap();
-    let case = stacked_case((1000.0, 0.25), (500.0, 0.3), "kind = \"glue\"", "");
-    assert_rejected(
-        dir,
-        &[(
-            case.replace("mesh = \"upper.msh\"", "mesh = \"upper.ex2\""),
-            "body \"upper\": upper.ex2: Exodus II files need a build with --features exodus",
-        )],
-    );
-}

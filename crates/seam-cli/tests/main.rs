@@ -6,7 +6,6 @@ mod cli;
 mod common;
 mod contact;
 mod examples;
-#[cfg(feature = "exodus")]
 mod exodus;
 mod finite;
 mod friction;

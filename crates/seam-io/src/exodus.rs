@@ -1,5 +1,5 @@
 //! Reading Exodus II model files (`.e`, `.exo`, `.ex2`, `.g`) into an
-//! [`Msh`] (cargo feature `exodus`).
+//! [`Msh`] (cargo feature `exodus`, on by default).
 //!
 //! Exodus II is a convention over netCDF; seam reads it with the pure-Rust
 //! [`netcdf-reader`](https://crates.io/crates/netcdf-reader) crate (and its
@@ -9,9 +9,9 @@
 //! over libnetcdf and libhdf5), in which a damaged NetCDF-4 file read after a
 //! valid one in the same process crashed HDF5 (found by the `exodus` fuzz
 //! target): a Rust reader returns an error instead, needs no system library,
-//! and is fuzzed with seam. A build without the feature refuses an Exodus
-//! file with one line: `FILE: Exodus II files need a build with --features
-//! exodus`.
+//! and is fuzzed with seam. A build without the feature
+//! (`--no-default-features`) refuses an Exodus file with one line: `FILE:
+//! Exodus II files need a build with --features exodus`.
 //!
 //! [`read_exodus_file`] (or [`read_exodus`] for bytes in memory) gives an
 //! [`Msh`] whose [`MshFormat::version`](crate::MshFormat) is
