@@ -85,7 +85,6 @@ mod input;
 mod read;
 mod types;
 
-#[cfg(feature = "exodus")]
 pub(crate) use build::face_element;
 pub(crate) use types::face_with_corners;
 

@@ -1,5 +1,5 @@
 //! Reading Exodus II model files (`.e`, `.exo`, `.ex2`, `.g`) into an
-//! [`Msh`] (cargo feature `exodus`, on by default).
+//! [`Msh`].
 //!
 //! Exodus II is a convention over netCDF; seam reads it with the pure-Rust
 //! [`netcdf-reader`](https://crates.io/crates/netcdf-reader) crate (and its
@@ -9,9 +9,8 @@
 //! over libnetcdf and libhdf5), in which a damaged NetCDF-4 file read after a
 //! valid one in the same process crashed HDF5 (found by the `exodus` fuzz
 //! target): a Rust reader returns an error instead, needs no system library,
-//! and is fuzzed with seam. A build without the feature
-//! (`--no-default-features`) refuses an Exodus file with one line: `FILE:
-//! Exodus II files need a build with --features exodus`.
+//! and is fuzzed with seam. It is part of every build (the cargo feature
+//! `exodus` of the C library's days is kept, and does nothing).
 //!
 //! [`read_exodus_file`] (or [`read_exodus`] for bytes in memory) gives an
 //! [`Msh`] whose [`MshFormat::version`](crate::MshFormat) is
@@ -62,9 +61,7 @@ use std::path::{Path, PathBuf};
 
 use crate::msh::Msh;
 
-#[cfg(feature = "exodus")]
 mod read;
-#[cfg_attr(not(feature = "exodus"), allow(dead_code))]
 mod types;
 
 /// An error reading an Exodus II file: the file, when known, and the cause
@@ -78,7 +75,6 @@ pub struct ExodusError {
 }
 
 impl ExodusError {
-    #[cfg_attr(not(feature = "exodus"), allow(dead_code))]
     pub(crate) fn new(message: impl Into<String>) -> ExodusError {
         ExodusError { path: None, message: message.into(), io_kind: None }
     }
@@ -115,24 +111,12 @@ impl fmt::Display for ExodusError {
 
 impl std::error::Error for ExodusError {}
 
-/// The message of a build without the `exodus` feature.
-pub const NEEDS_FEATURE: &str = "Exodus II files need a build with --features exodus";
-
 /// Reads an Exodus II file from memory (see the [module documentation](self)).
 ///
 /// # Errors
-/// An [`ExodusError`] naming the block or side set and the cause; without
-/// the `exodus` feature, always [`NEEDS_FEATURE`].
+/// An [`ExodusError`] naming the block or side set and the cause.
 pub fn read_exodus(bytes: &[u8]) -> Result<Msh, ExodusError> {
-    #[cfg(feature = "exodus")]
-    {
-        read::read(bytes)
-    }
-    #[cfg(not(feature = "exodus"))]
-    {
-        let _ = bytes;
-        Err(ExodusError::new(NEEDS_FEATURE))
-    }
+    read::read(bytes)
 }
 
 /// Reads an Exodus II file (see the [module documentation](self)).
@@ -165,12 +149,5 @@ mod tests {
         let e = ExodusError::new("bad").with_path(Path::new("a.exo"));
         assert_eq!(e.to_string(), "a.exo: bad");
         assert_eq!(ExodusError::new("bad").to_string(), "bad");
-    }
-
-    #[cfg(not(feature = "exodus"))]
-    #[test]
-    fn refused_without_the_feature() {
-        let e = read_exodus(b"CDF\x01").unwrap_err();
-        assert_eq!(e.to_string(), NEEDS_FEATURE);
     }
 }

@@ -70,8 +70,7 @@ impl fmt::Display for ModelFormat {
 /// [`crate::read_msh_file`] gives them for either format, MSH errors as
 /// [`crate::read_msh_file`], `.inp` errors as [`MshErrorKind::Abaqus`]
 /// (`part.inp:12: cause`), Exodus errors as [`MshErrorKind::Exodus`]
-/// (`body.exo: element block 2: cause`; without the `exodus` feature
-/// `body.exo: Exodus II files need a build with --features exodus`).
+/// (`body.exo: element block 2: cause`).
 pub fn read_model_file(path: impl AsRef<Path>, format: Option<ModelFormat>) -> Result<Msh, MshError> {
     let path = path.as_ref();
     let bytes =

@@ -3,7 +3,6 @@
 
 mod abaqus;
 mod coupling;
-#[cfg(feature = "exodus")]
 mod exodus;
 mod fuzz_regressions;
 mod large_blocks;
