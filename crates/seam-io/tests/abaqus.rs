@@ -73,6 +73,28 @@ pub(crate) fn volumes(mesh: &VolumeMesh) -> Vec<f64> {
 }
 
 /// The faces of a surface as (sorted node tags, area vector of the corners).
+/// Surface `surface` of `volume` read from another format (`other`) and
+/// from its MSH twin (`msh`): the same faces by node tags, their area
+/// vectors to `tol`, and a unit area along `normal`.
+pub(crate) fn assert_same_unit_surface(
+    (other, msh): (&Msh, &Msh),
+    (surface, volume, normal): (&str, &str, Point3),
+    tol: f64,
+    what: &str,
+) {
+    let o = other.surface_of_volume(surface, Some(volume)).unwrap();
+    let m = msh.surface_of_volume(surface, Some(volume)).unwrap();
+    let (o, m) = (faces_by_tags(other, &o), faces_by_tags(msh, &m));
+    assert_eq!(o.len(), m.len(), "{what} {surface}");
+    let mut area = 0.0;
+    for ((o_tags, o_area), (m_tags, m_area)) in o.iter().zip(&m) {
+        assert_eq!(o_tags, m_tags, "{what} {surface}");
+        assert!(close(*o_area, *m_area, tol), "{what} {surface}: {o_area:?} {m_area:?}");
+        area += dot(*o_area, normal);
+    }
+    assert!((area - 1.0).abs() < 1e-12, "{what} {surface} of {volume}: {area}");
+}
+
 pub(crate) fn faces_by_tags(msh: &Msh, surface: &SurfaceMesh) -> Vec<(Vec<u64>, Point3)> {
     let mut faces: Vec<(Vec<u64>, Point3)> = surface
         .faces()
@@ -132,17 +154,7 @@ fn gmsh_inp_gives_the_cells_and_surfaces_of_gmsh_msh() {
             ("interface", "lower", [0.0, 0.0, 1.0]),
             ("interface", "upper", [0.0, 0.0, -1.0]),
         ] {
-            let a = abq.surface_of_volume(surface, Some(volume)).unwrap();
-            let m = msh.surface_of_volume(surface, Some(volume)).unwrap();
-            let (a, m) = (faces_by_tags(&abq, &a), faces_by_tags(&msh, &m));
-            assert_eq!(a.len(), m.len(), "{name} {surface}");
-            let mut area = 0.0;
-            for ((a_tags, a_area), (m_tags, m_area)) in a.iter().zip(&m) {
-                assert_eq!(a_tags, m_tags, "{name} {surface}");
-                assert!(close(*a_area, *m_area, 1e-14), "{name} {surface}: {a_area:?} {m_area:?}");
-                area += dot(*a_area, normal);
-            }
-            assert!((area - 1.0).abs() < 1e-12, "{name} {surface} of {volume}: {area}");
+            assert_same_unit_surface((&abq, &msh), (surface, volume, normal), 1e-14, name);
         }
         // The plane-stress or membrane elements Gmsh writes for its surfaces
         // are skipped, and their sets say so.

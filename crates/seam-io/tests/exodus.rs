@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use seam::{area_vector, CellKind, Point3, Shape};
 use seam_io::{read_exodus, read_exodus_file, read_model_file, read_msh_file, ModelFormat, Msh, MshVersion};
 
-use crate::abaqus::{close, dot, faces_by_tags, mean, sub, volumes};
+use crate::abaqus::{assert_same_unit_surface, close, dot, mean, sub, volumes};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/exodus").join(name)
@@ -217,16 +217,7 @@ fn seacas_files_give_the_cells_and_surfaces_of_gmsh_msh() {
             ] {
                 let e = exo.surface_of_volume(surface, Some(volume)).unwrap();
                 assert_eq!(e, exo.surface_of_volume(id, Some(volume)).unwrap(), "{what}");
-                let m = msh.surface_of_volume(surface, Some(volume)).unwrap();
-                let (e, m) = (faces_by_tags(&exo, &e), faces_by_tags(&msh, &m));
-                assert_eq!(e.len(), m.len(), "{what} {surface}");
-                let mut area = 0.0;
-                for ((e_tags, e_area), (m_tags, m_area)) in e.iter().zip(&m) {
-                    assert_eq!(e_tags, m_tags, "{what} {surface}");
-                    assert!(close(*e_area, *m_area, 1e-15), "{what} {surface}");
-                    area += dot(*e_area, normal);
-                }
-                assert!((area - 1.0).abs() < 1e-12, "{what} {surface} of {volume}: {area}");
+                assert_same_unit_surface((&exo, &msh), (surface, volume, normal), 1e-15, &what);
             }
         }
     }
