@@ -7,6 +7,9 @@
 //! then pushed along x by Q = 0.5 μP in [`SHEAR_STEPS`] steps, the moment of
 //! Q about the contact balanced on the top as a rigid holder would. The
 //! centre sticks within c = a (1 − Q/μP)^{1/3}, the annulus c < r < a slips.
+//! Both bodies are meshed with hexahedra on rings about the pole, refined
+//! radially across the band [0.55a, 1.1a] that holds both circles; dual
+//! multipliers on the block's top.
 //!
 //! It writes the meshes and `case.toml`, solves the problem in memory
 //! exactly as `seam solve` solves that case (every load step in `steps/`),
@@ -29,11 +32,12 @@ use crate::{Failure, Options};
 use anyhow::{anyhow, Context};
 use seam_case::report::report;
 use seam_case::solve::Solved;
-use seam_fem::scene::{cattaneo_mindlin, CattaneoMindlin, Hertz, PartialSlip};
+use seam_fem::scene::{cattaneo_mindlin, CattaneoMindlin, Hertz, Layout, PartialSlip};
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// Slave cells across the uniform zone [0, 1.1a] of the block's top.
+/// Slave cells radially across the band [0.55a, 1.1a] of the rings on the
+/// block's top ([`seam_fem::scene::Layout::Rings`]).
 pub const FINE_CELLS: usize = 8;
 
 /// Load steps of the shear (after the one that presses).
@@ -110,6 +114,19 @@ fn table(p: &CattaneoMindlin, m: &PartialSlip) -> Vec<String> {
     lines
 }
 
+/// The slave's mesh in words.
+fn meshes(p: &Hertz) -> String {
+    let (n, z, h) = (p.fine_cells, p.fine_zone, sig(p.slave_size()));
+    match p.layout {
+        Layout::Tensor => format!("hexahedra, {n} slave cells across {z}a (h = {h})"),
+        Layout::Rings => format!(
+            "hexahedra on rings about the pole, {n} slave cells radially across [{}a, {z}a] (h = {h}, a midway \
+             between two rings)",
+            z / 2.0
+        ),
+    }
+}
+
 /// `cattaneo-mindlin.md`.
 fn markdown(s: &Solved, p: &CattaneoMindlin, m: &PartialSlip, table: &[String]) -> String {
     let mut t = String::new();
@@ -118,8 +135,8 @@ fn markdown(s: &Solved, p: &CattaneoMindlin, m: &PartialSlip, table: &[String]) 
         t,
         "A half model (symmetry plane y = 0): an indenter with a spherical face (R = {}) pressed on a block, both \
          E = {}, ν = {}, by P/2 = {} in one load step, then pushed along x by Q/2 = {} (Q = {} μP, μ = {}) in {} \
-         steps; {} multipliers on the block's top (slave), {} slave cells across {}a (h = {}), {} dofs. At the \
-         end {} contact nodes stick and {} slip.\n",
+         steps; {} multipliers on the block's top (slave); {}; {} dofs. At the end {} contact nodes stick and {} \
+         slip.\n",
         p.hertz.radius,
         p.hertz.block.young(),
         p.hertz.block.poisson(),
@@ -129,9 +146,7 @@ fn markdown(s: &Solved, p: &CattaneoMindlin, m: &PartialSlip, table: &[String]) 
         p.friction,
         p.shear_steps,
         s.summary.multiplier,
-        p.hertz.fine_cells,
-        p.hertz.fine_zone,
-        sig(p.hertz.slave_size()),
+        meshes(&p.hertz),
         s.summary.dofs,
         m.stick,
         m.slip
@@ -229,10 +244,8 @@ fn report_lines(
         p.shear_steps
     ));
     lines.push(format!(
-        "  meshes     indenter.msh, block.msh: hexahedra, {} slave cells across {}a (h = {}), master {}× finer",
-        p.hertz.fine_cells,
-        p.hertz.fine_zone,
-        sig(p.hertz.slave_size()),
+        "  meshes     indenter.msh, block.msh: {}, master {}× finer",
+        meshes(&p.hertz),
         p.hertz.master_ratio
     ));
     lines.extend(report(s).into_iter().map(|line| format!("  {line}")));

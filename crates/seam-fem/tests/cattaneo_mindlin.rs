@@ -62,8 +62,8 @@ fn superlinear(r: &[f64]) -> bool {
     matches!(rate.as_slice(), [.., before, last] if last < before && *last < 0.05)
 }
 
-/// The coarsest mesh (h = a/2): a stick zone inside a slip annulus, the
-/// traction within Coulomb's cone and equal to μp where it slips, the
+/// A coarse mesh (rings 0.18a apart): a stick zone inside a slip annulus,
+/// the traction within Coulomb's cone and equal to μp where it slips, the
 /// stick radius near Cattaneo–Mindlin's, Newton superlinear in every step.
 #[test]
 fn a_stick_zone_inside_a_slip_annulus() {
@@ -93,6 +93,28 @@ fn a_stick_zone_inside_a_slip_annulus() {
         assert!(superlinear(r), "{r:?}");
     }
     assert!(run.dofs > 0);
+}
+
+/// The accuracy study (3 minutes): at the example's mesh (n = 8, the rings
+/// 0.069a apart) the stick radius within 3 % and the tangential traction
+/// within 5 % in L2 of Cattaneo–Mindlin's, and both errors falling under
+/// refinement (n = 4, 6, 8, four shear steps as the example).
+#[test]
+#[ignore = "a study of 3 minutes: cargo test --release -p seam-fem --test main cattaneo_mindlin -- --ignored"]
+fn the_partial_slip_converges_to_cattaneo_mindlin_study() {
+    let errors: Vec<(f64, f64)> = [4, 6, 8]
+        .into_iter()
+        .map(|n| {
+            let p = at(n, 4);
+            let s = run(&p).slip;
+            ((s.stick_radius / p.stick_radius() - 1.0).abs(), s.traction_error)
+        })
+        .collect();
+    for w in errors.windows(2) {
+        assert!(w[1].0 < w[0].0 && w[1].1 < w[0].1, "the errors (|c|, q) do not fall: {errors:?}");
+    }
+    let (c, q) = errors[2];
+    assert!(c < 0.03 && q < 0.05, "at the example's mesh: c {:.2} %, q {:.2} %", 100.0 * c, 100.0 * q);
 }
 
 /// The iteration cap stops frictional contact with a line that says what

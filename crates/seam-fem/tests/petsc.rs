@@ -222,7 +222,7 @@ fn frictional_patch_tests() {
 fn cattaneo_mindlin_as_the_direct_solver() {
     use seam_fem::scene::{cattaneo_mindlin, CattaneoMindlin};
     let p = CattaneoMindlin::default();
-    let p = CattaneoMindlin { hertz: Hertz { fine_cells: 3, ..p.hertz }, shear_steps: 2, ..p };
+    let p = CattaneoMindlin { hertz: Hertz { fine_cells: 2, ..p.hertz }, shear_steps: 2, ..p };
     let problem = cattaneo_mindlin(&p).unwrap();
     let direct = seam_fem::solve_steps(&problem, &SolveOptions::default());
     let options = SolveOptions { solver: petsc(1e-12), ..SolveOptions::default() };
@@ -243,12 +243,20 @@ fn cattaneo_mindlin_as_the_direct_solver() {
         let krylov: Vec<usize> = steps.iter().map(|s| s.linear_iterations).collect();
         println!("t = {t:.2}: u off by {:.1e}; Newton {r:?}, KSP {krylov:?}", difference / scale);
         assert!(difference <= 1e-8 * scale, "t = {t}: {:e}", difference / scale);
-        // Every load step ends at round-off; the shear steps' last update
-        // contracts by 10⁻³ at least (inexact Newton: a loose step's update
-        // may be followed by a larger one, so the direct solver's test of
-        // superlinear contraction does not apply to the whole sequence).
+        // Every load step ends at round-off, brought there in the shear
+        // steps by an update that contracts by 10⁻³ at least: the last one,
+        // or the one before it when that already reached 1e-9 and the last
+        // only polishes to the Krylov tolerance (inexact Newton: a loose
+        // step's update may be followed by a larger one, so the direct
+        // solver's test of superlinear contraction does not apply to the
+        // whole sequence).
         let r: Vec<f64> = steps.iter().map(|s| s.residual).collect();
-        let terminal = matches!(r.as_slice(), [.., before, last] if *last < 1e-10 && *last < 1e-3 * before);
+        let fast = |w: &[f64]| w[1] < 1e-3 * w[0];
+        let terminal = match r.as_slice() {
+            [.., a, b, c] => *c < 1e-10 && (fast(&[*b, *c]) || (*b < 1e-9 && fast(&[*a, *b]))),
+            [b, c] => *c < 1e-10 && fast(&[*b, *c]),
+            _ => false,
+        };
         assert!(if k == 0 { r.last().is_some_and(|&r| r < 1e-10) } else { terminal }, "t = {t}: {r:?}");
     }
 }

@@ -46,6 +46,8 @@ pub struct Hertz {
     /// placed by its map (so the nodes of its spherical face lie on the
     /// sphere).
     pub second_order: bool,
+    /// How both bodies are meshed about the pole: tensor grids or rings.
+    pub layout: Layout,
     /// The indenter's spherical face is the slave side (the pressure lives on
     /// the curved face, whose nodal normals approximate the sphere's) instead
     /// of the block's flat top; `fine_cells` still counts the block's cells.
@@ -71,9 +73,25 @@ impl Default for Hertz {
             multiplier: Multiplier::Lumped,
             cells: BlockKind::Hex,
             second_order: false,
+            layout: Layout::Tensor,
             curved_slave: false,
         }
     }
+}
+
+/// How [`hertz`]'s bodies are meshed about the pole.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Layout {
+    /// Tensor grids: `fine_cells` equal cells across the fine zone
+    /// [0, `fine_zone` a] in x, y and the depth, growing beyond.
+    Tensor,
+    /// O-grids of hexahedra: rings about the pole, `fine_cells` radial cells
+    /// across the band [`fine_zone` a/2, `fine_zone` a], where the contact's
+    /// rim and stick–slip circle lie, and about 3 `fine_cells` sectors over
+    /// the half plane, the contact radius a midway between two rings. They
+    /// refine the radius without the angle. First- or second-order
+    /// hexahedra only.
+    Rings,
 }
 
 impl Hertz {
@@ -114,9 +132,15 @@ impl Hertz {
         (0.5 * self.radius, 0.6 * self.radius)
     }
 
-    /// The slave element size in the fine zone, `fine_zone` a / `fine_cells`.
+    /// The slave element size in the fine zone: `fine_zone` a /
+    /// `fine_cells` for tensor grids, the radial spacing `fine_zone` a /
+    /// (2 `fine_cells`) in the band of rings.
     pub fn slave_size(&self) -> f64 {
-        self.fine_zone * self.contact_radius / self.fine_cells as f64
+        let across = match self.layout {
+            Layout::Tensor => 1.0,
+            Layout::Rings => 0.5,
+        };
+        across * self.fine_zone * self.contact_radius / self.fine_cells as f64
     }
 
     /// The extent of the fine zone, `fine_zone` a.
@@ -133,7 +157,7 @@ impl Hertz {
 /// Grid coordinates on [0, length]: `fine` equal cells of size h on
 /// [0, fine_len], then cells growing geometrically from h to fill the rest
 /// (the ratio chosen so the sizes never shrink and grow at most `ratio`×).
-fn graded(length: f64, (fine_len, fine): (f64, usize), ratio: f64) -> Vec<f64> {
+pub(super) fn graded(length: f64, (fine_len, fine): (f64, usize), ratio: f64) -> Vec<f64> {
     let h = fine_len / fine as f64;
     let mut x: Vec<f64> = (0..=fine).map(|i| i as f64 * h).collect();
     let rest = length - fine_len;
@@ -179,7 +203,7 @@ fn tensor_block(
 
 /// `mesh` raised to second order (complete cells) with each new node at
 /// `map` of the mean of `unmap` over its supporting corners.
-fn raise_mapped(
+pub(super) fn raise_mapped(
     mesh: &VolumeMesh,
     map: impl Fn(Point3) -> Point3,
     unmap: impl Fn(Point3) -> Point3,
@@ -267,6 +291,9 @@ pub(super) const TOP: usize = 1;
 /// [`HALF_SIDES`] over the half [−·, ·] × [0, ·] (the grid mirrored at
 /// x = 0).
 pub(super) fn bodies(p: &Hertz, half: bool) -> Result<Vec<ProblemBody>, MeshError> {
+    if p.layout == Layout::Rings {
+        return super::polar::ring_bodies(p, half);
+    }
     let w = p.block_size();
     let mirrored = |y: Vec<f64>| -> Vec<f64> {
         if half {

@@ -26,11 +26,12 @@ mod bulging;
 mod cattaneo_mindlin;
 mod hertz;
 mod ironing;
+mod polar;
 mod warped_glue;
 
 pub use bulging::{bulging_contact, Bulge, BulgingContact};
 pub use cattaneo_mindlin::{cattaneo_mindlin, AxisPoint, CattaneoMindlin, PartialSlip};
-pub use hertz::{hertz, Hertz};
+pub use hertz::{hertz, Hertz, Layout};
 pub use ironing::{ironing, Ironing};
 pub use warped_glue::{warped_glue, WarpedGlue};
 
