@@ -10,13 +10,14 @@
 //! whole frictional history to it.
 //!
 //! ```text
-//! cargo run --release -p seam-fem --example friction_bench                 # n = 6, 8, 10
+//! cargo run --release -p seam-fem --example friction_bench                 # n = 4, 6, 8
 //! cargo run --release -p seam-fem --example friction_bench -- --sizes 12,16
 //! cargo run --release -p seam-fem --features petsc --example friction_bench -- \
 //!     --solver petsc --shear-steps 10 --sizes 8,14,18
 //! ```
 //!
-//! `n`: slave cells across the fine zone [0, 1.1a] of the block's top;
+//! `n`: slave cells radially across the band [0.55a, 1.1a] of the rings on
+//! the block's top (the scene's [`seam_fem::scene::Layout::Rings`]);
 //! `--master-ratio R`: the indenter's cells R× finer (default 1.3).
 
 mod common;
@@ -99,7 +100,7 @@ fn main() {
         "| n | dofs | contact points | stick / slip | Newton iterations per load step | KSP iterations (PC setup + KSP solve) | setup (condensation) s | Newton s | total s | frictionless Hertz s | ratio | peak MB | c error | a error | q L2 error |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-    for n in flag_sizes(&args, "--sizes", "6,8,10") {
+    for n in flag_sizes(&args, "--sizes", "4,6,8") {
         match fresh_row(&[&n.to_string(), &solver, &shear_steps, &ratio]) {
             Ok(line) => println!("| {n} {line}"),
             Err(why) => println!("| {n} | failed: {why} |"),
