@@ -17,13 +17,14 @@ fn png_size(path: &Path) -> (u32, u32) {
     (frame.width, frame.height)
 }
 
-/// The contact object of a summary: steps, active points, KKT residual.
-fn check_contact(summary: &serde_json::Value) {
+/// The contact object of a summary: steps, active points, KKT residual,
+/// and the multiplier.
+fn check_contact(summary: &serde_json::Value, multiplier: &str) {
     let c = &summary["contact"];
     assert!(c["iterations"].as_u64().unwrap() >= 1, "{c}");
     assert!(c["active_points"].as_u64().unwrap() > 0, "{c}");
     assert!(c["kkt"]["max"].as_f64().unwrap() <= 1e-8, "{c}");
-    assert_eq!(summary["multiplier"], "lumped");
+    assert_eq!(summary["multiplier"], multiplier);
 }
 
 /// `files` in `dir`, and per body its mesh `<body>.msh` and result `out/<body>.vtu`.
@@ -55,7 +56,7 @@ fn bulging_contact_writes_its_case_results_and_picture() {
     assert!(case.contains("kind = \"contact\"\nmultiplier = \"lumped\""), "{case}");
     assert_eq!(png_size(&ex.join("bulging-contact.png")), (1560, 1164));
     let first = json(&ex.join("out/summary.json"));
-    check_contact(&first);
+    check_contact(&first, "lumped");
     let (_, pressure) =
         common::vtu_field(&ex.join("out/upper_bottom_interface.vtu"), "contact_pressure", false);
     assert!(pressure.iter().any(|&p| p > 0.0) && pressure.iter().all(|&p| p >= 0.0));
@@ -108,7 +109,7 @@ fn hertz_matches_the_analytic_solution_within_a_slave_element() {
     assert_files(&hz, &["indenter", "block"], &["hertz.md", "hertz.csv", "out/block_top_interface.vtu"]);
     assert_eq!(png_size(&hz.join("hertz.png")), (1000, 680));
     let summary = json(&hz.join("out/summary.json"));
-    check_contact(&summary);
+    check_contact(&summary, "lumped");
     let md = std::fs::read_to_string(hz.join("hertz.md")).unwrap();
     assert!(md.contains("| quantity | analytic (Hertz) | seam | error |"), "{md}");
 
@@ -162,7 +163,7 @@ fn cattaneo_mindlin_writes_every_load_step_and_compares_the_partial_slip() {
     assert_files(&cm, &["indenter", "block"], &[&files[..], &steps[..]].concat());
     assert_eq!(png_size(&cm.join("cattaneo-mindlin.png")), (1000, 680));
     let summary = json(&cm.join("out/summary.json"));
-    check_contact(&summary);
+    check_contact(&summary, "dual");
     // One step presses, four shear; the last has sticking and slipping points.
     let steps = summary["steps"].as_array().unwrap();
     assert_eq!(steps.len(), 5);
