@@ -332,27 +332,22 @@ mod tests {
             let total: f64 = plane.quads.iter().map(|q| area(&plane, q)).sum();
             let square = if half { 2.0 } else { 1.0 } * length * length;
             assert!((total - square).abs() < 1e-12 * square, "{total} against {square}");
-            let mut edges: HashMap<(usize, usize), i32> = HashMap::new();
+            // Per edge: the quads that use it, and its directions summed (+1 a → b, −1 b → a).
+            let mut edges: HashMap<(usize, usize), (usize, i32)> = HashMap::new();
             for q in &plane.quads {
                 for i in 0..4 {
                     let (a, b) = (q[i], q[(i + 1) % 4]);
-                    *edges.entry((a.min(b), a.max(b))).or_default() += if a < b { 1 } else { -1 };
+                    let e = edges.entry((a.min(b), a.max(b))).or_default();
+                    *e = (e.0 + 1, e.1 + if a < b { 1 } else { -1 });
                 }
             }
-            let mut count: HashMap<(usize, usize), usize> = HashMap::new();
-            for q in &plane.quads {
-                for i in 0..4 {
-                    let (a, b) = (q[i], q[(i + 1) % 4]);
-                    *count.entry((a.min(b), a.max(b))).or_default() += 1;
-                }
-            }
-            for (&(a, b), &n) in &count {
+            for (&(a, b), &(n, direction)) in &edges {
                 let [x, y] = [plane.points[a], plane.points[b]];
                 let on_side = |k: usize, v: f64| (x[k] - v).abs() < 1e-12 && (y[k] - v).abs() < 1e-12;
                 let side = on_side(1, 0.0) || on_side(1, length) || on_side(0, length) || on_side(0, -length);
                 let side = side || (!half && on_side(0, 0.0));
                 match n {
-                    2 => assert_eq!(edges[&(a, b)], 0, "edge {x:?}–{y:?} used twice the same way"),
+                    2 => assert_eq!(direction, 0, "edge {x:?}–{y:?} used twice the same way"),
                     1 => assert!(side, "boundary edge {x:?}–{y:?} inside the square"),
                     _ => panic!("edge {x:?}–{y:?} in {n} quads"),
                 }
