@@ -31,13 +31,14 @@
 
 use crate::ordering::{self, Graph};
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::matmul::matmul;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
-    SymmetricOrdering,
+    factorize_symbolic_cholesky, supernodal::SupernodalLltRef, CholeskySymbolicParams, LltRef,
+    SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, Mat, Par, Side};
+use faer::{Accum, Conj, Mat, Par, Side};
 use rayon::prelude::*;
 use seam::CsrMatrix;
 use std::collections::BTreeMap;
@@ -446,7 +447,17 @@ impl CholeskyAnalysis {
     /// [`SolveError::DofOutOfRange`], [`SolveError::NonFiniteValue`] for bad
     /// conditions, [`SolveError::OutOfMemory`].
     pub fn new(k: &CsrMatrix, dirichlet: &Dirichlet, options: &DirectOptions) -> Result<Self, SolveError> {
-        let red = Reduced::new(k, &vec![0.0; k.nrows], dirichlet)?;
+        Self::analyse(k, Reduced::new(k, &vec![0.0; k.nrows], dirichlet)?, options.ordering, None)
+    }
+
+    /// Orders (by `method`, or `order` of the reduced numbers when given)
+    /// and analyses K_FF for the split of `red`.
+    fn analyse(
+        k: &CsrMatrix,
+        red: Reduced,
+        method: FillOrdering,
+        order: Option<Vec<usize>>,
+    ) -> Result<Self, SolveError> {
         let m = red.free.len();
         let mut col_ptr = Vec::with_capacity(m + 1);
         let mut row_idx = Vec::new();
@@ -458,16 +469,20 @@ impl CholeskyAnalysis {
         }
         let mut report = DirectReport { n_free: m, ..DirectReport::default() };
         let clock = Instant::now();
-        let custom = match options.ordering {
-            FillOrdering::DofAmd => None,
-            method if m > 0 => {
+        let custom = match (order, method) {
+            (Some(perm), _) => Some(perm),
+            (None, FillOrdering::DofAmd) => None,
+            (None, method) if m > 0 => {
                 let (perm, blocks) = reduced_ordering(k, &red, method);
                 report.point_blocks = blocks;
-                let inv = ordering::inverse(&perm);
-                Some((perm, inv))
+                Some(perm)
             }
             _ => None,
-        };
+        }
+        .map(|perm| {
+            let inv = ordering::inverse(&perm);
+            (perm, inv)
+        });
         report.ordering_seconds = clock.elapsed().as_secs_f64();
         let clock = Instant::now();
         let ord = match &custom {
@@ -484,6 +499,108 @@ impl CholeskyAnalysis {
         report.supernodal = matches!(sym.raw(), SymbolicCholeskyRaw::Supernodal(_));
         let Reduced { fixed, free, local, .. } = red;
         Ok(CholeskyAnalysis { n: k.nrows, nnz: k.nnz(), fixed, free, local, col_ptr, row_idx, sym, report })
+    }
+
+    /// The Schur complement on the prescribed dofs `w` (each of D, with a
+    /// stored row) of K with D \ W prescribed, O = F the others:
+    ///
+    /// ```text
+    /// S = K_WW − K_WO K_OO⁻¹ K_OW .
+    /// ```
+    ///
+    /// Formed without solves: K_{O∪W} + Σ, Σ = diag(K_WW), is factored with
+    /// W last (O in this analysis's order), so that its trailing block gives
+    /// L_WW L_WWᵀ = S + Σ. (The shift makes the matrix definite when S is
+    /// only semidefinite: a body held by W alone.) S is symmetric; rows and
+    /// columns in the order of `w`.
+    ///
+    /// # Errors
+    /// [`SolveError::PatternChanged`] for another pattern of K or a dof of
+    /// `w` that is free or has no stored row; [`SolveError::Singular`] when
+    /// K_OO is singular or a diagonal entry of K_WW is not positive;
+    /// [`SolveError::OutOfMemory`].
+    pub fn schur_complement(&self, k: &CsrMatrix, w: &[usize]) -> Result<Mat<f64>, SolveError> {
+        let (m, nw) = (self.free.len(), w.len());
+        if k.nrows != self.n || k.nnz() != self.nnz || w.iter().any(|&d| d >= self.n || !self.fixed[d]) {
+            return Err(SolveError::PatternChanged);
+        }
+        // F' = F ∪ W, numbered in ascending dofs; ordered as F, then W.
+        let mut fixed = self.fixed.clone();
+        for &d in w {
+            if self.local[d] != usize::MAX
+                || k.row(d).0.is_empty()
+                || !std::mem::replace(&mut fixed[d], false)
+            {
+                return Err(SolveError::PatternChanged);
+            }
+        }
+        let mut local = vec![usize::MAX; self.n];
+        let mut free = Vec::with_capacity(m + nw);
+        for i in (0..self.n).filter(|&i| !fixed[i] && k.indptr[i + 1] > k.indptr[i]) {
+            local[i] = free.len();
+            free.push(i);
+        }
+        let fwd = match self.sym.perm() {
+            Some(perm) => perm.arrays().0.to_vec(),
+            None => (0..m).collect(),
+        };
+        let order = fwd.iter().map(|&r| local[self.free[r]]).chain(w.iter().map(|&d| local[d])).collect();
+        let red = Reduced { u: Vec::new(), fixed, free, local };
+        let analysis = Self::analyse(k, red, FillOrdering::DofAmd, Some(order))?;
+        let mut vals = analysis.lower_values(k, |_| false);
+        let mut shift = vec![0.0; nw];
+        for (sigma, &d) in shift.iter_mut().zip(w) {
+            let c = analysis.local[d];
+            let diagonal = (analysis.col_ptr[c]..analysis.col_ptr[c + 1]).find(|&p| analysis.row_idx[p] == c);
+            match diagonal {
+                Some(p) if vals[p] > 0.0 => {
+                    *sigma = vals[p];
+                    vals[p] *= 2.0;
+                }
+                _ => return Err(SolveError::Singular),
+            }
+        }
+        let factor = analysis.factor_values(&vals)?;
+        // L_WW: the factor's entries in rows and columns m.. (W in order).
+        let mut l = Mat::<f64>::zeros(nw, nw);
+        match analysis.sym.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                let llt = SupernodalLltRef::new(s, &factor.l_values);
+                for sn in 0..s.n_supernodes() {
+                    let (begin, end) = (s.supernode_begin()[sn], s.supernode_end()[sn]);
+                    if end <= m {
+                        continue;
+                    }
+                    let node = llt.supernode(sn);
+                    let rows: Vec<usize> = (begin..end).chain(node.pattern().iter().copied()).collect();
+                    for c in begin.max(m)..end {
+                        for (ri, &r) in rows.iter().enumerate().skip(c - begin) {
+                            l[(r - m, c - m)] = node.val()[(ri, c - begin)];
+                        }
+                    }
+                }
+            }
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                let lf = s.factor();
+                for c in m..m + nw {
+                    for p in lf.col_ptr()[c]..lf.col_ptr()[c + 1] {
+                        l[(lf.row_idx()[p] - m, c - m)] = factor.l_values[p];
+                    }
+                }
+            }
+        }
+        let mut schur = Mat::<f64>::zeros(nw, nw);
+        matmul(schur.as_mut(), Accum::Replace, l.as_ref(), l.transpose(), 1.0, parallelism());
+        for (j, sigma) in shift.iter().enumerate() {
+            schur[(j, j)] -= sigma;
+        }
+        // Exactly symmetric (the product's two halves may round apart).
+        for i in 0..nw {
+            for j in 0..i {
+                schur[(j, i)] = schur[(i, j)];
+            }
+        }
+        Ok(schur)
     }
 
     /// The unknowns F (ascending): reduced number r is dof `free()[r]`.
@@ -640,6 +757,22 @@ impl<'a> CholeskyFactor<'a> {
         self.analysis
     }
 
+    /// The factor's values, for [`CholeskyFactor::again`] (a factor kept
+    /// without the borrow of its analysis).
+    pub fn into_values(self) -> Vec<f64> {
+        self.l_values
+    }
+
+    /// The factor of `analysis` with `l_values` from
+    /// [`CholeskyFactor::into_values`] of a factor of it.
+    ///
+    /// # Panics
+    /// If `l_values` does not have the analysed length.
+    pub fn again(analysis: &'a CholeskyAnalysis, l_values: Vec<f64>) -> Self {
+        assert_eq!(l_values.len(), analysis.sym.len_val(), "values of a factor of this analysis");
+        CholeskyFactor { analysis, l_values, numeric_seconds: 0.0 }
+    }
+
     /// X ← K_FF⁻¹ X for the columns of `rhs`, rows in reduced numbering
     /// ([`CholeskyAnalysis::free`]).
     ///
@@ -742,6 +875,55 @@ mod tests {
         d.fix_dof(6, 0.0);
         assert_eq!(solve(&k, &[0.0; 6], &d), Err(SolveError::DofOutOfRange { dof: 6, n_dofs: 6 }));
         assert!(matches!(solve(&k, &[0.0; 5], &d), Err(SolveError::Dimension { .. })));
+    }
+
+    /// S = K_WW − K_WO K_OO⁻¹ K_OW by the partial factorisation against the
+    /// dense formula: a clamped block with W on its loaded side, and a free
+    /// block held by W alone (S semidefinite: its rigid motions live in W).
+    #[test]
+    fn schur_complement_is_the_dense_one() {
+        use crate::generate::{block, BlockKind, Grid, Side};
+        use faer::linalg::solvers::Solve;
+        let n = 3;
+        let mesh = block(n, n + 1, n, |u, v, w| [u, v + 0.1 * u * u, w], BlockKind::Hex);
+        let grid = Grid::new(n, n + 1, n);
+        let k = crate::stiffness(&mesh, &crate::Material::new(1000.0, 0.3).unwrap()).unwrap();
+        let dofs = |side| -> Vec<usize> {
+            let mut d: Vec<usize> =
+                grid.side_points(side).into_iter().flat_map(|p| 3 * p..3 * p + 3).collect();
+            d.reverse();
+            d
+        };
+        let mut clamped = Dirichlet::new();
+        clamped.clamp(grid.side_points(Side::XMin));
+        for (held, w) in [(clamped, dofs(Side::XMax)), (Dirichlet::new(), dofs(Side::XMin))] {
+            let mut tied = held.clone();
+            for &d in &w {
+                tied.fix_dof(d, 0.0);
+            }
+            let analysis = CholeskyAnalysis::new(&k, &tied, &DirectOptions::default()).unwrap();
+            let s = analysis.schur_complement(&k, &w).unwrap();
+            // Dense: the free dofs O, then S = K_WW − K_WO K_OO⁻¹ K_OW.
+            let o = analysis.free();
+            let entry = |i: usize, j: usize| {
+                let (c, v) = k.row(i);
+                c.iter().position(|&q| q == j).map_or(0.0, |p| v[p])
+            };
+            let k_oo = Mat::<f64>::from_fn(o.len(), o.len(), |a, b| entry(o[a], o[b]));
+            let k_ow = Mat::<f64>::from_fn(o.len(), w.len(), |a, b| entry(o[a], w[b]));
+            let z = k_oo.llt(faer::Side::Lower).unwrap().solve(&k_ow);
+            let dense =
+                Mat::<f64>::from_fn(w.len(), w.len(), |a, b| entry(w[a], w[b])) - k_ow.transpose() * &z;
+            let scale = (0..w.len()).map(|j| dense[(j, j)]).fold(0.0f64, f64::max);
+            let miss = (0..w.len())
+                .flat_map(|i| (0..w.len()).map(move |j| (i, j)))
+                .map(|(i, j)| (s[(i, j)] - dense[(i, j)]).abs())
+                .fold(0.0f64, f64::max);
+            assert!(miss <= 1e-12 * scale, "S off by {miss:e} of {scale:e}");
+        }
+        // W must be held by the analysis.
+        let analysis = CholeskyAnalysis::new(&k, &Dirichlet::new(), &DirectOptions::default()).unwrap();
+        assert!(matches!(analysis.schur_complement(&k, &[0]), Err(SolveError::PatternChanged)));
     }
 
     /// A clamped Hex8 block with a load, and a few single prescribed components.

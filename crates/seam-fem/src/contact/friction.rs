@@ -119,17 +119,26 @@ pub(crate) struct FrictionState {
     /// Per contact point, by (interface, slave point): z at the end of the
     /// last step (frame components) and the accumulated slip (Cartesian).
     pub(crate) points: BTreeMap<(usize, usize), ([f64; 3], Point3)>,
-    /// The condensed operator S of the direct solver's last step and the
-    /// fingerprint of the matrix, the unknowns W and the held dofs it belongs
-    /// to: the load steps of one problem share it ([`Condensed`]).
-    condensed: Option<(u64, Mat<f64>)>,
+    /// The direct solver's condensation of the last step ([`Condensed`]):
+    /// the load steps of one problem share it.
+    condensed: Option<KeptCondensation>,
     /// PETSc's system of the last step's Newton iteration, kept for the next
     /// load step ([`KeptKsp`]).
     ksp: KeptKsp,
 }
 
+/// A condensation kept for the next load step: the analysis of A_OO, its
+/// factor's values and S, and the fingerprint of A, W and the held dofs it
+/// belongs to.
+struct KeptCondensation {
+    key: u64,
+    analysis: CholeskyAnalysis,
+    values: Vec<f64>,
+    s: Mat<f64>,
+}
+
 /// A fingerprint of A, W and the held dofs (FNV-1a over their bits), to know
-/// a condensed operator S again.
+/// a condensation again.
 fn fingerprint(a: &CsrMatrix, w: &[usize], held: &Dirichlet) -> u64 {
     let held: Vec<usize> = held.iter().map(|(dof, _)| dof).collect();
     let words = a.indptr.iter().chain(&a.indices).chain(w).chain(&held).map(|&i| i as u64);
@@ -709,8 +718,8 @@ enum Steps<'a> {
 }
 
 /// What the Newton iteration keeps for the next load step: the direct
-/// solver's S with its fingerprint, PETSc's system.
-type Carried<'s> = (&'s mut Option<(u64, Mat<f64>)>, &'s mut KeptKsp);
+/// solver's condensation, PETSc's system.
+type Carried<'s> = (&'s mut Option<KeptCondensation>, &'s mut KeptKsp);
 
 /// The Newton iteration in nodal frames with relative tangents
 /// ([`rotation`]: the jumps of every contact point are unknowns of their
@@ -772,18 +781,20 @@ fn rotated_newton(
         }
         x
     };
-    let analysis;
+    let mut analysis = None;
     let mut steps_by = match solver {
         Solver::Direct => {
             let mut tied = held.clone();
             for &dof in &w_dofs {
                 tied.fix_dof(dof, 0.0);
             }
-            analysis = CholeskyAnalysis::new(&a, &tied, &DirectOptions::default())?;
             let key = fingerprint(&a, &w_dofs, &tied);
-            let known = cache.take().filter(|(k, _)| *k == key).map(|(_, s)| s);
-            let condensed =
-                Condensed::new(&analysis, &a, &b, &tied, (&w_dofs, known)).map_err(|e| match e {
+            let (held_by, known) = match cache.take().filter(|k| k.key == key) {
+                Some(k) => (k.analysis, Some((k.values, k.s))),
+                None => (CholeskyAnalysis::new(&a, &tied, &DirectOptions::default())?, None),
+            };
+            let condensed = Condensed::new(analysis.insert(held_by), &a, &b, &tied, (&w_dofs, known))
+                .map_err(|e| match e {
                     SolveError::Singular => ProblemError::Unsupported { points: points.len() },
                     e => ProblemError::Solve(e),
                 })?;
@@ -877,7 +888,9 @@ fn rotated_newton(
     let y = match steps_by {
         Steps::Condensed(c, key) => {
             let y = c.expand(&a, &w);
-            *cache = Some((key, c.s));
+            let (values, s) = c.into_kept();
+            let analysis = analysis.take().expect("the direct solver's analysis");
+            *cache = Some(KeptCondensation { key, analysis, values, s });
             y
         }
         Steps::Reduced { x, ksp, .. } => {

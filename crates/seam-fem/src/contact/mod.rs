@@ -122,7 +122,6 @@ use crate::solution::{ActiveSetStep, ContactFields, InterfaceSolution, Kkt, Solv
 use crate::solve::{CholeskyAnalysis, CholeskyFactor, DirectOptions, Dirichlet, SolveError};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
-use rayon::prelude::*;
 use seam::{CsrMatrix, Multiplier, Point3};
 use std::borrow::Cow;
 use std::time::Instant;
@@ -687,6 +686,9 @@ fn step_solver(solver: Solver, tight: bool) -> Solver {
 /// and 172 (the active set wanders).
 const LOOSE_RTOL: f64 = 1e-3;
 
+/// A condensation's factor values and S ([`Condensed::into_kept`]).
+pub(super) type Kept = (Vec<f64>, Mat<f64>);
+
 /// The problem condensed on a set W of its unknowns (the contact normals
 /// w_p; for friction also the tangential jumps): with A_OO = (PᵀKP) on all
 /// other unknowns O factored once (every W unknown held at 0),
@@ -697,7 +699,8 @@ const LOOSE_RTOL: f64 = 1e-3;
 /// ```
 ///
 /// so an active-set step is a dense solve S_II w_I = c_I − S_IA g_A on the
-/// inactive points I (w_A = g_A), and the sparse factorisation is done once.
+/// inactive points I (w_A = g_A), and the sparse factorisation is done once
+/// (S by a second one, with W last: [`CholeskyAnalysis::schur_complement`]).
 pub(super) struct Condensed<'a> {
     factor: CholeskyFactor<'a>,
     /// The dofs of W.
@@ -708,77 +711,33 @@ pub(super) struct Condensed<'a> {
 }
 
 impl<'a> Condensed<'a> {
-    /// Columns of Z computed together.
-    const BLOCK: usize = 64;
-
     /// Factors A_OO (`analysis` of A with every dof of `w` prescribed, in
-    /// `tied`), and forms S (unless `known`: S of this A and W formed
-    /// before), x₀ and c.
+    /// `tied`) and forms S, unless `known` (the factor's values and S of this
+    /// A, W and analysis, from [`Condensed::into_kept`]); then x₀ and c.
     pub(super) fn new(
         analysis: &'a CholeskyAnalysis,
         a: &CsrMatrix,
         b: &[f64],
         tied: &Dirichlet,
-        (w, known): (&[usize], Option<Mat<f64>>),
+        (w, known): (&[usize], Option<Kept>),
     ) -> Result<Condensed<'a>, SolveError> {
-        let factor = analysis.factor(a)?;
-        let s = match known {
-            Some(s) => s,
-            None => Self::schur(&factor, a, w),
+        let (factor, s) = match known {
+            Some((values, s)) => (CholeskyFactor::again(analysis, values), s),
+            // S first: its factor is gone before A_OO's is made.
+            None => {
+                let s = analysis.schur_complement(a, w)?;
+                (analysis.factor(a)?, s)
+            }
         };
         let mut condensed = Condensed { factor, w: w.to_vec(), s, x0: Vec::new(), c: Vec::new() };
         condensed.load(a, b, tied);
         Ok(condensed)
     }
 
-    /// S = A_WW + A_WO Z, Z in blocks of columns.
-    fn schur(factor: &CholeskyFactor, a: &CsrMatrix, w: &[usize]) -> Mat<f64> {
-        let (free, local) = (factor.analysis().free(), factor.analysis().local());
-        let m = free.len();
-        let nw = w.len();
-        let mut w_index = vec![usize::MAX; a.nrows];
-        for (j, &dof) in w.iter().enumerate() {
-            w_index[dof] = j;
-        }
-        let mut s = Mat::<f64>::zeros(nw, nw);
-        for start in (0..nw).step_by(Self::BLOCK) {
-            let cols = start..(start + Self::BLOCK).min(nw);
-            let mut z = Mat::<f64>::zeros(m, cols.len());
-            for (jj, j) in cols.clone().enumerate() {
-                let (idx, vals) = a.row(w[j]);
-                for (&q, &v) in idx.iter().zip(vals) {
-                    if local[q] != usize::MAX {
-                        z[(local[q], jj)] = -v;
-                    }
-                }
-            }
-            factor.solve_in_place(z.as_mut());
-            let rows: Vec<Vec<f64>> = (0..nw)
-                .into_par_iter()
-                .map(|i| {
-                    let (idx, vals) = a.row(w[i]);
-                    cols.clone()
-                        .enumerate()
-                        .map(|(jj, j)| {
-                            idx.iter()
-                                .zip(vals)
-                                .map(|(&q, &v)| match local[q] {
-                                    l if l != usize::MAX => v * z[(l, jj)],
-                                    _ if w_index[q] == j => v,
-                                    _ => 0.0,
-                                })
-                                .sum()
-                        })
-                        .collect()
-                })
-                .collect();
-            for (i, row) in rows.iter().enumerate() {
-                for (jj, &v) in row.iter().enumerate() {
-                    s[(i, start + jj)] = v;
-                }
-            }
-        }
-        s
+    /// The factor's values and S, for [`Condensed::new`] on the next load
+    /// step of the same A.
+    pub(super) fn into_kept(self) -> Kept {
+        (self.factor.into_values(), self.s)
     }
 
     /// x₀ and c for the load `b` and the values of `tied` (its dofs those
