@@ -125,15 +125,19 @@ impl Solver {
     /// The near-nullspace the solver takes (`modes` of the solves): for
     /// PETSc the six rigid-body modes of `points` in the unknowns x of a
     /// reduced system u = P x (zero at the dofs `retained` marks eliminated,
-    /// then into the nodal frames of `rotation`); none for the others.
+    /// then into the nodal frames of `rotation`), with `bodies` (contact:
+    /// the first dof of each body) the translations of each body but the
+    /// first too ([`crate::petsc::rigid_body_modes_in`]); none for the
+    /// others.
     pub(crate) fn near_nullspace(
         &self,
         points: &[seam::Point3],
+        bodies: Option<&[usize]>,
         retained: Option<&[usize]>,
         rotation: Option<&CsrMatrix>,
     ) -> Vec<Vec<f64>> {
         match self {
-            Solver::Petsc(_) => crate::petsc::rigid_body_modes_in(points, retained, rotation).to_vec(),
+            Solver::Petsc(_) => crate::petsc::rigid_body_modes_in(points, bodies, retained, rotation),
             Solver::Direct | Solver::Pcg(_) => Vec::new(),
         }
     }

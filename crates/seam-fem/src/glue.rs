@@ -116,7 +116,7 @@ pub(crate) fn solve_glued(
             // Standard multipliers, crosspoints, fill-in: the saddle point.
             _ => {
                 let clock = Instant::now();
-                let modes = solver.near_nullspace(&system.points, None, None);
+                let modes = solver.near_nullspace(&system.points, None, None, None);
                 seconds.setup += clock.elapsed().as_secs_f64();
                 let (k, f, dirichlet) = (&system.k, &system.f[..], &system.dirichlet);
                 with_lambda(solver.solve_saddle(
@@ -177,7 +177,8 @@ fn reduced_petsc(
         true => None,
         false => Some(Elimination::new(constraints, &k, f)?),
     };
-    let modes = rigid_body_modes_in(&system.points, elimination.as_ref().map(|e| &e.retained[..]), None);
+    let modes =
+        rigid_body_modes_in(&system.points, None, elimination.as_ref().map(|e| &e.retained[..]), None);
     // The reduced matrix goes to PETSc, which keeps the only copy while it solves.
     let (a, g, p) = match elimination {
         Some(e) => {
@@ -235,7 +236,7 @@ fn reduced_over_ranks(
         prescribed[dof] = v;
     }
     let w = p.mul_vec(&prescribed, 1);
-    let modes = rigid_body_modes_in(&system.points, Some(&retained), None);
+    let modes = rigid_body_modes_in(&system.points, None, Some(&retained), None);
     let ranges = crate::partition::row_ranges(bodies, &q, (&|_| 0, 0), crate::petsc::petsc_ranks());
     seconds.setup += clock.elapsed().as_secs_f64();
 
@@ -315,7 +316,7 @@ fn saddle_over_ranks(
         let (cols, vals) = c.row(r);
         extra.extend(cols.iter().zip(vals).map(|(&j, &v)| (n + r, j, v)));
     }
-    let modes = rigid_body_modes_in(&system.points, None, None);
+    let modes = rigid_body_modes_in(&system.points, None, None, None);
     // Rows balanced with the constraints' entries, in points of 3 × 3
     // entries: γCᵀC and Cᵀ in the points' rows, C in the multipliers' (the
     // last rank's).

@@ -339,6 +339,7 @@ fn frictional_step(
                 p_g: glued.as_ref().map(|g| &g.p),
                 retained: glued.as_ref().map(|g| &g.retained[..]),
                 points: &system.points,
+                offsets: &system.offsets,
             };
             let start = (&jumps_prev[..], &u_prev[..], status);
             let how = (solver, max_steps, (&mut state.condensed, &mut state.ksp));
@@ -663,6 +664,8 @@ struct Eliminated<'a> {
     retained: Option<&'a [usize]>,
     /// The mesh points of all bodies (the rigid-body modes).
     points: &'a [Point3],
+    /// offsets[b] = first dof of body b.
+    offsets: &'a [usize],
 }
 
 /// The equation of a contact unknown (a jump of W) in a Newton step
@@ -801,7 +804,7 @@ fn rotated_newton(
             Steps::Condensed(condensed, key)
         }
         Solver::Petsc(options) => {
-            let modes = solver.near_nullspace(system.points, system.retained, None);
+            let modes = solver.near_nullspace(system.points, Some(system.offsets), system.retained, None);
             let modes = modes.iter().map(|m| to_x(m)).collect();
             Steps::Reduced { x: to_x(y_prev), modes, options, ksp: std::mem::take(kept) }
         }

@@ -290,7 +290,8 @@ fn rotated_steps(
             // nodal frames at contact points.
             system.k = CsrMatrix::zeros(0, 0);
             let retained = glued.as_ref().map(|g| &g.retained[..]);
-            let modes = options.solver.near_nullspace(&system.points, retained, Some(&p));
+            let bodies = Some(&system.offsets[..]);
+            let modes = options.solver.near_nullspace(&system.points, bodies, retained, Some(&p));
             let mut summary = PetscSummary::default();
             let mut ksp = KeptKsp::default();
             let mut previous: Option<Vec<f64>> = None;
@@ -396,7 +397,7 @@ fn saddle_steps(
     let mut last: Option<(Vec<f64>, Vec<f64>)> = None;
     let mut summary = PetscSummary::default();
     let iterative = !matches!(options.solver, Solver::Direct);
-    let modes = options.solver.near_nullspace(&system.points, None, None);
+    let modes = options.solver.near_nullspace(&system.points, None, None, None);
     let (active, w, mu, steps) = active_set_method(
         &points,
         active,
