@@ -189,8 +189,8 @@ pub fn finalize_petsc() {
 /// With `bodies` (offsets[b] = first dof of body b), also the three
 /// translations of each body but the first: in contact a body held through
 /// its contact points is soft in them, which the modes of the bodies
-/// together do not represent (GAMG then needs about 1.7 times the
-/// iterations).
+/// together do not represent (GAMG then needs several times the
+/// iterations: BENCHMARKS.md, Friction with PETSc).
 pub(crate) fn rigid_body_modes_in(
     points: &[seam::Point3],
     bodies: Option<&[usize]>,
