@@ -77,10 +77,11 @@ pub use mesh::{
     MIN_FACE_SIZE, ZERO_AREA_RTOL,
 };
 pub use mortar::{
-    assemble, assemble_with_tree, face_integrals, face_quality, master_side, nodal_areas, nodal_normals,
-    normal_gaps, normal_gaps_from, orientation_conflicts, warped_quad_degree, BasisTransformation,
-    FaceQuality, FaceStats, Facing, MasterSide, MaxGap, Mortar, MortarError, MortarOptions, MortarSummary,
-    Multiplier, Segment, Transfer, BASIS_ALPHA, COVERED_FRACTION, TRI6_ALPHA, WARPED_RTOL,
+    assemble, assemble_keeping, assemble_with_tree, face_integrals, face_quality, master_side, nodal_areas,
+    nodal_normals, normal_gaps, normal_gaps_from, orientation_conflicts, reassemble, slave_faces_near,
+    warped_quad_degree, BasisTransformation, FaceBlocks, FaceQuality, FaceStats, Facing, MasterSide, MaxGap,
+    Mortar, MortarError, MortarOptions, MortarSummary, Multiplier, Segment, Transfer, BASIS_ALPHA,
+    COVERED_FRACTION, TRI6_ALPHA, WARPED_RTOL,
 };
 pub use named::{Named, UnknownName};
 pub use quadrature::{

@@ -4,6 +4,7 @@
 mod convergence;
 mod curved;
 mod exact_segments;
+mod moved;
 mod noise;
 mod operator;
 mod parts;

@@ -58,7 +58,9 @@
 //! (Curtis, Powell & Reid 1974): a slave point moves the rows of the slave
 //! points of its faces, a master point those rows of B that meet its faces;
 //! points that move no common row share a colour, and each colour costs six
-//! evaluations of the interface (± a step of 10⁻⁶ h per direction). ∂F/∂λ is
+//! evaluations of the interface (± a step of 10⁻⁶ h per direction), each of
+//! them (A1)–(D5) on the slave faces its points can change only, the other
+//! faces' blocks kept from the base ([`seam::reassemble`]). ∂F/∂λ is
 //! in closed form ([`Law::jacobian`]). The derivatives are exact to the
 //! differences' error (about 10⁻⁹ relative), so Newton converges
 //! quadratically down to there. r_p is summed about x_s,p, so that its
@@ -351,29 +353,33 @@ impl Law {
 impl Pair<'_> {
     /// The interface at the local positions `xs`, `xm`.
     fn evaluate(&self, xs: Vec<Point3>, xm: Vec<Point3>) -> Result<Current, ProblemError> {
-        self.evaluate_on(xs, (xm, &self.master.faces))
+        let whole = |m: &SurfaceMesh, s: &SurfaceMesh| seam::assemble(m, s, &self.options).map(|m| (m, ()));
+        Ok(self.evaluate_with(xs, (xm, &self.master.faces), whole)?.0)
     }
 
-    /// [`Pair::evaluate`] against the master faces `faces` only.
-    fn evaluate_on(
+    /// [`Pair::evaluate`] against the master faces `faces` only, the operator
+    /// from `assemble` (master, slave) with what else it returns (`None`
+    /// without overlap).
+    fn evaluate_with<T>(
         &self,
         xs: Vec<Point3>,
         (xm, faces): (Vec<Point3>, &[Face]),
-    ) -> Result<Current, ProblemError> {
+        assemble: impl FnOnce(&SurfaceMesh, &SurfaceMesh) -> Result<(Mortar, T), MortarError>,
+    ) -> Result<(Current, Option<T>), ProblemError> {
         let bad = |e: seam::MeshError| ProblemError::Finite {
             what: format!("interface {}: the deformed surfaces: {e}", self.index),
         };
         let slave = SurfaceMesh::new(xs, self.slave.faces.clone()).map_err(bad)?;
         let master = SurfaceMesh::new(xm, faces.to_vec()).map_err(bad)?;
         let normals = seam::nodal_normals(&slave);
-        let mortar = match seam::assemble(&master, &slave, &self.options) {
-            Ok(m) => Some(m),
-            Err(MortarError::NoOverlap { .. }) => None,
+        let (mortar, extra) = match assemble(&master, &slave) {
+            Ok((m, extra)) => (Some(m), Some(extra)),
+            Err(MortarError::NoOverlap { .. }) => (None, None),
             Err(source) => return Err(ProblemError::Mortar { interface: self.index, source }),
         };
         let nodal_d = mortar.as_ref().map_or(CsrMatrix::zeros(0, 0), |m| m.nodal_d());
         let (xs, xm) = (slave.into_parts().0, master.into_parts().0);
-        Ok(Current { mortar, normals, nodal_d, xs, xm })
+        Ok((Current { mortar, normals, nodal_d, xs, xm }, extra))
     }
 
     /// The current local positions of both sides.
@@ -680,11 +686,43 @@ impl<'a> Contact<'a> {
             .copied()
             .collect();
         let h = DIFFERENCE_STEP * mean_diameter(&pair.slave.faces, xs);
+        if influence.iter().all(Vec::is_empty) {
+            return Ok(out);
+        }
+        // The face blocks at the base, kept: a colour's evaluations compute
+        // only the slave faces its points can change ([`seam::reassemble`]).
+        let keep = |m: &SurfaceMesh, s: &SurfaceMesh| {
+            let (mortar, kept) = seam::assemble_keeping(m, s, &pair.options)?;
+            Ok((mortar, (kept, seam::slave_faces_near(m, s, &pair.options, 2.0 * h))))
+        };
+        let Some((kept, slave_faces_near)) = pair.evaluate_with(xs.clone(), (xm.clone(), &near), keep)?.1
+        else {
+            return Ok(out);
+        };
+        let faces_of = |faces: &[Face], n: usize| {
+            let mut of = vec![Vec::new(); n];
+            for (f, face) in faces.iter().enumerate() {
+                face.nodes().iter().for_each(|&a| of[a].push(f));
+            }
+            of
+        };
+        let (slave_faces_of, master_faces_of) = (faces_of(&pair.slave.faces, ns), faces_of(&near, xm.len()));
         let mut owner = vec![NONE; ns];
         for group in colours(&influence, ns) {
             for &node in &group {
                 influence[node].iter().for_each(|&p| owner[p] = node);
             }
+            let mut moved: Vec<usize> = Vec::new();
+            for &node in &group {
+                match node < ns {
+                    true => moved.extend(&slave_faces_of[node]),
+                    false => {
+                        master_faces_of[node - ns].iter().for_each(|&g| moved.extend(&slave_faces_near[g]))
+                    }
+                }
+            }
+            moved.sort_unstable();
+            moved.dedup();
             let shifted = |c: usize, s: f64| {
                 let (mut a, mut b) = (xs.clone(), xm.clone());
                 for &node in &group {
@@ -693,7 +731,10 @@ impl<'a> Contact<'a> {
                         false => b[node - ns][c] += s,
                     }
                 }
-                pair.evaluate_on(a, (b, &near))
+                let again = |m: &SurfaceMesh, s: &SurfaceMesh| {
+                    seam::reassemble(m, s, &pair.options, &kept, &moved).map(|m| (m, ()))
+                };
+                Ok::<_, ProblemError>(pair.evaluate_with(a, (b, &near), again)?.0)
             };
             let evaluations: Vec<_> =
                 (0..3).into_par_iter().map(|c| rayon::join(|| shifted(c, h), || shifted(c, -h))).collect();

@@ -20,6 +20,7 @@
 mod diagnostics;
 mod isoparametric;
 mod kernel;
+mod moved;
 mod multiplier;
 pub mod parts;
 mod pieces;
@@ -30,6 +31,7 @@ pub use diagnostics::{
     face_quality, master_side, nodal_areas, nodal_normals, normal_gaps, normal_gaps_from,
     orientation_conflicts, FaceQuality, MasterSide,
 };
+pub use moved::{assemble_keeping, reassemble, slave_faces_near, FaceBlocks};
 pub use multiplier::{BASIS_ALPHA, TRI6_ALPHA};
 pub use transfer::Transfer;
 
@@ -439,8 +441,8 @@ pub fn assemble_with_tree(
 ) -> Result<Mortar, MortarError> {
     check_inputs(master, slave, options)?;
     let transform = multiplier::transformation_weight(slave, options.transformation);
-    let blocks = face_blocks(master, tree, slave, options, transform, progress);
-    into_operator(master, tree, slave, options, blocks)
+    let chunks = face_blocks(master, tree, slave, options, transform, progress);
+    into_operator(master, tree, slave, options, ChunkedBlocks::owned(chunks))
 }
 
 /// Faces per chunk of the assembly (fixed, whatever the thread count: I7).
@@ -455,7 +457,7 @@ fn face_blocks(
     options: &MortarOptions,
     transform: Option<f64>,
     progress: &(dyn Fn(usize) + Sync),
-) -> ChunkedBlocks {
+) -> Vec<Blocks> {
     let kernel = Kernel::new(master, tree, slave, options, transform);
     let n = slave.n_faces();
     let chunks: Vec<Blocks> = (0..n.div_ceil(CHUNK))
@@ -471,7 +473,7 @@ fn face_blocks(
             blocks
         })
         .collect();
-    ChunkedBlocks { chunks, chunk: CHUNK, index: None }
+    chunks
 }
 
 /// (A1)–(D5) for the slave faces `faces` (ascending) of `slave`: their

@@ -227,7 +227,7 @@ impl PartJob {
             return PartBlocks { faces: Vec::new(), blocks: Vec::new() };
         };
         let tree = FaceTree::new(&master.mesh);
-        let ChunkedBlocks { mut chunks, .. } =
+        let mut chunks =
             face_blocks(&master.mesh, &tree, &slave.mesh, &self.options, self.transform, &|_| {});
         for c in &mut chunks {
             c.renumber(&master.points, &slave.faces, &master.faces);
@@ -396,6 +396,7 @@ pub fn assemble_parts(
     if index.iter().any(|slot| slot.0 == u32::MAX) {
         return bad("miss a slave face");
     }
+    let chunks = chunks.into_iter().map(std::borrow::Cow::Owned).collect();
     let blocks = ChunkedBlocks { chunks, chunk: n.max(1), index: Some(index) };
     into_operator(master, tree, slave, options, blocks)
 }

@@ -15,10 +15,11 @@ use crate::mesh::SurfaceMesh;
 use crate::sparse::CsrMatrix;
 use crate::wire::{Reader, WireError, Writer};
 use rayon::prelude::*;
+use std::borrow::Cow;
 
 /// Per-face blocks of a range of slave faces, in face order, each stored
 /// with its own node count n_s (3 to 9).
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub(super) struct Blocks {
     /// `col_ptr[f]..col_ptr[f + 1]` indexes face f's columns in `cols`.
     col_ptr: Vec<usize>,
@@ -224,15 +225,25 @@ impl Blocks {
 
 /// The blocks of all slave faces, as the chunks that computed them: face f
 /// is entry f % chunk of chunk f / chunk, or, for blocks gathered from parts
-/// ([`super::parts`]), the (chunk, entry) of `index[f]`; no copy into one
+/// ([`super::parts`]) or partly kept from an earlier assembly
+/// ([`super::reassemble`]), the (chunk, entry) of `index[f]`; no copy into one
 /// array.
-pub(super) struct ChunkedBlocks {
-    pub(super) chunks: Vec<Blocks>,
+pub(super) struct ChunkedBlocks<'a> {
+    pub(super) chunks: Vec<Cow<'a, Blocks>>,
     pub(super) chunk: usize,
     pub(super) index: Option<Vec<(u32, u32)>>,
 }
 
-impl ChunkedBlocks {
+impl ChunkedBlocks<'_> {
+    /// The chunks of [`CHUNK`](super::CHUNK) faces of a whole assembly.
+    pub(super) fn owned(chunks: Vec<Blocks>) -> ChunkedBlocks<'static> {
+        ChunkedBlocks {
+            chunks: chunks.into_iter().map(Cow::Owned).collect(),
+            chunk: super::CHUNK,
+            index: None,
+        }
+    }
+
     fn at(&self, f: usize) -> (&Blocks, usize) {
         match &self.index {
             Some(index) => (&self.chunks[index[f].0 as usize], index[f].1 as usize),
@@ -240,8 +251,13 @@ impl ChunkedBlocks {
         }
     }
 
+    /// The number of faces (chunks kept from an earlier assembly may hold
+    /// more blocks than `index` uses).
     fn len(&self) -> usize {
-        self.chunks.iter().map(Blocks::len).sum()
+        match &self.index {
+            Some(index) => index.len(),
+            None => self.chunks.iter().map(|c| c.len()).sum(),
+        }
     }
 
     /// Per-face statistics, in face order.
@@ -301,7 +317,10 @@ pub(super) fn into_mortar(
         row.add(c.b_row(k, l));
     });
     // The B blocks are done with: free them before D is built (peak memory).
-    for c in &mut blocks.chunks {
+    for c in blocks.chunks.iter_mut().filter_map(|c| match c {
+        Cow::Owned(c) => Some(c),
+        Cow::Borrowed(_) => None,
+    }) {
         c.cols = Vec::new();
         c.b = Vec::new();
         c.col_ptr = Vec::new();
@@ -325,9 +344,23 @@ pub(super) fn into_mortar(
     }
     summary.uncovered_slave_nodes = (0..n).filter(|&p| on_surface[p] && !covered[p]).count();
     let faces = blocks.stats().copied().collect();
-    let mut segments: Vec<Segment> =
-        blocks.chunks.iter_mut().flat_map(|c| std::mem::take(&mut c.segments)).collect();
-    if blocks.index.is_some() {
+    // Each face's segments from the chunk that holds its block (kept chunks
+    // of a reassembly also hold the replaced faces').
+    let index = blocks.index.take();
+    let mut segments: Vec<Segment> = blocks
+        .chunks
+        .iter_mut()
+        .enumerate()
+        .flat_map(|(k, c)| {
+            let segments = match c {
+                Cow::Owned(c) => std::mem::take(&mut c.segments),
+                Cow::Borrowed(c) => c.segments.clone(),
+            };
+            let index = index.as_deref();
+            segments.into_iter().filter(move |s| index.is_none_or(|i| i[s.slave].0 as usize == k))
+        })
+        .collect();
+    if index.is_some() {
         segments.sort_by_key(|s| s.slave); // stable: each face's own order
     }
     Mortar { b, d, multiplier, basis, faces, node_coverage, covered, on_surface, segments, summary }
