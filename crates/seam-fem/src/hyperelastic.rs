@@ -24,7 +24,9 @@
 //! ```
 //!
 //! in Voigt order xx yy zz yz xz xy with engineering shears (as
-//! [`crate::material`]), by the cell's stiffness rule. The Cauchy stress is
+//! [`crate::material`]), by the cell's stiffness rule; K is formed as
+//! g_iJ A_aJbL g_jL with A = ∂P/∂F (its major symmetry: the blocks j ≥ i,
+//! mirrored). The Cauchy stress is
 //! σ = F S Fᵀ / J.
 
 use crate::assembly::{cell_matrix, cell_vector, geometry, geometry_at_rule, AssemblyError};
@@ -221,35 +223,31 @@ fn element(
             }
         }
         let Some(k) = tangent.as_deref_mut() else { continue };
-        // B_i[v][a] = ∂E_v/∂u_ia (engineering shears).
-        let b = |i: usize| -> [[f64; 3]; 6] {
-            let gi = grads[i];
-            std::array::from_fn(|v| {
-                let (p, q) = VOIGT[v];
-                std::array::from_fn(
-                    |a| if p == q { f[a][p] * gi[p] } else { f[a][p] * gi[q] + f[a][q] * gi[p] },
-                )
-            })
-        };
-        let mut bs = [[[0.0; 3]; 6]; MAX_CELL_NODES];
-        for (i, bi) in bs.iter_mut().take(n).enumerate() {
-            *bi = b(i);
-        }
-        for i in 0..n {
-            // ℂ B_i, 6 × 3.
-            let cb: [[f64; 3]; 6] =
-                std::array::from_fn(|v| std::array::from_fn(|a| (0..6).map(|w| c[v][w] * bs[i][w][a]).sum()));
-            for j in 0..n {
-                let sg = (0..3)
-                    .map(|p| (0..3).map(|q| grads[i][p] * s[p][q] * grads[j][q]).sum::<f64>())
-                    .sum::<f64>();
-                for a in 0..3 {
-                    for bb in 0..3 {
-                        let material: f64 = (0..6).map(|v| cb[v][a] * bs[j][v][bb]).sum();
-                        let geometric = if a == bb { sg } else { 0.0 };
-                        k[(3 * i + a) * nd + 3 * j + bb] += wd * (material + geometric);
+        // K_ij[a][b] += t_i[a][b][L] g_jL, t_i[a][b][L] = g_iJ A_aJbL, for
+        // j ≥ i (A has the major symmetry A_aJbL = A_bLaJ): mirrored below.
+        let a4 = first_elasticity(&f, &s, &c);
+        for (i, gi) in grads.iter().enumerate() {
+            let t: [[[f64; 3]; 3]; 3] = std::array::from_fn(|a| {
+                std::array::from_fn(|b| {
+                    std::array::from_fn(|l| {
+                        wd * (gi[0] * a4[a][0][b][l] + gi[1] * a4[a][1][b][l] + gi[2] * a4[a][2][b][l])
+                    })
+                })
+            });
+            for (j, gj) in grads.iter().enumerate().skip(i) {
+                for (a, ta) in t.iter().enumerate() {
+                    let row = &mut k[(3 * i + a) * nd + 3 * j..][..3];
+                    for (v, tab) in row.iter_mut().zip(ta) {
+                        *v += tab[0] * gj[0] + tab[1] * gj[1] + tab[2] * gj[2];
                     }
                 }
+            }
+        }
+    }
+    if let Some(k) = tangent {
+        for r in 0..nd {
+            for col in (3 * (r / 3 + 1))..nd {
+                k[col * nd + r] = k[r * nd + col];
             }
         }
     }
@@ -700,6 +698,30 @@ fn delta(a: usize, b: usize) -> f64 {
     } else {
         0.0
     }
+}
+
+/// The first elasticity tensor A = ∂P/∂F at F with S and ℂ (Voigt) of the
+/// law: A_aJbL = δ_ab S_JL + F_aI ℂ_IJKL F_bK, indexed [a][J][b][L].
+fn first_elasticity(f: &Mat3, s: &Mat3, c: &[[f64; 6]; 6]) -> [[[[f64; 3]; 3]; 3]; 3] {
+    /// The Voigt index of (I, J).
+    const V: [[usize; 3]; 3] = [[0, 5, 4], [5, 1, 3], [4, 3, 2]];
+    // m[a][J][K][L] = F_aI ℂ_IJKL.
+    let m: [[[[f64; 3]; 3]; 3]; 3] = std::array::from_fn(|a| {
+        std::array::from_fn(|jj| {
+            std::array::from_fn(|kk| {
+                std::array::from_fn(|l| (0..3).map(|i| f[a][i] * c[V[i][jj]][V[kk][l]]).sum())
+            })
+        })
+    });
+    std::array::from_fn(|a| {
+        std::array::from_fn(|jj| {
+            std::array::from_fn(|b| {
+                std::array::from_fn(|l| {
+                    delta(a, b) * s[jj][l] + (0..3).map(|kk| m[a][jj][kk][l] * f[b][kk]).sum::<f64>()
+                })
+            })
+        })
+    })
 }
 
 fn transpose(m: &Mat3) -> Mat3 {

@@ -590,7 +590,7 @@ type Index = i32;
 /// nothing at the solution (C u = g) and makes K_γ positive definite; γ
 /// balances CᵀC's diagonal against K's where the constraints act. By default
 /// FGMRES (right preconditioning: the tolerance is on the true residual)
-/// preconditioned by PCFIELDSPLIT: Schur complement, full factorisation, one
+/// preconditioned by PCFIELDSPLIT: Schur complement, upper triangular factorisation, one
 /// GAMG cycle on K_γ (`modes` its near-nullspace), Jacobi on
 /// C diag(K_γ)⁻¹ Cᵀ. Measured on warped-glue (standard multipliers, 10k
 /// unknowns): 55 iterations, against 167 for MINRES with the block-diagonal

@@ -453,8 +453,8 @@ pub enum Structure {
     Blocks(usize),
     /// A saddle point [A Bᵀ; B 0]: its first `first` unknowns (A's, in
     /// points of `block_size`) and the others (B's rows), split by
-    /// PCFIELDSPLIT when the PC is "fieldsplit": Schur complement, full
-    /// factorisation, the complement approximated by
+    /// PCFIELDSPLIT when the PC is "fieldsplit": Schur complement, upper
+    /// triangular factorisation, the complement approximated by
     /// B diag(A)⁻¹ Bᵀ ("selfp"), one GAMG cycle on A and Jacobi on the
     /// approximation unless the options say otherwise
     /// (`-fieldsplit_0_pc_type`, `-fieldsplit_1_ksp_type`, …).
